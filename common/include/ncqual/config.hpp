@@ -1,0 +1,90 @@
+// Plant and machine configuration (YAML, read with yaml-cpp).
+//
+// Lengths and angles may be written as a bare number in the unit the key names (`_mm`, `_rad`)
+// or as a string with a unit: "0.5 in", "30 arcsec", "12 um". Everything is stored internally in
+// mm and rad. Errors name the file, the key and the value.
+#pragma once
+
+#include "ncqual/kinematics.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ncqual {
+
+// Thrown for any problem in a config file; what() names file, key and value.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct Tolerance {
+  double lower = 0;
+  double upper = 0;
+  bool contains(double v) const { return v >= lower && v <= upper; }
+};
+
+// The fixed monument beside the machine: a ring gauge plate with a hole of known diameter,
+// a face parallel to XY and vertical edges a known width apart, on a pedestal.
+struct MonumentConfig {
+  Eigen::Vector2d hole_center_mm = Eigen::Vector2d::Zero();  // taught X, Y of the hole centre
+  double hole_diameter_mm = 0;
+  double face_z_mm = 0;        // taught Z of the gauge face (top, parallel to XY)
+  double probe_depth_mm = 0;   // depth below the face at which the hole edge is touched
+  double gauge_width_mm = 0;   // between the opposite vertical edges (along X)
+  double face_offset_mm = 0;   // where on the face (radially from the hole centre, +X) to touch Z
+  int hole_touches = 4;        // edge touches for the hole centre (at least 3)
+};
+
+struct MachineConfig {
+  std::string machine_id;
+  std::string description;
+  std::string source_path;     // file it was read from
+  ProbeGeometry probe;         // nominal
+  MonumentConfig monument;     // nominal, as taught
+  std::map<std::string, Tolerance> tolerances;  // by metric name
+  YAML::Node simulator;        // the `simulator:` section, for the acquisition service only
+
+  // Tolerance of a metric; throws ConfigError naming the machine and metric when absent.
+  const Tolerance& tolerance(const std::string& metric) const;
+};
+
+struct PlantConfig {
+  std::string plant;
+  std::string source_path;
+  int domain_id = 0;
+  std::string qos_profiles_file;   // absolute, or empty for the built-in default search
+  std::string historian_database;  // absolute
+  std::vector<MachineConfig> machines;
+
+  const MachineConfig* find_machine(const std::string& machine_id) const;
+};
+
+MachineConfig load_machine_config(const std::string& path);
+MachineConfig parse_machine_config(const YAML::Node& root, const std::string& source);
+PlantConfig load_plant_config(const std::string& path);
+
+// Helpers for reading quantities out of YAML with units, used by the config loaders and by the
+// simulator's section. `where` names the file for error messages.
+namespace yaml {
+double length_mm(const YAML::Node& node, const std::string& key, const std::string& where);
+double length_mm_or(const YAML::Node& node, const std::string& key, double fallback,
+                    const std::string& where);
+double angle_rad_or(const YAML::Node& node, const std::string& key, double fallback,
+                    const std::string& where);
+// A 2- or 3-element list of lengths, e.g. [0.01, -0.02, 0] or ["0.001 in", 0, 0].
+Eigen::VectorXd lengths_mm_or(const YAML::Node& node, const std::string& key, int size,
+                              const Eigen::VectorXd& fallback, const std::string& where);
+double number_or(const YAML::Node& node, const std::string& key, double fallback,
+                 const std::string& where);
+std::string string_or(const YAML::Node& node, const std::string& key, const std::string& fallback,
+                      const std::string& where);
+}  // namespace yaml
+
+}  // namespace ncqual

@@ -1,0 +1,186 @@
+// The domain model shared by every part of ncqual: plain C++ values, no DDS.
+//
+// The wire types in idl/ mirror these one to one; common/dds converts between them, so
+// that the solver, the storage and the simulator never see a generated type.
+// Units: millimetres, radians and nanoseconds since the Unix epoch (UTC).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ncqual {
+
+// Every check of the qualification process. The numeric values are those of the IDL enum
+// and of the `kind` columns in the historian: never renumber, only append.
+enum class CheckKind : int {
+  MonumentCAlignment = 0,     // daily 1: probe alignment with the C axis
+  MonumentToolLength = 1,     // daily 2: composite tool length
+  MonumentPositioning = 2,    // daily 3: repeatable X, Y, Z positioning
+  MonumentCRotation = 3,      // daily 4: C-axis rotational accuracy
+  FixturePreCalibration = 4,  // weekly
+  FixturePostCalibration = 5, // weekly, after a zero-offset correction
+  PartSetPoints = 6,          // per part
+  GlobalMasterFrame = 7,      // monthly, laser tracker
+  GlobalGrid = 8,
+  RotaryW = 9,
+  RotaryA = 10,
+  RotaryC = 11,
+  CircleXY = 12,
+  CircleYZ = 13,
+  CircleXZ = 14,
+  LinearAxisRun = 15,
+};
+inline constexpr int kCheckKindCount = 16;
+
+// Stable names used in config, the command line, logs and JSON output.
+std::string_view to_string(CheckKind kind);
+// Parses a stable name; std::nullopt when the name is not a check kind.
+std::optional<CheckKind> parse_check_kind(std::string_view name);
+std::vector<CheckKind> all_check_kinds();
+
+enum class Verdict : int { Pass = 0, Fail = 1, Invalid = 2 };
+std::string_view to_string(Verdict verdict);
+std::optional<Verdict> parse_verdict(std::string_view name);
+
+enum class MachineState : int {
+  Unknown = 0,
+  Qualified = 1,
+  Checking = 2,
+  NeedsIntervention = 3,
+  Overdue = 4,
+  Offline = 5,
+};
+std::string_view to_string(MachineState state);
+std::optional<MachineState> parse_machine_state(std::string_view name);
+
+// Readouts of the machine's six axes: X, Y, Z position of the wrist pivot (intersection of the
+// A and C axes) in the machine frame, W spindle travel along the tool axis, A and C wrist angles.
+struct AxisPosition {
+  double x_mm = 0, y_mm = 0, z_mm = 0, w_mm = 0, a_rad = 0, c_rad = 0;
+};
+
+// One touch of a touch-trigger probe: the axis readouts latched when the probe triggered, and
+// the direction the stylus was moving in (unit vector, machine frame). `feature` names what was
+// touched, e.g. "hole_edge", "face".
+struct Touch {
+  std::string feature;
+  AxisPosition axes;
+  Eigen::Vector3d approach = Eigen::Vector3d::Zero();
+};
+
+// One point measured by a laser tracker (or other 3-D instrument): the commanded axes and the
+// target position in the instrument's frame (mm).
+struct TrackerPoint {
+  std::string label;
+  AxisPosition commanded;
+  Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();
+};
+
+// Raw measurements answering one CheckRequest. Never the answer: judging is the solver's.
+struct MeasurementSet {
+  std::string machine_id;
+  std::string request_id;
+  CheckKind kind = CheckKind::MonumentPositioning;
+  std::string instrument;  // "touch_probe", "laser_tracker"
+  std::string frame;       // frame of the coordinates: "machine", "tracker"
+  std::int64_t time_ns = 0;
+  std::vector<Touch> touches;
+  std::vector<TrackerPoint> tracker_points;
+  std::string error;       // non-empty when the instrument could not perform the request
+};
+
+struct Metric {
+  std::string name;   // public interface, e.g. "center_dx_mm"
+  double value = 0;
+  std::string unit;   // "mm", "rad", "arcsec", ...
+  double lower = 0;   // tolerance band: pass when lower <= value <= upper
+  double upper = 0;
+  bool pass = false;
+};
+
+struct NamedValue {
+  std::string name;
+  double value = 0;
+  std::string unit;
+};
+
+// A software correction: offsets to apply to `target` (e.g. "fixture:F1", "machine:work_offset").
+struct Correction {
+  std::string target;
+  std::vector<NamedValue> offsets;
+};
+
+struct CheckRequest {
+  std::string machine_id;
+  std::string request_id;
+  CheckKind kind = CheckKind::MonumentPositioning;
+  std::string requested_by;  // "scheduler", "operator:<name>", ...
+  std::int64_t time_ns = 0;
+  std::int32_t attempt = 1;
+};
+
+struct CheckResult {
+  std::string machine_id;
+  std::string request_id;
+  CheckKind kind = CheckKind::MonumentPositioning;
+  Verdict verdict = Verdict::Invalid;
+  std::vector<Metric> metrics;
+  std::vector<std::string> likely_causes;  // in the order to investigate them
+  std::string reason;                      // why INVALID or FAIL, in words
+  std::optional<Correction> correction;
+  std::int64_t time_ns = 0;
+};
+
+struct MachineStatus {
+  std::string machine_id;
+  std::string request_id;  // the request that caused this status, may be empty
+  MachineState state = MachineState::Unknown;
+  std::optional<CheckKind> last_kind;
+  std::optional<Verdict> last_verdict;
+  std::string detail;
+  std::int64_t time_ns = 0;
+};
+
+struct Intervention {
+  std::string machine_id;
+  std::string intervention_id;
+  CheckKind kind = CheckKind::MonumentPositioning;  // the check it re-arms
+  std::string note;
+  std::string operator_name;
+  std::int64_t time_ns = 0;
+};
+
+struct Compensation {
+  std::string machine_id;
+  std::string request_id;
+  Correction correction;
+  std::int64_t time_ns = 0;
+};
+
+// An operator's order to the scheduler (`ncqual check`). The scheduler turns it into a
+// CheckRequest with the same request id.
+struct CheckCommand {
+  std::string machine_id;
+  std::string request_id;
+  CheckKind kind = CheckKind::MonumentPositioning;
+  std::string requested_by;
+  std::int64_t time_ns = 0;
+};
+
+struct Heartbeat {
+  std::string service;   // "scheduler", "acquisition", "solver", "historian"
+  std::string instance;  // host:pid
+  std::string machine_id;  // the machine an acquisition serves; empty for plant-wide services
+  std::string state;     // "starting", "running", "stopping"
+  std::int64_t time_ns = 0;
+};
+
+// Looks up a metric by name; nullptr when absent.
+const Metric* find_metric(const CheckResult& result, std::string_view name);
+
+}  // namespace ncqual

@@ -1,0 +1,267 @@
+#include "ncqual/config.hpp"
+
+#include "ncqual/units.hpp"
+
+#include <filesystem>
+
+namespace ncqual {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string describe(const YAML::Node& node) {
+  if (!node.IsDefined() || node.IsNull()) return "(missing)";
+  if (node.IsScalar()) return "'" + node.Scalar() + "'";
+  return "(not a single value)";
+}
+
+[[noreturn]] void fail(const std::string& where, const std::string& key, const YAML::Node& value,
+                       const std::string& why) {
+  throw ConfigError(where + ": " + key + " = " + describe(value) + ": " + why);
+}
+
+double quantity(units::Dimension dim, const YAML::Node& value, const std::string& key,
+                std::string_view default_unit, const std::string& where) {
+  if (!value.IsScalar()) fail(where, key, value, "expected a number");
+  try {
+    return units::parse_quantity(dim, value.Scalar(), default_unit);
+  } catch (const std::invalid_argument& e) {
+    fail(where, key, value, e.what());
+  }
+}
+
+// The unit a bare number is taken in follows the key's suffix.
+std::string_view length_unit_of(const std::string& key) {
+  if (key.size() > 3 && key.compare(key.size() - 3, 3, "_in") == 0) return "in";
+  if (key.size() > 3 && key.compare(key.size() - 3, 3, "_um") == 0) return "um";
+  return "mm";
+}
+std::string_view angle_unit_of(const std::string& key) {
+  if (key.size() > 4 && key.compare(key.size() - 4, 4, "_deg") == 0) return "deg";
+  if (key.size() > 7 && key.compare(key.size() - 7, 7, "_arcsec") == 0) return "arcsec";
+  if (key.size() > 5 && key.compare(key.size() - 5, 5, "_urad") == 0) return "urad";
+  return "rad";
+}
+
+std::string resolve(const std::string& base_file, const std::string& path) {
+  if (path.empty()) return path;
+  fs::path p(path);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::absolute(base_file).parent_path() / p).lexically_normal().string();
+}
+
+YAML::Node load_yaml(const std::string& path) {
+  if (!fs::exists(path)) throw ConfigError(path + ": file not found");
+  try {
+    return YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path + ": not valid YAML: " + e.what());
+  }
+}
+
+Tolerance parse_tolerance(const YAML::Node& node, const std::string& key, const std::string& where) {
+  // Either a symmetric band "0.025" / "0.001 in", or {lower: .., upper: ..}.
+  Tolerance t;
+  if (node.IsScalar()) {
+    const double half = quantity(units::Dimension::Length, node, key, "mm", where);
+    if (half <= 0) fail(where, key, node, "a symmetric tolerance must be positive");
+    t.lower = -half;
+    t.upper = half;
+    return t;
+  }
+  if (node.IsMap()) {
+    // Tolerances of angles are written with their unit too; a bare number is taken in the unit
+    // of the metric's name (arcsec metrics take arcsec, mm metrics take mm).
+    const bool angle = key.find("arcsec") != std::string::npos || key.find("_rad") != std::string::npos;
+    auto read = [&](const char* which) {
+      const YAML::Node v = node[which];
+      if (!v) fail(where, key + "." + which, v, "missing");
+      if (!angle) return quantity(units::Dimension::Length, v, key + "." + which, "mm", where);
+      if (!v.IsScalar()) fail(where, key + "." + which, v, "expected a number");
+      try {
+        return std::stod(v.Scalar());
+      } catch (const std::exception&) {
+        fail(where, key + "." + which, v, "expected a number");
+      }
+    };
+    t.lower = read("lower");
+    t.upper = read("upper");
+    if (t.lower > t.upper) fail(where, key, node, "lower exceeds upper");
+    return t;
+  }
+  fail(where, key, node, "expected a number or {lower, upper}");
+}
+
+}  // namespace
+
+namespace yaml {
+
+double length_mm(const YAML::Node& node, const std::string& key, const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) fail(where, key, v, "required");
+  return quantity(units::Dimension::Length, v, key, length_unit_of(key), where);
+}
+
+double length_mm_or(const YAML::Node& node, const std::string& key, double fallback,
+                    const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  return quantity(units::Dimension::Length, v, key, length_unit_of(key), where);
+}
+
+double angle_rad_or(const YAML::Node& node, const std::string& key, double fallback,
+                    const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  return quantity(units::Dimension::Angle, v, key, angle_unit_of(key), where);
+}
+
+Eigen::VectorXd lengths_mm_or(const YAML::Node& node, const std::string& key, int size,
+                              const Eigen::VectorXd& fallback, const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  if (!v.IsSequence() || static_cast<int>(v.size()) != size) {
+    fail(where, key, v, "expected a list of " + std::to_string(size) + " lengths");
+  }
+  Eigen::VectorXd out(size);
+  for (int i = 0; i < size; ++i) {
+    out[i] = quantity(units::Dimension::Length, v[i], key + "[" + std::to_string(i) + "]",
+                      length_unit_of(key), where);
+  }
+  return out;
+}
+
+double number_or(const YAML::Node& node, const std::string& key, double fallback,
+                 const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  if (!v.IsScalar()) fail(where, key, v, "expected a number");
+  try {
+    std::size_t used = 0;
+    const double d = std::stod(v.Scalar(), &used);
+    if (used != v.Scalar().size()) fail(where, key, v, "expected a number");
+    return d;
+  } catch (const std::logic_error&) {
+    fail(where, key, v, "expected a number");
+  }
+}
+
+std::string string_or(const YAML::Node& node, const std::string& key, const std::string& fallback,
+                      const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  if (!v.IsScalar()) fail(where, key, v, "expected a string");
+  return v.Scalar();
+}
+
+}  // namespace yaml
+
+const Tolerance& MachineConfig::tolerance(const std::string& metric) const {
+  const auto it = tolerances.find(metric);
+  if (it == tolerances.end()) {
+    throw ConfigError(source_path + ": machine '" + machine_id + "' has no tolerance for metric '" +
+                      metric + "'");
+  }
+  return it->second;
+}
+
+const MachineConfig* PlantConfig::find_machine(const std::string& machine_id) const {
+  for (const auto& m : machines) {
+    if (m.machine_id == machine_id) return &m;
+  }
+  return nullptr;
+}
+
+MachineConfig parse_machine_config(const YAML::Node& root, const std::string& where) {
+  if (!root.IsMap()) throw ConfigError(where + ": expected a mapping at the top level");
+  MachineConfig m;
+  m.source_path = where;
+  m.machine_id = yaml::string_or(root, "machine_id", "", where);
+  if (m.machine_id.empty()) fail(where, "machine_id", root["machine_id"], "required");
+  for (char ch : m.machine_id) {
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '-' || ch == '_' || ch == '.')) {
+      fail(where, "machine_id", root["machine_id"],
+           "use letters, digits, '-', '_' and '.' only");
+    }
+  }
+  m.description = yaml::string_or(root, "description", "", where);
+
+  const YAML::Node probe = root["probe"];
+  if (!probe) fail(where, "probe", probe, "required section");
+  m.probe.tool_length_mm = yaml::length_mm(probe, "tool_length_mm", where);
+  m.probe.ball_radius_mm = yaml::length_mm(probe, "ball_radius_mm", where);
+  if (m.probe.tool_length_mm <= 0) fail(where, "probe.tool_length_mm", probe["tool_length_mm"], "must be positive");
+  if (m.probe.ball_radius_mm < 0) fail(where, "probe.ball_radius_mm", probe["ball_radius_mm"], "must not be negative");
+
+  const YAML::Node mon = root["monument"];
+  if (!mon) fail(where, "monument", mon, "required section");
+  m.monument.hole_center_mm =
+      yaml::lengths_mm_or(mon, "hole_center_mm", 2, Eigen::VectorXd::Zero(2), where);
+  if (!mon["hole_center_mm"]) fail(where, "monument.hole_center_mm", mon["hole_center_mm"], "required");
+  m.monument.hole_diameter_mm = yaml::length_mm(mon, "hole_diameter_mm", where);
+  m.monument.face_z_mm = yaml::length_mm(mon, "face_z_mm", where);
+  m.monument.probe_depth_mm = yaml::length_mm_or(mon, "probe_depth_mm", 5.0, where);
+  m.monument.gauge_width_mm = yaml::length_mm_or(mon, "gauge_width_mm", 0.0, where);
+  m.monument.face_offset_mm = yaml::length_mm_or(
+      mon, "face_offset_mm", m.monument.hole_diameter_mm / 2 + 10.0, where);
+  const double touches = yaml::number_or(mon, "hole_touches", 4, where);
+  if (touches < 3 || touches > 64 || touches != static_cast<int>(touches)) {
+    fail(where, "monument.hole_touches", mon["hole_touches"], "must be an integer from 3 to 64");
+  }
+  m.monument.hole_touches = static_cast<int>(touches);
+  if (m.monument.hole_diameter_mm <= 2 * m.probe.ball_radius_mm) {
+    fail(where, "monument.hole_diameter_mm", mon["hole_diameter_mm"],
+         "must exceed the stylus ball diameter");
+  }
+
+  const YAML::Node tol = root["tolerances"];
+  if (tol) {
+    if (!tol.IsMap()) fail(where, "tolerances", tol, "expected a mapping of metric: tolerance");
+    for (const auto& kv : tol) {
+      const std::string key = kv.first.as<std::string>();
+      m.tolerances[key] = parse_tolerance(kv.second, "tolerances." + key, where);
+    }
+  }
+  m.simulator = root["simulator"];
+  return m;
+}
+
+MachineConfig load_machine_config(const std::string& path) {
+  return parse_machine_config(load_yaml(path), path);
+}
+
+PlantConfig load_plant_config(const std::string& path) {
+  const YAML::Node root = load_yaml(path);
+  if (!root.IsMap()) throw ConfigError(path + ": expected a mapping at the top level");
+  PlantConfig p;
+  p.source_path = fs::absolute(path).lexically_normal().string();
+  p.plant = yaml::string_or(root, "plant", "plant", path);
+  const double domain = yaml::number_or(root, "domain_id", 0, path);
+  if (domain < 0 || domain > 232 || domain != static_cast<int>(domain)) {
+    fail(path, "domain_id", root["domain_id"], "must be an integer from 0 to 232");
+  }
+  p.domain_id = static_cast<int>(domain);
+  p.qos_profiles_file = resolve(path, yaml::string_or(root, "qos_profiles", "", path));
+  const YAML::Node hist = root["historian"];
+  p.historian_database =
+      resolve(path, hist ? yaml::string_or(hist, "database", "historian.db", path) : "historian.db");
+  const YAML::Node machines = root["machines"];
+  if (machines) {
+    if (!machines.IsSequence()) fail(path, "machines", machines, "expected a list of machine files");
+    for (std::size_t i = 0; i < machines.size(); ++i) {
+      const YAML::Node entry = machines[i];
+      if (!entry.IsScalar()) {
+        fail(path, "machines[" + std::to_string(i) + "]", entry, "expected a file name");
+      }
+      MachineConfig m = load_machine_config(resolve(path, entry.Scalar()));
+      if (p.find_machine(m.machine_id)) {
+        fail(path, "machines[" + std::to_string(i) + "]", entry,
+             "machine_id '" + m.machine_id + "' is configured twice");
+      }
+      p.machines.push_back(std::move(m));
+    }
+  }
+  return p;
+}
+
+}  // namespace ncqual

@@ -1,0 +1,68 @@
+#include "ncqual/model.hpp"
+
+#include <array>
+
+namespace ncqual {
+namespace {
+
+constexpr std::array<std::string_view, kCheckKindCount> kKindNames = {
+    "monument_c_alignment", "monument_tool_length", "monument_positioning",
+    "monument_c_rotation",  "fixture_precal",       "fixture_postcal",
+    "part_setpoints",       "global_master_frame",  "global_grid",
+    "rotary_w",             "rotary_a",             "rotary_c",
+    "circle_xy",            "circle_yz",            "circle_xz",
+    "linear_axis_run",
+};
+constexpr std::array<std::string_view, 3> kVerdictNames = {"PASS", "FAIL", "INVALID"};
+constexpr std::array<std::string_view, 6> kStateNames = {
+    "UNKNOWN", "QUALIFIED", "CHECKING", "NEEDS_INTERVENTION", "OVERDUE", "OFFLINE"};
+
+template <typename Enum, std::size_t N>
+std::optional<Enum> parse_enum(const std::array<std::string_view, N>& names,
+                               std::string_view text) {
+  for (std::size_t i = 0; i < N; ++i) {
+    if (names[i] == text) return static_cast<Enum>(i);
+  }
+  return std::nullopt;
+}
+
+template <std::size_t N>
+std::string_view name_of(const std::array<std::string_view, N>& names, int value) {
+  if (value < 0 || static_cast<std::size_t>(value) >= N) return "unknown";
+  return names[static_cast<std::size_t>(value)];
+}
+
+}  // namespace
+
+std::string_view to_string(CheckKind kind) { return name_of(kKindNames, static_cast<int>(kind)); }
+std::optional<CheckKind> parse_check_kind(std::string_view name) {
+  return parse_enum<CheckKind>(kKindNames, name);
+}
+std::vector<CheckKind> all_check_kinds() {
+  std::vector<CheckKind> kinds;
+  for (int i = 0; i < kCheckKindCount; ++i) kinds.push_back(static_cast<CheckKind>(i));
+  return kinds;
+}
+
+std::string_view to_string(Verdict verdict) {
+  return name_of(kVerdictNames, static_cast<int>(verdict));
+}
+std::optional<Verdict> parse_verdict(std::string_view name) {
+  return parse_enum<Verdict>(kVerdictNames, name);
+}
+
+std::string_view to_string(MachineState state) {
+  return name_of(kStateNames, static_cast<int>(state));
+}
+std::optional<MachineState> parse_machine_state(std::string_view name) {
+  return parse_enum<MachineState>(kStateNames, name);
+}
+
+const Metric* find_metric(const CheckResult& result, std::string_view name) {
+  for (const auto& m : result.metrics) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
+}  // namespace ncqual
