@@ -222,7 +222,8 @@ MachineConfig parse_machine_config(const YAML::Node& root, const std::string& wh
       m.tolerances[key] = parse_tolerance(kv.second, "tolerances." + key, where);
     }
   }
-  m.simulator = root["simulator"];
+  // Assigning a missing node would throw in yaml-cpp: copy only a present section.
+  if (const YAML::Node sim = root["simulator"]) m.simulator = YAML::Clone(sim);
   return m;
 }
 
@@ -245,6 +246,20 @@ PlantConfig load_plant_config(const std::string& path) {
   const YAML::Node hist = root["historian"];
   p.historian_database =
       resolve(path, hist ? yaml::string_or(hist, "database", "historian.db", path) : "historian.db");
+  if (const YAML::Node sched = root["scheduler"]) {
+    if (const YAML::Node checks = sched["startup_checks"]) {
+      if (!checks.IsSequence()) fail(path, "scheduler.startup_checks", checks, "expected a list of check kinds");
+      p.startup_checks.clear();
+      for (std::size_t i = 0; i < checks.size(); ++i) {
+        const auto kind = checks[i].IsScalar() ? parse_check_kind(checks[i].Scalar()) : std::nullopt;
+        if (!kind) {
+          fail(path, "scheduler.startup_checks[" + std::to_string(i) + "]", checks[i],
+               "not a check kind (e.g. monument_positioning)");
+        }
+        p.startup_checks.push_back(*kind);
+      }
+    }
+  }
   const YAML::Node machines = root["machines"];
   if (machines) {
     if (!machines.IsSequence()) fail(path, "machines", machines, "expected a list of machine files");

@@ -62,6 +62,8 @@ struct PlantConfig {
   std::string qos_profiles_file;   // absolute, or empty for the built-in default search
   std::string historian_database;  // absolute
   std::vector<MachineConfig> machines;
+  // Checks the scheduler runs for every machine when it starts, in order (scheduler.startup_checks).
+  std::vector<CheckKind> startup_checks{CheckKind::MonumentPositioning};
 
   const MachineConfig* find_machine(const std::string& machine_id) const;
 };

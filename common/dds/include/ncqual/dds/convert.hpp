@@ -1,0 +1,34 @@
+// Conversions between the wire types generated from idl/ncqual.idl and the domain model.
+// from_wire never trusts its input: an enum out of range or a non-finite number in a header
+// field is reported in `error` (naming the field and value) rather than thrown, so a service can
+// answer a malformed sample (e.g. with an INVALID result) and keep running.
+#pragma once
+
+#include "ncqual.h"
+#include "ncqual/model.hpp"
+
+#include <string>
+
+namespace ncqual::dds {
+
+msg::CheckRequest to_wire(const CheckRequest& v);
+msg::CheckCommand to_wire(const CheckCommand& v);
+msg::MeasurementSet to_wire(const MeasurementSet& v);
+msg::CheckResult to_wire(const CheckResult& v);
+msg::MachineStatus to_wire(const MachineStatus& v);
+msg::Intervention to_wire(const Intervention& v);
+msg::Compensation to_wire(const Compensation& v);
+msg::Heartbeat to_wire(const Heartbeat& v);
+
+// Each returns the model; `error` is set (and the model holds what could be read, at least
+// machine_id and the request id) when the sample is malformed.
+CheckRequest from_wire(const msg::CheckRequest& v, std::string& error);
+CheckCommand from_wire(const msg::CheckCommand& v, std::string& error);
+MeasurementSet from_wire(const msg::MeasurementSet& v, std::string& error);
+CheckResult from_wire(const msg::CheckResult& v, std::string& error);
+MachineStatus from_wire(const msg::MachineStatus& v, std::string& error);
+Intervention from_wire(const msg::Intervention& v, std::string& error);
+Compensation from_wire(const msg::Compensation& v, std::string& error);
+Heartbeat from_wire(const msg::Heartbeat& v, std::string& error);
+
+}  // namespace ncqual::dds

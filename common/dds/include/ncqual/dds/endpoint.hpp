@@ -1,0 +1,152 @@
+// Typed writers and readers over the Fast DDS 2.9 DCPS API, in domain-model types.
+#pragma once
+
+#include "ncqual/dds/convert.hpp"
+#include "ncqual/dds/participant.hpp"
+
+#include <fastdds/dds/core/condition/StatusCondition.hpp>
+#include <fastdds/dds/core/condition/WaitSet.hpp>
+#include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ncqual::dds {
+
+eprosima::fastrtps::Duration_t to_dds_duration(std::chrono::milliseconds ms);
+
+template <typename Topic>
+class Writer {
+ public:
+  using Model = typename Topic::Model;
+
+  explicit Writer(Participant& participant, const char* profile = Topic::kWriterProfile)
+      : participant_(participant) {
+    auto* topic = participant.topic(Topic::kName,
+                                    eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
+    writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
+    if (!writer_) {
+      // Without our profiles file loaded (e.g. a tool pointed at no deploy/ tree), fall back to
+      // reliable defaults rather than refusing to run.
+      writer_ = participant.publisher()->create_datawriter(topic, default_qos());
+    }
+    if (!writer_) throw DdsError(std::string("could not create a writer on ") + Topic::kName);
+  }
+  ~Writer() { participant_.publisher()->delete_datawriter(writer_); }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  // Writes one sample. False when the sample could not be queued within the profile's
+  // max_blocking_time (history full of unacknowledged samples): the caller decides to retry.
+  bool write(const Model& value) {
+    auto wire = to_wire(value);
+    return writer_->write(&wire);
+  }
+
+  // Blocks until every matched reader acknowledged everything written, or the timeout.
+  bool wait_for_acknowledgments(std::chrono::milliseconds timeout) {
+    return writer_->wait_for_acknowledgments(to_dds_duration(timeout)) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+
+  int matched_readers() const {
+    eprosima::fastdds::dds::PublicationMatchedStatus status;
+    writer_->get_publication_matched_status(status);
+    return status.current_count;
+  }
+
+  // Waits (on the writer's status condition, not by polling) until at least `count` readers are
+  // matched, or the timeout. Returns whether they are.
+  bool wait_for_readers(int count, std::chrono::milliseconds timeout) {
+    using namespace eprosima::fastdds::dds;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    StatusCondition& condition = writer_->get_statuscondition();
+    condition.set_enabled_statuses(StatusMask::publication_matched());
+    WaitSet waitset;
+    waitset.attach_condition(condition);
+    while (matched_readers() < count) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) return false;
+      ConditionSeq active;
+      waitset.wait(active, to_dds_duration(left));
+    }
+    return true;
+  }
+
+  eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
+
+ private:
+  static eprosima::fastdds::dds::DataWriterQos default_qos() {
+    eprosima::fastdds::dds::DataWriterQos qos = eprosima::fastdds::dds::DATAWRITER_QOS_DEFAULT;
+    qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+    return qos;
+  }
+  Participant& participant_;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+};
+
+// A received sample in domain-model form. `error` names what was malformed, if anything.
+template <typename Model>
+struct Received {
+  Model value;
+  std::string error;
+};
+
+template <typename Topic>
+class Reader {
+ public:
+  using Model = typename Topic::Model;
+
+  // With `machine_id`, only samples of that machine are delivered (content-filtered topic,
+  // evaluated at the writer where possible).
+  explicit Reader(Participant& participant, std::optional<std::string> machine_id = std::nullopt,
+                  const char* profile = Topic::kReaderProfile)
+      : participant_(participant) {
+    auto* topic = participant.topic(Topic::kName,
+                                    eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
+    eprosima::fastdds::dds::TopicDescription* description = topic;
+    if (machine_id) description = participant.machine_filter(topic, *machine_id);
+    reader_ = participant.subscriber()->create_datareader_with_profile(description, profile);
+    if (!reader_) {
+      eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
+      qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+      reader_ = participant.subscriber()->create_datareader(description, qos);
+    }
+    if (!reader_) throw DdsError(std::string("could not create a reader on ") + Topic::kName);
+    reader_->get_statuscondition().set_enabled_statuses(
+        eprosima::fastdds::dds::StatusMask::data_available());
+  }
+  ~Reader() { participant_.subscriber()->delete_datareader(reader_); }
+  Reader(const Reader&) = delete;
+  Reader& operator=(const Reader&) = delete;
+
+  // Takes every sample available now.
+  std::vector<Received<Model>> take() {
+    std::vector<Received<Model>> out;
+    typename Topic::Wire wire;
+    eprosima::fastdds::dds::SampleInfo info;
+    while (reader_->take_next_sample(&wire, &info) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;  // dispose / unregister notifications
+      Received<Model> r;
+      r.value = from_wire(wire, r.error);
+      out.push_back(std::move(r));
+    }
+    return out;
+  }
+
+  eprosima::fastdds::dds::StatusCondition& condition() { return reader_->get_statuscondition(); }
+  eprosima::fastdds::dds::DataReader* get() const { return reader_; }
+
+ private:
+  Participant& participant_;
+  eprosima::fastdds::dds::DataReader* reader_ = nullptr;
+};
+
+}  // namespace ncqual::dds

@@ -1,0 +1,74 @@
+// One DomainParticipant per process, its publisher, subscriber and topics. QoS comes from the
+// Fast DDS XML profile file (deploy/qos/ncqual-qos.xml), never from code.
+#pragma once
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/ContentFilteredTopic.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+namespace ncqual::dds {
+
+// Thrown when a DDS entity cannot be created; the message names what and why.
+class DdsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ParticipantOptions {
+  int domain_id = 0;
+  std::string qos_profiles_file;  // XML profiles; empty: FASTRTPS_DEFAULT_PROFILES_FILE or built-ins
+  std::string name;               // participant name seen by tools, e.g. "ncqual-solver"
+};
+
+// Domain id: the --domain flag when given (>= 0), else NCQUAL_DOMAIN, else the plant config's.
+int resolve_domain_id(int flag_value, int config_value);
+
+// Profile names in deploy/qos/ncqual-qos.xml.
+namespace profiles {
+inline constexpr const char* kParticipant = "ncqual_participant";
+inline constexpr const char* kDurableWriter = "ncqual_durable_writer";
+inline constexpr const char* kDurableReader = "ncqual_durable_reader";
+inline constexpr const char* kCommandWriter = "ncqual_command_writer";
+inline constexpr const char* kCommandReader = "ncqual_command_reader";
+inline constexpr const char* kHeartbeatWriter = "ncqual_heartbeat_writer";
+inline constexpr const char* kHeartbeatReader = "ncqual_heartbeat_reader";
+}  // namespace profiles
+
+class Participant {
+ public:
+  explicit Participant(const ParticipantOptions& options);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  eprosima::fastdds::dds::DomainParticipant* get() const { return participant_; }
+  eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
+  eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
+  int domain_id() const { return domain_id_; }
+
+  // The topic of this name, created on first use with its type registered.
+  eprosima::fastdds::dds::Topic* topic(const std::string& name,
+                                       eprosima::fastdds::dds::TypeSupport type);
+  // A content-filtered view of `topic` that passes only samples of one machine.
+  eprosima::fastdds::dds::ContentFilteredTopic* machine_filter(
+      eprosima::fastdds::dds::Topic* topic, const std::string& machine_id);
+
+ private:
+  int domain_id_ = 0;
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+  eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  std::mutex mutex_;
+  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+  std::map<std::string, eprosima::fastdds::dds::ContentFilteredTopic*> filtered_;
+};
+
+}  // namespace ncqual::dds

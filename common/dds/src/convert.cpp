@@ -1,0 +1,223 @@
+#include "ncqual/dds/convert.hpp"
+
+namespace ncqual::dds {
+namespace {
+
+// The IDL enums and the model enums share their numbering (see idl/ncqual.idl).
+msg::CheckKind wire_kind(CheckKind k) { return static_cast<msg::CheckKind>(static_cast<int>(k)); }
+msg::Verdict wire_verdict(Verdict v) { return static_cast<msg::Verdict>(static_cast<int>(v)); }
+
+void note(std::string& error, const std::string& what) {
+  if (error.empty()) error = what;
+}
+
+CheckKind model_kind(msg::CheckKind k, const char* field, std::string& error) {
+  const auto raw = static_cast<std::uint32_t>(k);
+  if (raw >= static_cast<std::uint32_t>(kCheckKindCount)) {
+    note(error, std::string(field) + " = " + std::to_string(raw) + " is not a known check kind");
+    return CheckKind::MonumentPositioning;
+  }
+  return static_cast<CheckKind>(raw);
+}
+
+Verdict model_verdict(msg::Verdict v, const char* field, std::string& error) {
+  const auto raw = static_cast<std::uint32_t>(v);
+  if (raw > static_cast<std::uint32_t>(Verdict::Invalid)) {
+    note(error, std::string(field) + " = " + std::to_string(raw) + " is not a known verdict");
+    return Verdict::Invalid;
+  }
+  return static_cast<Verdict>(raw);
+}
+
+msg::AxisPosition wire_axes(const AxisPosition& a) {
+  msg::AxisPosition w;
+  w.x_mm(a.x_mm); w.y_mm(a.y_mm); w.z_mm(a.z_mm);
+  w.w_mm(a.w_mm); w.a_rad(a.a_rad); w.c_rad(a.c_rad);
+  return w;
+}
+AxisPosition model_axes(const msg::AxisPosition& w) {
+  return AxisPosition{w.x_mm(), w.y_mm(), w.z_mm(), w.w_mm(), w.a_rad(), w.c_rad()};
+}
+msg::Vector3 wire_vec(const Eigen::Vector3d& v) {
+  msg::Vector3 w;
+  w.x(v.x()); w.y(v.y()); w.z(v.z());
+  return w;
+}
+Eigen::Vector3d model_vec(const msg::Vector3& w) { return {w.x(), w.y(), w.z()}; }
+
+msg::SoftwareCorrection wire_correction(const Correction& c) {
+  msg::SoftwareCorrection w;
+  w.target(c.target);
+  for (const auto& o : c.offsets) {
+    msg::NamedValue nv;
+    nv.name(o.name); nv.value(o.value); nv.unit(o.unit);
+    w.offsets().push_back(nv);
+  }
+  return w;
+}
+Correction model_correction(const msg::SoftwareCorrection& w) {
+  Correction c;
+  c.target = w.target();
+  for (const auto& o : w.offsets()) c.offsets.push_back({o.name(), o.value(), o.unit()});
+  return c;
+}
+
+}  // namespace
+
+msg::CheckRequest to_wire(const CheckRequest& v) {
+  msg::CheckRequest w;
+  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
+  w.requested_by(v.requested_by); w.time_ns(v.time_ns); w.attempt(v.attempt);
+  return w;
+}
+CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
+  CheckRequest v;
+  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.kind = model_kind(w.kind(), "CheckRequest.kind", error);
+  v.requested_by = w.requested_by(); v.time_ns = w.time_ns(); v.attempt = w.attempt();
+  return v;
+}
+
+msg::CheckCommand to_wire(const CheckCommand& v) {
+  msg::CheckCommand w;
+  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
+  w.requested_by(v.requested_by); w.time_ns(v.time_ns);
+  return w;
+}
+CheckCommand from_wire(const msg::CheckCommand& w, std::string& error) {
+  CheckCommand v;
+  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.kind = model_kind(w.kind(), "CheckCommand.kind", error);
+  v.requested_by = w.requested_by(); v.time_ns = w.time_ns();
+  return v;
+}
+
+msg::MeasurementSet to_wire(const MeasurementSet& v) {
+  msg::MeasurementSet w;
+  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
+  w.instrument(v.instrument); w.frame(v.frame); w.time_ns(v.time_ns); w.error(v.error);
+  w.touches().reserve(v.touches.size());
+  for (const auto& t : v.touches) {
+    msg::Touch wt;
+    wt.feature(t.feature); wt.axes(wire_axes(t.axes)); wt.approach(wire_vec(t.approach));
+    w.touches().push_back(wt);
+  }
+  w.tracker_points().reserve(v.tracker_points.size());
+  for (const auto& p : v.tracker_points) {
+    msg::TrackerPoint wp;
+    wp.label(p.label); wp.commanded(wire_axes(p.commanded)); wp.measured_mm(wire_vec(p.measured_mm));
+    w.tracker_points().push_back(wp);
+  }
+  return w;
+}
+MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error) {
+  MeasurementSet v;
+  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.kind = model_kind(w.kind(), "MeasurementSet.kind", error);
+  v.instrument = w.instrument(); v.frame = w.frame(); v.time_ns = w.time_ns(); v.error = w.error();
+  v.touches.reserve(w.touches().size());
+  for (const auto& t : w.touches()) {
+    v.touches.push_back(Touch{t.feature(), model_axes(t.axes()), model_vec(t.approach())});
+  }
+  v.tracker_points.reserve(w.tracker_points().size());
+  for (const auto& p : w.tracker_points()) {
+    v.tracker_points.push_back(
+        TrackerPoint{p.label(), model_axes(p.commanded()), model_vec(p.measured_mm())});
+  }
+  return v;
+}
+
+msg::CheckResult to_wire(const CheckResult& v) {
+  msg::CheckResult w;
+  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
+  w.verdict(wire_verdict(v.verdict)); w.reason(v.reason); w.time_ns(v.time_ns);
+  for (const auto& m : v.metrics) {
+    msg::Metric wm;
+    wm.name(m.name); wm.value(m.value); wm.unit(m.unit);
+    wm.lower(m.lower); wm.upper(m.upper); wm.pass(m.pass);
+    w.metrics().push_back(wm);
+  }
+  for (const auto& c : v.likely_causes) w.likely_causes().push_back(c);
+  w.has_correction(v.correction.has_value());
+  if (v.correction) w.correction(wire_correction(*v.correction));
+  return w;
+}
+CheckResult from_wire(const msg::CheckResult& w, std::string& error) {
+  CheckResult v;
+  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.kind = model_kind(w.kind(), "CheckResult.kind", error);
+  v.verdict = model_verdict(w.verdict(), "CheckResult.verdict", error);
+  v.reason = w.reason(); v.time_ns = w.time_ns();
+  for (const auto& m : w.metrics()) {
+    v.metrics.push_back(Metric{m.name(), m.value(), m.unit(), m.lower(), m.upper(), m.pass()});
+  }
+  for (const auto& c : w.likely_causes()) v.likely_causes.push_back(c);
+  if (w.has_correction()) v.correction = model_correction(w.correction());
+  return v;
+}
+
+msg::MachineStatus to_wire(const MachineStatus& v) {
+  msg::MachineStatus w;
+  w.machine_id(v.machine_id); w.request_id(v.request_id);
+  w.state(static_cast<msg::MachineState>(static_cast<int>(v.state)));
+  w.has_last_check(v.last_kind.has_value());
+  if (v.last_kind) w.last_kind(wire_kind(*v.last_kind));
+  w.last_verdict(wire_verdict(v.last_verdict.value_or(Verdict::Invalid)));
+  w.detail(v.detail); w.time_ns(v.time_ns);
+  return w;
+}
+MachineStatus from_wire(const msg::MachineStatus& w, std::string& error) {
+  MachineStatus v;
+  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  const auto raw = static_cast<std::uint32_t>(w.state());
+  if (raw > static_cast<std::uint32_t>(MachineState::Offline)) {
+    note(error, "MachineStatus.state = " + std::to_string(raw) + " is not a known state");
+  } else {
+    v.state = static_cast<MachineState>(raw);
+  }
+  if (w.has_last_check()) {
+    v.last_kind = model_kind(w.last_kind(), "MachineStatus.last_kind", error);
+    v.last_verdict = model_verdict(w.last_verdict(), "MachineStatus.last_verdict", error);
+  }
+  v.detail = w.detail(); v.time_ns = w.time_ns();
+  return v;
+}
+
+msg::Intervention to_wire(const Intervention& v) {
+  msg::Intervention w;
+  w.machine_id(v.machine_id); w.intervention_id(v.intervention_id); w.kind(wire_kind(v.kind));
+  w.note(v.note); w.operator_name(v.operator_name); w.time_ns(v.time_ns);
+  return w;
+}
+Intervention from_wire(const msg::Intervention& w, std::string& error) {
+  Intervention v;
+  v.machine_id = w.machine_id(); v.intervention_id = w.intervention_id();
+  v.kind = model_kind(w.kind(), "Intervention.kind", error);
+  v.note = w.note(); v.operator_name = w.operator_name(); v.time_ns = w.time_ns();
+  return v;
+}
+
+msg::Compensation to_wire(const Compensation& v) {
+  msg::Compensation w;
+  w.machine_id(v.machine_id); w.request_id(v.request_id);
+  w.correction(wire_correction(v.correction)); w.time_ns(v.time_ns);
+  return w;
+}
+Compensation from_wire(const msg::Compensation& w, std::string& /*error*/) {
+  Compensation v;
+  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.correction = model_correction(w.correction()); v.time_ns = w.time_ns();
+  return v;
+}
+
+msg::Heartbeat to_wire(const Heartbeat& v) {
+  msg::Heartbeat w;
+  w.machine_id(v.machine_id); w.service(v.service); w.instance(v.instance);
+  w.state(v.state); w.time_ns(v.time_ns);
+  return w;
+}
+Heartbeat from_wire(const msg::Heartbeat& w, std::string& /*error*/) {
+  return Heartbeat{w.service(), w.instance(), w.machine_id(), w.state(), w.time_ns()};
+}
+
+}  // namespace ncqual::dds

@@ -1,0 +1,91 @@
+#include "ncqual/dds/participant.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace ncqual::dds {
+using namespace eprosima::fastdds::dds;
+
+int resolve_domain_id(int flag_value, int config_value) {
+  if (flag_value >= 0) return flag_value;
+  if (const char* env = std::getenv("NCQUAL_DOMAIN"); env && *env) {
+    char* end = nullptr;
+    const long v = std::strtol(env, &end, 10);
+    if (*end != '\0' || v < 0 || v > 232) {
+      throw DdsError(std::string("NCQUAL_DOMAIN = '") + env + "': expected an integer from 0 to 232");
+    }
+    return static_cast<int>(v);
+  }
+  return config_value;
+}
+
+namespace {
+
+// Profiles are loaded once per process; loading the same file twice is harmless but noisy.
+void load_profiles_once(const std::string& file) {
+  static std::mutex mutex;
+  static std::string loaded;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (file.empty() || file == loaded) return;
+  if (!std::filesystem::exists(file)) throw DdsError("QoS profiles file '" + file + "' not found");
+  if (DomainParticipantFactory::get_instance()->load_XML_profiles_file(file) !=
+      eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+    throw DdsError("QoS profiles file '" + file + "' could not be loaded (invalid XML profile?)");
+  }
+  loaded = file;
+}
+
+}  // namespace
+
+Participant::Participant(const ParticipantOptions& options) : domain_id_(options.domain_id) {
+  load_profiles_once(options.qos_profiles_file);
+  auto* factory = DomainParticipantFactory::get_instance();
+  DomainParticipantQos qos;
+  if (factory->get_participant_qos_from_profile(profiles::kParticipant, qos) !=
+      eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+    // Without our profiles file (a tool run outside deploy/) the defaults are used.
+    qos = PARTICIPANT_QOS_DEFAULT;
+  }
+  if (!options.name.empty()) qos.name(options.name);
+  participant_ = factory->create_participant(options.domain_id, qos);
+  if (!participant_) {
+    throw DdsError("could not create a DDS participant on domain " +
+                   std::to_string(options.domain_id));
+  }
+  publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
+  subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
+  if (!publisher_ || !subscriber_) throw DdsError("could not create a DDS publisher/subscriber");
+}
+
+Participant::~Participant() {
+  if (participant_) {
+    participant_->delete_contained_entities();
+    DomainParticipantFactory::get_instance()->delete_participant(participant_);
+  }
+}
+
+Topic* Participant::topic(const std::string& name, TypeSupport type) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (auto it = topics_.find(name); it != topics_.end()) return it->second;
+  type.register_type(participant_);
+  Topic* t = participant_->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
+  if (!t) throw DdsError("could not create topic '" + name + "'");
+  topics_[name] = t;
+  return t;
+}
+
+ContentFilteredTopic* Participant::machine_filter(Topic* topic, const std::string& machine_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::string name = topic->get_name() + "|machine_id=" + machine_id;
+  if (auto it = filtered_.find(name); it != filtered_.end()) return it->second;
+  ContentFilteredTopic* cft = participant_->create_contentfilteredtopic(
+      name, topic, "machine_id = %0", {"'" + machine_id + "'"});
+  if (!cft) throw DdsError("could not create a machine filter on '" + topic->get_name() + "'");
+  filtered_[name] = cft;
+  return cft;
+}
+
+}  // namespace ncqual::dds

@@ -1,0 +1,46 @@
+#include "ncqual/dds/service.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <unistd.h>
+
+#include <cstdlib>
+
+namespace ncqual::dds {
+
+std::string plant_file_from(const std::string& flag_value) {
+  if (!flag_value.empty()) return flag_value;
+  if (const char* env = std::getenv("NCQUAL_PLANT"); env && *env) return env;
+  throw ConfigError("no plant config: pass --plant FILE or set NCQUAL_PLANT");
+}
+
+Service::Service(const ServiceOptions& options) : options_(options) {
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  instance_ = std::string(host) + ":" + std::to_string(getpid());
+  // Signals first, before Fast DDS starts its threads, so that they all inherit the mask.
+  handle_termination_signals([this](int sig) {
+    spdlog::info("signal {} received, stopping", sig);
+    dispatcher_.stop();
+  });
+  participant_ = std::make_unique<Participant>(ParticipantOptions{
+      options.domain_id, options.qos_profiles_file, "ncqual-" + options.service});
+  heartbeat_ = std::make_unique<Writer<HeartbeatTopic>>(*participant_);
+  dispatcher_.every(options.heartbeat_period, [this] { beat("running"); });
+}
+
+Service::~Service() = default;
+
+void Service::beat(const std::string& state) {
+  heartbeat_->write(Heartbeat{options_.service, instance_, options_.machine_id, state, clock_.now_ns()});
+}
+
+int Service::run() {
+  spdlog::info("{} {} running on domain {}", options_.service, instance_, options_.domain_id);
+  dispatcher_.run();
+  beat("stopping");
+  spdlog::info("{} stopped", options_.service);
+  return 0;
+}
+
+}  // namespace ncqual::dds

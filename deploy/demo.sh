@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# The main job: install, build, start the four ncqual services and one simulated machine on a
+# private DDS domain, run a qualification cycle, print a summary, stop everything.
+#
+# Usage: deploy/demo.sh [--scenario MACHINE.yaml] [--domain N] [--keep-logs]
+#   --scenario  a machine config whose simulator section injects errors
+#               (examples in deploy/scenarios/; default deploy/machines/pm1.yaml)
+#   --domain    DDS domain id (default: NCQUAL_DOMAIN, else a random private one in 100..199)
+# Data goes to $NCQUAL_VAR (default var/ at the repository root): the historian database
+# var/historian.db, the logs var/log/, the plant config the demo writes var/demo-plant.yaml.
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+scenario="$root/deploy/machines/pm1.yaml"
+domain="${NCQUAL_DOMAIN:-$((100 + RANDOM % 100))}"
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --scenario) scenario="$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"; shift 2 ;;
+    --domain) domain="$2"; shift 2 ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    *) echo "demo.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+[ -f "$scenario" ] || { echo "demo.sh: scenario file '$scenario' not found" >&2; exit 2; }
+
+"$root/deploy/install-deps.sh"
+echo "== building (Release)"
+"$root/deploy/build.sh" --target ncqual-scheduler ncqual-acquisition ncqual-solver \
+  ncqual-historian ncqual > /dev/null
+bin="${NCQUAL_BUILD_DIR:-$root/build}/services"
+
+var="${NCQUAL_VAR:-$root/var}"
+mkdir -p "$var/log"
+plant="$var/demo-plant.yaml"
+db="$var/historian.db"
+machine_id="$(sed -n 's/^machine_id:[[:space:]]*\([^[:space:]#]*\).*/\1/p' "$scenario" | head -n1)"
+[ -n "$machine_id" ] || { echo "demo.sh: no machine_id in $scenario" >&2; exit 2; }
+cat > "$plant" <<YAML
+# Written by deploy/demo.sh
+plant: demo
+domain_id: $domain
+qos_profiles: $root/deploy/qos/ncqual-qos.xml
+historian:
+  database: $db
+scheduler:
+  startup_checks: [monument_positioning]
+machines:
+  - $scenario
+YAML
+export NCQUAL_PLANT="$plant"
+export NCQUAL_DOMAIN="$domain"
+
+pids=()
+stop_all() {
+  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+  for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
+  pids=()
+}
+trap stop_all EXIT
+
+start() {  # start NAME ARGS...: a service in the background, its log in var/log/NAME.log
+  local name="$1"; shift
+  "$bin/$name/ncqual-$name" "$@" > "$var/log/$name.log" 2>&1 &
+  pids+=($!)
+}
+
+before="$("$bin/cli/ncqual" count --machine "$machine_id" 2>/dev/null || echo 0)"
+echo "== starting the services on DDS domain $domain (logs in $var/log)"
+start historian
+start solver
+start acquisition --machine "$machine_id"
+start scheduler
+
+echo "== qualification cycle of $machine_id (scenario $(basename "$scenario"))"
+"$bin/cli/ncqual" wait --count $((before + 1)) --machine "$machine_id" --timeout 60 \
+  || { echo "demo.sh: the cycle produced no stored result; see $var/log" >&2; exit 1; }
+echo "== operator check through the scheduler"
+request="$("$bin/cli/ncqual" check --machine "$machine_id" --kind monument_positioning)"
+"$bin/cli/ncqual" wait --request "$request" --timeout 60 > /dev/null \
+  || { echo "demo.sh: operator check not stored; see $var/log" >&2; exit 1; }
+
+stop_all
+echo
+echo "== summary (historian $db)"
+"$bin/cli/ncqual" history --machine "$machine_id" --limit 2

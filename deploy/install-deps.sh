@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages ncqual builds and runs with, when they are missing.
+# Everything comes from Debian's archive; nothing else is downloaded.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ccache pkg-config
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  libeigen3-dev libceres-dev libsqlite3-dev sqlite3 libspdlog-dev libfmt-dev
+  libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+echo "ncqual: installing Debian packages: ${missing[*]}"
+sudo_cmd=""
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$sudo_cmd apt-get update -qq
+$sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,37 @@
+# ncqual_idl_generate(TARGET <name> FILES <a.idl> ...)
+#
+# Turns IDL files into a static library target whose sources fastddsgen writes into the build
+# tree at build time (never into the source tree, never committed), the way Cyclone DDS's
+# idlc_generate does. Consumers link <name> and include "<file>.h" / "<file>PubSubTypes.h".
+find_program(FASTDDSGEN_EXECUTABLE fastddsgen REQUIRED)
+
+function(ncqual_idl_generate)
+  cmake_parse_arguments(ARG "" "TARGET" "FILES" ${ARGN})
+  if(NOT ARG_TARGET OR NOT ARG_FILES)
+    message(FATAL_ERROR "ncqual_idl_generate: TARGET and FILES are required")
+  endif()
+  set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/${ARG_TARGET}_gen)
+  file(MAKE_DIRECTORY ${out_dir})
+  set(sources "")
+  foreach(idl ${ARG_FILES})
+    get_filename_component(idl_abs ${idl} ABSOLUTE)
+    get_filename_component(idl_dir ${idl_abs} DIRECTORY)
+    get_filename_component(stem ${idl_abs} NAME_WE)
+    set(generated
+      ${out_dir}/${stem}.h ${out_dir}/${stem}.cxx
+      ${out_dir}/${stem}PubSubTypes.h ${out_dir}/${stem}PubSubTypes.cxx)
+    add_custom_command(
+      OUTPUT ${generated}
+      COMMAND ${FASTDDSGEN_EXECUTABLE} -replace -d ${out_dir} -I ${idl_dir} ${idl_abs}
+      DEPENDS ${idl_abs}
+      COMMENT "fastddsgen ${stem}.idl"
+      VERBATIM)
+    list(APPEND sources ${out_dir}/${stem}.cxx ${out_dir}/${stem}PubSubTypes.cxx)
+  endforeach()
+  add_library(${ARG_TARGET} STATIC ${sources})
+  # Generated code is not ours to warn about.
+  target_compile_options(${ARG_TARGET} PRIVATE -w)
+  target_include_directories(${ARG_TARGET} PUBLIC ${out_dir})
+  target_link_libraries(${ARG_TARGET} PUBLIC fastcdr fastrtps)
+  set_target_properties(${ARG_TARGET} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+endfunction()

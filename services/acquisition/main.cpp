@@ -1,0 +1,81 @@
+// ncqual-acquisition: one per machine tool. Answers the CheckRequests of its machine by
+// performing the moves on the instrument (here: the simulator) and publishing the raw
+// MeasurementSet. It never judges a measurement.
+#include "ncqual/args.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/dds/service.hpp"
+#include "ncqual/log.hpp"
+#include "ncqual/sim/simulator.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+#include <set>
+
+int main(int argc, char** argv) {
+  using namespace ncqual;
+  try {
+    const Args args(std::vector<std::string>(argv + 1, argv + argc),
+                    {"plant", "machine", "machine-config", "domain", "log-level", "max-request-age-s"},
+                    {"help"});
+    if (args.has("help")) {
+      std::cout << "usage: ncqual-acquisition --plant FILE (--machine ID | --machine-config FILE)\n"
+                   "                          [--domain N] [--max-request-age-s 600] [--log-level info]\n"
+                   "Simulates the machine's instruments from the machine config's simulator section.\n";
+      return 0;
+    }
+    init_logging("acquisition", args.get_or("log-level", "info"));
+    const PlantConfig plant = load_plant_config(dds::plant_file_from(args.get_or("plant", "")));
+    MachineConfig machine;
+    if (auto file = args.get("machine-config")) {
+      machine = load_machine_config(*file);
+    } else {
+      const std::string id = args.require("machine");
+      const MachineConfig* m = plant.find_machine(id);
+      if (!m) throw ConfigError("--machine '" + id + "' is not configured in " + plant.source_path);
+      machine = *m;
+    }
+    const sim::MachineSimulator simulator(machine, sim::parse_simulator_config(machine));
+    // Requests older than this are history, not work: a restarted acquisition must not move the
+    // machine for checks long since answered.
+    const std::int64_t max_age_ns =
+        static_cast<std::int64_t>(args.get_double("max-request-age-s", 600) * 1e9);
+
+    dds::Service service({"acquisition", machine.machine_id,
+                          dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                          plant.qos_profiles_file});
+    dds::Reader<dds::CheckRequestTopic> requests(service.participant(), machine.machine_id);
+    dds::Writer<dds::MeasurementSetTopic> sets(service.participant());
+    std::set<std::string> performed;
+
+    service.dispatcher().on(requests, [&](dds::Received<CheckRequest> in) {
+      const CheckRequest& req = in.value;
+      if (req.machine_id != machine.machine_id) return;  // the filter should have done this
+      if (!performed.insert(req.request_id).second) return;
+      const std::int64_t now = service.clock().now_ns();
+      if (now - req.time_ns > max_age_ns) {
+        spdlog::info("{} {}: request from {} s ago ignored (older than --max-request-age-s)",
+                     req.machine_id, req.request_id, (now - req.time_ns) / 1000000000);
+        return;
+      }
+      MeasurementSet set;
+      if (!in.error.empty()) {
+        set.machine_id = req.machine_id;
+        set.request_id = req.request_id;
+        set.kind = req.kind;
+        set.time_ns = now;
+        set.error = "malformed CheckRequest: " + in.error;
+      } else {
+        set = simulator.perform(req, now);
+      }
+      spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
+                   to_string(set.kind), set.touches.size(), set.tracker_points.size(),
+                   set.error.empty() ? "" : " (" + set.error + ")");
+      if (!sets.write(set)) spdlog::error("{}: measurement set could not be queued", set.request_id);
+    });
+    return service.run();
+  } catch (const std::exception& e) {
+    std::cerr << "ncqual-acquisition: " << e.what() << "\n";
+    return 2;
+  }
+}

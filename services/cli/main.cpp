@@ -1,0 +1,269 @@
+// ncqual: the operator's command-line tool.
+//
+//   ncqual history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--json]
+//   ncqual check   --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]
+//   ncqual wait    [--plant F | --db F] (--request ID | --count N [--machine M]) [--timeout S]
+//   ncqual count   [--plant F | --db F] [--machine M]
+//
+// Exit codes: 0 success (for `check --wait`: PASS), 1 error, 2 usage, 3 FAIL, 4 INVALID,
+// 5 timed out.
+#include "ncqual/args.hpp"
+#include "ncqual/clock.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/dds/dispatcher.hpp"
+#include "ncqual/dds/topics.hpp"
+#include "ncqual/storage.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+namespace {
+using namespace ncqual;
+
+constexpr int kExitError = 1, kExitUsage = 2, kExitFail = 3, kExitInvalid = 4, kExitTimeout = 5;
+
+const char* kUsage =
+    "usage: ncqual <command> [options]\n"
+    "  history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--json]\n"
+    "      stored checks, newest first\n"
+    "  check --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]\n"
+    "      ask the scheduler to run a check now; with --wait, print its result\n"
+    "  wait [--plant F | --db F] (--request ID | --count N [--machine M]) [--timeout S]\n"
+    "      wait until the historian has stored that result (or N results)\n"
+    "  count [--plant F | --db F] [--machine M]\n"
+    "      number of stored results\n"
+    "The plant config comes from --plant or NCQUAL_PLANT; the domain from --domain,\n"
+    "NCQUAL_DOMAIN or the plant config.\n"
+    "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out.\n";
+
+std::string plant_path(const Args& args) {
+  if (auto p = args.get("plant")) return *p;
+  if (const char* env = std::getenv("NCQUAL_PLANT"); env && *env) return env;
+  return "";
+}
+
+std::string database_path(const Args& args) {
+  if (auto db = args.get("db")) return *db;
+  const std::string plant = plant_path(args);
+  if (plant.empty()) throw ArgError("pass --db FILE or --plant FILE (or set NCQUAL_PLANT)");
+  return load_plant_config(plant).historian_database;
+}
+
+std::string format_value(double v) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(4) << v;
+  return s.str();
+}
+
+std::string format_metrics(const std::vector<Metric>& metrics) {
+  std::string out;
+  for (const auto& m : metrics) {
+    if (!out.empty()) out += "  ";
+    out += m.name + "=" + format_value(m.value) + (m.pass ? "" : "(!)");
+  }
+  return out;
+}
+
+void print_table(const std::vector<storage::CheckRecord>& records) {
+  std::printf("%-24s %-10s %-22s %-8s %s\n", "time (UTC)", "machine", "check", "verdict",
+              "metrics ((!) = out of tolerance)");
+  for (const auto& r : records) {
+    char buf[32];
+    const std::int64_t t = r.result ? r.result->time_ns : (r.request ? r.request->time_ns : 0);
+    const std::string verdict = r.result ? std::string(to_string(r.result->verdict)) : "pending";
+    const std::string kind =
+        r.result ? std::string(to_string(r.result->kind))
+                 : (r.request ? std::string(to_string(r.request->kind)) : std::string("?"));
+    std::printf("%-24s %-10s %-22s %-8s %s\n", std::string(format_iso8601(t, buf)).c_str(),
+                r.machine_id.c_str(), kind.c_str(), verdict.c_str(),
+                r.result ? format_metrics(r.result->metrics).c_str() : "");
+    if (r.result && r.result->verdict != Verdict::Pass) {
+      if (!r.result->reason.empty()) std::printf("%59s reason: %s\n", "", r.result->reason.c_str());
+      if (!r.result->likely_causes.empty()) {
+        std::printf("%59s first likely cause: %s\n", "", r.result->likely_causes.front().c_str());
+      }
+    }
+  }
+}
+
+int cmd_history(const Args& args) {
+  auto db = storage::Database::open_readonly(database_path(args));
+  storage::HistoryQuery q;
+  if (auto m = args.get("machine")) q.machine_id = *m;
+  if (auto k = args.get("kind")) {
+    q.kind = parse_check_kind(*k);
+    if (!q.kind) throw ArgError("--kind '" + *k + "' is not a check kind");
+  }
+  q.limit = args.get_int("limit", 100);
+  const auto records = db.history(q);
+  if (args.has("json")) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const auto& r : records) out.push_back(storage::to_json(r));
+    std::cout << out.dump(2) << "\n";
+  } else {
+    print_table(records);
+  }
+  return 0;
+}
+
+int exit_code_of(Verdict v) {
+  switch (v) {
+    case Verdict::Pass: return 0;
+    case Verdict::Fail: return kExitFail;
+    default: return kExitInvalid;
+  }
+}
+
+int cmd_check(const Args& args) {
+  const std::string plant_file = plant_path(args);
+  if (plant_file.empty()) throw ArgError("pass --plant FILE (or set NCQUAL_PLANT)");
+  const PlantConfig plant = load_plant_config(plant_file);
+  const std::string machine = args.require("machine");
+  if (!plant.find_machine(machine)) {
+    throw ArgError("--machine '" + machine + "' is not configured in " + plant.source_path);
+  }
+  const std::string kind_name = args.require("kind");
+  const auto kind = parse_check_kind(kind_name);
+  if (!kind) throw ArgError("--kind '" + kind_name + "' is not a check kind");
+  const double wait_s = args.get_double("wait", 0);
+
+  const WallClock clock;
+  char host[128] = {};
+  gethostname(host, sizeof host - 1);
+  const CheckCommand cmd{machine,
+                         "op-" + machine + "-" + std::to_string(clock.now_ns()) + "-" +
+                             std::to_string(getpid()),
+                         *kind, std::string("operator:") + (getenv("USER") ? getenv("USER") : host),
+                         clock.now_ns()};
+
+  const int domain = dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id);
+  dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
+  dds::Writer<dds::CheckCommandTopic> commands(participant);
+  std::optional<dds::Reader<dds::CheckResultTopic>> results;
+  if (wait_s > 0) results.emplace(participant, machine);
+
+  if (!commands.wait_for_readers(1, std::chrono::seconds(10))) {
+    std::cerr << "ncqual check: no scheduler is listening on domain " << domain << "\n";
+    return kExitError;
+  }
+  if (!commands.write(cmd) || !commands.wait_for_acknowledgments(std::chrono::seconds(10))) {
+    std::cerr << "ncqual check: the scheduler did not acknowledge the order\n";
+    return kExitError;
+  }
+  std::cerr << "requested " << kind_name << " on " << machine << " (" << cmd.request_id << ")\n";
+  if (!results) {
+    std::cout << cmd.request_id << "\n";
+    return 0;
+  }
+  std::optional<CheckResult> got;
+  dds::Dispatcher dispatcher;
+  dispatcher.on(*results, [&](dds::Received<CheckResult> in) {
+    if (in.value.request_id == cmd.request_id) got = in.value;
+  });
+  dispatcher.run_until([&] { return got.has_value(); },
+                       std::chrono::milliseconds(static_cast<long long>(wait_s * 1000)));
+  if (!got) {
+    std::cerr << "ncqual check: no result for " << cmd.request_id << " within " << wait_s << " s\n";
+    return kExitTimeout;
+  }
+  if (args.has("json")) {
+    storage::CheckRecord rec;
+    rec.machine_id = got->machine_id;
+    rec.request_id = got->request_id;
+    rec.result = *got;
+    std::cout << storage::to_json(rec).dump(2) << "\n";
+  } else {
+    storage::CheckRecord rec;
+    rec.machine_id = got->machine_id;
+    rec.request_id = got->request_id;
+    rec.result = *got;
+    print_table({rec});
+  }
+  return exit_code_of(got->verdict);
+}
+
+// Waits on the database itself: the historian's commit is the event we wait for. The database
+// is re-read every 100 ms until the condition holds or the deadline passes.
+int cmd_wait(const Args& args) {
+  const std::string path = database_path(args);
+  const double timeout_s = args.get_double("timeout", 60);
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000));
+  const auto request = args.get("request");
+  const int count = args.get_int("count", -1);
+  if (!request && count < 0) throw ArgError("pass --request ID or --count N");
+  std::optional<std::string> machine = args.get("machine");
+  while (true) {
+    if (std::filesystem::exists(path)) {
+      auto db = storage::Database::open_readonly(path);
+      if (request) {
+        auto rec = db.find_check(*request);
+        if (rec && rec->result) {
+          std::cout << to_string(rec->result->verdict) << "\n";
+          return 0;
+        }
+      } else if (db.count_results(machine) >= count) {
+        return 0;
+      }
+    }
+    if (std::chrono::steady_clock::now() >= deadline) {
+      std::cerr << "ncqual wait: timed out after " << timeout_s << " s\n";
+      return kExitTimeout;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
+int cmd_count(const Args& args) {
+  const std::string path = database_path(args);
+  if (!std::filesystem::exists(path)) {
+    std::cout << 0 << "\n";
+    return 0;
+  }
+  auto db = storage::Database::open_readonly(path);
+  std::cout << db.count_results(args.get("machine")) << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "help") {
+    std::cout << kUsage;
+    return argc < 2 ? kExitUsage : 0;
+  }
+  const std::string command = argv[1];
+  const std::vector<std::string> rest(argv + 2, argv + argc);
+  spdlog::set_level(spdlog::level::warn);
+  try {
+    if (command == "history") {
+      return cmd_history(Args(rest, {"plant", "db", "machine", "kind", "limit"}, {"json"}));
+    }
+    if (command == "check") {
+      return cmd_check(Args(rest, {"plant", "machine", "kind", "domain", "wait"}, {"json"}));
+    }
+    if (command == "count") {
+      return cmd_count(Args(rest, {"plant", "db", "machine"}, {}));
+    }
+    if (command == "wait") {
+      return cmd_wait(Args(rest, {"plant", "db", "request", "count", "machine", "timeout"}, {}));
+    }
+    std::cerr << "ncqual: unknown command '" << command << "'\n" << kUsage;
+    return kExitUsage;
+  } catch (const ArgError& e) {
+    std::cerr << "ncqual " << command << ": " << e.what() << "\n";
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "ncqual " << command << ": " << e.what() << "\n";
+    return kExitError;
+  }
+}

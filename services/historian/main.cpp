@@ -1,0 +1,92 @@
+// ncqual-historian: one per plant. Stores every request, measurement set, result,
+// compensation, status change, intervention and service heartbeat in SQLite, exactly once
+// (storing is idempotent on each sample's id, so DDS redelivery after a restart is harmless).
+#include "ncqual/args.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/dds/service.hpp"
+#include "ncqual/log.hpp"
+#include "ncqual/storage.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+
+namespace {
+
+// Stores one received sample; a bad sample is logged with its reason and skipped, and the
+// historian keeps running with everything already stored intact.
+template <typename Model>
+void store(ncqual::storage::Database& db, const char* what, const ncqual::dds::Received<Model>& in,
+           const std::string& machine_id, const std::string& id) {
+  if (!in.error.empty()) {
+    spdlog::error("{} {} of machine '{}' not stored: {}", what, id, machine_id, in.error);
+    return;
+  }
+  try {
+    if (db.store(in.value)) {
+      spdlog::debug("stored {} {} of {}", what, id, machine_id);
+    } else {
+      spdlog::debug("{} {} of {} already stored", what, id, machine_id);
+    }
+  } catch (const ncqual::storage::StorageError& e) {
+    spdlog::error("{} {} of machine '{}' not stored: {}", what, id, machine_id, e.what());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace ncqual;
+  try {
+    const Args args(std::vector<std::string>(argv + 1, argv + argc),
+                    {"plant", "db", "domain", "log-level"}, {"help"});
+    if (args.has("help")) {
+      std::cout << "usage: ncqual-historian --plant FILE [--db PATH] [--domain N] [--log-level info]\n";
+      return 0;
+    }
+    init_logging("historian", args.get_or("log-level", "info"));
+    const PlantConfig plant = load_plant_config(dds::plant_file_from(args.get_or("plant", "")));
+    const std::string db_path = args.get_or("db", plant.historian_database);
+    auto db = storage::Database::open(db_path);
+    spdlog::info("historian database {}", db_path);
+
+    dds::Service service({"historian", "",
+                          dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                          plant.qos_profiles_file});
+    auto& p = service.participant();
+    dds::Reader<dds::CheckRequestTopic> requests(p);
+    dds::Reader<dds::MeasurementSetTopic> sets(p);
+    dds::Reader<dds::CheckResultTopic> results(p);
+    dds::Reader<dds::MachineStatusTopic> statuses(p);
+    dds::Reader<dds::CompensationTopic> compensations(p);
+    dds::Reader<dds::InterventionTopic> interventions(p);
+    dds::Reader<dds::HeartbeatTopic> heartbeats(p);
+
+    auto& d = service.dispatcher();
+    d.on(requests, [&](dds::Received<CheckRequest> in) {
+      store(db, "request", in, in.value.machine_id, in.value.request_id);
+    });
+    d.on(sets, [&](dds::Received<MeasurementSet> in) {
+      store(db, "measurement set", in, in.value.machine_id, in.value.request_id);
+    });
+    d.on(results, [&](dds::Received<CheckResult> in) {
+      store(db, "result", in, in.value.machine_id, in.value.request_id);
+    });
+    d.on(statuses, [&](dds::Received<MachineStatus> in) {
+      store(db, "status", in, in.value.machine_id, in.value.request_id);
+    });
+    d.on(compensations, [&](dds::Received<Compensation> in) {
+      store(db, "compensation", in, in.value.machine_id, in.value.request_id);
+    });
+    d.on(interventions, [&](dds::Received<Intervention> in) {
+      store(db, "intervention", in, in.value.machine_id, in.value.intervention_id);
+    });
+    d.on(heartbeats, [&](dds::Received<Heartbeat> in) {
+      store(db, "heartbeat", in, in.value.machine_id, in.value.service + "@" + in.value.instance);
+    });
+    return service.run();
+  } catch (const std::exception& e) {
+    std::cerr << "ncqual-historian: " << e.what() << "\n";
+    return 2;
+  }
+}

@@ -1,0 +1,92 @@
+// ncqual-solver: turns MeasurementSets into CheckResults (and Compensations) with the pure
+// solver library. Thin: arguments, wiring, publishing. No storage, no math here.
+#include "ncqual/args.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/dds/service.hpp"
+#include "ncqual/log.hpp"
+#include "ncqual/solver/solve.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <deque>
+#include <iostream>
+#include <unordered_set>
+
+namespace {
+
+// Remembers the request ids solved recently, so that a set delivered twice (a restarted
+// acquisition, two paths) is answered once. Bounded: oldest forgotten first.
+class RecentIds {
+ public:
+  explicit RecentIds(std::size_t capacity) : capacity_(capacity) {}
+  bool insert(const std::string& id) {
+    if (!seen_.insert(id).second) return false;
+    order_.push_back(id);
+    if (order_.size() > capacity_) {
+      seen_.erase(order_.front());
+      order_.pop_front();
+    }
+    return true;
+  }
+
+ private:
+  std::size_t capacity_;
+  std::unordered_set<std::string> seen_;
+  std::deque<std::string> order_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace ncqual;
+  try {
+    const Args args(std::vector<std::string>(argv + 1, argv + argc),
+                    {"plant", "domain", "log-level"}, {"help"});
+    if (args.has("help")) {
+      std::cout << "usage: ncqual-solver --plant FILE [--domain N] [--log-level info]\n";
+      return 0;
+    }
+    init_logging("solver", args.get_or("log-level", "info"));
+    const PlantConfig plant = load_plant_config(dds::plant_file_from(args.get_or("plant", "")));
+    dds::Service service({"solver", "",
+                          dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                          plant.qos_profiles_file});
+    dds::Reader<dds::MeasurementSetTopic> sets(service.participant());
+    dds::Writer<dds::CheckResultTopic> results(service.participant());
+    dds::Writer<dds::CompensationTopic> compensations(service.participant());
+    RecentIds solved(10000);
+
+    service.dispatcher().on(sets, [&](dds::Received<MeasurementSet> in) {
+      const MeasurementSet& set = in.value;
+      if (!solved.insert(set.request_id)) {
+        spdlog::debug("{} {}: already solved, ignored", set.machine_id, set.request_id);
+        return;
+      }
+      CheckResult result;
+      if (!in.error.empty()) {
+        // A malformed sample still gets an answer, so the scheduler is never left waiting.
+        result.machine_id = set.machine_id;
+        result.request_id = set.request_id;
+        result.kind = set.kind;
+        result.verdict = Verdict::Invalid;
+        result.reason = in.error;
+        result.time_ns = service.clock().now_ns();
+      } else {
+        result = solver::solve(set, plant, service.clock().now_ns());
+      }
+      spdlog::info("{} {} {}: {}{}", result.machine_id, result.request_id, to_string(result.kind),
+                   to_string(result.verdict), result.reason.empty() ? "" : " (" + result.reason + ")");
+      if (!results.write(result)) {
+        spdlog::error("{} {}: result could not be queued", result.machine_id, result.request_id);
+      }
+      if (result.correction) {
+        compensations.write(Compensation{result.machine_id, result.request_id, *result.correction,
+                                         result.time_ns});
+      }
+    });
+    return service.run();
+  } catch (const std::exception& e) {
+    std::cerr << "ncqual-solver: " << e.what() << "\n";
+    return 2;
+  }
+}

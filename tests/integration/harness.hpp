@@ -1,0 +1,190 @@
+// Test harness for multi-process tests: starts the real ncqual executables on a private DDS
+// domain with a plant config in a temporary directory, and waits on the historian's database.
+#pragma once
+
+#include "ncqual/storage.hpp"
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace ncqual::testing {
+
+namespace fs = std::filesystem;
+
+// A child process running one executable; killed (SIGKILL) if still running at destruction.
+class Process {
+ public:
+  Process(const std::string& exe, const std::vector<std::string>& args, const std::string& log) {
+    std::vector<std::string> all{exe};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  ~Process() {
+    if (running()) signal(SIGKILL);
+    wait();
+  }
+  Process(const Process&) = delete;
+  Process& operator=(const Process&) = delete;
+
+  bool started() const { return pid_ > 0; }
+  bool running() {
+    if (pid_ <= 0 || exited_) return false;
+    int status = 0;
+    if (waitpid(pid_, &status, WNOHANG) == pid_) {
+      exited_ = true;
+      status_ = status;
+      return false;
+    }
+    return true;
+  }
+  void signal(int sig) {
+    if (pid_ > 0 && !exited_) ::kill(pid_, sig);
+  }
+  // Waits for the process to end; returns its wait status.
+  int wait() {
+    if (pid_ > 0 && !exited_) {
+      waitpid(pid_, &status_, 0);
+      exited_ = true;
+    }
+    return status_;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  bool exited_ = false;
+  int status_ = 0;
+};
+
+// A private plant: a temporary directory, a domain id of its own, machine configs, and the
+// four services.
+class Plant {
+ public:
+  // Every test passes its own domain id (tests/integration/CMakeLists.txt lists them), so tests
+  // that ctest runs in parallel never hear each other.
+  Plant(const std::string& name, int domain) : domain_(domain) {
+    std::random_device rd;
+    dir_ = fs::temp_directory_path() / ("ncqual-it-" + name + "-" + std::to_string(getpid()) +
+                                        "-" + std::to_string(rd() % 100000));
+    fs::create_directories(dir_);
+  }
+  ~Plant() {
+    processes_.clear();
+    if (!std::getenv("NCQUAL_KEEP_TEST_DIRS")) {
+      std::error_code ec;
+      fs::remove_all(dir_, ec);
+    }
+  }
+
+  // Writes a machine config with the given YAML text and adds it to the plant.
+  std::string add_machine(const std::string& machine_id, const std::string& yaml) {
+    const auto path = dir_ / (machine_id + ".yaml");
+    std::ofstream(path) << yaml;
+    machines_.push_back(path.string());
+    return path.string();
+  }
+
+  std::string write_plant(const std::string& startup_checks = "[monument_positioning]") {
+    const auto path = dir_ / "plant.yaml";
+    std::ofstream out(path);
+    out << "plant: test-plant\n"
+        << "domain_id: " << domain_ << "\n"
+        << "qos_profiles: " << NCQUAL_SOURCE_DIR << "/deploy/qos/ncqual-qos.xml\n"
+        << "historian:\n  database: " << db_path() << "\n"
+        << "scheduler:\n  startup_checks: " << startup_checks << "\n"
+        << "machines:\n";
+    for (const auto& m : machines_) out << "  - " << m << "\n";
+    plant_file_ = path.string();
+    return plant_file_;
+  }
+
+  Process& start(const std::string& service, const std::vector<std::string>& extra = {}) {
+    std::vector<std::string> args{"--plant", plant_file_, "--log-level", "debug"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const std::string exe = executable(service);
+    processes_.push_back(
+        std::make_unique<Process>(exe, args, (dir_ / (service + ".log")).string()));
+    return *processes_.back();
+  }
+
+  static std::string executable(const std::string& service) {
+    if (service == "historian") return NCQUAL_HISTORIAN_EXE;
+    if (service == "solver") return NCQUAL_SOLVER_EXE;
+    if (service == "acquisition") return NCQUAL_ACQUISITION_EXE;
+    if (service == "scheduler") return NCQUAL_SCHEDULER_EXE;
+    return NCQUAL_CLI_EXE;
+  }
+
+  std::string db_path() const { return (dir_ / "historian.db").string(); }
+  const fs::path& dir() const { return dir_; }
+  int domain() const { return domain_; }
+  const std::string& plant_file() const { return plant_file_; }
+
+  // Re-reads the database until `done` holds or the timeout passes. The historian's commit is
+  // the event waited for; there is no fixed sleep.
+  bool wait_for_db(const std::function<bool(storage::Database&)>& done,
+                   std::chrono::seconds timeout = std::chrono::seconds(60)) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (fs::exists(db_path())) {
+        try {
+          auto db = storage::Database::open_readonly(db_path());
+          if (done(db)) return true;
+        } catch (const std::exception&) {
+          // The historian may be creating the schema right now; look again.
+        }
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  }
+
+  std::string log(const std::string& service) const {
+    std::ifstream in(dir_ / (service + ".log"));
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }
+
+ private:
+  fs::path dir_;
+  int domain_ = 0;
+  std::string plant_file_;
+  std::vector<std::string> machines_;
+  std::vector<std::unique_ptr<Process>> processes_;
+};
+
+// A machine config for tests: nominal geometry of deploy/machines/pm1.yaml with the given
+// simulator errors section (YAML lines, indented under `errors:`).
+inline std::string machine_yaml(const std::string& machine_id, const std::string& errors,
+                                int seed = 7) {
+  return "machine_id: " + machine_id +
+         "\n"
+         "probe:\n  tool_length_mm: 350.0\n  ball_radius_mm: 3.0\n"
+         "monument:\n  hole_center_mm: [1200.0, 800.0]\n  hole_diameter_mm: 50.0\n"
+         "  face_z_mm: 150.0\n  probe_depth_mm: 5.0\n  gauge_width_mm: 200.0\n"
+         "tolerances:\n  center_dx_mm: 0.025\n  center_dy_mm: 0.025\n  face_dz_mm: 0.025\n"
+         "simulator:\n  seed: " + std::to_string(seed) +
+         "\n  trigger_noise_sigma_mm: 0.001\n  errors:\n" + errors;
+}
+
+}  // namespace ncqual::testing

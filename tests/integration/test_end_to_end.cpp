@@ -1,0 +1,112 @@
+// The four real executables over Fast DDS on loopback, two simulated machines, one solver and
+// one historian: the scheduler's start-up cycle runs check 3 on both, and the stored results
+// must match the errors injected into each simulated machine.
+#include "harness.hpp"
+
+#include "ncqual/config.hpp"
+#include "ncqual/sim/simulator.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ncqual::testing {
+namespace {
+
+TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
+  Plant plant("e2e", 201);
+  // pm-good: no errors (PASS). pm-shifted: the machine has shifted (FAIL, first cause machine).
+  const auto good = plant.add_machine("pm-good", machine_yaml("pm-good", "    machine_shift_mm: [0, 0, 0]\n", 11));
+  const auto shifted = plant.add_machine(
+      "pm-shifted", machine_yaml("pm-shifted",
+                                 "    machine_shift_mm: [0.040, -0.031, 0.027]\n"
+                                 "    monument_shift_mm: [0.002, 0.001, 0.0]\n", 12));
+  plant.write_plant();
+  plant.start("historian");
+  plant.start("solver");
+  plant.start("acquisition", {"--machine", "pm-good"});
+  plant.start("acquisition", {"--machine", "pm-shifted"});
+  plant.start("scheduler");
+
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) {
+    return db.count_results(std::string("pm-good")) >= 1 &&
+           db.count_results(std::string("pm-shifted")) >= 1;
+  })) << plant.log("solver") << plant.log("historian");
+
+  auto db = storage::Database::open_readonly(plant.db_path());
+  const double bound = 3 * 0.001;  // 3 sigma of the 1 um trigger noise
+  for (const auto& path : {good, shifted}) {
+    const MachineConfig machine = load_machine_config(path);
+    const auto truth = sim::parse_simulator_config(machine).errors;
+    storage::HistoryQuery q;
+    q.machine_id = machine.machine_id;
+    const auto records = db.history(q);
+    ASSERT_EQ(records.size(), 1u) << machine.machine_id;
+    const auto& rec = records.front();
+    ASSERT_TRUE(rec.request.has_value()) << "request stored";
+    ASSERT_TRUE(rec.result.has_value()) << "result stored";
+    EXPECT_EQ(rec.request->requested_by, "scheduler");
+    EXPECT_EQ(rec.result->kind, CheckKind::MonumentPositioning);
+    // Check 3 sees the monument relative to the machine: monument shift minus machine shift.
+    const Eigen::Vector3d expected = truth.monument_shift_mm - truth.machine_shift_mm;
+    const Metric* dx = find_metric(*rec.result, "center_dx_mm");
+    const Metric* dy = find_metric(*rec.result, "center_dy_mm");
+    const Metric* dz = find_metric(*rec.result, "face_dz_mm");
+    ASSERT_TRUE(dx && dy && dz) << machine.machine_id;
+    EXPECT_NEAR(dx->value, expected.x(), bound) << machine.machine_id;
+    EXPECT_NEAR(dy->value, expected.y(), bound) << machine.machine_id;
+    EXPECT_NEAR(dz->value, expected.z(), bound) << machine.machine_id;
+    const auto set = db.load_measurement_set(rec.request_id);
+    ASSERT_TRUE(set.has_value());
+    EXPECT_GE(set->touches.size(), 4u);
+  }
+  const auto good_rec = db.history({std::string("pm-good")}).front();
+  EXPECT_EQ(good_rec.result->verdict, Verdict::Pass);
+  const auto bad_rec = db.history({std::string("pm-shifted")}).front();
+  EXPECT_EQ(bad_rec.result->verdict, Verdict::Fail);
+  ASSERT_FALSE(bad_rec.result->likely_causes.empty());
+  EXPECT_EQ(bad_rec.result->likely_causes.front(), "machine shifted along its axes");
+
+  // The scheduler published each machine's status after the result, and the historian kept it.
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& d) {
+    auto a = d.latest_status("pm-good");
+    auto b = d.latest_status("pm-shifted");
+    return a && b && a->state == MachineState::Qualified &&
+           b->state == MachineState::NeedsIntervention;
+  })) << plant.log("scheduler");
+}
+
+TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
+  Plant plant("cli", 202);
+  plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
+  plant.write_plant("[]");  // no start-up cycle: only the operator's order
+  plant.start("historian");
+  plant.start("solver");
+  plant.start("acquisition", {"--machine", "pm1"});
+  plant.start("scheduler");
+
+  const std::string out = (plant.dir() / "check.out").string();
+  const std::string cmd = std::string(NCQUAL_CLI_EXE) + " check --plant " + plant.plant_file() +
+                          " --machine pm1 --kind monument_positioning --wait 60 --json > " + out +
+                          " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  ASSERT_EQ(WEXITSTATUS(rc), 0) << plant.log("scheduler");
+  std::ifstream in(out);
+  const std::string json(std::istreambuf_iterator<char>(in), {});
+  EXPECT_NE(json.find("\"verdict\": \"PASS\""), std::string::npos) << json;
+  EXPECT_NE(json.find("center_dx_mm"), std::string::npos) << json;
+
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 1; }));
+  auto db = storage::Database::open_readonly(plant.db_path());
+  const auto rec = db.history({}).front();
+  EXPECT_EQ(rec.request->requested_by.rfind("operator:", 0), 0u) << rec.request->requested_by;
+
+  // An unknown machine is refused by the tool with a message naming it, exit code 2.
+  const std::string bad = std::string(NCQUAL_CLI_EXE) + " check --plant " + plant.plant_file() +
+                          " --machine nope --kind monument_positioning > " + out + " 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
+  std::ifstream in2(out);
+  const std::string msg(std::istreambuf_iterator<char>(in2), {});
+  EXPECT_NE(msg.find("'nope'"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace ncqual::testing

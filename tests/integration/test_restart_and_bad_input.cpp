@@ -1,0 +1,145 @@
+// Restart and bad input across real processes.
+#include "harness.hpp"
+
+#include "ncqual/dds/topics.hpp"
+#include "ncqual/dds/endpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace ncqual::testing {
+namespace {
+
+// Orders `count` checks through the scheduler, as `ncqual check` would.
+std::vector<std::string> order_checks(dds::Writer<dds::CheckCommandTopic>& commands,
+                                      const std::string& machine, int first, int count) {
+  std::vector<std::string> ids;
+  for (int i = first; i < first + count; ++i) {
+    CheckCommand cmd{machine, "restart-test-" + std::to_string(i), CheckKind::MonumentPositioning,
+                     "test", WallClock().now_ns()};
+    EXPECT_TRUE(commands.write(cmd));
+    ids.push_back(cmd.request_id);
+  }
+  EXPECT_TRUE(commands.wait_for_acknowledgments(std::chrono::seconds(10)));
+  return ids;
+}
+
+TEST(HistorianRestart, SigkillWhileChecksAreProducedStoresEveryCheckExactlyOnce) {
+  Plant plant("restart", 203);
+  plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0.001, 0, 0]\n"));
+  plant.write_plant("[]");
+  Process* historian = &plant.start("historian");
+  plant.start("solver");
+  plant.start("acquisition", {"--machine", "pm1"});
+  plant.start("scheduler");
+
+  dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
+                                                    "/deploy/qos/ncqual-qos.xml", "test"});
+  dds::Writer<dds::CheckCommandTopic> commands(participant);
+  ASSERT_TRUE(commands.wait_for_readers(1, std::chrono::seconds(30)));
+
+  // First batch; kill the historian as soon as some, not all, of it is stored.
+  auto ids = order_checks(commands, "pm1", 0, 20);
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 3; }))
+      << plant.log("historian");
+  historian->signal(SIGKILL);
+  historian->wait();
+
+  // Checks go on while the historian is down.
+  auto more = order_checks(commands, "pm1", 20, 10);
+  ids.insert(ids.end(), more.begin(), more.end());
+
+  // Restarted, it receives what it missed from the writers' durable histories.
+  plant.start("historian");
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    for (const auto& id : ids) {
+      auto rec = db.find_check(id);
+      if (!rec || !rec->request || !rec->result || !rec->measurement) return false;
+    }
+    return true;
+  })) << plant.log("historian");
+
+  // Exactly once: as many results as checks ordered, and each id once in the history.
+  auto db = storage::Database::open_readonly(plant.db_path());
+  EXPECT_EQ(db.count_results(std::string("pm1")), static_cast<std::int64_t>(ids.size()));
+  storage::HistoryQuery q;
+  q.limit = 1000;
+  std::multiset<std::string> seen;
+  for (const auto& r : db.history(q)) seen.insert(r.request_id);
+  for (const auto& id : ids) EXPECT_EQ(seen.count(id), 1u) << id;
+}
+
+TEST(BadInput, MalformedMeasurementSetsGetInvalidResultsAndNothingIsLost) {
+  Plant plant("bad", 204);
+  plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
+  plant.write_plant();  // the start-up cycle stores one good check first
+  plant.start("historian");
+  Process& solver = plant.start("solver");
+  plant.start("acquisition", {"--machine", "pm1"});
+  plant.start("scheduler");
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 1; }));
+
+  dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
+                                                    "/deploy/qos/ncqual-qos.xml", "test"});
+  dds::Writer<dds::MeasurementSetTopic> sets(participant);
+  ASSERT_TRUE(sets.wait_for_readers(2, std::chrono::seconds(30)));  // solver and historian
+
+  auto base = [](const std::string& id) {
+    MeasurementSet s;
+    s.machine_id = "pm1";
+    s.request_id = id;
+    s.kind = CheckKind::MonumentPositioning;
+    s.instrument = "touch_probe";
+    s.frame = "machine";
+    s.time_ns = WallClock().now_ns();
+    return s;
+  };
+  const Eigen::Vector3d out_x(1, 0, 0);
+  auto empty = base("bad-empty");
+  auto nan = base("bad-nan");
+  for (int i = 0; i < 4; ++i) {
+    nan.touches.push_back(Touch{"hole_edge", {1200, 800, 497, 0, 0, 0}, out_x});
+  }
+  nan.touches[1].axes.y_mm = std::numeric_limits<double>::quiet_NaN();
+  nan.touches.push_back(Touch{"face", {1230, 800, 503, 0, 0, 0}, {0, 0, -1}});
+  auto unknown = base("bad-unknown-machine");
+  unknown.machine_id = "no-such-machine";
+  auto wrong_kind = base("bad-kind");
+  wrong_kind.kind = CheckKind::GlobalGrid;
+  for (const auto* s : {&empty, &nan, &unknown, &wrong_kind}) ASSERT_TRUE(sets.write(*s));
+
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) {
+    for (const char* id : {"bad-empty", "bad-nan", "bad-unknown-machine", "bad-kind"}) {
+      auto rec = db.find_check(id);
+      if (!rec || !rec->result) return false;
+    }
+    return true;
+  })) << plant.log("solver");
+
+  auto db = storage::Database::open_readonly(plant.db_path());
+  auto reason_of = [&](const char* id) {
+    auto rec = db.find_check(id);
+    EXPECT_EQ(rec->result->verdict, Verdict::Invalid) << id;
+    return rec->result->reason;
+  };
+  EXPECT_NE(reason_of("bad-empty").find("touches"), std::string::npos);
+  EXPECT_NE(reason_of("bad-nan").find("NaN"), std::string::npos) << reason_of("bad-nan");
+  EXPECT_NE(reason_of("bad-unknown-machine").find("no-such-machine"), std::string::npos);
+  EXPECT_NE(reason_of("bad-kind").find("global_grid"), std::string::npos);
+
+  // No process exited, and the good check stored before is still there.
+  EXPECT_TRUE(solver.running());
+  EXPECT_GE(db.count_results(std::string("pm1")), 4);
+  storage::HistoryQuery q;
+  q.machine_id = "pm1";
+  q.limit = 100;
+  int passes = 0;
+  for (const auto& r : db.history(q)) passes += r.result && r.result->verdict == Verdict::Pass;
+  EXPECT_EQ(passes, 1);
+}
+
+}  // namespace
+}  // namespace ncqual::testing

@@ -1,0 +1,156 @@
+#include "ncqual/args.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/dds/convert.hpp"
+#include "ncqual/kinematics.hpp"
+#include "ncqual/units.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace ncqual {
+namespace {
+
+TEST(Units, ParsesQuantitiesWithAndWithoutUnits) {
+  using units::Dimension;
+  EXPECT_DOUBLE_EQ(units::parse_quantity(Dimension::Length, "12.5", "mm"), 12.5);
+  EXPECT_DOUBLE_EQ(units::parse_quantity(Dimension::Length, "1 in", "mm"), 25.4);
+  EXPECT_DOUBLE_EQ(units::parse_quantity(Dimension::Length, "3 um", "mm"), 0.003);
+  EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "180 deg", "rad"), units::kPi, 1e-15);
+  EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "3600 arcsec", "rad"), units::kPi / 180, 1e-15);
+  EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "10", "arcsec"), 10 * units::kRadPerArcsec, 1e-18);
+  try {
+    units::parse_quantity(Dimension::Length, "5 furlongs", "mm");
+    FAIL() << "accepted an unknown unit";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("furlongs"), std::string::npos);
+  }
+  EXPECT_THROW(units::parse_quantity(Dimension::Length, "abc", "mm"), std::invalid_argument);
+}
+
+TEST(Kinematics, ToolPointsDownAtHomeAndAlongXAtC90A90) {
+  EXPECT_TRUE(tool_direction(0, 0).isApprox(Eigen::Vector3d(0, 0, -1)));
+  const Eigen::Vector3d d = tool_direction(units::kPi / 2, units::kPi / 2);
+  EXPECT_NEAR(std::abs(d.x()), 1.0, 1e-12);  // parallel to X, as in the patent's check 2
+  ProbeGeometry probe;
+  probe.tool_length_mm = 300;
+  const Eigen::Vector3d tip = stylus_ball_centre({10, 20, 500, 5, 0, 0}, probe);
+  EXPECT_TRUE(tip.isApprox(Eigen::Vector3d(10, 20, 195)));
+}
+
+class ConfigFile : public ::testing::Test {
+ protected:
+  std::string write(const std::string& text) {
+    path_ = std::filesystem::temp_directory_path() /
+            ("ncqual-config-test-" + std::to_string(::getpid()) + ".yaml");
+    std::ofstream(path_) << text;
+    return path_.string();
+  }
+  void TearDown() override { std::filesystem::remove(path_); }
+  std::filesystem::path path_;
+};
+
+const char* kMachine =
+    "machine_id: pm1\n"
+    "probe: {tool_length_mm: 350, ball_radius_mm: '0.118 in'}\n"
+    "monument: {hole_center_mm: [1200, 800], hole_diameter_mm: 50, face_z_mm: 150}\n"
+    "tolerances: {center_dx_mm: '0.001 in', face_dz_mm: {lower: -0.01, upper: 0.02}}\n";
+
+TEST_F(ConfigFile, MachineConfigReadsUnitsAtTheEdge) {
+  const MachineConfig m = load_machine_config(write(kMachine));
+  EXPECT_EQ(m.machine_id, "pm1");
+  EXPECT_NEAR(m.probe.ball_radius_mm, 0.118 * 25.4, 1e-12);
+  EXPECT_NEAR(m.tolerance("center_dx_mm").upper, 0.0254, 1e-12);
+  EXPECT_NEAR(m.tolerance("center_dx_mm").lower, -0.0254, 1e-12);
+  EXPECT_DOUBLE_EQ(m.tolerance("face_dz_mm").lower, -0.01);
+  EXPECT_EQ(m.monument.hole_touches, 4);
+  EXPECT_THROW(m.tolerance("nope"), ConfigError);
+}
+
+TEST_F(ConfigFile, BadValuesAreNamedWithFileKeyAndValue) {
+  std::string text = kMachine;
+  text.replace(text.find("hole_diameter_mm: 50"), 20, "hole_diameter_mm: 0");
+  const std::string path = write(text);
+  try {
+    load_machine_config(path);
+    FAIL() << "accepted a zero-diameter gauge";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find("hole_diameter_mm"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("'0'"), std::string::npos) << msg;
+  }
+  text = kMachine;
+  text.replace(text.find("tool_length_mm: 350"), 19, "tool_length_mm: long");
+  try {
+    load_machine_config(write(text));
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("tool_length_mm = 'long'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Args, UnknownFlagsAndBadNumbersAreNamed) {
+  const Args ok({"--plant", "p.yaml", "--json", "--limit=5", "pos"}, {"plant", "limit"}, {"json"});
+  EXPECT_EQ(ok.require("plant"), "p.yaml");
+  EXPECT_TRUE(ok.has("json"));
+  EXPECT_EQ(ok.get_int("limit", 0), 5);
+  ASSERT_EQ(ok.positional().size(), 1u);
+  EXPECT_THROW(Args({"--plnt", "x"}, {"plant"}, {}), ArgError);
+  EXPECT_THROW(Args({"--plant"}, {"plant"}, {}), ArgError);
+  const Args bad({"--limit", "five"}, {"limit"}, {});
+  try {
+    bad.get_int("limit", 0);
+    FAIL();
+  } catch (const ArgError& e) {
+    EXPECT_NE(std::string(e.what()).find("'five'"), std::string::npos);
+  }
+}
+
+TEST(Model, EnumNamesRoundTrip) {
+  for (CheckKind k : all_check_kinds()) EXPECT_EQ(parse_check_kind(to_string(k)), k);
+  EXPECT_EQ(parse_check_kind("monument_positioning"), CheckKind::MonumentPositioning);
+  EXPECT_FALSE(parse_check_kind("bogus").has_value());
+  EXPECT_EQ(parse_verdict("FAIL"), Verdict::Fail);
+}
+
+TEST(WireConversion, MeasurementSetAndResultRoundTrip) {
+  MeasurementSet s;
+  s.machine_id = "pm1";
+  s.request_id = "r1";
+  s.kind = CheckKind::CircleXZ;
+  s.touches.push_back(Touch{"hole_edge", {1, 2, 3, 4, 0.5, 0.25}, {0, 1, 0}});
+  s.tracker_points.push_back(TrackerPoint{"p1", {1, 2, 3, 0, 0, 0}, {7, 8, 9}});
+  s.error = "none";
+  std::string error;
+  const MeasurementSet back = dds::from_wire(dds::to_wire(s), error);
+  EXPECT_TRUE(error.empty());
+  EXPECT_EQ(back.kind, CheckKind::CircleXZ);
+  ASSERT_EQ(back.touches.size(), 1u);
+  EXPECT_DOUBLE_EQ(back.touches[0].axes.c_rad, 0.25);
+  EXPECT_EQ(back.tracker_points[0].measured_mm, Eigen::Vector3d(7, 8, 9));
+
+  CheckResult r;
+  r.machine_id = "pm1";
+  r.verdict = Verdict::Fail;
+  r.metrics.push_back(Metric{"center_dx_mm", 0.03, "mm", -0.025, 0.025, false});
+  r.likely_causes = {"a", "b"};
+  r.correction = Correction{"fixture:F1", {{"dx", 0.1, "mm"}}};
+  const CheckResult rb = dds::from_wire(dds::to_wire(r), error);
+  EXPECT_EQ(rb.verdict, Verdict::Fail);
+  ASSERT_TRUE(rb.correction.has_value());
+  EXPECT_EQ(rb.correction->offsets[0].name, "dx");
+  EXPECT_EQ(rb.likely_causes, r.likely_causes);
+
+  // A kind number this version does not know is reported, naming the field.
+  auto wire = dds::to_wire(s);
+  wire.kind(static_cast<msg::CheckKind>(99));
+  error.clear();
+  dds::from_wire(wire, error);
+  EXPECT_NE(error.find("MeasurementSet.kind = 99"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace ncqual
