@@ -2,7 +2,8 @@
 #
 # Turns IDL files into a static library target whose sources fastddsgen writes into the build
 # tree at build time (never into the source tree, never committed), the way Cyclone DDS's
-# idlc_generate does. Consumers link <name> and include "<file>.h" / "<file>PubSubTypes.h".
+# idlc_generate does. Consumers link <name> and include "<file>.h" / "<file>PubSubTypes.h", and
+# call register<file>Types() from "<file>TypeObject.h" once before creating topics.
 find_program(FASTDDSGEN_EXECUTABLE fastddsgen REQUIRED)
 
 function(ncqual_idl_generate)
@@ -17,16 +18,20 @@ function(ncqual_idl_generate)
     get_filename_component(idl_abs ${idl} ABSOLUTE)
     get_filename_component(idl_dir ${idl_abs} DIRECTORY)
     get_filename_component(stem ${idl_abs} NAME_WE)
+    # -typeobject: TypeObjects let Fast DDS evaluate content filters (per-machine readers) and
+    # let other DDS implementations discover our types (plant integration).
     set(generated
       ${out_dir}/${stem}.h ${out_dir}/${stem}.cxx
-      ${out_dir}/${stem}PubSubTypes.h ${out_dir}/${stem}PubSubTypes.cxx)
+      ${out_dir}/${stem}PubSubTypes.h ${out_dir}/${stem}PubSubTypes.cxx
+      ${out_dir}/${stem}TypeObject.h ${out_dir}/${stem}TypeObject.cxx)
     add_custom_command(
       OUTPUT ${generated}
-      COMMAND ${FASTDDSGEN_EXECUTABLE} -replace -d ${out_dir} -I ${idl_dir} ${idl_abs}
+      COMMAND ${FASTDDSGEN_EXECUTABLE} -typeobject -replace -d ${out_dir} -I ${idl_dir} ${idl_abs}
       DEPENDS ${idl_abs}
       COMMENT "fastddsgen ${stem}.idl"
       VERBATIM)
-    list(APPEND sources ${out_dir}/${stem}.cxx ${out_dir}/${stem}PubSubTypes.cxx)
+    list(APPEND sources ${out_dir}/${stem}.cxx ${out_dir}/${stem}PubSubTypes.cxx
+      ${out_dir}/${stem}TypeObject.cxx)
   endforeach()
   add_library(${ARG_TARGET} STATIC ${sources})
   # Generated code is not ours to warn about.

@@ -5,7 +5,8 @@
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
-#include "ncqual/sim/simulator.hpp"
+#include "ncqual/sim/machine_simulator.hpp"
+#include "ncqual/sim/simulator_config.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -25,7 +26,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     init_logging("acquisition", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(dds::plant_file_from(args.get_or("plant", "")));
+    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
     MachineConfig machine;
     if (auto file = args.get("machine-config")) {
       machine = load_machine_config(*file);
@@ -41,14 +42,14 @@ int main(int argc, char** argv) {
     const std::int64_t max_age_ns =
         static_cast<std::int64_t>(args.get_double("max-request-age-s", 600) * 1e9);
 
-    dds::Service service({"acquisition", machine.machine_id,
-                          dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+    ncqual::dds::Service service({"acquisition", machine.machine_id,
+                          ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
                           plant.qos_profiles_file});
-    dds::Reader<dds::CheckRequestTopic> requests(service.participant(), machine.machine_id);
-    dds::Writer<dds::MeasurementSetTopic> sets(service.participant());
+    ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(service.participant(), machine.machine_id);
+    ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
     std::set<std::string> performed;
 
-    service.dispatcher().on(requests, [&](dds::Received<CheckRequest> in) {
+    service.dispatcher().on(requests, [&](ncqual::dds::Received<CheckRequest> in) {
       const CheckRequest& req = in.value;
       if (req.machine_id != machine.machine_id) return;  // the filter should have done this
       if (!performed.insert(req.request_id).second) return;

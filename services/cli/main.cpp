@@ -13,6 +13,7 @@
 #include "ncqual/dds/dispatcher.hpp"
 #include "ncqual/dds/topics.hpp"
 #include "ncqual/storage.hpp"
+#include "ncqual/storage_json.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -145,10 +146,10 @@ int cmd_check(const Args& args) {
                          *kind, std::string("operator:") + (getenv("USER") ? getenv("USER") : host),
                          clock.now_ns()};
 
-  const int domain = dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id);
-  dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
-  dds::Writer<dds::CheckCommandTopic> commands(participant);
-  std::optional<dds::Reader<dds::CheckResultTopic>> results;
+  const int domain = ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id);
+  ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
+  ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
+  std::optional<ncqual::dds::Reader<ncqual::dds::CheckResultTopic>> results;
   if (wait_s > 0) results.emplace(participant, machine);
 
   if (!commands.wait_for_readers(1, std::chrono::seconds(10))) {
@@ -165,8 +166,8 @@ int cmd_check(const Args& args) {
     return 0;
   }
   std::optional<CheckResult> got;
-  dds::Dispatcher dispatcher;
-  dispatcher.on(*results, [&](dds::Received<CheckResult> in) {
+  ncqual::dds::Dispatcher dispatcher;
+  dispatcher.on(*results, [&](ncqual::dds::Received<CheckResult> in) {
     if (in.value.request_id == cmd.request_id) got = in.value;
   });
   dispatcher.run_until([&] { return got.has_value(); },
@@ -204,15 +205,19 @@ int cmd_wait(const Args& args) {
   std::optional<std::string> machine = args.get("machine");
   while (true) {
     if (std::filesystem::exists(path)) {
-      auto db = storage::Database::open_readonly(path);
-      if (request) {
-        auto rec = db.find_check(*request);
-        if (rec && rec->result) {
-          std::cout << to_string(rec->result->verdict) << "\n";
+      try {
+        auto db = storage::Database::open_readonly(path);
+        if (request) {
+          auto rec = db.find_check(*request);
+          if (rec && rec->result) {
+            std::cout << to_string(rec->result->verdict) << "\n";
+            return 0;
+          }
+        } else if (db.count_results(machine) >= count) {
           return 0;
         }
-      } else if (db.count_results(machine) >= count) {
-        return 0;
+      } catch (const storage::StorageError&) {
+        // The historian is creating the schema right now: look again.
       }
     }
     if (std::chrono::steady_clock::now() >= deadline) {

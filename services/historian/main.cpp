@@ -45,43 +45,43 @@ int main(int argc, char** argv) {
       return 0;
     }
     init_logging("historian", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(dds::plant_file_from(args.get_or("plant", "")));
+    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
     const std::string db_path = args.get_or("db", plant.historian_database);
     auto db = storage::Database::open(db_path);
     spdlog::info("historian database {}", db_path);
 
-    dds::Service service({"historian", "",
-                          dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+    ncqual::dds::Service service({"historian", "",
+                          ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
                           plant.qos_profiles_file});
     auto& p = service.participant();
-    dds::Reader<dds::CheckRequestTopic> requests(p);
-    dds::Reader<dds::MeasurementSetTopic> sets(p);
-    dds::Reader<dds::CheckResultTopic> results(p);
-    dds::Reader<dds::MachineStatusTopic> statuses(p);
-    dds::Reader<dds::CompensationTopic> compensations(p);
-    dds::Reader<dds::InterventionTopic> interventions(p);
-    dds::Reader<dds::HeartbeatTopic> heartbeats(p);
+    ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(p);
+    ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(p);
+    ncqual::dds::Reader<ncqual::dds::CheckResultTopic> results(p);
+    ncqual::dds::Reader<ncqual::dds::MachineStatusTopic> statuses(p);
+    ncqual::dds::Reader<ncqual::dds::CompensationTopic> compensations(p);
+    ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
+    ncqual::dds::Reader<ncqual::dds::HeartbeatTopic> heartbeats(p);
 
     auto& d = service.dispatcher();
-    d.on(requests, [&](dds::Received<CheckRequest> in) {
+    d.on(requests, [&](ncqual::dds::Received<CheckRequest> in) {
       store(db, "request", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(sets, [&](dds::Received<MeasurementSet> in) {
+    d.on(sets, [&](ncqual::dds::Received<MeasurementSet> in) {
       store(db, "measurement set", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(results, [&](dds::Received<CheckResult> in) {
+    d.on(results, [&](ncqual::dds::Received<CheckResult> in) {
       store(db, "result", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(statuses, [&](dds::Received<MachineStatus> in) {
+    d.on(statuses, [&](ncqual::dds::Received<MachineStatus> in) {
       store(db, "status", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(compensations, [&](dds::Received<Compensation> in) {
+    d.on(compensations, [&](ncqual::dds::Received<Compensation> in) {
       store(db, "compensation", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(interventions, [&](dds::Received<Intervention> in) {
+    d.on(interventions, [&](ncqual::dds::Received<Intervention> in) {
       store(db, "intervention", in, in.value.machine_id, in.value.intervention_id);
     });
-    d.on(heartbeats, [&](dds::Received<Heartbeat> in) {
+    d.on(heartbeats, [&](ncqual::dds::Received<Heartbeat> in) {
       store(db, "heartbeat", in, in.value.machine_id, in.value.service + "@" + in.value.instance);
     });
     return service.run();

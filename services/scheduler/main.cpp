@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     init_logging("scheduler", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(dds::plant_file_from(args.get_or("plant", "")));
+    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
     std::vector<CheckKind> cycle = plant.startup_checks;
     if (auto text = args.get("cycle")) {
       cycle.clear();
@@ -39,28 +39,28 @@ int main(int argc, char** argv) {
       }
     }
 
-    dds::Service service({"scheduler", "",
-                          dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+    ncqual::dds::Service service({"scheduler", "",
+                          ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
                           plant.qos_profiles_file});
     auto& p = service.participant();
-    dds::Writer<dds::CheckRequestTopic> requests(p);
-    dds::Writer<dds::MachineStatusTopic> statuses(p);
-    dds::Reader<dds::CheckResultTopic> results(p);
-    dds::Reader<dds::CheckCommandTopic> commands(p);
+    ncqual::dds::Writer<ncqual::dds::CheckRequestTopic> requests(p);
+    ncqual::dds::Writer<ncqual::dds::MachineStatusTopic> statuses(p);
+    ncqual::dds::Reader<ncqual::dds::CheckResultTopic> results(p);
+    ncqual::dds::Reader<ncqual::dds::CheckCommandTopic> commands(p);
 
     scheduler::Scheduler sched(plant, service.clock(),
                                {[&](const CheckRequest& r) {
                                   if (!requests.write(r)) spdlog::error("{}: request not queued", r.request_id);
                                 },
                                 [&](const MachineStatus& s) { statuses.write(s); }});
-    service.dispatcher().on(results, [&](dds::Received<CheckResult> in) {
+    service.dispatcher().on(results, [&](ncqual::dds::Received<CheckResult> in) {
       if (!in.error.empty()) {
         spdlog::error("result {} of '{}' ignored: {}", in.value.request_id, in.value.machine_id, in.error);
         return;
       }
       sched.result(in.value);
     });
-    service.dispatcher().on(commands, [&](dds::Received<CheckCommand> in) {
+    service.dispatcher().on(commands, [&](ncqual::dds::Received<CheckCommand> in) {
       const std::string refused = in.error.empty() ? sched.command(in.value) : in.error;
       if (!refused.empty()) spdlog::error("check command {} refused: {}", in.value.request_id, refused);
     });

@@ -47,16 +47,16 @@ int main(int argc, char** argv) {
       return 0;
     }
     init_logging("solver", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(dds::plant_file_from(args.get_or("plant", "")));
-    dds::Service service({"solver", "",
-                          dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
+    ncqual::dds::Service service({"solver", "",
+                          ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
                           plant.qos_profiles_file});
-    dds::Reader<dds::MeasurementSetTopic> sets(service.participant());
-    dds::Writer<dds::CheckResultTopic> results(service.participant());
-    dds::Writer<dds::CompensationTopic> compensations(service.participant());
+    ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(service.participant());
+    ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(service.participant());
+    ncqual::dds::Writer<ncqual::dds::CompensationTopic> compensations(service.participant());
     RecentIds solved(10000);
 
-    service.dispatcher().on(sets, [&](dds::Received<MeasurementSet> in) {
+    service.dispatcher().on(sets, [&](ncqual::dds::Received<MeasurementSet> in) {
       const MeasurementSet& set = in.value;
       if (!solved.insert(set.request_id)) {
         spdlog::debug("{} {}: already solved, ignored", set.machine_id, set.request_id);

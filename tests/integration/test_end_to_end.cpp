@@ -4,7 +4,8 @@
 #include "harness.hpp"
 
 #include "ncqual/config.hpp"
-#include "ncqual/sim/simulator.hpp"
+#include "ncqual/sim/machine_simulator.hpp"
+#include "ncqual/sim/simulator_config.hpp"
 
 #include <gtest/gtest.h>
 

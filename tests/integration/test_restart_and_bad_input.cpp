@@ -14,7 +14,7 @@ namespace ncqual::testing {
 namespace {
 
 // Orders `count` checks through the scheduler, as `ncqual check` would.
-std::vector<std::string> order_checks(dds::Writer<dds::CheckCommandTopic>& commands,
+std::vector<std::string> order_checks(ncqual::dds::Writer<ncqual::dds::CheckCommandTopic>& commands,
                                       const std::string& machine, int first, int count) {
   std::vector<std::string> ids;
   for (int i = first; i < first + count; ++i) {
@@ -36,9 +36,9 @@ TEST(HistorianRestart, SigkillWhileChecksAreProducedStoresEveryCheckExactlyOnce)
   plant.start("acquisition", {"--machine", "pm1"});
   plant.start("scheduler");
 
-  dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
+  ncqual::dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
                                                     "/deploy/qos/ncqual-qos.xml", "test"});
-  dds::Writer<dds::CheckCommandTopic> commands(participant);
+  ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
   ASSERT_TRUE(commands.wait_for_readers(1, std::chrono::seconds(30)));
 
   // First batch; kill the historian as soon as some, not all, of it is stored.
@@ -82,9 +82,9 @@ TEST(BadInput, MalformedMeasurementSetsGetInvalidResultsAndNothingIsLost) {
   plant.start("scheduler");
   ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 1; }));
 
-  dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
+  ncqual::dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
                                                     "/deploy/qos/ncqual-qos.xml", "test"});
-  dds::Writer<dds::MeasurementSetTopic> sets(participant);
+  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   ASSERT_TRUE(sets.wait_for_readers(2, std::chrono::seconds(30)));  // solver and historian
 
   auto base = [](const std::string& id) {

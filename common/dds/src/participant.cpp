@@ -1,5 +1,7 @@
 #include "ncqual/dds/participant.hpp"
 
+#include "ncqualTypeObject.h"
+
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
@@ -42,6 +44,9 @@ void load_profiles_once(const std::string& file) {
 
 Participant::Participant(const ParticipantOptions& options) : domain_id_(options.domain_id) {
   load_profiles_once(options.qos_profiles_file);
+  // TypeObjects of our types: needed for content filters and for XTypes discovery.
+  static std::once_flag types_registered;
+  std::call_once(types_registered, [] { registerncqualTypes(); });
   auto* factory = DomainParticipantFactory::get_instance();
   DomainParticipantQos qos;
   if (factory->get_participant_qos_from_profile(profiles::kParticipant, qos) !=
