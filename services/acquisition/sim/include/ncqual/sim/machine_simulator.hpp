@@ -1,0 +1,55 @@
+// The instrument simulator: stands in for a five-axis post mill with a touch-trigger probe and
+// its monument. It runs the probing program of a check on a true machine that differs from the
+// nominal one by known errors, and returns raw touches (axis readouts) as the real control
+// would, never the answer. Its errors are exposed as ground truth for tests.
+#pragma once
+
+#include "ncqual/config.hpp"
+#include "ncqual/kinematics.hpp"
+#include "ncqual/model.hpp"
+#include "ncqual/sim/contact.hpp"
+#include "ncqual/sim/programs.hpp"
+#include "ncqual/sim/simulator_config.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace ncqual::sim {
+
+class MachineSimulator {
+ public:
+  MachineSimulator(MachineConfig machine, SimulatorConfig config);
+
+  // Performs the check `request` asks for. The touches are reproducible: the noise comes from a
+  // generator seeded by (config seed, request_id) alone. A touch whose move meets no surface is
+  // left out and `error` says so; a kind the simulator cannot perform yields no touches and
+  // error "the simulator cannot perform check kind '<name>' yet".
+  MeasurementSet perform(const CheckRequest& request, std::int64_t time_ns) const;
+
+  const SimulatorErrors& ground_truth() const { return config_.errors; }
+  const MachineConfig& machine() const { return machine_; }
+  const SimulatorConfig& config() const { return config_; }
+
+  // ---- The true world (for tests and demonstrations) ----
+  // True axes: pivot = readout + machine_shift, A = a + a_home_error, C = c + c_angle_error.
+  AxisPosition true_axes(const AxisPosition& readouts) const;
+  // True probe: L = nominal + tool_length_error, offset = nominal + stylus_offset error.
+  const ProbeGeometry& true_probe() const { return true_probe_; }
+  // True ball centre for given readouts: the nominal kinematics formula, true parameters.
+  Eigen::Vector3d true_ball_centre(const AxisPosition& readouts) const;
+  // True monument: the taught one moved by monument_shift.
+  const RingGaugePlate& true_monument() const { return true_monument_; }
+
+  // Runs one probing move on the true machine. `noise_mm` displaces the latched readouts along
+  // the move. Returns the touch, or std::nullopt with `*why` set when the probe alarms.
+  std::optional<Touch> execute(const ProbingMove& move, double noise_mm, std::string* why) const;
+
+ private:
+  MachineConfig machine_;
+  SimulatorConfig config_;
+  ProbeGeometry true_probe_;
+  RingGaugePlate true_monument_;
+};
+
+}  // namespace ncqual::sim

@@ -1,0 +1,163 @@
+#include "ncqual/sim/machine_simulator.hpp"
+
+#include "ncqual/sim/request_random.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace ncqual::sim {
+namespace {
+
+std::string format_vector(const Eigen::Vector3d& v) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, "(%.6f, %.6f, %.6f)", v.x(), v.y(), v.z());
+  return buffer;
+}
+
+// The instrument a check kind uses and the frame its coordinates are in.
+void describe_instrument(CheckKind kind, MeasurementSet* set) {
+  switch (kind) {
+    case CheckKind::GlobalMasterFrame:
+    case CheckKind::GlobalGrid:
+    case CheckKind::RotaryW:
+    case CheckKind::RotaryA:
+    case CheckKind::RotaryC:
+    case CheckKind::CircleXY:
+    case CheckKind::CircleYZ:
+    case CheckKind::CircleXZ:
+    case CheckKind::LinearAxisRun:
+      set->instrument = "laser_tracker";
+      set->frame = "tracker";
+      return;
+    default:
+      set->instrument = "touch_probe";
+      set->frame = "machine";
+  }
+}
+
+ProbeGeometry make_true_probe(const ProbeGeometry& nominal, const SimulatorErrors& e) {
+  ProbeGeometry p = nominal;
+  p.tool_length_mm += e.tool_length_error_mm;
+  p.stylus_offset_mm += e.stylus_offset_mm;
+  return p;
+}
+
+RingGaugePlate make_true_monument(const MonumentConfig& taught, const SimulatorConfig& c) {
+  RingGaugePlate plate;
+  plate.hole_centre_mm = taught.hole_center_mm + c.errors.monument_shift_mm.head<2>();
+  plate.hole_radius_mm = taught.hole_diameter_mm / 2;
+  plate.face_z_mm = taught.face_z_mm + c.errors.monument_shift_mm.z();
+  plate.thickness_mm = c.plate_thickness_mm;
+  plate.width_mm = taught.gauge_width_mm;
+  return plate;
+}
+
+AxisPosition moved(AxisPosition axes, const Eigen::Vector3d& by) {
+  axes.x_mm += by.x();
+  axes.y_mm += by.y();
+  axes.z_mm += by.z();
+  return axes;
+}
+
+}  // namespace
+
+MachineSimulator::MachineSimulator(MachineConfig machine, SimulatorConfig config)
+    : machine_(std::move(machine)),
+      config_(std::move(config)),
+      true_probe_(make_true_probe(machine_.probe, config_.errors)),
+      true_monument_(make_true_monument(machine_.monument, config_)) {}
+
+AxisPosition MachineSimulator::true_axes(const AxisPosition& readouts) const {
+  AxisPosition t = moved(readouts, config_.errors.machine_shift_mm);
+  t.a_rad += config_.errors.a_home_error_rad;
+  t.c_rad += config_.errors.c_angle_error_rad;
+  return t;
+}
+
+Eigen::Vector3d MachineSimulator::true_ball_centre(const AxisPosition& readouts) const {
+  return stylus_ball_centre(true_axes(readouts), true_probe_);
+}
+
+std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double noise_mm,
+                                               std::string* why) const {
+  // The axes move the readouts along u; the true ball centre then moves along
+  //   b(s) = b(start + s u) = b0 + s t,  t = b(start + u) - b(start),
+  // exact while the true machine is an affine map of the readouts (the errors modelled so
+  // far). |t| converts readout travel into true travel (1 without scale errors).
+  const Eigen::Vector3d b0 = true_ball_centre(move.start);
+  const Eigen::Vector3d t = true_ball_centre(moved(move.start, move.direction)) - b0;
+  const double scale = t.norm();
+
+  BallMove ball;
+  ball.start = b0;
+  ball.direction = t / scale;
+  ball.travel_mm = move.travel_mm * scale;
+  ball.ball_radius_mm = true_probe_.ball_radius_mm;
+
+  if (true_monument_.overlaps_ball(b0, ball.ball_radius_mm)) {
+    *why = "the probe was deflected at the start of the move at " + format_vector(b0) +
+           " (stylus ball inside the monument)";
+    return std::nullopt;
+  }
+  const auto contact = first_contact(true_monument_, ball);
+  if (!contact) {
+    char travel[32];
+    std::snprintf(travel, sizeof travel, "%.3f", move.travel_mm);
+    *why = "the probe did not trigger within " + std::string(travel) + " mm of travel from " +
+           "X, Y, Z = " +
+           format_vector(Eigen::Vector3d(move.start.x_mm, move.start.y_mm, move.start.z_mm)) +
+           " along " + format_vector(move.direction) + " (no surface met)";
+    return std::nullopt;
+  }
+  // Latched readouts: where the axes were when the ball met the surface, displaced along the
+  // move by the trigger noise.
+  const double readout_travel = contact->distance_mm / scale + noise_mm;
+  Touch touch;
+  touch.feature = move.feature;
+  touch.axes = moved(move.start, readout_travel * move.direction);
+  touch.approach = move.direction;
+  return touch;
+}
+
+MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64_t time_ns) const {
+  MeasurementSet set;
+  set.machine_id = request.machine_id;
+  set.request_id = request.request_id;
+  set.kind = request.kind;
+  set.time_ns = time_ns;
+  describe_instrument(request.kind, &set);
+
+  if (request.machine_id != machine_.machine_id) {
+    set.error = "the request is for machine '" + request.machine_id +
+                "' but this simulator is machine '" + machine_.machine_id + "'";
+    return set;
+  }
+  const auto program = program_for(request.kind, machine_);
+  if (!program) {
+    set.error = "the simulator cannot perform check kind '" +
+                std::string(to_string(request.kind)) + "' yet";
+    return set;
+  }
+
+  NormalSource noise(request_seed(config_.seed, request.request_id));
+  std::vector<std::string> alarms;
+  for (std::size_t i = 0; i < program->size(); ++i) {
+    const ProbingMove& move = (*program)[i];
+    // One deviate per move, drawn whether or not it triggers, so the noise of a touch depends
+    // only on its place in the program.
+    const double noise_mm = config_.trigger_noise_sigma_mm * noise.next();
+    std::string why;
+    if (auto touch = execute(move, noise_mm, &why)) {
+      set.touches.push_back(std::move(*touch));
+    } else {
+      alarms.push_back("move " + std::to_string(i) + " ('" + move.feature + "'): " + why);
+    }
+  }
+  for (std::size_t i = 0; i < alarms.size(); ++i) {
+    set.error += (i ? "; " : "probe alarm: ") + alarms[i];
+  }
+  return set;
+}
+
+}  // namespace ncqual::sim

@@ -1,0 +1,66 @@
+#include "ncqual/solver/solve.hpp"
+
+#include "ncqual/solver/monument_positioning.hpp"
+#include "result_building.hpp"
+
+#include <exception>
+#include <string>
+
+namespace ncqual::solver {
+namespace {
+
+CheckResult stamped(CheckResult result, const MeasurementSet& set, std::int64_t time_ns) {
+  result.machine_id = set.machine_id;
+  result.request_id = set.request_id;
+  result.kind = set.kind;
+  result.time_ns = time_ns;
+  return result;
+}
+
+CheckResult dispatch(const MeasurementSet& set, const MachineConfig& machine) {
+  switch (set.kind) {
+    case CheckKind::MonumentPositioning:
+      return check_repeatable_positioning(set, machine);
+    default:
+      return detail::invalid(detail::result_for(set),
+                             "check kind '" + std::string(to_string(set.kind)) +
+                                 "' is not implemented by this solver version");
+  }
+}
+
+}  // namespace
+
+bool is_implemented(CheckKind kind) { return kind == CheckKind::MonumentPositioning; }
+
+CheckResult solve(const MeasurementSet& set, const PlantConfig& plant, std::int64_t time_ns) {
+  const MachineConfig* machine = plant.find_machine(set.machine_id);
+  if (!machine) {
+    return stamped(detail::invalid(detail::result_for(set),
+                                   "machine_id '" + set.machine_id +
+                                       "' is not configured in plant '" + plant.plant + "'"),
+                   set, time_ns);
+  }
+  return solve(set, *machine, time_ns);
+}
+
+CheckResult solve(const MeasurementSet& set, const MachineConfig& machine, std::int64_t time_ns) {
+  CheckResult result = detail::result_for(set);
+  try {
+    if (set.machine_id != machine.machine_id) {
+      result = detail::invalid(result, "machine_id '" + set.machine_id +
+                                           "' does not match the machine config '" +
+                                           machine.machine_id + "'");
+    } else if (!set.error.empty()) {
+      // The instrument could not perform the request: nothing to judge.
+      result = detail::invalid(result, "MeasurementSet.error: " + set.error);
+    } else {
+      result = dispatch(set, machine);
+    }
+  } catch (const std::exception& e) {
+    // Checks do not throw on bad data; this is the last line against a verdict-less result.
+    result = detail::invalid(result, std::string("solver error: ") + e.what());
+  }
+  return stamped(std::move(result), set, time_ns);
+}
+
+}  // namespace ncqual::solver

@@ -1,0 +1,119 @@
+#include "ncqual/solver/solve.hpp"
+
+#include "ncqual/sim/machine_simulator.hpp"
+#include "test_machines.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ncqual::solver {
+namespace {
+
+using testing::pm1_like_machine;
+using testing::request;
+using testing::simulator_config;
+
+PlantConfig plant_with(std::vector<MachineConfig> machines) {
+  PlantConfig p;
+  p.plant = "bay3";
+  p.machines = std::move(machines);
+  return p;
+}
+
+MeasurementSet positioning_set(const MachineConfig& m, const std::string& id) {
+  return sim::MachineSimulator(m, simulator_config(0.001)).perform(request(m.machine_id, id), 10);
+}
+
+TEST(Solve, DispatchesCheck3AndStampsIdentityAndTime) {
+  MachineConfig other = pm1_like_machine();
+  other.machine_id = "pm2";
+  const PlantConfig plant = plant_with({other, pm1_like_machine()});
+  const MeasurementSet set = positioning_set(pm1_like_machine(), "req-77");
+  const CheckResult r = solve(set, plant, 1'800'000'000'000'000'000);
+  EXPECT_EQ(r.verdict, Verdict::Pass) << r.reason;
+  EXPECT_EQ(r.machine_id, "pm1");
+  EXPECT_EQ(r.request_id, "req-77");
+  EXPECT_EQ(r.kind, CheckKind::MonumentPositioning);
+  EXPECT_EQ(r.time_ns, 1'800'000'000'000'000'000);
+  EXPECT_NE(find_metric(r, "center_dx_mm"), nullptr);
+}
+
+TEST(Solve, UsesTheMachineTheSetNames) {
+  // Same touches judged against two machines that differ in taught centre: the one the set
+  // names decides.
+  MachineConfig moved = pm1_like_machine();
+  moved.machine_id = "pm2";
+  moved.monument.hole_center_mm.x() += 0.1;
+  const PlantConfig plant = plant_with({moved, pm1_like_machine()});
+  MeasurementSet set = positioning_set(pm1_like_machine(), "r");
+  EXPECT_EQ(solve(set, plant, 0).verdict, Verdict::Pass);
+  set.machine_id = "pm2";
+  EXPECT_EQ(solve(set, plant, 0).verdict, Verdict::Fail);
+}
+
+TEST(Solve, UnknownMachineIsInvalid) {
+  const PlantConfig plant = plant_with({pm1_like_machine()});
+  MeasurementSet set = positioning_set(pm1_like_machine(), "r-unknown");
+  set.machine_id = "x";
+  const CheckResult r = solve(set, plant, 42);
+  EXPECT_EQ(r.verdict, Verdict::Invalid);
+  EXPECT_EQ(r.reason, "machine_id 'x' is not configured in plant 'bay3'");
+  EXPECT_EQ(r.machine_id, "x");
+  EXPECT_EQ(r.request_id, "r-unknown");
+  EXPECT_EQ(r.time_ns, 42);
+}
+
+TEST(Solve, MachineOverloadRefusesAnotherMachinesSet) {
+  MeasurementSet set = positioning_set(pm1_like_machine(), "r");
+  set.machine_id = "pm9";
+  const CheckResult r = solve(set, pm1_like_machine(), 0);
+  EXPECT_EQ(r.verdict, Verdict::Invalid);
+  EXPECT_NE(r.reason.find("machine_id 'pm9'"), std::string::npos) << r.reason;
+}
+
+TEST(Solve, KindsNotImplementedAreInvalid) {
+  const PlantConfig plant = plant_with({pm1_like_machine()});
+  for (CheckKind kind : all_check_kinds()) {
+    if (is_implemented(kind)) continue;
+    MeasurementSet set = positioning_set(pm1_like_machine(), "r-kind");
+    set.kind = kind;  // touches present, but nobody can judge them yet
+    const CheckResult r = solve(set, plant, 9);
+    EXPECT_EQ(r.verdict, Verdict::Invalid);
+    EXPECT_EQ(r.reason, "check kind '" + std::string(to_string(kind)) +
+                            "' is not implemented by this solver version");
+    EXPECT_EQ(r.kind, kind);
+    EXPECT_EQ(r.time_ns, 9);
+  }
+  EXPECT_TRUE(is_implemented(CheckKind::MonumentPositioning));
+  EXPECT_FALSE(is_implemented(CheckKind::GlobalGrid));
+}
+
+TEST(Solve, GlobalGridMessageIsExact) {
+  MeasurementSet set;
+  set.machine_id = "pm1";
+  set.kind = CheckKind::GlobalGrid;
+  const CheckResult r = solve(set, pm1_like_machine(), 0);
+  EXPECT_EQ(r.reason, "check kind 'global_grid' is not implemented by this solver version");
+}
+
+TEST(Solve, SimulatorRefusalBecomesInvalidCarryingItsMessage) {
+  const sim::MachineSimulator simulator(pm1_like_machine(), simulator_config(0.001));
+  const MeasurementSet set =
+      simulator.perform(request("pm1", "r-grid", CheckKind::GlobalGrid), 3);
+  const CheckResult r = solve(set, plant_with({pm1_like_machine()}), 4);
+  EXPECT_EQ(r.verdict, Verdict::Invalid);
+  EXPECT_NE(r.reason.find("the simulator cannot perform check kind 'global_grid' yet"),
+            std::string::npos)
+      << r.reason;
+}
+
+TEST(Solve, EmptySetIsInvalidNotAThrow) {
+  MeasurementSet set;
+  set.machine_id = "pm1";
+  CheckResult r;
+  ASSERT_NO_THROW(r = solve(set, pm1_like_machine(), 0));
+  EXPECT_EQ(r.verdict, Verdict::Invalid);
+  EXPECT_NE(r.reason.find("MeasurementSet.touches is empty"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace ncqual::solver
