@@ -1,0 +1,150 @@
+// The historian's store: every request, measurement set, result, status change, intervention,
+// compensation and heartbeat of every machine, in one SQLite file.
+//
+// Knows nothing of DDS. The historian writes through `Database::open`; the command-line tool reads
+// through `Database::open_readonly` while the historian keeps writing (WAL mode lets both run).
+// Every store is idempotent on the identity of its sample: DDS may deliver a sample again (a
+// restarted historian, a durable writer replaying its history) and that must never become a
+// second row.
+#pragma once
+
+#include "ncqual/model.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ncqual::storage {
+
+// Everything the storage refuses or fails to do. Input is validated before anything is written,
+// and every store runs in one transaction, so after a StorageError nothing of the sample is in the
+// file.
+class StorageError : public std::runtime_error {
+ public:
+  explicit StorageError(const std::string& message, int sqlite_code = 0)
+      : std::runtime_error(message), sqlite_code_(sqlite_code) {}
+
+  // The SQLite extended result code when SQLite failed (SQLITE_BUSY, SQLITE_FULL, ...), 0 when the
+  // input itself was refused. Lets the historian tell "drop this sample and log it" from "the
+  // database is in trouble, retry or alarm".
+  int sqlite_code() const noexcept { return sqlite_code_; }
+
+ private:
+  int sqlite_code_;
+};
+
+// What was measured for one check, without the raw points (load_measurement_set has those).
+struct MeasurementSummary {
+  std::string instrument;
+  std::string frame;
+  std::int64_t time_ns = 0;
+  std::int64_t touches = 0;         // number of touches
+  std::int64_t tracker_points = 0;  // number of tracker points
+  std::string error;                // non-empty when the instrument could not perform the request
+};
+
+// One check, joined by request id from whatever has arrived so far: a result can arrive before
+// its request (different topics, different writers), so every part is optional.
+struct CheckRecord {
+  std::string request_id;
+  std::string machine_id;
+  CheckKind kind = CheckKind::MonumentPositioning;
+  std::optional<CheckRequest> request;
+  std::optional<MeasurementSummary> measurement;
+  std::optional<CheckResult> result;  // metrics in order, causes in rank order, correction
+};
+
+struct HistoryQuery {
+  std::optional<std::string> machine_id;  // all machines when empty
+  std::optional<CheckKind> kind;          // all kinds when empty
+  std::int64_t since_ns = std::numeric_limits<std::int64_t>::min();
+  int limit = 100;  // at most this many records; <= 0 means no limit
+};
+
+struct MachineRecord {
+  std::string machine_id;
+  std::int64_t first_seen_ns = 0;  // sample times (not arrival times) of the oldest and newest
+  std::int64_t last_seen_ns = 0;   // sample that named this machine
+};
+
+// Connection settings as SQLite reports them, for tests and `ncqual db info`.
+struct ConnectionInfo {
+  std::string path;
+  bool read_only = false;
+  std::string journal_mode;  // "wal"
+  int synchronous = 0;       // 1 = NORMAL
+  bool foreign_keys = false;
+  int busy_timeout_ms = 0;
+  int schema_version = 0;  // PRAGMA user_version
+};
+
+// One connection to the historian file. Movable, not copyable; a moved-from Database may only be
+// destroyed or assigned to. Not safe to use from two threads at once: open one per thread (any
+// number of connections, in any number of processes, may share the file).
+class Database {
+ public:
+  // Opens read-write, creating the file and its parent directories if missing, and brings the
+  // schema up to date. Refuses a file written by a newer ncqual (schema version above ours) or
+  // one that is not an ncqual database.
+  static Database open(const std::string& path);
+  // Opens an existing, up-to-date database read-only; never migrates, never writes.
+  static Database open_readonly(const std::string& path);
+
+  // The schema version this build writes and reads (PRAGMA user_version after all migrations).
+  static int latest_schema_version();
+
+  Database(Database&&) noexcept;
+  Database& operator=(Database&&) noexcept;
+  Database(const Database&) = delete;
+  Database& operator=(const Database&) = delete;
+  ~Database();
+
+  ConnectionInfo info();
+  // "ok", or SQLite's list of problems one per line.
+  std::string integrity_check();
+
+  // Each store returns true when the sample was newly stored and false when a sample with the
+  // same identity was already there (nothing is written then, even if the contents differ: the
+  // first arrival wins). Identity: request_id for requests, measurement sets and results;
+  // (machine_id, time_ns, state, request_id) for statuses; intervention_id for interventions;
+  // (request_id, correction.target) for compensations; (service, instance) for heartbeats.
+  // Each also records the machine as seen at the sample's time.
+  bool store(const CheckRequest& request);
+  bool store(const MeasurementSet& measurement_set);
+  bool store(const CheckResult& result);
+  bool store(const MachineStatus& status);
+  bool store(const Intervention& intervention);
+  bool store(const Compensation& compensation);
+  // Upserts the service's state and last seen time (a stale heartbeat never moves it back);
+  // true when this (service, instance) was not known before.
+  bool store(const Heartbeat& heartbeat);
+
+  // Checks newest first by time (result time, else request time, else measurement time).
+  std::vector<CheckRecord> history(const HistoryQuery& query);
+  std::optional<CheckRecord> find_check(const std::string& request_id);
+  // The measurement set with every touch and tracker point, exactly as stored.
+  std::optional<MeasurementSet> load_measurement_set(const std::string& request_id);
+  std::int64_t count_results(std::optional<std::string> machine_id = {});
+  // Every machine ever seen, sorted by id.
+  std::vector<std::string> machines();
+  std::optional<MachineRecord> machine(const std::string& machine_id);
+  // The most recent status by time_ns (the last stored when several share a time).
+  std::optional<MachineStatus> latest_status(const std::string& machine_id);
+  // Newest first.
+  std::vector<Intervention> interventions(const std::string& machine_id);
+  // Newest first.
+  std::vector<Compensation> compensations(const std::string& machine_id);
+  // The last heartbeat of every service instance, sorted by service then instance.
+  std::vector<Heartbeat> services();
+
+ private:
+  struct Impl;
+  explicit Database(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ncqual::storage

@@ -1,0 +1,851 @@
+#include "ncqual/storage.hpp"
+
+#include "schema.hpp"
+#include "sqlite.hpp"
+#include "validate.hpp"
+
+#include <filesystem>
+#include <utility>
+
+namespace ncqual::storage {
+namespace {
+
+using sqlite::Query;
+using sqlite::Sql;
+using sqlite::Transaction;
+
+// A writer waits this long for another writer's transaction before giving up with SQLITE_BUSY.
+// Transactions here last milliseconds; 5 s only runs out when something is badly stuck.
+constexpr int kBusyTimeoutMs = 5000;
+
+// STRICT tables and the generated sort column need SQLite 3.37 (Debian 12 has 3.40).
+constexpr int kMinimumSqliteVersion = 3037000;
+
+// --- statements --------------------------------------------------------------------------------
+// Every statement the library runs after opening, each prepared once per connection (the cache
+// keys on these constants). Inserts of a sample's identity row are ON CONFLICT DO NOTHING on
+// exactly that identity, so only a duplicate is skipped; any other constraint still fails.
+
+constexpr Sql kUpsertMachine{
+    "upsert machine",
+    "INSERT INTO machines (machine_id, first_seen_ns, last_seen_ns) VALUES (?1, ?2, ?2) "
+    "ON CONFLICT (machine_id) DO UPDATE SET "
+    "first_seen_ns = min(first_seen_ns, excluded.first_seen_ns), "
+    "last_seen_ns = max(last_seen_ns, excluded.last_seen_ns)"};
+
+constexpr Sql kSelectCheckIdentity{"select check identity",
+                                   "SELECT machine_id, kind FROM checks WHERE request_id = ?1"};
+constexpr Sql kUpsertCheckRequested{
+    "upsert check (request)",
+    "INSERT INTO checks (request_id, machine_id, kind, requested_at_ns) VALUES (?1, ?2, ?3, ?4) "
+    "ON CONFLICT (request_id) DO UPDATE SET requested_at_ns = excluded.requested_at_ns"};
+constexpr Sql kUpsertCheckMeasured{
+    "upsert check (measurement)",
+    "INSERT INTO checks (request_id, machine_id, kind, measured_at_ns) VALUES (?1, ?2, ?3, ?4) "
+    "ON CONFLICT (request_id) DO UPDATE SET measured_at_ns = excluded.measured_at_ns"};
+constexpr Sql kUpsertCheckResult{
+    "upsert check (result)",
+    "INSERT INTO checks (request_id, machine_id, kind, result_at_ns) VALUES (?1, ?2, ?3, ?4) "
+    "ON CONFLICT (request_id) DO UPDATE SET result_at_ns = excluded.result_at_ns"};
+
+constexpr Sql kInsertRequest{
+    "insert request",
+    "INSERT INTO requests (request_id, machine_id, kind, kind_name, requested_by, time_ns, attempt)"
+    " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) ON CONFLICT (request_id) DO NOTHING"};
+
+constexpr Sql kInsertMeasurementSet{
+    "insert measurement set",
+    "INSERT INTO measurement_sets (request_id, machine_id, kind, instrument, frame, time_ns, error)"
+    " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) ON CONFLICT (request_id) DO NOTHING"};
+constexpr Sql kInsertTouch{
+    "insert touch",
+    "INSERT INTO touches (request_id, idx, feature, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad, "
+    "ux, uy, uz) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)"};
+constexpr Sql kInsertTrackerPoint{
+    "insert tracker point",
+    "INSERT INTO tracker_points (request_id, idx, label, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad, "
+    "measured_x_mm, measured_y_mm, measured_z_mm) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)"};
+
+constexpr Sql kInsertResult{
+    "insert result",
+    "INSERT INTO results (request_id, machine_id, kind, verdict, reason, time_ns, "
+    "correction_target) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) ON CONFLICT (request_id) DO NOTHING"};
+constexpr Sql kInsertMetric{
+    "insert metric",
+    "INSERT INTO metrics (request_id, idx, name, value, unit, lower, upper, pass) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"};
+constexpr Sql kInsertCause{"insert cause",
+                           "INSERT INTO causes (request_id, rank, cause) VALUES (?1, ?2, ?3)"};
+constexpr Sql kInsertResultOffset{
+    "insert result offset",
+    "INSERT INTO result_offsets (request_id, idx, name, value, unit) VALUES (?1, ?2, ?3, ?4, ?5)"};
+
+constexpr Sql kInsertStatus{
+    "insert status change",
+    "INSERT INTO status_changes (machine_id, request_id, state, last_kind, last_verdict, detail, "
+    "time_ns) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) "
+    "ON CONFLICT (machine_id, time_ns, state, request_id) DO NOTHING"};
+
+constexpr Sql kInsertIntervention{
+    "insert intervention",
+    "INSERT INTO interventions (intervention_id, machine_id, kind, note, operator_name, time_ns) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6) ON CONFLICT (intervention_id) DO NOTHING"};
+
+constexpr Sql kInsertCompensation{
+    "insert compensation",
+    "INSERT INTO compensations (request_id, target, machine_id, time_ns) VALUES (?1, ?2, ?3, ?4) "
+    "ON CONFLICT (request_id, target) DO NOTHING"};
+constexpr Sql kInsertCompensationOffset{
+    "insert compensation offset",
+    "INSERT INTO compensation_offsets (compensation_id, idx, name, value, unit) "
+    "VALUES (?1, ?2, ?3, ?4, ?5)"};
+
+// Heartbeats: insert when new, else move forward. Two statements rather than one upsert because
+// the caller needs to know whether the instance is new, which an upsert does not tell.
+constexpr Sql kInsertService{
+    "insert service",
+    "INSERT INTO services (service, instance, machine_id, state, first_seen_ns, last_seen_ns) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?5) ON CONFLICT (service, instance) DO NOTHING"};
+constexpr Sql kUpdateService{"update service",
+                             "UPDATE services SET machine_id = ?3, state = ?4, last_seen_ns = ?5 "
+                             "WHERE service = ?1 AND instance = ?2 AND last_seen_ns <= ?5"};
+
+// Queries. history() has two forms so that each can walk its index newest first; a
+// "?1 IS NULL OR machine_id = ?1" would keep SQLite from using the machine index.
+constexpr Sql kHistoryAll{
+    "select history",
+    "SELECT request_id FROM checks WHERE sort_ns >= ?1 AND (?2 IS NULL OR kind = ?2) "
+    "ORDER BY sort_ns DESC, request_id DESC LIMIT ?3"};
+constexpr Sql kHistoryOfMachine{
+    "select history of machine",
+    "SELECT request_id FROM checks WHERE machine_id = ?4 AND sort_ns >= ?1 "
+    "AND (?2 IS NULL OR kind = ?2) ORDER BY sort_ns DESC, request_id DESC LIMIT ?3"};
+
+constexpr Sql kSelectRequest{
+    "select request",
+    "SELECT machine_id, kind, requested_by, time_ns, attempt FROM requests WHERE request_id = ?1"};
+constexpr Sql kSelectMeasurementSet{
+    "select measurement set",
+    "SELECT machine_id, kind, instrument, frame, time_ns, error, "
+    "(SELECT count(*) FROM touches AS t WHERE t.request_id = m.request_id), "
+    "(SELECT count(*) FROM tracker_points AS p WHERE p.request_id = m.request_id) "
+    "FROM measurement_sets AS m WHERE request_id = ?1"};
+constexpr Sql kSelectTouches{
+    "select touches",
+    "SELECT feature, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad, ux, uy, uz FROM touches "
+    "WHERE request_id = ?1 ORDER BY idx"};
+constexpr Sql kSelectTrackerPoints{
+    "select tracker points",
+    "SELECT label, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad, measured_x_mm, measured_y_mm, "
+    "measured_z_mm FROM tracker_points WHERE request_id = ?1 ORDER BY idx"};
+constexpr Sql kSelectResult{
+    "select result",
+    "SELECT machine_id, kind, verdict, reason, time_ns, correction_target FROM results "
+    "WHERE request_id = ?1"};
+constexpr Sql kSelectMetrics{
+    "select metrics",
+    "SELECT name, value, unit, lower, upper, pass FROM metrics WHERE request_id = ?1 "
+    "ORDER BY idx"};
+constexpr Sql kSelectCauses{"select causes",
+                            "SELECT cause FROM causes WHERE request_id = ?1 ORDER BY rank"};
+constexpr Sql kSelectResultOffsets{
+    "select result offsets",
+    "SELECT name, value, unit FROM result_offsets WHERE request_id = ?1 ORDER BY idx"};
+
+constexpr Sql kCountResults{"count results", "SELECT count(*) FROM results"};
+constexpr Sql kCountResultsOfMachine{"count results of machine",
+                                     "SELECT count(*) FROM results WHERE machine_id = ?1"};
+constexpr Sql kSelectMachines{"select machines",
+                              "SELECT machine_id FROM machines ORDER BY machine_id"};
+constexpr Sql kSelectMachine{
+    "select machine", "SELECT first_seen_ns, last_seen_ns FROM machines WHERE machine_id = ?1"};
+constexpr Sql kSelectLatestStatus{
+    "select latest status",
+    "SELECT request_id, state, last_kind, last_verdict, detail, time_ns FROM status_changes "
+    "WHERE machine_id = ?1 ORDER BY time_ns DESC, id DESC LIMIT 1"};
+constexpr Sql kSelectInterventions{
+    "select interventions",
+    "SELECT intervention_id, kind, note, operator_name, time_ns FROM interventions "
+    "WHERE machine_id = ?1 ORDER BY time_ns DESC, intervention_id DESC"};
+constexpr Sql kSelectCompensations{
+    "select compensations",
+    "SELECT id, request_id, target, time_ns FROM compensations WHERE machine_id = ?1 "
+    "ORDER BY time_ns DESC, id DESC"};
+constexpr Sql kSelectCompensationOffsets{
+    "select compensation offsets",
+    "SELECT name, value, unit FROM compensation_offsets WHERE compensation_id = ?1 ORDER BY idx"};
+constexpr Sql kSelectServices{
+    "select services",
+    "SELECT service, instance, machine_id, state, last_seen_ns FROM services "
+    "ORDER BY service, instance"};
+
+constexpr Sql kIntegrityCheck{"integrity check", "PRAGMA integrity_check"};
+constexpr Sql kJournalMode{"read journal mode", "PRAGMA journal_mode"};
+constexpr Sql kSynchronous{"read synchronous", "PRAGMA synchronous"};
+constexpr Sql kForeignKeys{"read foreign keys", "PRAGMA foreign_keys"};
+constexpr Sql kBusyTimeout{"read busy timeout", "PRAGMA busy_timeout"};
+constexpr Sql kUserVersion{"read user version", "PRAGMA user_version"};
+
+// --- conversions -------------------------------------------------------------------------------
+
+std::int64_t code(CheckKind kind) { return static_cast<std::int64_t>(kind); }
+
+// Kinds are read back as numbers without a range check: a newer build may have appended kinds
+// this one does not know (to_string names them "unknown"), and a reader should still list them.
+CheckKind kind_from(std::int64_t number) { return static_cast<CheckKind>(number); }
+
+Verdict verdict_from(const std::string& name, const std::string& request_id) {
+  if (auto verdict = parse_verdict(name)) return *verdict;
+  throw StorageError("stored verdict '" + name + "' of request '" + request_id +
+                     "' is not a verdict");
+}
+
+MachineState state_from(const std::string& name, const std::string& machine_id) {
+  if (auto state = parse_machine_state(name)) return *state;
+  throw StorageError("stored state '" + name + "' of machine '" + machine_id +
+                     "' is not a machine state");
+}
+
+std::string quoted(const std::string& text) { return "'" + text + "'"; }
+
+}  // namespace
+
+// --- Impl --------------------------------------------------------------------------------------
+
+struct Database::Impl {
+  Impl(sqlite::Connection connection, std::string path, bool read_only)
+      : db(std::move(connection)),
+        statements(db.get()),
+        path(std::move(path)),
+        read_only(read_only) {}
+
+  // Declared first, destroyed last: the cached statements must be finalized before it closes.
+  sqlite::Connection db;
+  sqlite::StatementCache statements;
+  std::string path;
+  bool read_only;
+
+  // Runs `body` in one write transaction; SQLite failures get `what` (e.g. "store CheckResult
+  // 'r-17'") in front so the historian's log says which sample failed.
+  template <typename Body>
+  bool write(const std::string& what, Body&& body) {
+    if (read_only) {
+      throw StorageError(what + ": the database '" + path + "' is open read-only", SQLITE_READONLY);
+    }
+    try {
+      Transaction transaction(statements, Transaction::Mode::Write);
+      const bool stored = body();
+      // A duplicate changed nothing; committing it costs nothing either and keeps one path.
+      transaction.commit();
+      return stored;
+    } catch (const StorageError& error) {
+      if (error.sqlite_code() == 0) throw;
+      throw StorageError(what + ": " + error.what(), error.sqlite_code());
+    }
+  }
+
+  // Runs `body` in one read transaction: every query of a joined read sees the same snapshot
+  // while the historian keeps writing.
+  template <typename Body>
+  auto read(Body&& body) {
+    Transaction transaction(statements, Transaction::Mode::Read);
+    auto value = body();
+    transaction.commit();
+    return value;
+  }
+
+  void touch_machine(const std::string& machine_id, std::int64_t time_ns) {
+    Query(statements, kUpsertMachine).bind(machine_id, time_ns).run();
+  }
+
+  // Records that a part of check `request_id` arrived. A request, its measurement set and its
+  // result must agree on machine and kind: a disagreement is a producer's bug, refused loudly
+  // rather than merged into one check with two machines.
+  void note_check(const Sql& upsert, const char* type, const std::string& request_id,
+                  const std::string& machine_id, CheckKind kind, std::int64_t time_ns) {
+    {
+      Query existing(statements, kSelectCheckIdentity);
+      existing.bind(request_id);
+      if (existing.step()) {
+        const std::string stored_machine = existing.text(0);
+        const CheckKind stored_kind = kind_from(existing.int64(1));
+        if (stored_machine != machine_id) {
+          throw StorageError(std::string(type) + ".machine_id " + quoted(machine_id) +
+                             " differs from " + quoted(stored_machine) +
+                             " already stored for request " + quoted(request_id));
+        }
+        if (stored_kind != kind) {
+          throw StorageError(std::string(type) + ".kind " + std::string(to_string(kind)) +
+                             " differs from " + std::string(to_string(stored_kind)) +
+                             " already stored for request " + quoted(request_id));
+        }
+      }
+    }
+    Query(statements, upsert).bind(request_id, machine_id, code(kind), time_ns).run();
+  }
+
+  std::optional<CheckRequest> load_request(const std::string& request_id) {
+    Query q(statements, kSelectRequest);
+    q.bind(request_id);
+    if (!q.step()) return std::nullopt;
+    CheckRequest request;
+    request.request_id = request_id;
+    request.machine_id = q.text(0);
+    request.kind = kind_from(q.int64(1));
+    request.requested_by = q.text(2);
+    request.time_ns = q.int64(3);
+    request.attempt = q.int32(4);
+    return request;
+  }
+
+  // The header of a measurement set; the counts go into `summary`.
+  std::optional<MeasurementSet> load_measurement_header(const std::string& request_id,
+                                                        MeasurementSummary* summary) {
+    Query q(statements, kSelectMeasurementSet);
+    q.bind(request_id);
+    if (!q.step()) return std::nullopt;
+    MeasurementSet set;
+    set.request_id = request_id;
+    set.machine_id = q.text(0);
+    set.kind = kind_from(q.int64(1));
+    set.instrument = q.text(2);
+    set.frame = q.text(3);
+    set.time_ns = q.int64(4);
+    set.error = q.text(5);
+    if (summary) {
+      summary->instrument = set.instrument;
+      summary->frame = set.frame;
+      summary->time_ns = set.time_ns;
+      summary->error = set.error;
+      summary->touches = q.int64(6);
+      summary->tracker_points = q.int64(7);
+    }
+    return set;
+  }
+
+  std::optional<CheckResult> load_result(const std::string& request_id) {
+    CheckResult result;
+    std::optional<std::string> correction_target;
+    {
+      Query q(statements, kSelectResult);
+      q.bind(request_id);
+      if (!q.step()) return std::nullopt;
+      result.request_id = request_id;
+      result.machine_id = q.text(0);
+      result.kind = kind_from(q.int64(1));
+      result.verdict = verdict_from(q.text(2), request_id);
+      result.reason = q.text(3);
+      result.time_ns = q.int64(4);
+      correction_target = q.optional_text(5);
+    }
+    {
+      Query q(statements, kSelectMetrics);
+      q.bind(request_id);
+      while (q.step()) {
+        result.metrics.push_back(
+            Metric{q.text(0), q.real(1), q.text(2), q.real(3), q.real(4), q.int64(5) != 0});
+      }
+    }
+    {
+      Query q(statements, kSelectCauses);
+      q.bind(request_id);
+      while (q.step()) result.likely_causes.push_back(q.text(0));
+    }
+    if (correction_target) {
+      Correction correction;
+      correction.target = *correction_target;
+      Query q(statements, kSelectResultOffsets);
+      q.bind(request_id);
+      while (q.step()) correction.offsets.push_back(NamedValue{q.text(0), q.real(1), q.text(2)});
+      result.correction = std::move(correction);
+    }
+    return result;
+  }
+
+  std::optional<CheckRecord> load_record(const std::string& request_id) {
+    CheckRecord record;
+    record.request_id = request_id;
+    record.request = load_request(request_id);
+    MeasurementSummary summary;
+    const auto measurement = load_measurement_header(request_id, &summary);
+    if (measurement) record.measurement = summary;
+    record.result = load_result(request_id);
+    // Machine and kind from the result, else the request, else the measurement set; they agree
+    // (note_check refuses a disagreement), the order only matters for which part is present.
+    if (record.result) {
+      record.machine_id = record.result->machine_id;
+      record.kind = record.result->kind;
+    } else if (record.request) {
+      record.machine_id = record.request->machine_id;
+      record.kind = record.request->kind;
+    } else if (measurement) {
+      record.machine_id = measurement->machine_id;
+      record.kind = measurement->kind;
+    } else {
+      return std::nullopt;
+    }
+    return record;
+  }
+
+  std::string pragma_text(const Sql& sql) {
+    Query q(statements, sql);
+    if (!q.step()) return {};
+    return q.text(0);
+  }
+
+  std::int64_t pragma_int(const Sql& sql) {
+    Query q(statements, sql);
+    if (!q.step()) return 0;
+    return q.int64(0);
+  }
+};
+
+// --- opening -----------------------------------------------------------------------------------
+
+namespace {
+
+void check_sqlite_version() {
+  if (sqlite3_libversion_number() < kMinimumSqliteVersion) {
+    throw StorageError(std::string("SQLite ") + sqlite3_libversion() +
+                       " is too old: ncqual needs 3.37 or newer");
+  }
+}
+
+// Before anything is changed: a file marked as someone else's, or holding tables without any mark
+// of ours, is not adopted (migration 1 would otherwise add our tables to it and mark it ours).
+void refuse_foreign_file(sqlite3* db, const std::string& path) {
+  const std::int32_t id = schema::application_id(db);
+  if (id == schema::kApplicationId) return;
+  if (id == 0 && schema::user_version(db) == 0 &&
+      sqlite::query_text(db, "count schema objects", "SELECT count(*) FROM sqlite_schema") == "0") {
+    return;  // a new or empty file: ours to create
+  }
+  throw StorageError("'" + path + "' is not an ncqual historian database (application_id " +
+                     std::to_string(id) + ")");
+}
+
+void check_application_id(sqlite3* db, const std::string& path) {
+  const std::int32_t id = schema::application_id(db);
+  if (id != schema::kApplicationId) {
+    throw StorageError("'" + path + "' is not an ncqual historian database (application_id " +
+                       std::to_string(id) + ")");
+  }
+}
+
+}  // namespace
+
+Database Database::open(const std::string& path) {
+  check_sqlite_version();
+  if (path != ":memory:") {
+    const auto parent = std::filesystem::path(path).parent_path();
+    std::error_code error;
+    if (!parent.empty()) std::filesystem::create_directories(parent, error);
+    if (error) {
+      throw StorageError("open '" + path + "': cannot create directory '" + parent.string() +
+                         "': " + error.message());
+    }
+  }
+  auto db = sqlite::open_connection(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
+  sqlite3_busy_timeout(db.get(), kBusyTimeoutMs);
+
+  refuse_foreign_file(db.get(), path);
+
+  // WAL: the command-line tool reads while the historian writes, and a commit is one append.
+  // synchronous=NORMAL: in WAL mode a commit survives a crash of the process (what the crash test
+  // checks); a power cut may lose the last commits but never corrupts the file.
+  // foreign_keys is per connection and off by default in SQLite.
+  const bool in_memory = path == ":memory:";
+  const std::string mode =
+      sqlite::query_text(db.get(), "set journal mode", "PRAGMA journal_mode=WAL");
+  if (mode != "wal" && !in_memory) {
+    throw StorageError("open '" + path + "': cannot switch to WAL journal mode (still " + mode +
+                       ")");
+  }
+  sqlite::exec(db.get(), "set synchronous", "PRAGMA synchronous=NORMAL");
+  sqlite::exec(db.get(), "enable foreign keys", "PRAGMA foreign_keys=ON");
+
+  schema::migrate(db.get(), path.c_str());
+  check_application_id(db.get(), path);
+  return Database(std::make_unique<Impl>(std::move(db), path, false));
+}
+
+Database Database::open_readonly(const std::string& path) {
+  check_sqlite_version();
+  // No SQLITE_OPEN_CREATE: a missing file is an error, not a new empty database.
+  auto db = sqlite::open_connection(path, SQLITE_OPEN_READONLY);
+  // A reader can meet SQLITE_BUSY too, e.g. while a writer recovers the WAL after a crash.
+  sqlite3_busy_timeout(db.get(), kBusyTimeoutMs);
+  sqlite::exec(db.get(), "enable foreign keys", "PRAGMA foreign_keys=ON");
+
+  const int version = schema::user_version(db.get());
+  if (version == 0) {
+    throw StorageError("open_readonly '" + path +
+                       "': no ncqual schema in it (user_version 0); the historian creates it");
+  }
+  check_application_id(db.get(), path);
+  if (version != schema::latest_version()) {
+    throw StorageError("open_readonly '" + path + "': schema version " + std::to_string(version) +
+                       ", this build reads version " + std::to_string(schema::latest_version()) +
+                       (version < schema::latest_version()
+                            ? ": start the historian of this build once to migrate it"
+                            : ": upgrade ncqual"));
+  }
+  return Database(std::make_unique<Impl>(std::move(db), path, true));
+}
+
+int Database::latest_schema_version() { return schema::latest_version(); }
+
+Database::Database(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Database::Database(Database&&) noexcept = default;
+Database& Database::operator=(Database&&) noexcept = default;
+Database::~Database() = default;
+
+ConnectionInfo Database::info() {
+  ConnectionInfo info;
+  info.path = impl_->path;
+  info.read_only = impl_->read_only;
+  info.journal_mode = impl_->pragma_text(kJournalMode);
+  info.synchronous = static_cast<int>(impl_->pragma_int(kSynchronous));
+  info.foreign_keys = impl_->pragma_int(kForeignKeys) != 0;
+  info.busy_timeout_ms = static_cast<int>(impl_->pragma_int(kBusyTimeout));
+  info.schema_version = static_cast<int>(impl_->pragma_int(kUserVersion));
+  return info;
+}
+
+std::string Database::integrity_check() {
+  Query q(impl_->statements, kIntegrityCheck);
+  std::string report;
+  while (q.step()) {
+    if (!report.empty()) report += '\n';
+    report += q.text(0);
+  }
+  return report;
+}
+
+// --- stores ------------------------------------------------------------------------------------
+
+bool Database::store(const CheckRequest& request) {
+  validate::check(request);
+  return impl_->write("store CheckRequest " + quoted(request.request_id), [&] {
+    {
+      Query insert(impl_->statements, kInsertRequest);
+      insert.bind(request.request_id, request.machine_id, code(request.kind),
+                  to_string(request.kind), request.requested_by, request.time_ns, request.attempt);
+      insert.run();
+      if (insert.changes() == 0) return false;
+    }
+    impl_->note_check(kUpsertCheckRequested, "CheckRequest", request.request_id, request.machine_id,
+                      request.kind, request.time_ns);
+    impl_->touch_machine(request.machine_id, request.time_ns);
+    return true;
+  });
+}
+
+bool Database::store(const MeasurementSet& set) {
+  validate::check(set);
+  return impl_->write("store MeasurementSet " + quoted(set.request_id), [&] {
+    {
+      Query insert(impl_->statements, kInsertMeasurementSet);
+      insert.bind(set.request_id, set.machine_id, code(set.kind), set.instrument, set.frame,
+                  set.time_ns, set.error);
+      insert.run();
+      if (insert.changes() == 0) return false;
+    }
+    for (std::size_t i = 0; i < set.touches.size(); ++i) {
+      const Touch& t = set.touches[i];
+      Query(impl_->statements, kInsertTouch)
+          .bind(set.request_id, static_cast<std::int64_t>(i), t.feature, t.axes.x_mm, t.axes.y_mm,
+                t.axes.z_mm, t.axes.w_mm, t.axes.a_rad, t.axes.c_rad, t.approach.x(),
+                t.approach.y(), t.approach.z())
+          .run();
+    }
+    for (std::size_t i = 0; i < set.tracker_points.size(); ++i) {
+      const TrackerPoint& p = set.tracker_points[i];
+      Query(impl_->statements, kInsertTrackerPoint)
+          .bind(set.request_id, static_cast<std::int64_t>(i), p.label, p.commanded.x_mm,
+                p.commanded.y_mm, p.commanded.z_mm, p.commanded.w_mm, p.commanded.a_rad,
+                p.commanded.c_rad, p.measured_mm.x(), p.measured_mm.y(), p.measured_mm.z())
+          .run();
+    }
+    impl_->note_check(kUpsertCheckMeasured, "MeasurementSet", set.request_id, set.machine_id,
+                      set.kind, set.time_ns);
+    impl_->touch_machine(set.machine_id, set.time_ns);
+    return true;
+  });
+}
+
+bool Database::store(const CheckResult& result) {
+  validate::check(result);
+  return impl_->write("store CheckResult " + quoted(result.request_id), [&] {
+    {
+      std::optional<std::string> target;
+      if (result.correction) target = result.correction->target;
+      Query insert(impl_->statements, kInsertResult);
+      insert.bind(result.request_id, result.machine_id, code(result.kind),
+                  to_string(result.verdict), result.reason, result.time_ns, target);
+      insert.run();
+      if (insert.changes() == 0) return false;
+    }
+    for (std::size_t i = 0; i < result.metrics.size(); ++i) {
+      const Metric& m = result.metrics[i];
+      Query(impl_->statements, kInsertMetric)
+          .bind(result.request_id, static_cast<std::int64_t>(i), m.name, m.value, m.unit, m.lower,
+                m.upper, m.pass)
+          .run();
+    }
+    for (std::size_t i = 0; i < result.likely_causes.size(); ++i) {
+      Query(impl_->statements, kInsertCause)
+          .bind(result.request_id, static_cast<std::int64_t>(i), result.likely_causes[i])
+          .run();
+    }
+    if (result.correction) {
+      const auto& offsets = result.correction->offsets;
+      for (std::size_t i = 0; i < offsets.size(); ++i) {
+        Query(impl_->statements, kInsertResultOffset)
+            .bind(result.request_id, static_cast<std::int64_t>(i), offsets[i].name,
+                  offsets[i].value, offsets[i].unit)
+            .run();
+      }
+    }
+    impl_->note_check(kUpsertCheckResult, "CheckResult", result.request_id, result.machine_id,
+                      result.kind, result.time_ns);
+    impl_->touch_machine(result.machine_id, result.time_ns);
+    return true;
+  });
+}
+
+bool Database::store(const MachineStatus& status) {
+  validate::check(status);
+  return impl_->write("store MachineStatus of " + quoted(status.machine_id), [&] {
+    std::optional<std::int64_t> last_kind;
+    if (status.last_kind) last_kind = code(*status.last_kind);
+    std::optional<std::string_view> last_verdict;
+    if (status.last_verdict) last_verdict = to_string(*status.last_verdict);
+    Query insert(impl_->statements, kInsertStatus);
+    insert.bind(status.machine_id, status.request_id, to_string(status.state), last_kind,
+                last_verdict, status.detail, status.time_ns);
+    insert.run();
+    if (insert.changes() == 0) return false;
+    impl_->touch_machine(status.machine_id, status.time_ns);
+    return true;
+  });
+}
+
+bool Database::store(const Intervention& intervention) {
+  validate::check(intervention);
+  return impl_->write("store Intervention " + quoted(intervention.intervention_id), [&] {
+    Query insert(impl_->statements, kInsertIntervention);
+    insert.bind(intervention.intervention_id, intervention.machine_id, code(intervention.kind),
+                intervention.note, intervention.operator_name, intervention.time_ns);
+    insert.run();
+    if (insert.changes() == 0) return false;
+    impl_->touch_machine(intervention.machine_id, intervention.time_ns);
+    return true;
+  });
+}
+
+bool Database::store(const Compensation& compensation) {
+  validate::check(compensation);
+  const Correction& correction = compensation.correction;
+  return impl_->write(
+      "store Compensation " + quoted(compensation.request_id) + " for " + quoted(correction.target),
+      [&] {
+        std::int64_t id = 0;
+        {
+          Query insert(impl_->statements, kInsertCompensation);
+          insert.bind(compensation.request_id, correction.target, compensation.machine_id,
+                      compensation.time_ns);
+          insert.run();
+          if (insert.changes() == 0) return false;
+          id = sqlite3_last_insert_rowid(impl_->db.get());
+        }
+        for (std::size_t i = 0; i < correction.offsets.size(); ++i) {
+          const NamedValue& offset = correction.offsets[i];
+          Query(impl_->statements, kInsertCompensationOffset)
+              .bind(id, static_cast<std::int64_t>(i), offset.name, offset.value, offset.unit)
+              .run();
+        }
+        impl_->touch_machine(compensation.machine_id, compensation.time_ns);
+        return true;
+      });
+}
+
+bool Database::store(const Heartbeat& heartbeat) {
+  validate::check(heartbeat);
+  return impl_->write(
+      "store Heartbeat of " + quoted(heartbeat.service) + " " + quoted(heartbeat.instance), [&] {
+        bool inserted = false;
+        {
+          Query insert(impl_->statements, kInsertService);
+          insert.bind(heartbeat.service, heartbeat.instance, heartbeat.machine_id, heartbeat.state,
+                      heartbeat.time_ns);
+          insert.run();
+          inserted = insert.changes() == 1;
+        }
+        if (!inserted) {
+          Query(impl_->statements, kUpdateService)
+              .bind(heartbeat.service, heartbeat.instance, heartbeat.machine_id, heartbeat.state,
+                    heartbeat.time_ns)
+              .run();
+        }
+        // Plant-wide services (scheduler, solver, historian) name no machine.
+        if (!heartbeat.machine_id.empty()) {
+          impl_->touch_machine(heartbeat.machine_id, heartbeat.time_ns);
+        }
+        return inserted;
+      });
+}
+
+// --- queries -----------------------------------------------------------------------------------
+
+std::vector<CheckRecord> Database::history(const HistoryQuery& query) {
+  return impl_->read([&] {
+    std::vector<std::string> ids;
+    {
+      Query q(impl_->statements, query.machine_id ? kHistoryOfMachine : kHistoryAll);
+      std::optional<std::int64_t> kind;
+      if (query.kind) kind = code(*query.kind);
+      // LIMIT -1 is SQLite's "no limit".
+      const std::int64_t limit = query.limit > 0 ? query.limit : -1;
+      q.bind(query.since_ns, kind, limit);
+      if (query.machine_id) q.bind_at(4, *query.machine_id);
+      while (q.step()) ids.push_back(q.text(0));
+    }
+    std::vector<CheckRecord> records;
+    records.reserve(ids.size());
+    for (const auto& id : ids) {
+      if (auto record = impl_->load_record(id)) records.push_back(std::move(*record));
+    }
+    return records;
+  });
+}
+
+std::optional<CheckRecord> Database::find_check(const std::string& request_id) {
+  return impl_->read([&] { return impl_->load_record(request_id); });
+}
+
+std::optional<MeasurementSet> Database::load_measurement_set(const std::string& request_id) {
+  return impl_->read([&]() -> std::optional<MeasurementSet> {
+    auto set = impl_->load_measurement_header(request_id, nullptr);
+    if (!set) return std::nullopt;
+    {
+      Query q(impl_->statements, kSelectTouches);
+      q.bind(request_id);
+      while (q.step()) {
+        Touch touch;
+        touch.feature = q.text(0);
+        touch.axes = AxisPosition{q.real(1), q.real(2), q.real(3), q.real(4), q.real(5), q.real(6)};
+        touch.approach = Eigen::Vector3d(q.real(7), q.real(8), q.real(9));
+        set->touches.push_back(std::move(touch));
+      }
+    }
+    {
+      Query q(impl_->statements, kSelectTrackerPoints);
+      q.bind(request_id);
+      while (q.step()) {
+        TrackerPoint point;
+        point.label = q.text(0);
+        point.commanded =
+            AxisPosition{q.real(1), q.real(2), q.real(3), q.real(4), q.real(5), q.real(6)};
+        point.measured_mm = Eigen::Vector3d(q.real(7), q.real(8), q.real(9));
+        set->tracker_points.push_back(std::move(point));
+      }
+    }
+    return set;
+  });
+}
+
+std::int64_t Database::count_results(std::optional<std::string> machine_id) {
+  Query q(impl_->statements, machine_id ? kCountResultsOfMachine : kCountResults);
+  if (machine_id) q.bind(*machine_id);
+  return q.step() ? q.int64(0) : 0;
+}
+
+std::vector<std::string> Database::machines() {
+  std::vector<std::string> ids;
+  Query q(impl_->statements, kSelectMachines);
+  while (q.step()) ids.push_back(q.text(0));
+  return ids;
+}
+
+std::optional<MachineRecord> Database::machine(const std::string& machine_id) {
+  Query q(impl_->statements, kSelectMachine);
+  q.bind(machine_id);
+  if (!q.step()) return std::nullopt;
+  return MachineRecord{machine_id, q.int64(0), q.int64(1)};
+}
+
+std::optional<MachineStatus> Database::latest_status(const std::string& machine_id) {
+  Query q(impl_->statements, kSelectLatestStatus);
+  q.bind(machine_id);
+  if (!q.step()) return std::nullopt;
+  MachineStatus status;
+  status.machine_id = machine_id;
+  status.request_id = q.text(0);
+  status.state = state_from(q.text(1), machine_id);
+  if (auto kind = q.optional_int64(2)) status.last_kind = kind_from(*kind);
+  if (auto verdict = q.optional_text(3)) {
+    status.last_verdict = verdict_from(*verdict, status.request_id);
+  }
+  status.detail = q.text(4);
+  status.time_ns = q.int64(5);
+  return status;
+}
+
+std::vector<Intervention> Database::interventions(const std::string& machine_id) {
+  std::vector<Intervention> list;
+  Query q(impl_->statements, kSelectInterventions);
+  q.bind(machine_id);
+  while (q.step()) {
+    Intervention intervention;
+    intervention.machine_id = machine_id;
+    intervention.intervention_id = q.text(0);
+    intervention.kind = kind_from(q.int64(1));
+    intervention.note = q.text(2);
+    intervention.operator_name = q.text(3);
+    intervention.time_ns = q.int64(4);
+    list.push_back(std::move(intervention));
+  }
+  return list;
+}
+
+std::vector<Compensation> Database::compensations(const std::string& machine_id) {
+  return impl_->read([&] {
+    std::vector<std::pair<std::int64_t, Compensation>> rows;
+    {
+      Query q(impl_->statements, kSelectCompensations);
+      q.bind(machine_id);
+      while (q.step()) {
+        Compensation compensation;
+        compensation.machine_id = machine_id;
+        compensation.request_id = q.text(1);
+        compensation.correction.target = q.text(2);
+        compensation.time_ns = q.int64(3);
+        rows.emplace_back(q.int64(0), std::move(compensation));
+      }
+    }
+    std::vector<Compensation> list;
+    list.reserve(rows.size());
+    for (auto& [id, compensation] : rows) {
+      Query q(impl_->statements, kSelectCompensationOffsets);
+      q.bind(id);
+      while (q.step()) {
+        compensation.correction.offsets.push_back(NamedValue{q.text(0), q.real(1), q.text(2)});
+      }
+      list.push_back(std::move(compensation));
+    }
+    return list;
+  });
+}
+
+std::vector<Heartbeat> Database::services() {
+  std::vector<Heartbeat> list;
+  Query q(impl_->statements, kSelectServices);
+  while (q.step()) {
+    list.push_back(Heartbeat{q.text(0), q.text(1), q.text(2), q.text(3), q.int64(4)});
+  }
+  return list;
+}
+
+}  // namespace ncqual::storage

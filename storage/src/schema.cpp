@@ -1,0 +1,254 @@
+#include "schema.hpp"
+
+#include "ncqual/storage.hpp"
+#include "sqlite.hpp"
+
+#include <string>
+
+namespace ncqual::storage::schema {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Version 1: the whole historian.
+//
+// Identity and ordering
+//   Every sample type has a table keyed on the identity of the sample, and every store is
+//   INSERT ... ON CONFLICT DO NOTHING on that key, so a resent DDS sample is never a second row.
+//   Times are sample times in ns since the Unix epoch (UTC), never arrival times.
+//
+// Foreign keys only from a sample's children to the sample (touches -> measurement_sets, ...),
+//   never between topics: a result can arrive before its request, a compensation before its
+//   result. Children are numbered by `idx` in the order of the sample's vectors.
+//
+// Enums: `kind` columns hold the CheckKind numbers (stable, append-only, see model.hpp);
+//   verdicts and machine states are stored by their stable names, readable in the sqlite3 shell.
+//
+// Tables
+//   machines        every machine named by any sample: first and last sample time.
+//   requests        CheckRequest, one per request_id (kind_name for people reading the file).
+//   measurement_sets MeasurementSet header, one per request_id; error '' when it succeeded.
+//     touches         its probe touches: axes at trigger, approach direction (ux, uy, uz).
+//     tracker_points  its tracker points: commanded axes, measured position in `frame`.
+//   results         CheckResult header, one per request_id; correction_target NULL when the
+//                   result carries no correction (a correction may have zero offsets).
+//     metrics         its metrics with tolerance band; an infinite bound is a one-sided band.
+//     causes          its likely causes, rank 0 first (the order to investigate them).
+//     result_offsets  its correction's offsets.
+//   checks          one row per request_id seen in requests, measurement_sets or results, with
+//                   the time each part arrived with; sort_ns is the check's time (result, else
+//                   request, else measurement). Derived: written only in the same transaction as
+//                   the sample it derives from. Lets history() page through checks by index.
+//   status_changes  MachineStatus; request_id '' (not NULL) when no request caused it, so that
+//                   the UNIQUE identity holds (NULLs are all distinct in SQL).
+//   interventions   Intervention, one per intervention_id.
+//   compensations   Compensation, one per (request_id, target).
+//     compensation_offsets its offsets.
+//   services        last Heartbeat per (service, instance); machine_id '' for plant-wide ones.
+//
+// STRICT tables: SQLite refuses a value of the wrong type instead of storing it anyway.
+// ---------------------------------------------------------------------------------------------
+constexpr const char* kVersion1 = R"sql(
+CREATE TABLE machines (
+  machine_id    TEXT NOT NULL PRIMARY KEY,
+  first_seen_ns INTEGER NOT NULL,
+  last_seen_ns  INTEGER NOT NULL
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE requests (
+  request_id   TEXT NOT NULL PRIMARY KEY,
+  machine_id   TEXT NOT NULL,
+  kind         INTEGER NOT NULL,
+  kind_name    TEXT NOT NULL,
+  requested_by TEXT NOT NULL,
+  time_ns      INTEGER NOT NULL,
+  attempt      INTEGER NOT NULL
+) STRICT;
+CREATE INDEX requests_by_machine_time ON requests (machine_id, time_ns);
+
+CREATE TABLE measurement_sets (
+  request_id TEXT NOT NULL PRIMARY KEY,
+  machine_id TEXT NOT NULL,
+  kind       INTEGER NOT NULL,
+  instrument TEXT NOT NULL,
+  frame      TEXT NOT NULL,
+  time_ns    INTEGER NOT NULL,
+  error      TEXT NOT NULL
+) STRICT;
+CREATE INDEX measurement_sets_by_machine_time ON measurement_sets (machine_id, time_ns);
+
+CREATE TABLE touches (
+  request_id TEXT NOT NULL REFERENCES measurement_sets (request_id) ON DELETE CASCADE,
+  idx        INTEGER NOT NULL,
+  feature    TEXT NOT NULL,
+  x_mm REAL NOT NULL, y_mm REAL NOT NULL, z_mm REAL NOT NULL,
+  w_mm REAL NOT NULL, a_rad REAL NOT NULL, c_rad REAL NOT NULL,
+  ux REAL NOT NULL, uy REAL NOT NULL, uz REAL NOT NULL,
+  PRIMARY KEY (request_id, idx)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE tracker_points (
+  request_id TEXT NOT NULL REFERENCES measurement_sets (request_id) ON DELETE CASCADE,
+  idx        INTEGER NOT NULL,
+  label      TEXT NOT NULL,
+  x_mm REAL NOT NULL, y_mm REAL NOT NULL, z_mm REAL NOT NULL,
+  w_mm REAL NOT NULL, a_rad REAL NOT NULL, c_rad REAL NOT NULL,
+  measured_x_mm REAL NOT NULL, measured_y_mm REAL NOT NULL, measured_z_mm REAL NOT NULL,
+  PRIMARY KEY (request_id, idx)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE results (
+  request_id        TEXT NOT NULL PRIMARY KEY,
+  machine_id        TEXT NOT NULL,
+  kind              INTEGER NOT NULL,
+  verdict           TEXT NOT NULL CHECK (verdict IN ('PASS', 'FAIL', 'INVALID')),
+  reason            TEXT NOT NULL,
+  time_ns           INTEGER NOT NULL,
+  correction_target TEXT
+) STRICT;
+CREATE INDEX results_by_machine_time ON results (machine_id, time_ns);
+
+CREATE TABLE metrics (
+  request_id TEXT NOT NULL REFERENCES results (request_id) ON DELETE CASCADE,
+  idx        INTEGER NOT NULL,
+  name       TEXT NOT NULL,
+  value      REAL NOT NULL,
+  unit       TEXT NOT NULL,
+  lower      REAL NOT NULL,
+  upper      REAL NOT NULL,
+  pass       INTEGER NOT NULL CHECK (pass IN (0, 1)),
+  PRIMARY KEY (request_id, idx)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE causes (
+  request_id TEXT NOT NULL REFERENCES results (request_id) ON DELETE CASCADE,
+  rank       INTEGER NOT NULL,
+  cause      TEXT NOT NULL,
+  PRIMARY KEY (request_id, rank)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE result_offsets (
+  request_id TEXT NOT NULL REFERENCES results (request_id) ON DELETE CASCADE,
+  idx        INTEGER NOT NULL,
+  name       TEXT NOT NULL,
+  value      REAL NOT NULL,
+  unit       TEXT NOT NULL,
+  PRIMARY KEY (request_id, idx)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE checks (
+  request_id      TEXT NOT NULL PRIMARY KEY,
+  machine_id      TEXT NOT NULL,
+  kind            INTEGER NOT NULL,
+  requested_at_ns INTEGER,
+  measured_at_ns  INTEGER,
+  result_at_ns    INTEGER,
+  sort_ns         INTEGER NOT NULL
+                  GENERATED ALWAYS AS (coalesce(result_at_ns, requested_at_ns, measured_at_ns))
+) STRICT, WITHOUT ROWID;
+CREATE INDEX checks_by_machine_time ON checks (machine_id, sort_ns);
+CREATE INDEX checks_by_time ON checks (sort_ns);
+
+CREATE TABLE status_changes (
+  id           INTEGER PRIMARY KEY,
+  machine_id   TEXT NOT NULL,
+  request_id   TEXT NOT NULL,
+  state        TEXT NOT NULL,
+  last_kind    INTEGER,
+  last_verdict TEXT,
+  detail       TEXT NOT NULL,
+  time_ns      INTEGER NOT NULL,
+  UNIQUE (machine_id, time_ns, state, request_id)
+) STRICT;
+
+CREATE TABLE interventions (
+  intervention_id TEXT NOT NULL PRIMARY KEY,
+  machine_id      TEXT NOT NULL,
+  kind            INTEGER NOT NULL,
+  note            TEXT NOT NULL,
+  operator_name   TEXT NOT NULL,
+  time_ns         INTEGER NOT NULL
+) STRICT;
+CREATE INDEX interventions_by_machine_time ON interventions (machine_id, time_ns);
+
+CREATE TABLE compensations (
+  id         INTEGER PRIMARY KEY,
+  request_id TEXT NOT NULL,
+  target     TEXT NOT NULL,
+  machine_id TEXT NOT NULL,
+  time_ns    INTEGER NOT NULL,
+  UNIQUE (request_id, target)
+) STRICT;
+CREATE INDEX compensations_by_machine_time ON compensations (machine_id, time_ns);
+
+CREATE TABLE compensation_offsets (
+  compensation_id INTEGER NOT NULL REFERENCES compensations (id) ON DELETE CASCADE,
+  idx             INTEGER NOT NULL,
+  name            TEXT NOT NULL,
+  value           REAL NOT NULL,
+  unit            TEXT NOT NULL,
+  PRIMARY KEY (compensation_id, idx)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE services (
+  service       TEXT NOT NULL,
+  instance      TEXT NOT NULL,
+  machine_id    TEXT NOT NULL,
+  state         TEXT NOT NULL,
+  first_seen_ns INTEGER NOT NULL,
+  last_seen_ns  INTEGER NOT NULL,
+  PRIMARY KEY (service, instance)
+) STRICT, WITHOUT ROWID;
+
+PRAGMA application_id = 1852010869;
+)sql";
+
+// Append new steps here, never edit an applied one: files in the field are at its version.
+const std::vector<Migration> kMigrations = {
+    {1, "create the historian tables", kVersion1},
+};
+
+std::int64_t pragma_int(sqlite3* db, const char* sql) {
+  return std::stoll(sqlite::query_text(db, sql, sql));
+}
+
+}  // namespace
+
+const std::vector<Migration>& migrations() { return kMigrations; }
+int latest_version() { return kMigrations.back().version; }
+
+int user_version(sqlite3* db) { return static_cast<int>(pragma_int(db, "PRAGMA user_version")); }
+
+std::int32_t application_id(sqlite3* db) {
+  return static_cast<std::int32_t>(pragma_int(db, "PRAGMA application_id"));
+}
+
+void migrate(sqlite3* db, const char* path) {
+  for (;;) {
+    sqlite::exec(db, "begin migration", "BEGIN IMMEDIATE");
+    try {
+      // Read under the write lock: another process may have migrated while we waited for it.
+      const int version = user_version(db);
+      if (version > latest_version()) {
+        throw StorageError(std::string("database '") + path + "' has schema version " +
+                           std::to_string(version) + ", newer than this build's " +
+                           std::to_string(latest_version()) + ": upgrade ncqual");
+      }
+      if (version == latest_version()) {
+        sqlite::exec(db, "end migration", "COMMIT");
+        return;
+      }
+      const Migration& step = kMigrations.at(static_cast<std::size_t>(version));
+      const std::string operation = "migration to schema version " + std::to_string(step.version) +
+                                    " (" + step.description + ")";
+      sqlite::exec(db, operation, step.sql);
+      sqlite::exec(db, operation,
+                   ("PRAGMA user_version = " + std::to_string(step.version)).c_str());
+      sqlite::exec(db, operation, "COMMIT");
+    } catch (...) {
+      if (!sqlite3_get_autocommit(db)) sqlite3_exec(db, "ROLLBACK", nullptr, nullptr, nullptr);
+      throw;
+    }
+  }
+}
+
+}  // namespace ncqual::storage::schema

@@ -1,0 +1,351 @@
+// Every sample type comes back exactly as stored, and storing it again changes nothing.
+#include "storage_test_support.hpp"
+
+#include <gtest/gtest.h>
+
+namespace ncqual::storage {
+namespace {
+
+using testing::make_measurement_set;
+using testing::make_request;
+using testing::make_result;
+using testing::RawDb;
+using testing::TempDir;
+
+void expect_axes_eq(const AxisPosition& a, const AxisPosition& b) {
+  // Exact: SQLite stores IEEE doubles, nothing may be lost on the way.
+  EXPECT_EQ(a.x_mm, b.x_mm);
+  EXPECT_EQ(a.y_mm, b.y_mm);
+  EXPECT_EQ(a.z_mm, b.z_mm);
+  EXPECT_EQ(a.w_mm, b.w_mm);
+  EXPECT_EQ(a.a_rad, b.a_rad);
+  EXPECT_EQ(a.c_rad, b.c_rad);
+}
+
+void expect_result_eq(const CheckResult& a, const CheckResult& b) {
+  EXPECT_EQ(a.machine_id, b.machine_id);
+  EXPECT_EQ(a.request_id, b.request_id);
+  EXPECT_EQ(a.kind, b.kind);
+  EXPECT_EQ(a.verdict, b.verdict);
+  EXPECT_EQ(a.reason, b.reason);
+  EXPECT_EQ(a.time_ns, b.time_ns);
+  ASSERT_EQ(a.metrics.size(), b.metrics.size());
+  for (std::size_t i = 0; i < a.metrics.size(); ++i) {
+    EXPECT_EQ(a.metrics[i].name, b.metrics[i].name);
+    EXPECT_EQ(a.metrics[i].value, b.metrics[i].value);
+    EXPECT_EQ(a.metrics[i].unit, b.metrics[i].unit);
+    EXPECT_EQ(a.metrics[i].lower, b.metrics[i].lower);
+    EXPECT_EQ(a.metrics[i].upper, b.metrics[i].upper);
+    EXPECT_EQ(a.metrics[i].pass, b.metrics[i].pass);
+  }
+  EXPECT_EQ(a.likely_causes, b.likely_causes);
+  ASSERT_EQ(a.correction.has_value(), b.correction.has_value());
+  if (a.correction) {
+    EXPECT_EQ(a.correction->target, b.correction->target);
+    ASSERT_EQ(a.correction->offsets.size(), b.correction->offsets.size());
+    for (std::size_t i = 0; i < a.correction->offsets.size(); ++i) {
+      EXPECT_EQ(a.correction->offsets[i].name, b.correction->offsets[i].name);
+      EXPECT_EQ(a.correction->offsets[i].value, b.correction->offsets[i].value);
+      EXPECT_EQ(a.correction->offsets[i].unit, b.correction->offsets[i].unit);
+    }
+  }
+}
+
+class StorageRoundTrip : public ::testing::Test {
+ protected:
+  TempDir dir_;
+  std::string path_ = dir_.file("historian.db");
+  Database db_ = Database::open(path_);
+};
+
+TEST_F(StorageRoundTrip, CheckRequestComesBackAndIsStoredOnce) {
+  const CheckRequest request = make_request("r1");
+  EXPECT_TRUE(db_.store(request));
+  EXPECT_FALSE(db_.store(request));
+
+  const auto record = db_.find_check("r1");
+  ASSERT_TRUE(record.has_value());
+  ASSERT_TRUE(record->request.has_value());
+  EXPECT_EQ(record->request->machine_id, "M1");
+  EXPECT_EQ(record->request->request_id, "r1");
+  EXPECT_EQ(record->request->kind, CheckKind::MonumentCAlignment);
+  EXPECT_EQ(record->request->requested_by, "operator:ada");
+  EXPECT_EQ(record->request->time_ns, 1'000);
+  EXPECT_EQ(record->request->attempt, 2);
+  EXPECT_FALSE(record->result.has_value());
+  EXPECT_FALSE(record->measurement.has_value());
+
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("requests"), 1);
+  EXPECT_EQ(raw.text("SELECT kind_name FROM requests"), "monument_c_alignment");
+  EXPECT_EQ(raw.count("checks"), 1);
+}
+
+TEST_F(StorageRoundTrip, MeasurementSetComesBackExactlyWithEveryPoint) {
+  const MeasurementSet set = make_measurement_set("r1");
+  EXPECT_TRUE(db_.store(set));
+  EXPECT_FALSE(db_.store(set));
+
+  const auto loaded = db_.load_measurement_set("r1");
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(loaded->machine_id, set.machine_id);
+  EXPECT_EQ(loaded->request_id, set.request_id);
+  EXPECT_EQ(loaded->kind, set.kind);
+  EXPECT_EQ(loaded->instrument, set.instrument);
+  EXPECT_EQ(loaded->frame, set.frame);
+  EXPECT_EQ(loaded->time_ns, set.time_ns);
+  EXPECT_EQ(loaded->error, set.error);
+  ASSERT_EQ(loaded->touches.size(), set.touches.size());
+  for (std::size_t i = 0; i < set.touches.size(); ++i) {
+    EXPECT_EQ(loaded->touches[i].feature, set.touches[i].feature);
+    expect_axes_eq(loaded->touches[i].axes, set.touches[i].axes);
+    EXPECT_EQ(loaded->touches[i].approach, set.touches[i].approach);
+  }
+  ASSERT_EQ(loaded->tracker_points.size(), set.tracker_points.size());
+  for (std::size_t i = 0; i < set.tracker_points.size(); ++i) {
+    EXPECT_EQ(loaded->tracker_points[i].label, set.tracker_points[i].label);
+    expect_axes_eq(loaded->tracker_points[i].commanded, set.tracker_points[i].commanded);
+    EXPECT_EQ(loaded->tracker_points[i].measured_mm, set.tracker_points[i].measured_mm);
+  }
+
+  const auto record = db_.find_check("r1");
+  ASSERT_TRUE(record && record->measurement);
+  EXPECT_EQ(record->measurement->instrument, "touch_probe");
+  EXPECT_EQ(record->measurement->touches, 4);
+  EXPECT_EQ(record->measurement->tracker_points, 3);
+  EXPECT_EQ(record->measurement->error, "");
+
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("measurement_sets"), 1);
+  EXPECT_EQ(raw.count("touches"), 4);
+  EXPECT_EQ(raw.count("tracker_points"), 3);
+  EXPECT_FALSE(db_.load_measurement_set("nope").has_value());
+}
+
+TEST_F(StorageRoundTrip, FailedMeasurementSetKeepsItsErrorAndNoPoints) {
+  MeasurementSet set = make_measurement_set("r1");
+  set.touches.clear();
+  set.tracker_points.clear();
+  set.error = "probe did not trigger within 5 mm";
+  EXPECT_TRUE(db_.store(set));
+  const auto loaded = db_.load_measurement_set("r1");
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(loaded->error, set.error);
+  EXPECT_TRUE(loaded->touches.empty());
+  EXPECT_TRUE(loaded->tracker_points.empty());
+}
+
+TEST_F(StorageRoundTrip, CheckResultComesBackWithMetricsCausesInOrderAndCorrection) {
+  const CheckResult result = make_result("r1");
+  EXPECT_TRUE(db_.store(result));
+  EXPECT_FALSE(db_.store(result));
+
+  const auto record = db_.find_check("r1");
+  ASSERT_TRUE(record && record->result);
+  expect_result_eq(*record->result, result);
+  EXPECT_EQ(record->machine_id, "M1");
+  EXPECT_EQ(record->kind, CheckKind::MonumentCAlignment);
+  EXPECT_FALSE(record->request.has_value());  // a result may arrive before its request
+
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("results"), 1);
+  EXPECT_EQ(raw.count("metrics"), 3);
+  EXPECT_EQ(raw.count("causes"), 3);
+  EXPECT_EQ(raw.count("result_offsets"), 2);
+  EXPECT_EQ(db_.count_results(), 1);
+}
+
+TEST_F(StorageRoundTrip, CorrectionPresentWithoutOffsetsDiffersFromNoCorrection) {
+  CheckResult with_empty = make_result("r1");
+  with_empty.correction->offsets.clear();
+  CheckResult without = make_result("r2");
+  without.correction.reset();
+  without.verdict = Verdict::Invalid;
+  without.metrics.clear();
+  without.likely_causes.clear();
+  ASSERT_TRUE(db_.store(with_empty));
+  ASSERT_TRUE(db_.store(without));
+
+  const auto a = db_.find_check("r1");
+  ASSERT_TRUE(a && a->result && a->result->correction);
+  EXPECT_EQ(a->result->correction->target, "machine:work_offset");
+  EXPECT_TRUE(a->result->correction->offsets.empty());
+  const auto b = db_.find_check("r2");
+  ASSERT_TRUE(b && b->result);
+  expect_result_eq(*b->result, without);
+}
+
+TEST_F(StorageRoundTrip, ResendWithDifferentContentKeepsTheFirst) {
+  const CheckResult first = make_result("r1");
+  CheckResult second = first;
+  second.verdict = Verdict::Pass;
+  second.metrics.pop_back();
+  ASSERT_TRUE(db_.store(first));
+  EXPECT_FALSE(db_.store(second));
+  const auto record = db_.find_check("r1");
+  ASSERT_TRUE(record && record->result);
+  expect_result_eq(*record->result, first);
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("metrics"), 3);
+}
+
+TEST_F(StorageRoundTrip, MachineStatusComesBackAndIsStoredOnce) {
+  MachineStatus status;
+  status.machine_id = "M1";
+  status.request_id = "r1";
+  status.state = MachineState::NeedsIntervention;
+  status.last_kind = CheckKind::MonumentToolLength;
+  status.last_verdict = Verdict::Fail;
+  status.detail = "tool length off by 0.03 mm";
+  status.time_ns = 5'000;
+  EXPECT_TRUE(db_.store(status));
+  EXPECT_FALSE(db_.store(status));
+
+  // Same time and state but no request: a different status change.
+  MachineStatus plain;
+  plain.machine_id = "M1";
+  plain.state = MachineState::Qualified;
+  plain.time_ns = 4'000;
+  EXPECT_TRUE(db_.store(plain));
+  EXPECT_FALSE(db_.store(plain));
+
+  const auto latest = db_.latest_status("M1");
+  ASSERT_TRUE(latest.has_value());
+  EXPECT_EQ(latest->machine_id, "M1");
+  EXPECT_EQ(latest->request_id, "r1");
+  EXPECT_EQ(latest->state, MachineState::NeedsIntervention);
+  EXPECT_EQ(latest->last_kind, CheckKind::MonumentToolLength);
+  EXPECT_EQ(latest->last_verdict, Verdict::Fail);
+  EXPECT_EQ(latest->detail, status.detail);
+  EXPECT_EQ(latest->time_ns, 5'000);
+
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("status_changes"), 2);
+  EXPECT_FALSE(db_.latest_status("M2").has_value());
+}
+
+TEST_F(StorageRoundTrip, StatusWithoutLastKindOrVerdictComesBackEmpty) {
+  MachineStatus status;
+  status.machine_id = "M1";
+  status.state = MachineState::Offline;
+  status.time_ns = 7;
+  ASSERT_TRUE(db_.store(status));
+  const auto latest = db_.latest_status("M1");
+  ASSERT_TRUE(latest.has_value());
+  EXPECT_EQ(latest->state, MachineState::Offline);
+  EXPECT_EQ(latest->request_id, "");
+  EXPECT_FALSE(latest->last_kind.has_value());
+  EXPECT_FALSE(latest->last_verdict.has_value());
+}
+
+TEST_F(StorageRoundTrip, InterventionComesBackNewestFirstAndIsStoredOnce) {
+  Intervention older{"M1", "i1", CheckKind::FixturePreCalibration, "re-seated pogo 3", "bob", 10};
+  Intervention newer{"M1", "i2", CheckKind::MonumentPositioning, "cleaned monument", "eve", 20};
+  EXPECT_TRUE(db_.store(older));
+  EXPECT_TRUE(db_.store(newer));
+  EXPECT_FALSE(db_.store(older));
+
+  const auto list = db_.interventions("M1");
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].intervention_id, "i2");
+  EXPECT_EQ(list[1].intervention_id, "i1");
+  EXPECT_EQ(list[1].machine_id, "M1");
+  EXPECT_EQ(list[1].kind, CheckKind::FixturePreCalibration);
+  EXPECT_EQ(list[1].note, "re-seated pogo 3");
+  EXPECT_EQ(list[1].operator_name, "bob");
+  EXPECT_EQ(list[1].time_ns, 10);
+  EXPECT_TRUE(db_.interventions("M2").empty());
+}
+
+TEST_F(StorageRoundTrip, CompensationComesBackAndIsStoredOncePerTarget) {
+  Compensation compensation;
+  compensation.machine_id = "M1";
+  compensation.request_id = "r1";
+  compensation.correction = Correction{
+      "fixture:F1", {NamedValue{"dx_mm", 0.012, "mm"}, NamedValue{"dy_mm", -0.004, "mm"}}};
+  compensation.time_ns = 9'000;
+  EXPECT_TRUE(db_.store(compensation));
+  EXPECT_FALSE(db_.store(compensation));
+  Compensation other_target = compensation;
+  other_target.correction.target = "fixture:F2";
+  other_target.time_ns = 9'001;
+  EXPECT_TRUE(db_.store(other_target));
+
+  const auto list = db_.compensations("M1");
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].correction.target, "fixture:F2");
+  const Compensation& back = list[1];
+  EXPECT_EQ(back.machine_id, "M1");
+  EXPECT_EQ(back.request_id, "r1");
+  EXPECT_EQ(back.time_ns, 9'000);
+  EXPECT_EQ(back.correction.target, "fixture:F1");
+  ASSERT_EQ(back.correction.offsets.size(), 2u);
+  EXPECT_EQ(back.correction.offsets[1].name, "dy_mm");
+  EXPECT_EQ(back.correction.offsets[1].value, -0.004);
+  EXPECT_EQ(back.correction.offsets[1].unit, "mm");
+
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("compensations"), 2);
+  EXPECT_EQ(raw.count("compensation_offsets"), 4);
+}
+
+TEST_F(StorageRoundTrip, HeartbeatUpsertsAndNeverGoesBackInTime) {
+  Heartbeat start{"acquisition", "host-a:41", "M1", "starting", 100};
+  EXPECT_TRUE(db_.store(start));
+  EXPECT_FALSE(db_.store(start));
+  Heartbeat running = start;
+  running.state = "running";
+  running.time_ns = 200;
+  EXPECT_FALSE(db_.store(running));  // known instance: updated, not new
+  EXPECT_FALSE(db_.store(start));    // stale: must not move the state back
+
+  Heartbeat historian{"historian", "host-b:7", "", "running", 150};
+  EXPECT_TRUE(db_.store(historian));
+
+  const auto list = db_.services();
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].service, "acquisition");
+  EXPECT_EQ(list[0].instance, "host-a:41");
+  EXPECT_EQ(list[0].machine_id, "M1");
+  EXPECT_EQ(list[0].state, "running");
+  EXPECT_EQ(list[0].time_ns, 200);
+  EXPECT_EQ(list[1].service, "historian");
+  EXPECT_EQ(list[1].machine_id, "");
+
+  // The acquisition's machine is seen; a plant-wide service names no machine.
+  EXPECT_EQ(db_.machines(), std::vector<std::string>{"M1"});
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("services"), 2);
+}
+
+TEST_F(StorageRoundTrip, EveryStoreRecordsTheMachineFirstAndLastSeen) {
+  ASSERT_TRUE(db_.store(make_result("r1", "M2", 3'000)));
+  ASSERT_TRUE(db_.store(make_request("r1", "M2", 1'000)));  // arrives late, is older
+  ASSERT_TRUE(db_.store(make_measurement_set("r1", "M2", 2'000)));
+  ASSERT_TRUE(db_.store(Intervention{"M3", "i1", CheckKind::RotaryA, "", "", 50}));
+  MachineStatus status;
+  status.machine_id = "M4";
+  status.time_ns = 60;
+  ASSERT_TRUE(db_.store(status));
+  Compensation compensation{"M5", "r9", Correction{"machine:work_offset", {}}, 70};
+  ASSERT_TRUE(db_.store(compensation));
+
+  EXPECT_EQ(db_.machines(), (std::vector<std::string>{"M2", "M3", "M4", "M5"}));
+  const auto m2 = db_.machine("M2");
+  ASSERT_TRUE(m2.has_value());
+  EXPECT_EQ(m2->first_seen_ns, 1'000);
+  EXPECT_EQ(m2->last_seen_ns, 3'000);
+  EXPECT_FALSE(db_.machine("M9").has_value());
+}
+
+TEST_F(StorageRoundTrip, StringsKeepEmbeddedNulAndUnicode) {
+  CheckRequest request = make_request("r-ü-1");
+  request.requested_by = std::string("operator:a\0b", 12);
+  ASSERT_TRUE(db_.store(request));
+  const auto record = db_.find_check("r-ü-1");
+  ASSERT_TRUE(record && record->request);
+  EXPECT_EQ(record->request->requested_by, request.requested_by);
+}
+
+}  // namespace
+}  // namespace ncqual::storage
