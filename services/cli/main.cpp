@@ -39,7 +39,7 @@ const char* kUsage =
     "  check --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]\n"
     "      ask the scheduler to run a check now; with --wait, print its result\n"
     "  wait [--plant F | --db F] (--request ID | --count N [--machine M]) [--timeout S]\n"
-    "      wait until the historian has stored that result (or N results)\n"
+    "      wait until the historian has stored that whole check (or N results)\n"
     "  count [--plant F | --db F] [--machine M]\n"
     "      number of stored results\n"
     "The plant config comes from --plant or NCQUAL_PLANT; the domain from --domain,\n"
@@ -209,7 +209,8 @@ int cmd_wait(const Args& args) {
         auto db = storage::Database::open_readonly(path);
         if (request) {
           auto rec = db.find_check(*request);
-          if (rec && rec->result) {
+          // The whole check: request, measurement set and result (topics arrive independently).
+          if (rec && rec->request && rec->measurement && rec->result) {
             std::cout << to_string(rec->result->verdict) << "\n";
             return 0;
           }

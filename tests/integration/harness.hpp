@@ -2,8 +2,10 @@
 // domain with a plant config in a temporary directory, and waits on the historian's database.
 #pragma once
 
+#include "ncqual/clock.hpp"
 #include "ncqual/storage.hpp"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>

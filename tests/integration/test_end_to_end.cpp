@@ -27,9 +27,18 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
   plant.start("acquisition", {"--machine", "pm-shifted"});
   plant.start("scheduler");
 
+  // Topics arrive independently (a result may be stored before its request): wait until each
+  // machine's check is complete in the database.
   ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) {
-    return db.count_results(std::string("pm-good")) >= 1 &&
-           db.count_results(std::string("pm-shifted")) >= 1;
+    for (const char* id : {"pm-good", "pm-shifted"}) {
+      storage::HistoryQuery q;
+      q.machine_id = id;
+      const auto records = db.history(q);
+      if (records.empty()) return false;
+      const auto& r = records.front();
+      if (!r.request || !r.measurement || !r.result) return false;
+    }
+    return true;
   })) << plant.log("solver") << plant.log("historian");
 
   auto db = storage::Database::open_readonly(plant.db_path());
@@ -59,9 +68,13 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
     ASSERT_TRUE(set.has_value());
     EXPECT_GE(set->touches.size(), 4u);
   }
-  const auto good_rec = db.history({std::string("pm-good")}).front();
+  storage::HistoryQuery good_q;
+  good_q.machine_id = "pm-good";
+  const auto good_rec = db.history(good_q).front();
   EXPECT_EQ(good_rec.result->verdict, Verdict::Pass);
-  const auto bad_rec = db.history({std::string("pm-shifted")}).front();
+  storage::HistoryQuery bad_q;
+  bad_q.machine_id = "pm-shifted";
+  const auto bad_rec = db.history(bad_q).front();
   EXPECT_EQ(bad_rec.result->verdict, Verdict::Fail);
   ASSERT_FALSE(bad_rec.result->likely_causes.empty());
   EXPECT_EQ(bad_rec.result->likely_causes.front(), "machine shifted along its axes");
@@ -95,7 +108,10 @@ TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
   EXPECT_NE(json.find("\"verdict\": \"PASS\""), std::string::npos) << json;
   EXPECT_NE(json.find("center_dx_mm"), std::string::npos) << json;
 
-  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 1; }));
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) {
+    const auto records = db.history({});
+    return !records.empty() && records.front().request && records.front().result;
+  }));
   auto db = storage::Database::open_readonly(plant.db_path());
   const auto rec = db.history({}).front();
   EXPECT_EQ(rec.request->requested_by.rfind("operator:", 0), 0u) << rec.request->requested_by;
