@@ -15,10 +15,7 @@ std::string describe(const YAML::Node& node) {
   return "(not a single value)";
 }
 
-[[noreturn]] void fail(const std::string& where, const std::string& key, const YAML::Node& value,
-                       const std::string& why) {
-  throw ConfigError(where + ": " + key + " = " + describe(value) + ": " + why);
-}
+using yaml::fail;
 
 double quantity(units::Dimension dim, const YAML::Node& value, const std::string& key,
                 std::string_view default_unit, const std::string& where) {
@@ -95,6 +92,11 @@ Tolerance parse_tolerance(const YAML::Node& node, const std::string& key, const 
 }  // namespace
 
 namespace yaml {
+
+void fail(const std::string& where, const std::string& key, const YAML::Node& value,
+          const std::string& why) {
+  throw ConfigError(where + ": " + key + " = " + describe(value) + ": " + why);
+}
 
 double length_mm(const YAML::Node& node, const std::string& key, const std::string& where) {
   const YAML::Node v = node[key];

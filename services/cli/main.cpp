@@ -52,11 +52,15 @@ std::string plant_path(const Args& args) {
   return "";
 }
 
+// --db, else the plant config's historian, else the demo's var/historian.db ($NCQUAL_VAR).
 std::string database_path(const Args& args) {
   if (auto db = args.get("db")) return *db;
   const std::string plant = plant_path(args);
-  if (plant.empty()) throw ArgError("pass --db FILE or --plant FILE (or set NCQUAL_PLANT)");
-  return load_plant_config(plant).historian_database;
+  if (!plant.empty()) return load_plant_config(plant).historian_database;
+  const char* var = std::getenv("NCQUAL_VAR");
+  const std::string fallback = std::string(var && *var ? var : "var") + "/historian.db";
+  if (std::filesystem::exists(fallback)) return fallback;
+  throw ArgError("pass --db FILE or --plant FILE (or set NCQUAL_PLANT); no " + fallback + " here");
 }
 
 std::string format_value(double v) {

@@ -75,6 +75,9 @@ PlantConfig load_plant_config(const std::string& path);
 // Helpers for reading quantities out of YAML with units, used by the config loaders and by the
 // simulator's section. `where` names the file for error messages.
 namespace yaml {
+// Throws ConfigError "<where>: <key> = '<value>': <why>", the one shape of every config error.
+[[noreturn]] void fail(const std::string& where, const std::string& key, const YAML::Node& value,
+                       const std::string& why);
 double length_mm(const YAML::Node& node, const std::string& key, const std::string& where);
 double length_mm_or(const YAML::Node& node, const std::string& key, double fallback,
                     const std::string& where);

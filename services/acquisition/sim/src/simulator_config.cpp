@@ -8,16 +8,7 @@
 namespace ncqual::sim {
 namespace {
 
-std::string describe(const YAML::Node& node) {
-  if (!node.IsDefined() || node.IsNull()) return "(missing)";
-  if (node.IsScalar()) return "'" + node.Scalar() + "'";
-  return "(not a single value)";
-}
-
-[[noreturn]] void fail(const std::string& where, const std::string& key, const YAML::Node& value,
-                       const std::string& why) {
-  throw ConfigError(where + ": " + key + " = " + describe(value) + ": " + why);
-}
+using yaml::fail;
 
 void refuse_unknown_keys(const YAML::Node& section, const std::set<std::string>& known,
                          const std::string& where) {
