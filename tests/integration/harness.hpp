@@ -27,7 +27,7 @@ namespace ncqual::testing {
 
 namespace fs = std::filesystem;
 
-// A child process running one executable; killed (SIGKILL) if still running at destruction.
+// A child process running one executable.
 class Process {
  public:
   Process(const std::string& exe, const std::vector<std::string>& args, const std::string& log) {
@@ -43,8 +43,17 @@ class Process {
     if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&actions);
   }
+  // Stops the process as an operator would (SIGTERM), so that it removes its shared-memory
+  // segments; SIGKILL only if it has not ended after 10 s.
   ~Process() {
-    if (running()) signal(SIGKILL);
+    if (running()) {
+      signal(SIGTERM);
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+      while (running() && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      if (running()) signal(SIGKILL);
+    }
     wait();
   }
   Process(const Process&) = delete;
