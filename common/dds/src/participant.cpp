@@ -5,6 +5,8 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include <spdlog/spdlog.h>
+
 #include <cstdlib>
 #include <filesystem>
 
@@ -51,7 +53,10 @@ Participant::Participant(const ParticipantOptions& options) : domain_id_(options
   DomainParticipantQos qos;
   if (factory->get_participant_qos_from_profile(profiles::kParticipant, qos) !=
       eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
-    // Without our profiles file (a tool run outside deploy/) the defaults are used.
+    // Without our profiles file the Fast DDS defaults apply: reliable readers and writers, but
+    // VOLATILE, so a restarted historian would miss what was published while it was down.
+    spdlog::warn("QoS profiles not loaded (set qos_profiles in the plant config or "
+                 "FASTRTPS_DEFAULT_PROFILES_FILE): using Fast DDS defaults, which are not durable");
     qos = PARTICIPANT_QOS_DEFAULT;
   }
   if (!options.name.empty()) qos.name(options.name);
