@@ -174,27 +174,36 @@ CircleFit refused(const std::string& why, std::size_t count) {
 
 }  // namespace
 
+// The steps both fits share: refuse unusable points, normalise, algebraic (Kasa) fit.
+// Returns an empty string and fills n, centre, radius; or why the points were refused.
+static std::string algebraic_start(const std::vector<Eigen::Vector2d>& points, Normalised* n,
+                                   Eigen::Vector2d* centre, double* radius) {
+  if (auto why = why_points_unusable(points); !why.empty()) return why;
+  *n = normalise(points);
+  if (auto why = why_collinear(*n); !why.empty()) return why;
+  if (!kasa_normalised(n->q, centre, radius)) {
+    return "fit_circle: the algebraic fit found no real circle";
+  }
+  return "";
+}
+
 CircleFit fit_circle_algebraic(const std::vector<Eigen::Vector2d>& points) {
-  if (auto why = why_points_unusable(points); !why.empty()) return refused(why, points.size());
-  const Normalised n = normalise(points);
-  if (auto why = why_collinear(n); !why.empty()) return refused(why, points.size());
+  Normalised n;
   Eigen::Vector2d centre;
   double radius = 0;
-  if (!kasa_normalised(n.q, &centre, &radius)) {
-    return refused("fit_circle: the algebraic fit found no real circle", points.size());
+  if (auto why = algebraic_start(points, &n, &centre, &radius); !why.empty()) {
+    return refused(why, points.size());
   }
   return denormalise(n, centre, radius, 0);
 }
 
 CircleFit fit_circle(const std::vector<Eigen::Vector2d>& points) {
-  if (auto why = why_points_unusable(points); !why.empty()) return refused(why, points.size());
-  const Normalised n = normalise(points);
-  if (auto why = why_collinear(n); !why.empty()) return refused(why, points.size());
   // Step 1: algebraic start.
+  Normalised n;
   Eigen::Vector2d centre;
   double radius = 0;
-  if (!kasa_normalised(n.q, &centre, &radius)) {
-    return refused("fit_circle: the algebraic fit found no real circle", points.size());
+  if (auto why = algebraic_start(points, &n, &centre, &radius); !why.empty()) {
+    return refused(why, points.size());
   }
   // Step 2: geometric refinement.
   Eigen::Vector3d x(centre.x(), centre.y(), radius);
