@@ -2,6 +2,7 @@
 
 #include "ncqual/units.hpp"
 
+#include <cstdlib>
 #include <filesystem>
 
 namespace ncqual {
@@ -227,6 +228,12 @@ MachineConfig parse_machine_config(const YAML::Node& root, const std::string& wh
   // Assigning a missing node would throw in yaml-cpp: copy only a present section.
   if (const YAML::Node sim = root["simulator"]) m.simulator = YAML::Clone(sim);
   return m;
+}
+
+std::string plant_config_path(const std::string& flag_value) {
+  if (!flag_value.empty()) return flag_value;
+  if (const char* env = std::getenv("NCQUAL_PLANT"); env && *env) return env;
+  return "";
 }
 
 MachineConfig load_machine_config(const std::string& path) {

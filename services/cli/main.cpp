@@ -46,16 +46,10 @@ const char* kUsage =
     "NCQUAL_DOMAIN or the plant config.\n"
     "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out.\n";
 
-std::string plant_path(const Args& args) {
-  if (auto p = args.get("plant")) return *p;
-  if (const char* env = std::getenv("NCQUAL_PLANT"); env && *env) return env;
-  return "";
-}
-
 // --db, else the plant config's historian, else the demo's var/historian.db ($NCQUAL_VAR).
 std::string database_path(const Args& args) {
   if (auto db = args.get("db")) return *db;
-  const std::string plant = plant_path(args);
+  const std::string plant = plant_config_path(args.get_or("plant", ""));
   if (!plant.empty()) return load_plant_config(plant).historian_database;
   const char* var = std::getenv("NCQUAL_VAR");
   const std::string fallback = std::string(var && *var ? var : "var") + "/historian.db";
@@ -129,7 +123,7 @@ int exit_code_of(Verdict v) {
 }
 
 int cmd_check(const Args& args) {
-  const std::string plant_file = plant_path(args);
+  const std::string plant_file = plant_config_path(args.get_or("plant", ""));
   if (plant_file.empty()) throw ArgError("pass --plant FILE (or set NCQUAL_PLANT)");
   const PlantConfig plant = load_plant_config(plant_file);
   const std::string machine = args.require("machine");
@@ -180,17 +174,14 @@ int cmd_check(const Args& args) {
     std::cerr << "ncqual check: no result for " << cmd.request_id << " within " << wait_s << " s\n";
     return kExitTimeout;
   }
+  storage::CheckRecord rec;
+  rec.machine_id = got->machine_id;
+  rec.request_id = got->request_id;
+  rec.kind = got->kind;
+  rec.result = *got;
   if (args.has("json")) {
-    storage::CheckRecord rec;
-    rec.machine_id = got->machine_id;
-    rec.request_id = got->request_id;
-    rec.result = *got;
     std::cout << storage::to_json(rec).dump(2) << "\n";
   } else {
-    storage::CheckRecord rec;
-    rec.machine_id = got->machine_id;
-    rec.request_id = got->request_id;
-    rec.result = *got;
     print_table({rec});
   }
   return exit_code_of(got->verdict);

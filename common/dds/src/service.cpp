@@ -4,14 +4,13 @@
 
 #include <unistd.h>
 
-#include <cstdlib>
 
 namespace ncqual::dds {
 
 std::string plant_file_from(const std::string& flag_value) {
-  if (!flag_value.empty()) return flag_value;
-  if (const char* env = std::getenv("NCQUAL_PLANT"); env && *env) return env;
-  throw ConfigError("no plant config: pass --plant FILE or set NCQUAL_PLANT");
+  const std::string path = plant_config_path(flag_value);
+  if (path.empty()) throw ConfigError("no plant config: pass --plant FILE or set NCQUAL_PLANT");
+  return path;
 }
 
 Service::Service(const ServiceOptions& options) : options_(options) {

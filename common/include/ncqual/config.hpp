@@ -68,6 +68,9 @@ struct PlantConfig {
   const MachineConfig* find_machine(const std::string& machine_id) const;
 };
 
+// The plant config file to use: `flag_value` (--plant) when given, else NCQUAL_PLANT, else "".
+std::string plant_config_path(const std::string& flag_value);
+
 MachineConfig load_machine_config(const std::string& path);
 MachineConfig parse_machine_config(const YAML::Node& root, const std::string& source);
 PlantConfig load_plant_config(const std::string& path);

@@ -46,8 +46,8 @@ class Service {
   std::unique_ptr<Writer<HeartbeatTopic>> heartbeat_;
 };
 
-// Common flags of the service executables: --plant FILE (default deploy/plant.yaml beside the
-// binary's source tree is not assumed: it is required or NCQUAL_PLANT), --domain N, --log-level L.
+// The plant config a service runs with: --plant FILE, else NCQUAL_PLANT; a service cannot run
+// without one, so this throws ConfigError when neither is given.
 std::string plant_file_from(const std::string& flag_value);
 
 }  // namespace ncqual::dds
