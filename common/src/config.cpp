@@ -227,6 +227,7 @@ MachineConfig parse_machine_config(const YAML::Node& root, const std::string& wh
   }
   // Assigning a missing node would throw in yaml-cpp: copy only a present section.
   if (const YAML::Node sim = root["simulator"]) m.simulator = YAML::Clone(sim);
+  if (const YAML::Node budget = root["budget"]) m.budget = YAML::Clone(budget);
   return m;
 }
 

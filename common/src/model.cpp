@@ -65,4 +65,11 @@ const Metric* find_metric(const CheckResult& result, std::string_view name) {
   return nullptr;
 }
 
+const NamedValue* find_value(const std::vector<NamedValue>& values, std::string_view name) {
+  for (const auto& v : values) {
+    if (v.name == name) return &v;
+  }
+  return nullptr;
+}
+
 }  // namespace ncqual

@@ -57,6 +57,14 @@ constexpr Sql kInsertMeasurementSet{
     "insert measurement set",
     "INSERT INTO measurement_sets (request_id, machine_id, kind, instrument, frame, time_ns, error)"
     " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) ON CONFLICT (request_id) DO NOTHING"};
+constexpr Sql kInsertRequestParameter{
+    "insert request parameter",
+    "INSERT INTO request_parameters (request_id, idx, name, value, unit) "
+    "VALUES (?1, ?2, ?3, ?4, ?5)"};
+constexpr Sql kInsertMeasurementParameter{
+    "insert measurement parameter",
+    "INSERT INTO measurement_parameters (request_id, idx, name, value, unit) "
+    "VALUES (?1, ?2, ?3, ?4, ?5)"};
 constexpr Sql kInsertTouch{
     "insert touch",
     "INSERT INTO touches (request_id, idx, feature, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad, "
@@ -131,6 +139,12 @@ constexpr Sql kSelectMeasurementSet{
     "(SELECT count(*) FROM touches AS t WHERE t.request_id = m.request_id), "
     "(SELECT count(*) FROM tracker_points AS p WHERE p.request_id = m.request_id) "
     "FROM measurement_sets AS m WHERE request_id = ?1"};
+constexpr Sql kSelectRequestParameters{
+    "select request parameters",
+    "SELECT name, value, unit FROM request_parameters WHERE request_id = ?1 ORDER BY idx"};
+constexpr Sql kSelectMeasurementParameters{
+    "select measurement parameters",
+    "SELECT name, value, unit FROM measurement_parameters WHERE request_id = ?1 ORDER BY idx"};
 constexpr Sql kSelectTouches{
     "select touches",
     "SELECT feature, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad, ux, uy, uz FROM touches "
@@ -296,10 +310,19 @@ struct Database::Impl {
     request.requested_by = q.text(2);
     request.time_ns = q.int64(3);
     request.attempt = q.int32(4);
+    request.parameters = load_parameters(kSelectRequestParameters, request_id);
     return request;
   }
 
-  // The header of a measurement set; the counts go into `summary`.
+  std::vector<NamedValue> load_parameters(const Sql& select, const std::string& request_id) {
+    std::vector<NamedValue> values;
+    Query q(statements, select);
+    q.bind(request_id);
+    while (q.step()) values.push_back(NamedValue{q.text(0), q.real(1), q.text(2)});
+    return values;
+  }
+
+  // The header of a measurement set (with its parameters); the counts go into `summary`.
   std::optional<MeasurementSet> load_measurement_header(const std::string& request_id,
                                                         MeasurementSummary* summary) {
     Query q(statements, kSelectMeasurementSet);
@@ -313,6 +336,7 @@ struct Database::Impl {
     set.frame = q.text(3);
     set.time_ns = q.int64(4);
     set.error = q.text(5);
+    set.parameters = load_parameters(kSelectMeasurementParameters, request_id);
     if (summary) {
       summary->instrument = set.instrument;
       summary->frame = set.frame;
@@ -535,6 +559,12 @@ bool Database::store(const CheckRequest& request) {
       insert.run();
       if (insert.changes() == 0) return false;
     }
+    for (std::size_t i = 0; i < request.parameters.size(); ++i) {
+      const NamedValue& p = request.parameters[i];
+      Query(impl_->statements, kInsertRequestParameter)
+          .bind(request.request_id, static_cast<std::int64_t>(i), p.name, p.value, p.unit)
+          .run();
+    }
     impl_->note_check(kUpsertCheckRequested, "CheckRequest", request.request_id, request.machine_id,
                       request.kind, request.time_ns);
     impl_->touch_machine(request.machine_id, request.time_ns);
@@ -551,6 +581,12 @@ bool Database::store(const MeasurementSet& set) {
                   set.time_ns, set.error);
       insert.run();
       if (insert.changes() == 0) return false;
+    }
+    for (std::size_t i = 0; i < set.parameters.size(); ++i) {
+      const NamedValue& p = set.parameters[i];
+      Query(impl_->statements, kInsertMeasurementParameter)
+          .bind(set.request_id, static_cast<std::int64_t>(i), p.name, p.value, p.unit)
+          .run();
     }
     for (std::size_t i = 0; i < set.touches.size(); ++i) {
       const Touch& t = set.touches[i];

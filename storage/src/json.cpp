@@ -12,6 +12,13 @@ nlohmann::json to_json(const CheckRecord& record) {
   const auto& request = record.request;
   out["requested_by"] = request ? json(request->requested_by) : json(nullptr);
   out["requested_at_ns"] = request ? json(request->time_ns) : json(nullptr);
+  json parameters = json::object();
+  if (request) {
+    for (const NamedValue& p : request->parameters) {
+      parameters[p.name] = {{"value", p.value}, {"unit", p.unit}};
+    }
+  }
+  out["parameters"] = std::move(parameters);
 
   const auto& result = record.result;
   out["result_at_ns"] = result ? json(result->time_ns) : json(nullptr);

@@ -202,9 +202,32 @@ CREATE TABLE services (
 PRAGMA application_id = 1852010869;
 )sql";
 
+// Version 2: the parameters of a request (e.g. the weekly fixture configuration) and the ones
+// the instrument echoed with its measurement set.
+constexpr const char* kVersion2 = R"sql(
+CREATE TABLE request_parameters (
+  request_id TEXT NOT NULL REFERENCES requests (request_id) ON DELETE CASCADE,
+  idx        INTEGER NOT NULL,
+  name       TEXT NOT NULL,
+  value      REAL NOT NULL,
+  unit       TEXT NOT NULL,
+  PRIMARY KEY (request_id, idx)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE measurement_parameters (
+  request_id TEXT NOT NULL REFERENCES measurement_sets (request_id) ON DELETE CASCADE,
+  idx        INTEGER NOT NULL,
+  name       TEXT NOT NULL,
+  value      REAL NOT NULL,
+  unit       TEXT NOT NULL,
+  PRIMARY KEY (request_id, idx)
+) STRICT, WITHOUT ROWID;
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
+    {2, "store request and measurement parameters", kVersion2},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

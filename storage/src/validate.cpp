@@ -86,6 +86,15 @@ void correction(const Correction& correction, const std::string& field, const st
   }
 }
 
+void parameters(const std::vector<NamedValue>& values, const std::string& field,
+                const std::string& owner) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    non_empty(values[i].name, field + "[" + std::to_string(i) + "].name", owner);
+    finite(values[i].value, field + "[" + std::to_string(i) + "].value (" +
+                                quoted(values[i].name) + ")", owner);
+  }
+}
+
 }  // namespace
 
 bool is_check_kind(CheckKind value) {
@@ -97,6 +106,8 @@ void check(const CheckRequest& request) {
   non_empty(request.request_id, "CheckRequest.request_id");
   non_empty(request.machine_id, "CheckRequest.machine_id");
   kind(request.kind, "CheckRequest.kind");
+  parameters(request.parameters, "CheckRequest.parameters",
+             " (CheckRequest " + quoted(request.request_id) + ")");
 }
 
 void check(const MeasurementSet& set) {
@@ -104,6 +115,7 @@ void check(const MeasurementSet& set) {
   non_empty(set.machine_id, "MeasurementSet.machine_id");
   kind(set.kind, "MeasurementSet.kind");
   const std::string owner = " (MeasurementSet " + quoted(set.request_id) + ")";
+  parameters(set.parameters, "MeasurementSet.parameters", owner);
   for (std::size_t i = 0; i < set.touches.size(); ++i) {
     const Touch& touch = set.touches[i];
     const std::string which = " of touch " + std::to_string(i) + " " + quoted(touch.feature);

@@ -45,20 +45,33 @@ msg::Vector3 wire_vec(const Eigen::Vector3d& v) {
 }
 Eigen::Vector3d model_vec(const msg::Vector3& w) { return {w.x(), w.y(), w.z()}; }
 
+std::vector<msg::NamedValue> wire_values(const std::vector<NamedValue>& values) {
+  std::vector<msg::NamedValue> w;
+  w.reserve(values.size());
+  for (const auto& o : values) {
+    msg::NamedValue nv;
+    nv.name(o.name); nv.value(o.value); nv.unit(o.unit);
+    w.push_back(nv);
+  }
+  return w;
+}
+std::vector<NamedValue> model_values(const std::vector<msg::NamedValue>& w) {
+  std::vector<NamedValue> values;
+  values.reserve(w.size());
+  for (const auto& o : w) values.push_back({o.name(), o.value(), o.unit()});
+  return values;
+}
+
 msg::SoftwareCorrection wire_correction(const Correction& c) {
   msg::SoftwareCorrection w;
   w.target(c.target);
-  for (const auto& o : c.offsets) {
-    msg::NamedValue nv;
-    nv.name(o.name); nv.value(o.value); nv.unit(o.unit);
-    w.offsets().push_back(nv);
-  }
+  w.offsets(wire_values(c.offsets));
   return w;
 }
 Correction model_correction(const msg::SoftwareCorrection& w) {
   Correction c;
   c.target = w.target();
-  for (const auto& o : w.offsets()) c.offsets.push_back({o.name(), o.value(), o.unit()});
+  c.offsets = model_values(w.offsets());
   return c;
 }
 
@@ -68,6 +81,7 @@ msg::CheckRequest to_wire(const CheckRequest& v) {
   msg::CheckRequest w;
   w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
   w.requested_by(v.requested_by); w.time_ns(v.time_ns); w.attempt(v.attempt);
+  w.parameters(wire_values(v.parameters));
   return w;
 }
 CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
@@ -75,6 +89,7 @@ CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
   v.machine_id = w.machine_id(); v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "CheckRequest.kind", error);
   v.requested_by = w.requested_by(); v.time_ns = w.time_ns(); v.attempt = w.attempt();
+  v.parameters = model_values(w.parameters());
   return v;
 }
 
@@ -82,6 +97,7 @@ msg::CheckCommand to_wire(const CheckCommand& v) {
   msg::CheckCommand w;
   w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
   w.requested_by(v.requested_by); w.time_ns(v.time_ns);
+  w.parameters(wire_values(v.parameters));
   return w;
 }
 CheckCommand from_wire(const msg::CheckCommand& w, std::string& error) {
@@ -89,6 +105,7 @@ CheckCommand from_wire(const msg::CheckCommand& w, std::string& error) {
   v.machine_id = w.machine_id(); v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "CheckCommand.kind", error);
   v.requested_by = w.requested_by(); v.time_ns = w.time_ns();
+  v.parameters = model_values(w.parameters());
   return v;
 }
 
@@ -96,6 +113,7 @@ msg::MeasurementSet to_wire(const MeasurementSet& v) {
   msg::MeasurementSet w;
   w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
   w.instrument(v.instrument); w.frame(v.frame); w.time_ns(v.time_ns); w.error(v.error);
+  w.parameters(wire_values(v.parameters));
   w.touches().reserve(v.touches.size());
   for (const auto& t : v.touches) {
     msg::Touch wt;
@@ -115,6 +133,7 @@ MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error) {
   v.machine_id = w.machine_id(); v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "MeasurementSet.kind", error);
   v.instrument = w.instrument(); v.frame = w.frame(); v.time_ns = w.time_ns(); v.error = w.error();
+  v.parameters = model_values(w.parameters());
   v.touches.reserve(w.touches().size());
   for (const auto& t : w.touches()) {
     v.touches.push_back(Touch{t.feature(), model_axes(t.axes()), model_vec(t.approach())});

@@ -50,6 +50,7 @@ struct MachineConfig {
   MonumentConfig monument;     // nominal, as taught
   std::map<std::string, Tolerance> tolerances;  // by metric name
   YAML::Node simulator;        // the `simulator:` section, for the acquisition service only
+  YAML::Node budget;           // the `budget:` section (error budget), read by solver::parse_error_budget
 
   // Tolerance of a metric; throws ConfigError naming the machine and metric when absent.
   const Tolerance& tolerance(const std::string& metric) const;

@@ -64,6 +64,16 @@ struct AxisPosition {
   double x_mm = 0, y_mm = 0, z_mm = 0, w_mm = 0, a_rad = 0, c_rad = 0;
 };
 
+// A named number with its unit: request parameters, correction offsets.
+struct NamedValue {
+  std::string name;
+  double value = 0;
+  std::string unit;
+};
+
+// Looks up a named value; nullptr when absent.
+const NamedValue* find_value(const std::vector<NamedValue>& values, std::string_view name);
+
 // One touch of a touch-trigger probe: the axis readouts latched when the probe triggered, and
 // the direction the stylus was moving in (unit vector, machine frame). `feature` names what was
 // touched, e.g. "hole_edge", "face".
@@ -91,6 +101,9 @@ struct MeasurementSet {
   std::int64_t time_ns = 0;
   std::vector<Touch> touches;
   std::vector<TrackerPoint> tracker_points;
+  // The request's parameters, echoed by the instrument so the solver knows what was asked
+  // (e.g. "fixture_configuration" of a weekly fixture check).
+  std::vector<NamedValue> parameters;
   std::string error;       // non-empty when the instrument could not perform the request
 };
 
@@ -103,11 +116,6 @@ struct Metric {
   bool pass = false;
 };
 
-struct NamedValue {
-  std::string name;
-  double value = 0;
-  std::string unit;
-};
 
 // A software correction: offsets to apply to `target` (e.g. "fixture:F1", "machine:work_offset").
 struct Correction {
@@ -122,6 +130,9 @@ struct CheckRequest {
   std::string requested_by;  // "scheduler", "operator:<name>", ...
   std::int64_t time_ns = 0;
   std::int32_t attempt = 1;
+  // What the check should do beyond its kind, e.g. "fixture_configuration" = 3 (0-based index
+  // of the weekly rotation), "part_serial" for set points. Empty for most checks.
+  std::vector<NamedValue> parameters;
 };
 
 struct CheckResult {
@@ -170,6 +181,7 @@ struct CheckCommand {
   CheckKind kind = CheckKind::MonumentPositioning;
   std::string requested_by;
   std::int64_t time_ns = 0;
+  std::vector<NamedValue> parameters;  // passed on to the CheckRequest
 };
 
 struct Heartbeat {

@@ -122,6 +122,35 @@ TEST_F(StorageRoundTrip, MeasurementSetComesBackExactlyWithEveryPoint) {
   EXPECT_FALSE(db_.load_measurement_set("nope").has_value());
 }
 
+TEST_F(StorageRoundTrip, ParametersOfRequestAndMeasurementSetComeBackInOrder) {
+  CheckRequest request = make_request("r1");
+  request.kind = CheckKind::FixturePreCalibration;
+  request.parameters = {{"fixture_configuration", 7, ""}, {"z_plane_mm", 304.8, "mm"}};
+  MeasurementSet set = make_measurement_set("r1");
+  set.kind = CheckKind::FixturePreCalibration;
+  set.parameters = {{"fixture_configuration", 7, ""}};
+  ASSERT_TRUE(db_.store(request));
+  ASSERT_TRUE(db_.store(set));
+
+  const auto record = db_.find_check("r1");
+  ASSERT_TRUE(record && record->request);
+  ASSERT_EQ(record->request->parameters.size(), 2u);
+  EXPECT_EQ(record->request->parameters[0].name, "fixture_configuration");
+  EXPECT_EQ(record->request->parameters[0].value, 7);
+  EXPECT_EQ(record->request->parameters[1].name, "z_plane_mm");
+  EXPECT_EQ(record->request->parameters[1].value, 304.8);
+  EXPECT_EQ(record->request->parameters[1].unit, "mm");
+  const auto loaded = db_.load_measurement_set("r1");
+  ASSERT_TRUE(loaded.has_value());
+  ASSERT_EQ(loaded->parameters.size(), 1u);
+  EXPECT_EQ(loaded->parameters[0].name, "fixture_configuration");
+  EXPECT_EQ(loaded->parameters[0].value, 7);
+
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("request_parameters"), 2);
+  EXPECT_EQ(raw.count("measurement_parameters"), 1);
+}
+
 TEST_F(StorageRoundTrip, FailedMeasurementSetKeepsItsErrorAndNoPoints) {
   MeasurementSet set = make_measurement_set("r1");
   set.touches.clear();

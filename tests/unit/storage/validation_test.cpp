@@ -70,6 +70,13 @@ TEST_F(StorageValidation, BadValueLateInTheSampleWritesNothingBeforeIt) {
   expect_refused([&] { db_.store(result); }, "NamedValue.value of 'dc_rad' is NaN");
 }
 
+TEST_F(StorageValidation, NaNRequestParameterIsRefusedNamingIt) {
+  CheckRequest request = make_request("r1");
+  request.parameters = {{"fixture_configuration", kNaN, ""}};
+  expect_refused([&] { db_.store(request); },
+                 "CheckRequest.parameters[0].value ('fixture_configuration') is NaN");
+}
+
 TEST_F(StorageValidation, EmptyIdentitiesAreRefused) {
   CheckResult result = make_result("");
   expect_refused([&] { db_.store(result); }, "CheckResult.request_id is empty");
