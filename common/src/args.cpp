@@ -66,6 +66,18 @@ int Args::get_int(const std::string& flag, int fallback) const {
   throw ArgError("--" + flag + " = '" + *v + "': expected an integer");
 }
 
+std::int64_t Args::get_int64(const std::string& flag, std::int64_t fallback) const {
+  auto v = get(flag);
+  if (!v) return fallback;
+  try {
+    std::size_t used = 0;
+    const long long n = std::stoll(*v, &used);
+    if (used == v->size()) return n;
+  } catch (const std::logic_error&) {
+  }
+  throw ArgError("--" + flag + " = '" + *v + "': expected an integer");
+}
+
 double Args::get_double(const std::string& flag, double fallback) const {
   auto v = get(flag);
   if (!v) return fallback;

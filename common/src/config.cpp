@@ -57,30 +57,55 @@ YAML::Node load_yaml(const std::string& path) {
   }
 }
 
-Tolerance parse_tolerance(const YAML::Node& node, const std::string& key, const std::string& where) {
-  // Either a symmetric band "0.025" / "0.001 in", or {lower: .., upper: ..}.
+bool ends_with(const std::string& s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// A tolerance bound is in the unit of its metric, which the metric's name ends in: a length
+// metric (_mm) takes any length ("0.001 in"), an angle metric (_arcsec, _deg, _urad, _rad) any
+// angle ("2 urad" for an arcsec metric), both converted to the metric's unit; a bare number is
+// in the metric's unit. Other metrics take a plain number.
+double tolerance_bound(const YAML::Node& v, const std::string& metric, const std::string& key,
+                       const std::string& where) {
+  if (ends_with(metric, "_mm")) return quantity(units::Dimension::Length, v, key, "mm", where);
+  const std::string_view angle_unit = angle_unit_of(metric);
+  if (angle_unit != "rad" || ends_with(metric, "_rad")) {
+    const double rad = quantity(units::Dimension::Angle, v, key, angle_unit, where);
+    return rad / units::parse_quantity(units::Dimension::Angle, "1", angle_unit);
+  }
+  if (!v.IsScalar()) fail(where, key, v, "expected a number");
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(v.Scalar(), &used);
+    if (used == v.Scalar().size()) return value;
+  } catch (const std::exception&) {
+  }
+  fail(where, key, v, "expected a number");
+}
+
+// Either a symmetric band "0.025" / "0.001 in" (the half-width), or {lower: .., upper: ..}.
+// `metric` is the metric's name, `key` its place in the file for error messages.
+Tolerance parse_tolerance(const YAML::Node& node, const std::string& metric,
+                          const std::string& key, const std::string& where) {
   Tolerance t;
   if (node.IsScalar()) {
-    const double half = quantity(units::Dimension::Length, node, key, "mm", where);
-    if (half <= 0) fail(where, key, node, "a symmetric tolerance must be positive");
+    const double half = tolerance_bound(node, metric, key, where);
+    if (!(half > 0)) fail(where, key, node, "a symmetric tolerance must be positive");
     t.lower = -half;
     t.upper = half;
     return t;
   }
   if (node.IsMap()) {
-    // Tolerances of angles are written with their unit too; a bare number is taken in the unit
-    // of the metric's name (arcsec metrics take arcsec, mm metrics take mm).
-    const bool angle = key.find("arcsec") != std::string::npos || key.find("_rad") != std::string::npos;
+    for (const auto& kv : node) {
+      const std::string k = kv.first.as<std::string>();
+      if (k != "lower" && k != "upper") {
+        fail(where, key + "." + k, kv.second, "unknown key (expected lower and upper)");
+      }
+    }
     auto read = [&](const char* which) {
       const YAML::Node v = node[which];
       if (!v) fail(where, key + "." + which, v, "missing");
-      if (!angle) return quantity(units::Dimension::Length, v, key + "." + which, "mm", where);
-      if (!v.IsScalar()) fail(where, key + "." + which, v, "expected a number");
-      try {
-        return std::stod(v.Scalar());
-      } catch (const std::exception&) {
-        fail(where, key + "." + which, v, "expected a number");
-      }
+      return tolerance_bound(v, metric, key + "." + which, where);
     };
     t.lower = read("lower");
     t.upper = read("upper");
@@ -88,6 +113,43 @@ Tolerance parse_tolerance(const YAML::Node& node, const std::string& key, const 
     return t;
   }
   fail(where, key, node, "expected a number or {lower, upper}");
+}
+
+PartSetPointsConfig parse_setpoints(const YAML::Node& node, const std::string& where) {
+  if (!node.IsMap()) fail(where, "setpoints", node, "expected a mapping");
+  for (const auto& kv : node) {
+    const std::string k = kv.first.as<std::string>();
+    if (k != "probe_depth_mm" && k != "inset_mm" && k != "points") {
+      fail(where, "setpoints." + k, kv.second, "unknown key (expected probe_depth_mm, inset_mm, points)");
+    }
+  }
+  PartSetPointsConfig c;
+  c.probe_depth_mm = yaml::length_mm_or(node, "probe_depth_mm", c.probe_depth_mm, where);
+  c.inset_mm = yaml::length_mm_or(node, "inset_mm", c.inset_mm, where);
+  if (!(c.probe_depth_mm > 0)) fail(where, "setpoints.probe_depth_mm", node["probe_depth_mm"], "must be positive");
+  if (!(c.inset_mm > 0)) fail(where, "setpoints.inset_mm", node["inset_mm"], "must be positive");
+  const YAML::Node points = node["points"];
+  if (!points || !points.IsSequence() || points.size() == 0) {
+    fail(where, "setpoints.points", points, "expected a non-empty list of {name, intended_mm}");
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::string key = "setpoints.points[" + std::to_string(i) + "]";
+    const YAML::Node p = points[i];
+    if (!p.IsMap() || !p["name"] || !p["intended_mm"]) {
+      fail(where, key, p, "expected {name, intended_mm: [x, y, z]}");
+    }
+    SetPointConfig sp;
+    sp.name = yaml::string_or(p, "name", "", where);
+    if (sp.name.empty() || sp.name.find_first_of(" :") != std::string::npos) {
+      fail(where, key + ".name", p["name"], "must be a non-empty name without spaces or ':'");
+    }
+    for (const auto& other : c.points) {
+      if (other.name == sp.name) fail(where, key + ".name", p["name"], "duplicate set point name");
+    }
+    sp.intended_mm = yaml::lengths_mm_or(p, "intended_mm", 3, Eigen::VectorXd::Zero(3), where);
+    c.points.push_back(sp);
+  }
+  return c;
 }
 
 }  // namespace
@@ -222,12 +284,18 @@ MachineConfig parse_machine_config(const YAML::Node& root, const std::string& wh
     if (!tol.IsMap()) fail(where, "tolerances", tol, "expected a mapping of metric: tolerance");
     for (const auto& kv : tol) {
       const std::string key = kv.first.as<std::string>();
-      m.tolerances[key] = parse_tolerance(kv.second, "tolerances." + key, where);
+      m.tolerances[key] = parse_tolerance(kv.second, key, "tolerances." + key, where);
     }
   }
   // Assigning a missing node would throw in yaml-cpp: copy only a present section.
   if (const YAML::Node sim = root["simulator"]) m.simulator = YAML::Clone(sim);
   if (const YAML::Node budget = root["budget"]) m.budget = YAML::Clone(budget);
+  if (const YAML::Node sp = root["setpoints"]; sp && !sp.IsNull()) {
+    m.setpoints = parse_setpoints(sp, where);
+  }
+  if (const YAML::Node fixture = root["fixture"]; fixture && !fixture.IsNull()) {
+    m.fixture = parse_fixture_config(fixture, where);
+  }
   return m;
 }
 
@@ -237,8 +305,48 @@ std::string plant_config_path(const std::string& flag_value) {
   return "";
 }
 
+namespace {
+
+// `over` laid over `base`: mappings merge key by key (recursively), anything else in `over`
+// replaces what `base` has.
+YAML::Node overlay(const YAML::Node& base, const YAML::Node& over) {
+  if (!base.IsMap() || !over.IsMap()) return YAML::Clone(over);
+  YAML::Node merged = YAML::Clone(base);
+  for (const auto& kv : over) {
+    const std::string key = kv.first.as<std::string>();
+    merged[key] = merged[key] ? overlay(merged[key], kv.second) : YAML::Clone(kv.second);
+  }
+  return merged;
+}
+
+// A machine file may start from another: `extends: FILE` (relative to it) gives every key it
+// does not set itself; nested mappings merge. Scenarios use it to change only the simulator's
+// errors of a plant's machine. Chains are followed; a cycle is an error.
+YAML::Node load_machine_yaml(const std::string& path, std::vector<std::string>& seen) {
+  const std::string canonical = fs::absolute(path).lexically_normal().string();
+  for (const auto& s : seen) {
+    if (s == canonical) throw ConfigError(path + ": extends: files extend each other in a cycle");
+  }
+  seen.push_back(canonical);
+  YAML::Node root = load_yaml(path);
+  if (!root.IsMap()) throw ConfigError(path + ": expected a mapping at the top level");
+  const YAML::Node base_name = root["extends"];
+  if (!base_name) return root;
+  if (!base_name.IsScalar() || base_name.Scalar().empty()) {
+    fail(path, "extends", base_name, "expected the path of a machine config file");
+  }
+  const std::string base_path = resolve(path, base_name.Scalar());
+  if (!fs::exists(base_path)) fail(path, "extends", base_name, "file not found: " + base_path);
+  YAML::Node own = YAML::Clone(root);
+  own.remove("extends");
+  return overlay(load_machine_yaml(base_path, seen), own);
+}
+
+}  // namespace
+
 MachineConfig load_machine_config(const std::string& path) {
-  return parse_machine_config(load_yaml(path), path);
+  std::vector<std::string> seen;
+  return parse_machine_config(load_machine_yaml(path, seen), path);
 }
 
 PlantConfig load_plant_config(const std::string& path) {

@@ -1,16 +1,22 @@
 // ncqual-acquisition: one per machine tool. Answers the CheckRequests of its machine by
 // performing the moves on the instrument (here: the simulator) and publishing the raw
-// MeasurementSet. It never judges a measurement.
+// MeasurementSet. It never judges a measurement. It also stands for the holding fixture's
+// control unit: it applies the zero offsets the solver publishes as Compensations (replayed from
+// the durable topic after a restart), and a post-calibration that verifies a correction waits
+// until that correction is applied.
 #include "ncqual/args.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
+#include "ncqual/sim/fixture_simulator.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 
 #include <spdlog/spdlog.h>
 
 #include <iostream>
+#include <map>
+#include <optional>
 #include <set>
 
 int main(int argc, char** argv) {
@@ -36,7 +42,10 @@ int main(int argc, char** argv) {
       if (!m) throw ConfigError("--machine '" + id + "' is not configured in " + plant.source_path);
       machine = *m;
     }
-    const sim::MachineSimulator simulator(machine, sim::parse_simulator_config(machine));
+    const sim::SimulatorConfig sim_config = sim::parse_simulator_config(machine);
+    const sim::MachineSimulator simulator(machine, sim_config);
+    std::optional<sim::FixtureSimulator> fixture;
+    if (machine.fixture) fixture = sim::FixtureSimulator::for_machine(machine, sim_config);
     // Requests older than this are history, not work: a restarted acquisition must not move the
     // machine for checks long since answered.
     const std::int64_t max_age_ns =
@@ -47,7 +56,61 @@ int main(int argc, char** argv) {
                           plant.qos_profiles_file});
     ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(service.participant(), machine.machine_id);
     ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
+    ncqual::dds::Reader<ncqual::dds::CompensationTopic> compensations(service.participant(),
+                                                                      machine.machine_id);
     std::set<std::string> performed;
+    std::set<std::string> applied;                             // compensations by request id
+    std::map<std::string, std::vector<CheckRequest>> waiting;  // by the correction they verify
+
+    auto perform = [&](const CheckRequest& req, const std::string& malformed) {
+      const std::int64_t now = service.clock().now_ns();
+      MeasurementSet set;
+      const bool fixture_check = req.kind == CheckKind::FixturePreCalibration ||
+                                 req.kind == CheckKind::FixturePostCalibration;
+      if (!malformed.empty() || (fixture_check && !fixture)) {
+        set.machine_id = req.machine_id;
+        set.request_id = req.request_id;
+        set.kind = req.kind;
+        set.time_ns = now;
+        set.parameters = req.parameters;
+        set.error = !malformed.empty() ? "malformed CheckRequest: " + malformed
+                                       : "machine '" + machine.machine_id +
+                                             "' has no fixture: section to probe";
+      } else if (fixture_check) {
+        set = sim::perform_fixture_check(simulator, *fixture, req, now);
+      } else {
+        set = simulator.perform(req, now);
+      }
+      spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
+                   to_string(set.kind), set.touches.size(), set.tracker_points.size(),
+                   set.error.empty() ? "" : " (" + set.error + ")");
+      if (!sets.write(set)) spdlog::error("{}: measurement set could not be queued", set.request_id);
+    };
+
+    service.dispatcher().on(compensations, [&](ncqual::dds::Received<Compensation> in) {
+      const Compensation& c = in.value;
+      if (!in.error.empty() || c.machine_id != machine.machine_id) return;
+      if (!applied.insert(c.request_id).second) return;
+      if (c.correction.target.rfind("fixture:", 0) == 0) {
+        if (!fixture) {
+          spdlog::error("{}: zero offsets for {} but this machine has no fixture", c.request_id,
+                        c.correction.target);
+        } else {
+          try {
+            fixture->apply_zero_offsets(c.correction);
+            spdlog::info("{}: applied {} zero offsets to {}", c.request_id,
+                         c.correction.offsets.size(), c.correction.target);
+          } catch (const std::invalid_argument& e) {
+            spdlog::error("{}: zero offsets refused: {}", c.request_id, e.what());
+          }
+        }
+      }
+      // Post-calibrations that waited for this correction run now.
+      if (auto it = waiting.find(c.request_id); it != waiting.end()) {
+        for (const auto& req : it->second) perform(req, "");
+        waiting.erase(it);
+      }
+    });
 
     service.dispatcher().on(requests, [&](ncqual::dds::Received<CheckRequest> in) {
       const CheckRequest& req = in.value;
@@ -59,20 +122,14 @@ int main(int argc, char** argv) {
                      req.machine_id, req.request_id, (now - req.time_ns) / 1000000000);
         return;
       }
-      MeasurementSet set;
-      if (!in.error.empty()) {
-        set.machine_id = req.machine_id;
-        set.request_id = req.request_id;
-        set.kind = req.kind;
-        set.time_ns = now;
-        set.error = "malformed CheckRequest: " + in.error;
-      } else {
-        set = simulator.perform(req, now);
+      if (in.error.empty() && !req.verifies_correction_of.empty() &&
+          !applied.count(req.verifies_correction_of)) {
+        spdlog::info("{} {}: waiting for the Compensation of {} before measuring",
+                     req.machine_id, req.request_id, req.verifies_correction_of);
+        waiting[req.verifies_correction_of].push_back(req);
+        return;
       }
-      spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
-                   to_string(set.kind), set.touches.size(), set.tracker_points.size(),
-                   set.error.empty() ? "" : " (" + set.error + ")");
-      if (!sets.write(set)) spdlog::error("{}: measurement set could not be queued", set.request_id);
+      perform(req, in.error);
     });
     return service.run();
   } catch (const std::exception& e) {

@@ -1,12 +1,16 @@
 // ncqual: the operator's command-line tool.
 //
-//   ncqual history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--json]
+//   ncqual history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--since-ns T]
+//                  [--json]
 //   ncqual check   --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]
-//   ncqual wait    [--plant F | --db F] (--request ID | --count N [--machine M]) [--timeout S]
+//   ncqual wait    [--plant F | --db F] (--request ID | --count N [--machine M] |
+//                  --settled --machine M [--since-ns T]) [--timeout S]
 //   ncqual count   [--plant F | --db F] [--machine M]
+//   ncqual budget  --machine M [--plant F] [--db F] [--last N] [--json]   (budget_command.hpp)
 //
 // Exit codes: 0 success (for `check --wait`: PASS), 1 error, 2 usage, 3 FAIL, 4 INVALID,
 // 5 timed out.
+#include "budget_command.hpp"
 #include "ncqual/args.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/config.hpp"
@@ -34,14 +38,18 @@ constexpr int kExitError = 1, kExitUsage = 2, kExitFail = 3, kExitInvalid = 4, k
 
 const char* kUsage =
     "usage: ncqual <command> [options]\n"
-    "  history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--json]\n"
+    "  history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--since-ns T] [--json]\n"
     "      stored checks, newest first\n"
     "  check --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]\n"
     "      ask the scheduler to run a check now; with --wait, print its result\n"
-    "  wait [--plant F | --db F] (--request ID | --count N [--machine M]) [--timeout S]\n"
+    "  wait [--plant F | --db F] (--request ID | --count N [--machine M] |\n"
+    "       --settled --machine M [--since-ns T]) [--timeout S]\n"
     "      wait until the historian has stored that whole check (or N results)\n"
     "  count [--plant F | --db F] [--machine M]\n"
     "      number of stored results\n"
+    "  budget --machine M [--plant F] [--db F] [--last N] [--json]\n"
+    "      the error budget: capability, allowance and today's share of every error source,\n"
+    "      derived tolerances of the check metrics, RSS and Monte Carlo totals\n"
     "The plant config comes from --plant or NCQUAL_PLANT; the domain from --domain,\n"
     "NCQUAL_DOMAIN or the plant config.\n"
     "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out.\n";
@@ -63,11 +71,29 @@ std::string format_value(double v) {
   return s.str();
 }
 
+// At most kShownMetrics per row: all of them when few, else the worst-case summaries ("max")
+// and the ones out of tolerance first (--json has every metric).
+constexpr std::size_t kShownMetrics = 6;
 std::string format_metrics(const std::vector<Metric>& metrics) {
+  std::vector<const Metric*> shown;
+  if (metrics.size() <= kShownMetrics) {
+    for (const auto& m : metrics) shown.push_back(&m);
+  } else {
+    for (const auto& m : metrics) {
+      if (m.name.find("max") != std::string::npos) shown.push_back(&m);
+    }
+    for (const auto& m : metrics) {
+      if (!m.pass && m.name.find("max") == std::string::npos) shown.push_back(&m);
+    }
+    if (shown.size() > kShownMetrics) shown.resize(kShownMetrics);
+  }
   std::string out;
-  for (const auto& m : metrics) {
+  for (const Metric* m : shown) {
     if (!out.empty()) out += "  ";
-    out += m.name + "=" + format_value(m.value) + (m.pass ? "" : "(!)");
+    out += m->name + "=" + format_value(m->value) + (m->pass ? "" : "(!)");
+  }
+  if (shown.size() < metrics.size()) {
+    out += "  (+" + std::to_string(metrics.size() - shown.size()) + " more; --json for all)";
   }
   return out;
 }
@@ -86,7 +112,13 @@ void print_table(const std::vector<storage::CheckRecord>& records) {
                 r.machine_id.c_str(), kind.c_str(), verdict.c_str(),
                 r.result ? format_metrics(r.result->metrics).c_str() : "");
     if (r.result && r.result->verdict != Verdict::Pass) {
-      if (!r.result->reason.empty()) std::printf("%59s reason: %s\n", "", r.result->reason.c_str());
+      if (!r.result->reason.empty()) {
+        // The table shows the start of a long reason; `history --json` has all of it.
+        constexpr std::size_t kShownReason = 300;
+        std::string reason = r.result->reason;
+        if (reason.size() > kShownReason) reason = reason.substr(0, kShownReason) + " ...";
+        std::printf("%59s reason: %s\n", "", reason.c_str());
+      }
       if (!r.result->likely_causes.empty()) {
         std::printf("%59s first likely cause: %s\n", "", r.result->likely_causes.front().c_str());
       }
@@ -103,6 +135,7 @@ int cmd_history(const Args& args) {
     if (!q.kind) throw ArgError("--kind '" + *k + "' is not a check kind");
   }
   q.limit = args.get_int("limit", 100);
+  q.since_ns = args.get_int64("since-ns", q.since_ns);
   const auto records = db.history(q);
   if (args.has("json")) {
     nlohmann::json out = nlohmann::json::array();
@@ -196,17 +229,36 @@ int cmd_wait(const Args& args) {
                         std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000));
   const auto request = args.get("request");
   const int count = args.get_int("count", -1);
-  if (!request && count < 0) throw ArgError("pass --request ID or --count N");
+  const bool settled = args.has("settled");
+  if (!request && count < 0 && !settled) {
+    throw ArgError("pass --request ID, --count N or --settled --machine M");
+  }
   std::optional<std::string> machine = args.get("machine");
+  if (settled && !machine) throw ArgError("--settled needs --machine M");
+  const std::int64_t since_ns = args.get_int64("since-ns", 0);
+  // The whole check: request, measurement set and result (topics arrive independently).
+  auto complete = [](const std::optional<storage::CheckRecord>& rec) {
+    return rec && rec->request && rec->measurement && rec->result;
+  };
   while (true) {
     if (std::filesystem::exists(path)) {
       try {
         auto db = storage::Database::open_readonly(path);
         if (request) {
           auto rec = db.find_check(*request);
-          // The whole check: request, measurement set and result (topics arrive independently).
-          if (rec && rec->request && rec->measurement && rec->result) {
+          if (complete(rec)) {
             std::cout << to_string(rec->result->verdict) << "\n";
+            return 0;
+          }
+        } else if (settled) {
+          // The machine's cycle is over when its newest status says QUALIFIED or
+          // NEEDS_INTERVENTION and the check that decided it is stored whole.
+          const auto status = db.latest_status(*machine);
+          if (status && status->time_ns >= since_ns &&
+              (status->state == MachineState::Qualified ||
+               status->state == MachineState::NeedsIntervention) &&
+              (status->request_id.empty() || complete(db.find_check(status->request_id)))) {
+            std::cout << to_string(status->state) << "\n";
             return 0;
           }
         } else if (db.count_results(machine) >= count) {
@@ -247,7 +299,8 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
   try {
     if (command == "history") {
-      return cmd_history(Args(rest, {"plant", "db", "machine", "kind", "limit"}, {"json"}));
+      return cmd_history(
+          Args(rest, {"plant", "db", "machine", "kind", "limit", "since-ns"}, {"json"}));
     }
     if (command == "check") {
       return cmd_check(Args(rest, {"plant", "machine", "kind", "domain", "wait"}, {"json"}));
@@ -255,8 +308,13 @@ int main(int argc, char** argv) {
     if (command == "count") {
       return cmd_count(Args(rest, {"plant", "db", "machine"}, {}));
     }
+    if (command == "budget") {
+      return run_budget_command(Args(rest, kBudgetFlagsWithValue, kBudgetSwitches));
+    }
     if (command == "wait") {
-      return cmd_wait(Args(rest, {"plant", "db", "request", "count", "machine", "timeout"}, {}));
+      return cmd_wait(Args(rest, {"plant", "db", "request", "count", "machine", "timeout",
+                                  "since-ns"},
+                           {"settled"}));
     }
     std::cerr << "ncqual: unknown command '" << command << "'\n" << kUsage;
     return kExitUsage;

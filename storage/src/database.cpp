@@ -50,8 +50,9 @@ constexpr Sql kUpsertCheckResult{
 
 constexpr Sql kInsertRequest{
     "insert request",
-    "INSERT INTO requests (request_id, machine_id, kind, kind_name, requested_by, time_ns, attempt)"
-    " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) ON CONFLICT (request_id) DO NOTHING"};
+    "INSERT INTO requests (request_id, machine_id, kind, kind_name, requested_by, time_ns, attempt,"
+    " verifies_correction_of) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
+    " ON CONFLICT (request_id) DO NOTHING"};
 
 constexpr Sql kInsertMeasurementSet{
     "insert measurement set",
@@ -132,7 +133,8 @@ constexpr Sql kHistoryOfMachine{
 
 constexpr Sql kSelectRequest{
     "select request",
-    "SELECT machine_id, kind, requested_by, time_ns, attempt FROM requests WHERE request_id = ?1"};
+    "SELECT machine_id, kind, requested_by, time_ns, attempt, verifies_correction_of FROM requests "
+    "WHERE request_id = ?1"};
 constexpr Sql kSelectMeasurementSet{
     "select measurement set",
     "SELECT machine_id, kind, instrument, frame, time_ns, error, "
@@ -310,6 +312,7 @@ struct Database::Impl {
     request.requested_by = q.text(2);
     request.time_ns = q.int64(3);
     request.attempt = q.int32(4);
+    request.verifies_correction_of = q.text(5);
     request.parameters = load_parameters(kSelectRequestParameters, request_id);
     return request;
   }
@@ -555,7 +558,8 @@ bool Database::store(const CheckRequest& request) {
     {
       Query insert(impl_->statements, kInsertRequest);
       insert.bind(request.request_id, request.machine_id, code(request.kind),
-                  to_string(request.kind), request.requested_by, request.time_ns, request.attempt);
+                  to_string(request.kind), request.requested_by, request.time_ns, request.attempt,
+                  request.verifies_correction_of);
       insert.run();
       if (insert.changes() == 0) return false;
     }

@@ -203,8 +203,10 @@ PRAGMA application_id = 1852010869;
 )sql";
 
 // Version 2: the parameters of a request (e.g. the weekly fixture configuration) and the ones
-// the instrument echoed with its measurement set.
+// the instrument echoed with its measurement set; the correction a request verifies.
 constexpr const char* kVersion2 = R"sql(
+ALTER TABLE requests ADD COLUMN verifies_correction_of TEXT NOT NULL DEFAULT '';
+
 CREATE TABLE request_parameters (
   request_id TEXT NOT NULL REFERENCES requests (request_id) ON DELETE CASCADE,
   idx        INTEGER NOT NULL,

@@ -82,6 +82,7 @@ msg::CheckRequest to_wire(const CheckRequest& v) {
   w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
   w.requested_by(v.requested_by); w.time_ns(v.time_ns); w.attempt(v.attempt);
   w.parameters(wire_values(v.parameters));
+  w.verifies_correction_of(v.verifies_correction_of);
   return w;
 }
 CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
@@ -90,6 +91,7 @@ CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
   v.kind = model_kind(w.kind(), "CheckRequest.kind", error);
   v.requested_by = w.requested_by(); v.time_ns = w.time_ns(); v.attempt = w.attempt();
   v.parameters = model_values(w.parameters());
+  v.verifies_correction_of = w.verifies_correction_of();
   return v;
 }
 

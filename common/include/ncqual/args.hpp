@@ -2,6 +2,7 @@
 // missing values are errors that name the flag, so a typo never silently changes behaviour.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <set>
@@ -28,6 +29,7 @@ class Args {
   std::string require(const std::string& flag) const;
   // Integer/number values; the error names the flag and the value.
   int get_int(const std::string& flag, int fallback) const;
+  std::int64_t get_int64(const std::string& flag, std::int64_t fallback) const;
   double get_double(const std::string& flag, double fallback) const;
   const std::vector<std::string>& positional() const { return positional_; }
 

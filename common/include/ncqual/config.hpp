@@ -5,6 +5,7 @@
 // mm and rad. Errors name the file, the key and the value.
 #pragma once
 
+#include "ncqual/fixture.hpp"
 #include "ncqual/kinematics.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -12,6 +13,7 @@
 #include <Eigen/Core>
 
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -42,6 +44,20 @@ struct MonumentConfig {
   int hole_touches = 4;        // edge touches for the hole centre (at least 3)
 };
 
+// The set points of a loaded part: reference blocks on the fixturing devices (the patent's
+// "set point block"), each probed on its top face (Z) and on the two side faces that meet at
+// its reference corner (X from -X, Y from -Y). `intended_mm` is that corner as the part program
+// expects it: x of the -X face, y of the -Y face, z of the top face (machine frame).
+struct SetPointConfig {
+  std::string name;  // "primary", "secondary", ...
+  Eigen::Vector3d intended_mm = Eigen::Vector3d::Zero();
+};
+struct PartSetPointsConfig {
+  double probe_depth_mm = 5.0;  // side faces touched this far below the top face
+  double inset_mm = 10.0;       // touches this far in from the reference corner along each face
+  std::vector<SetPointConfig> points;  // empty: the machine has no set-point check
+};
+
 struct MachineConfig {
   std::string machine_id;
   std::string description;
@@ -51,6 +67,8 @@ struct MachineConfig {
   std::map<std::string, Tolerance> tolerances;  // by metric name
   YAML::Node simulator;        // the `simulator:` section, for the acquisition service only
   YAML::Node budget;           // the `budget:` section (error budget), read by solver::parse_error_budget
+  std::optional<FixtureConfig> fixture;  // the `fixture:` section (ncqual/fixture.hpp), if any
+  PartSetPointsConfig setpoints;         // the `setpoints:` section
 
   // Tolerance of a metric; throws ConfigError naming the machine and metric when absent.
   const Tolerance& tolerance(const std::string& metric) const;

@@ -131,8 +131,12 @@ struct CheckRequest {
   std::int64_t time_ns = 0;
   std::int32_t attempt = 1;
   // What the check should do beyond its kind, e.g. "fixture_configuration" = 3 (0-based index
-  // of the weekly rotation), "part_serial" for set points. Empty for most checks.
+  // of the weekly rotation). Empty for most checks.
   std::vector<NamedValue> parameters;
+  // A fixture post-calibration verifies the zero offsets a pre-calibration issued: the request
+  // id of that pre-calibration, whose Compensation the instrument must have applied before it
+  // measures. Empty otherwise.
+  std::string verifies_correction_of;
 };
 
 struct CheckResult {

@@ -69,6 +69,71 @@ TEST_F(ConfigFile, MachineConfigReadsUnitsAtTheEdge) {
   EXPECT_THROW(m.tolerance("nope"), ConfigError);
 }
 
+TEST_F(ConfigFile, TolerancesAreInTheUnitTheMetricNameEndsIn) {
+  std::string text = kMachine;
+  text.replace(text.find("tolerances: {"), 13,
+               "tolerances: {c_angle_error_arcsec: 8, c_rad: '10 arcsec', "
+               "c_deg_arcsec: {lower: '-0.001 deg', upper: 3.6}, ");
+  const MachineConfig m = load_machine_config(write(text));
+  EXPECT_DOUBLE_EQ(m.tolerance("c_angle_error_arcsec").upper, 8.0);
+  EXPECT_DOUBLE_EQ(m.tolerance("c_angle_error_arcsec").lower, -8.0);
+  EXPECT_NEAR(m.tolerance("c_rad").upper, 10 * 3.14159265358979323846 / 648000, 1e-15);
+  EXPECT_NEAR(m.tolerance("c_deg_arcsec").lower, -3.6, 1e-9);
+  EXPECT_NEAR(m.tolerance("c_deg_arcsec").upper, 3.6, 1e-12);
+
+  // An arcsec metric does not take a length, a length metric not an angle.
+  text = kMachine;
+  text.replace(text.find("tolerances: {"), 13, "tolerances: {c_angle_error_arcsec: '0.01 mm', ");
+  std::string path = write(text);
+  try {
+    load_machine_config(path);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("tolerances.c_angle_error_arcsec = '0.01 mm'"),
+              std::string::npos)
+        << e.what();
+  }
+  text = kMachine;
+  text.replace(text.find("tolerances: {"), 13, "tolerances: {x_mm: {lower: 0, uper: 1}, ");
+  path = write(text);
+  try {
+    load_machine_config(path);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("tolerances.x_mm.uper"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(ConfigFile, AMachineFileExtendsAnotherAndOverridesNestedKeys) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("ncqual-extends-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "scenarios");
+  std::ofstream(dir / "base.yaml") << kMachine
+                                   << "simulator: {seed: 3, errors: {tool_length_error_mm: 0}}\n";
+  std::ofstream(dir / "scenarios" / "long.yaml")
+      << "extends: ../base.yaml\n"
+         "description: too long\n"
+         "simulator: {errors: {tool_length_error_mm: 0.04}}\n";
+  const MachineConfig m = load_machine_config((dir / "scenarios" / "long.yaml").string());
+  EXPECT_EQ(m.machine_id, "pm1");
+  EXPECT_EQ(m.description, "too long");
+  EXPECT_NEAR(m.tolerance("center_dx_mm").upper, 0.0254, 1e-12);
+  EXPECT_EQ(m.simulator["seed"].as<int>(), 3);  // kept from the base
+  EXPECT_EQ(m.simulator["errors"]["tool_length_error_mm"].as<double>(), 0.04);
+
+  std::ofstream(dir / "a.yaml") << "extends: b.yaml\n";
+  std::ofstream(dir / "b.yaml") << "extends: a.yaml\n";
+  EXPECT_THROW(load_machine_config((dir / "a.yaml").string()), ConfigError);
+  std::ofstream(dir / "c.yaml") << "extends: missing.yaml\n";
+  try {
+    load_machine_config((dir / "c.yaml").string());
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("extends = 'missing.yaml'"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST_F(ConfigFile, BadValuesAreNamedWithFileKeyAndValue) {
   std::string text = kMachine;
   text.replace(text.find("hole_diameter_mm: 50"), 20, "hole_diameter_mm: 0");

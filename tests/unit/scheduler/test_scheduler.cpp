@@ -83,5 +83,75 @@ TEST(Scheduler, OperatorCommandsAreValidated) {
   EXPECT_EQ(s.state("m1"), MachineState::Checking);
 }
 
+// The weekly fixture loop: pre-calibration FAIL with zero offsets -> post-calibration that
+// names the correction it verifies -> PASS continues the cycle, FAIL holds the machine.
+TEST(Scheduler, FixturePreCalibrationFailureWithZeroOffsetsIsVerifiedByAPostCalibration) {
+  PlantConfig plant = two_machines();
+  plant.machines.resize(1);
+  const std::int64_t week = 7LL * 24 * 3600 * 1'000'000'000;
+  SimulatedClock clock(2923 * week + 5);  // week 2923: configuration 3
+  Recorder rec;
+  Scheduler s(plant, clock, rec.outputs());
+  s.start_cycle({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
+  ASSERT_EQ(rec.requests.size(), 1u);
+  const CheckRequest pre = rec.requests[0];
+  EXPECT_EQ(pre.kind, CheckKind::FixturePreCalibration);
+  const NamedValue* cfg = find_value(pre.parameters, "fixture_configuration");
+  ASSERT_NE(cfg, nullptr);
+  EXPECT_EQ(cfg->value, 3);
+
+  CheckResult failed = result_of(pre, Verdict::Fail, {"fixture zero positions drifted"});
+  failed.correction = Correction{"fixture:UHF1", {{"C1R1.dx_mm", 0.03, "mm"}}};
+  s.result(failed);
+  ASSERT_EQ(rec.requests.size(), 2u);
+  const CheckRequest post = rec.requests[1];
+  EXPECT_EQ(post.kind, CheckKind::FixturePostCalibration);
+  EXPECT_EQ(post.verifies_correction_of, pre.request_id);
+  ASSERT_NE(find_value(post.parameters, "fixture_configuration"), nullptr);
+  EXPECT_EQ(find_value(post.parameters, "fixture_configuration")->value, 3);
+  EXPECT_NE(s.state("m1"), MachineState::NeedsIntervention);
+
+  // The correction held: the cycle goes on with the daily checks.
+  s.result(result_of(post, Verdict::Pass));
+  ASSERT_EQ(rec.requests.size(), 3u);
+  EXPECT_EQ(rec.requests[2].kind, CheckKind::MonumentCAlignment);
+}
+
+TEST(Scheduler, FailedPostCalibrationOrPreCalibrationWithoutOffsetsHoldsTheMachine) {
+  PlantConfig plant = two_machines();
+  plant.machines.resize(1);
+  SimulatedClock clock(1'000);
+  Recorder rec;
+  Scheduler s(plant, clock, rec.outputs());
+  s.start_cycle({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
+  CheckResult failed = result_of(rec.requests[0], Verdict::Fail);
+  failed.correction = Correction{"fixture:UHF1", {}};
+  s.result(failed);
+  ASSERT_EQ(rec.requests.size(), 2u);
+  s.result(result_of(rec.requests[1], Verdict::Fail,
+                     {"fixture axes misaligned with the machine axes"}));
+  EXPECT_EQ(rec.requests.size(), 2u);  // no daily checks after a failed fixture
+  EXPECT_EQ(s.state("m1"), MachineState::NeedsIntervention);
+  EXPECT_NE(rec.statuses.back().detail.find("fixture_postcal FAIL"), std::string::npos)
+      << rec.statuses.back().detail;
+  EXPECT_NE(rec.statuses.back().detail.find("misaligned"), std::string::npos);
+
+  // An INVALID pre-calibration (no offsets) is no correction loop: it holds the machine.
+  Recorder rec2;
+  Scheduler s2(plant, clock, rec2.outputs());
+  s2.start_cycle({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
+  s2.result(result_of(rec2.requests[0], Verdict::Invalid));
+  EXPECT_EQ(rec2.requests.size(), 1u);
+  EXPECT_EQ(s2.state("m1"), MachineState::NeedsIntervention);
+}
+
+TEST(Scheduler, FixtureConfigurationRotatesWeeklyThroughTen) {
+  const std::int64_t week = 7LL * 24 * 3600 * 1'000'000'000;
+  for (int w = 0; w < 25; ++w) {
+    EXPECT_EQ(Scheduler::fixture_configuration_for(w * week + week / 2), w % 10);
+  }
+  EXPECT_EQ(Scheduler::fixture_configuration_for(-1), 9);
+}
+
 }  // namespace
 }  // namespace ncqual::scheduler

@@ -126,6 +126,7 @@ TEST_F(StorageRoundTrip, ParametersOfRequestAndMeasurementSetComeBackInOrder) {
   CheckRequest request = make_request("r1");
   request.kind = CheckKind::FixturePreCalibration;
   request.parameters = {{"fixture_configuration", 7, ""}, {"z_plane_mm", 304.8, "mm"}};
+  request.verifies_correction_of = "precal-9";
   MeasurementSet set = make_measurement_set("r1");
   set.kind = CheckKind::FixturePreCalibration;
   set.parameters = {{"fixture_configuration", 7, ""}};
@@ -140,6 +141,7 @@ TEST_F(StorageRoundTrip, ParametersOfRequestAndMeasurementSetComeBackInOrder) {
   EXPECT_EQ(record->request->parameters[1].name, "z_plane_mm");
   EXPECT_EQ(record->request->parameters[1].value, 304.8);
   EXPECT_EQ(record->request->parameters[1].unit, "mm");
+  EXPECT_EQ(record->request->verifies_correction_of, "precal-9");
   const auto loaded = db_.load_measurement_set("r1");
   ASSERT_TRUE(loaded.has_value());
   ASSERT_EQ(loaded->parameters.size(), 1u);

@@ -105,4 +105,39 @@ std::optional<Contact> first_contact(const RingGaugePlate& plate, const BallMove
   return best;
 }
 
+bool SetPointBlock::contains(const Eigen::Vector3d& p, double tol) const {
+  const Eigen::Vector3d& c = corner_mm;
+  return p.x() >= c.x() - tol && p.x() <= c.x() + size_mm + tol && p.y() >= c.y() - tol &&
+         p.y() <= c.y() + size_mm + tol && p.z() <= c.z() + tol && p.z() >= c.z() - size_mm - tol;
+}
+
+std::optional<Contact> first_contact(const SetPointBlock& block, const BallMove& move) {
+  const Eigen::Vector3d& c = block.corner_mm;
+  const double s = block.size_mm;
+  struct Plane {
+    const char* surface;
+    Eigen::Vector3d point;
+    Eigen::Vector3d normal;
+  };
+  const Plane planes[] = {
+      {"top", c, Eigen::Vector3d::UnitZ()},
+      {"bottom", c - s * Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitZ()},
+      {"-x", c, -Eigen::Vector3d::UnitX()},
+      {"+x", c + s * Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitX()},
+      {"-y", c, -Eigen::Vector3d::UnitY()},
+      {"+y", c + s * Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitY()},
+  };
+  std::optional<Contact> best;
+  for (const auto& plane : planes) {
+    const auto distance = ball_meets_plane(move, plane.point, plane.normal);
+    if (!distance || *distance > move.travel_mm) continue;
+    if (best && best->distance_mm <= *distance) continue;
+    const Eigen::Vector3d centre = move.centre_at(*distance);
+    const Eigen::Vector3d point = centre - move.ball_radius_mm * plane.normal;
+    if (!block.contains(point, kOnSurfaceTolMm)) continue;
+    best = Contact{*distance, plane.surface, centre, point};
+  }
+  return best;
+}
+
 }  // namespace ncqual::sim

@@ -79,8 +79,49 @@ Eigen::Vector3d MachineSimulator::true_ball_centre(const AxisPosition& readouts)
   return stylus_ball_centre(true_axes(readouts), true_probe_);
 }
 
+Eigen::Vector3d MachineSimulator::part_seating_mm(const std::string& request_id) const {
+  if (config_.part_seating_sigma_mm <= 0) return Eigen::Vector3d::Zero();
+  // Its own stream, so that seating does not change the touch noise of the request.
+  NormalSource seating(request_seed(config_.seed ^ 0x5ea7ed5ea7ULL, request_id));
+  Eigen::Vector3d offset;
+  for (int k = 0; k < 3; ++k) offset[k] = config_.part_seating_sigma_mm * seating.next();
+  return offset;
+}
+
+std::map<std::string, SetPointBlock> MachineSimulator::true_setpoint_blocks(
+    const std::string& request_id) const {
+  const Eigen::Vector3d seating = part_seating_mm(request_id);
+  std::map<std::string, SetPointBlock> blocks;
+  for (const SetPointConfig& point : machine_.setpoints.points) {
+    SetPointBlock block;
+    block.corner_mm = point.intended_mm + seating;
+    if (auto it = config_.errors.setpoint_shift_mm.find(point.name);
+        it != config_.errors.setpoint_shift_mm.end()) {
+      block.corner_mm += it->second;
+    }
+    blocks[point.name] = block;
+  }
+  return blocks;
+}
+
 std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double noise_mm,
                                                std::string* why) const {
+  return execute_against(
+      move, noise_mm, [&](const BallMove& ball) { return first_contact(true_monument_, ball); },
+      [&](const Eigen::Vector3d& c, double r) { return true_monument_.overlaps_ball(c, r); }, why);
+}
+
+std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double noise_mm,
+                                               const SetPointBlock& block, std::string* why) const {
+  return execute_against(
+      move, noise_mm, [&](const BallMove& ball) { return first_contact(block, ball); },
+      [&](const Eigen::Vector3d& c, double r) { return block.contains(c, r); }, why);
+}
+
+std::optional<Touch> MachineSimulator::execute_against(const ProbingMove& move, double noise_mm,
+                                                       const ContactFinder& find_contact,
+                                                       const StartCheck& overlaps,
+                                                       std::string* why) const {
   // The axes move the readouts along u; the true ball centre then moves along
   //   b(s) = b(start + s u) = b0 + s t,  t = b(start + u) - b(start),
   // exact while the true machine is an affine map of the readouts (the errors modelled so
@@ -95,12 +136,12 @@ std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double n
   ball.travel_mm = move.travel_mm * scale;
   ball.ball_radius_mm = true_probe_.ball_radius_mm;
 
-  if (true_monument_.overlaps_ball(b0, ball.ball_radius_mm)) {
+  if (overlaps(b0, ball.ball_radius_mm)) {
     *why = "the probe was deflected at the start of the move at " + format_vector(b0) +
-           " (stylus ball inside the monument)";
+           " (stylus ball inside the body probed)";
     return std::nullopt;
   }
-  const auto contact = first_contact(true_monument_, ball);
+  const auto contact = find_contact(ball);
   if (!contact) {
     char travel[32];
     std::snprintf(travel, sizeof travel, "%.3f", move.travel_mm);
@@ -126,6 +167,7 @@ MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64
   set.request_id = request.request_id;
   set.kind = request.kind;
   set.time_ns = time_ns;
+  set.parameters = request.parameters;
   describe_instrument(request.kind, &set);
 
   if (request.machine_id != machine_.machine_id) {
@@ -141,6 +183,15 @@ MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64
   }
 
   NormalSource noise(request_seed(config_.seed, request.request_id));
+  std::map<std::string, SetPointBlock> blocks;
+  if (request.kind == CheckKind::PartSetPoints) blocks = true_setpoint_blocks(request.request_id);
+  // Set-point touches ("setpoint:<name>:<axis>") meet their block, the others the monument.
+  auto run = [&](const ProbingMove& move, double noise_mm, std::string* why) {
+    if (request.kind != CheckKind::PartSetPoints) return execute(move, noise_mm, why);
+    const std::size_t first = move.feature.find(':'), last = move.feature.rfind(':');
+    const auto block = blocks.find(move.feature.substr(first + 1, last - first - 1));
+    return execute(move, noise_mm, block->second, why);
+  };
   std::vector<std::string> alarms;
   for (std::size_t i = 0; i < program->size(); ++i) {
     const ProbingMove& move = (*program)[i];
@@ -148,7 +199,7 @@ MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64
     // only on its place in the program.
     const double noise_mm = config_.trigger_noise_sigma_mm * noise.next();
     std::string why;
-    if (auto touch = execute(move, noise_mm, &why)) {
+    if (auto touch = run(move, noise_mm, &why)) {
       set.touches.push_back(std::move(*touch));
     } else {
       alarms.push_back("move " + std::to_string(i) + " ('" + move.feature + "'): " + why);

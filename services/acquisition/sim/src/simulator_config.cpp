@@ -46,11 +46,12 @@ double angle_under_any_unit_key(const YAML::Node& node, const std::string& stem,
   return value;
 }
 
-SimulatorErrors parse_errors(const YAML::Node& node, const std::string& where) {
+SimulatorErrors parse_errors(const YAML::Node& node, const MachineConfig& machine,
+                             const std::string& where) {
   SimulatorErrors e;
   if (!node || node.IsNull()) return e;
   std::set<std::string> known = {"machine_shift_mm", "monument_shift_mm", "stylus_offset_mm",
-                                 "tool_length_error_mm"};
+                                 "tool_length_error_mm", "setpoint_shift_mm"};
   for (const auto& suffix : kAngleSuffixes) {
     known.insert("c_angle_error" + suffix);
     known.insert("a_home_error" + suffix);
@@ -65,6 +66,88 @@ SimulatorErrors parse_errors(const YAML::Node& node, const std::string& where) {
   e.tool_length_error_mm = yaml::length_mm_or(node, "tool_length_error_mm", 0.0, where);
   e.c_angle_error_rad = angle_under_any_unit_key(node, "c_angle_error", where);
   e.a_home_error_rad = angle_under_any_unit_key(node, "a_home_error", where);
+  if (const YAML::Node shifts = optional_map(node, "setpoint_shift_mm", where);
+      shifts && !shifts.IsNull()) {
+    for (const auto& kv : shifts) {
+      const std::string name = kv.first.as<std::string>();
+      bool known_point = false;
+      for (const auto& p : machine.setpoints.points) known_point |= p.name == name;
+      if (!known_point) {
+        fail(where, "setpoint_shift_mm." + name, kv.second,
+             "not a set point of the machine's `setpoints:` section");
+      }
+      e.setpoint_shift_mm[name] =
+          yaml::lengths_mm_or(shifts, name, 3, Eigen::VectorXd::Zero(3), where + " setpoint_shift_mm");
+    }
+  }
+  return e;
+}
+
+// One fixture axis: `axis` 0, 1, 2 (X, Y, Z) names the misalignment keys of the other two.
+FixtureAxisErrors parse_fixture_axis(const YAML::Node& node, int axis, const std::string& where) {
+  FixtureAxisErrors e;
+  if (!node || node.IsNull()) return e;
+  static const char* kAxes[] = {"x", "y", "z"};
+  std::set<std::string> known = {"offset_mm", "scale_ppm", "curvature_um_per_m2",
+                                 "sine_amplitude_mm", "sine_period_mm"};
+  for (const auto& suffix : kAngleSuffixes) {
+    known.insert("sine_phase" + suffix);
+    for (int other = 0; other < 3; ++other) {
+      if (other != axis) known.insert(std::string("misalignment_") + kAxes[other] + suffix);
+    }
+  }
+  refuse_unknown_keys(node, known, where);
+  e.offset_mm = yaml::length_mm_or(node, "offset_mm", 0.0, where);
+  e.scale_ppm = yaml::number_or(node, "scale_ppm", 0.0, where);
+  e.curvature_um_per_m2 = yaml::number_or(node, "curvature_um_per_m2", 0.0, where);
+  e.sine_amplitude_mm = yaml::length_mm_or(node, "sine_amplitude_mm", 0.0, where);
+  e.sine_period_mm = yaml::length_mm_or(node, "sine_period_mm", 0.0, where);
+  e.sine_phase_rad = angle_under_any_unit_key(node, "sine_phase", where);
+  if (e.sine_amplitude_mm != 0 && !(e.sine_period_mm > 0)) {
+    fail(where, "sine_period_mm", node["sine_period_mm"],
+         "must be positive when sine_amplitude_mm is not zero");
+  }
+  for (int other = 0; other < 3; ++other) {
+    if (other == axis) continue;
+    e.misalignment_rad[other] =
+        angle_under_any_unit_key(node, std::string("misalignment_") + kAxes[other], where);
+  }
+  if (!std::isfinite(e.scale_ppm)) fail(where, "scale_ppm", node["scale_ppm"], "must be finite");
+  if (!std::isfinite(e.curvature_um_per_m2)) {
+    fail(where, "curvature_um_per_m2", node["curvature_um_per_m2"], "must be finite");
+  }
+  return e;
+}
+
+FixtureErrors parse_fixture_errors(const YAML::Node& node, const MachineConfig& machine,
+                                   const std::string& where) {
+  FixtureErrors e;
+  if (!node || node.IsNull()) return e;
+  if (!machine.fixture) {
+    fail(where, "fixture", node, "the machine has no `fixture:` section to simulate");
+  }
+  refuse_unknown_keys(node, {"column_x", "pogo_y", "pogo_z", "pogo_offsets_mm", "wear_sigma_mm"},
+                      where);
+  e.column_x = parse_fixture_axis(optional_map(node, "column_x", where), 0, where + " column_x");
+  e.pogo_y = parse_fixture_axis(optional_map(node, "pogo_y", where), 1, where + " pogo_y");
+  e.pogo_z = parse_fixture_axis(optional_map(node, "pogo_z", where), 2, where + " pogo_z");
+  if (const YAML::Node offsets = optional_map(node, "pogo_offsets_mm", where);
+      offsets && !offsets.IsNull()) {
+    for (const auto& kv : offsets) {
+      const std::string label = kv.first.as<std::string>();
+      const auto id = parse_pogo_label(label);
+      if (!id || !fixture_has_pogo(*machine.fixture, *id)) {
+        fail(where, "pogo_offsets_mm." + label, kv.second,
+             "not a pogo of fixture '" + machine.fixture->fixture_id + "' (C1R1 to C" +
+                 std::to_string(machine.fixture->columns()) + "R" +
+                 std::to_string(machine.fixture->rows()) + ")");
+      }
+      e.pogo_offsets_mm[label] =
+          yaml::lengths_mm_or(offsets, label, 3, Eigen::VectorXd::Zero(3), where + " pogo_offsets_mm");
+    }
+  }
+  e.wear_sigma_mm = yaml::length_mm_or(node, "wear_sigma_mm", 0.0, where);
+  if (!(e.wear_sigma_mm >= 0)) fail(where, "wear_sigma_mm", node["wear_sigma_mm"], "must not be negative");
   return e;
 }
 
@@ -79,6 +162,21 @@ std::uint64_t parse_seed(const YAML::Node& node, const std::string& where) {
 
 }  // namespace
 
+double FixtureAxisErrors::error_mm(double u_mm) const {
+  constexpr double kTwoPi = 2 * 3.14159265358979323846;
+  double e = offset_mm + scale_ppm * 1e-6 * u_mm + curvature_um_per_m2 * 1e-3 * (u_mm / 1000) * (u_mm / 1000);
+  if (sine_amplitude_mm != 0 && sine_period_mm > 0) {
+    e += sine_amplitude_mm * std::sin(kTwoPi * u_mm / sine_period_mm + sine_phase_rad);
+  }
+  return e;
+}
+
+Eigen::Vector3d FixtureAxisErrors::direction(int axis) const {
+  Eigen::Vector3d d = misalignment_rad;
+  d[axis] = 1.0;
+  return d;
+}
+
 SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
   SimulatorConfig config;
   const YAML::Node& node = machine.simulator;
@@ -88,7 +186,9 @@ SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
   if (!node.IsMap()) fail(file, "simulator", node, "expected a mapping");
 
   const std::string where = file + " [simulator]";
-  refuse_unknown_keys(node, {"seed", "trigger_noise_sigma_mm", "plate_thickness_mm", "errors"},
+  refuse_unknown_keys(node,
+                      {"seed", "trigger_noise_sigma_mm", "plate_thickness_mm", "errors", "fixture",
+                       "part_seating_sigma_mm"},
                       where);
   config.seed = parse_seed(node, where);
   config.trigger_noise_sigma_mm =
@@ -102,7 +202,13 @@ SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
     fail(where, "plate_thickness_mm", node["plate_thickness_mm"], "must be positive");
   }
   config.errors =
-      parse_errors(optional_map(node, "errors", where), file + " [simulator.errors]");
+      parse_errors(optional_map(node, "errors", where), machine, file + " [simulator.errors]");
+  config.part_seating_sigma_mm = yaml::length_mm_or(node, "part_seating_sigma_mm", 0.0, where);
+  if (!(config.part_seating_sigma_mm >= 0)) {
+    fail(where, "part_seating_sigma_mm", node["part_seating_sigma_mm"], "must not be negative");
+  }
+  config.fixture = parse_fixture_errors(optional_map(node, "fixture", where), machine,
+                                        file + " [simulator.fixture]");
   return config;
 }
 

@@ -11,6 +11,7 @@
 #include "ncqual/kinematics.hpp"
 #include "ncqual/solver/circle_fit.hpp"
 #include "result_building.hpp"
+#include "touch_input.hpp"
 
 #include <cmath>
 #include <optional>
@@ -23,34 +24,13 @@ namespace {
 using namespace positioning;
 using detail::format_number;
 using detail::format_vector;
-
-constexpr double kTwoPi = 2 * 3.14159265358979323846;
-
-std::string touch_field(std::size_t i, const std::string& field) {
-  return "MeasurementSet.touches[" + std::to_string(i) + "]." + field;
-}
+using detail::machine_where;
+using detail::touch_field;
 
 // ---- Step 0: can the input support a verdict? ---------------------------------------------
 
 std::optional<std::string> why_touch_unusable(const Touch& t, std::size_t i) {
-  const struct {
-    const char* name;
-    double value;
-  } axes[] = {{"axes.x_mm", t.axes.x_mm},   {"axes.y_mm", t.axes.y_mm},
-              {"axes.z_mm", t.axes.z_mm},   {"axes.w_mm", t.axes.w_mm},
-              {"axes.a_rad", t.axes.a_rad}, {"axes.c_rad", t.axes.c_rad}};
-  for (const auto& axis : axes) {
-    if (!std::isfinite(axis.value)) {
-      return touch_field(i, axis.name) + " = " + format_number(axis.value) + " is not finite";
-    }
-  }
-  if (!t.approach.allFinite()) {
-    return touch_field(i, "approach") + " = " + format_vector(t.approach) + " is not finite";
-  }
-  if (std::abs(t.approach.norm() - 1) > kUnitTolerance) {
-    return touch_field(i, "approach") + " = " + format_vector(t.approach) + " has length " +
-           format_number(t.approach.norm()) + ", expected a unit vector";
-  }
+  if (auto why = detail::why_touch_not_finite(t, i)) return why;
   if (t.feature != kHoleEdge && t.feature != kFace) {
     return touch_field(i, "feature") + " = '" + t.feature + "': check 3 uses only '" +
            std::string(kHoleEdge) + "' and '" + std::string(kFace) + "' touches";
@@ -63,21 +43,15 @@ std::optional<std::string> why_touch_unusable(const Touch& t, std::size_t i) {
   return std::nullopt;
 }
 
-// Difference of two angles, wrapped into [-pi, pi].
-double angle_difference(double a, double b) { return std::remainder(a - b, kTwoPi); }
-
 // All touches must be taken at one head angle: the hole centre and the face are compared with
 // values taught at one head orientation, and mixing orientations mixes in the probe's errors.
 std::optional<std::string> why_head_angles_differ(const std::vector<Touch>& touches) {
   const AxisPosition& first = touches.front().axes;
   for (std::size_t i = 1; i < touches.size(); ++i) {
     const AxisPosition& axes = touches[i].axes;
-    if (std::abs(angle_difference(axes.a_rad, first.a_rad)) > kHeadAngleTolerance ||
-        std::abs(angle_difference(axes.c_rad, first.c_rad)) > kHeadAngleTolerance) {
-      return touch_field(i, "axes") + ": head at A = " + format_number(axes.a_rad) +
-             " rad, C = " + format_number(axes.c_rad) +
-             " rad differs from touches[0] (A = " + format_number(first.a_rad) +
-             " rad, C = " + format_number(first.c_rad) + " rad) by more than " +
+    if (!detail::head_at(axes, first.a_rad, first.c_rad)) {
+      return touch_field(i, "axes") + ": head at " + detail::describe_head(axes) +
+             " differs from touches[0] (" + detail::describe_head(first) + ") by more than " +
              format_number(kHeadAngleTolerance) +
              " rad; check 3 needs every touch at one head angle";
     }
@@ -92,10 +66,8 @@ std::size_t count_feature(const std::vector<Touch>& touches, std::string_view fe
 }
 
 std::optional<std::string> why_set_unusable(const MeasurementSet& set) {
-  if (!set.error.empty()) return "MeasurementSet.error: " + set.error;
-  if (set.kind != CheckKind::MonumentPositioning) {
-    return "MeasurementSet.kind = '" + std::string(to_string(set.kind)) + "': check 3 needs '" +
-           std::string(to_string(CheckKind::MonumentPositioning)) + "'";
+  if (auto why = detail::why_not_a_set_of(set, CheckKind::MonumentPositioning, "check 3")) {
+    return why;
   }
   if (set.touches.empty()) {
     return "MeasurementSet.touches is empty: check 3 needs '" + std::string(kHoleEdge) + "' and '" +
@@ -118,22 +90,10 @@ std::optional<std::string> why_set_unusable(const MeasurementSet& set) {
   return std::nullopt;
 }
 
-std::string machine_where(const MachineConfig& m) {
-  return "machine '" + m.machine_id + "'" +
-         (m.source_path.empty() ? "" : " (" + m.source_path + ")");
-}
-
 std::optional<std::string> why_config_unusable(const MachineConfig& m) {
   const MonumentConfig& mon = m.monument;
+  if (auto why = detail::why_probe_unusable(m)) return why;
   const std::string where = machine_where(m) + ": ";
-  if (!std::isfinite(m.probe.ball_radius_mm) || m.probe.ball_radius_mm < 0) {
-    return where + "probe.ball_radius_mm = " + format_number(m.probe.ball_radius_mm) +
-           " must be a non-negative number";
-  }
-  if (!std::isfinite(m.probe.tool_length_mm) || !m.probe.stylus_offset_mm.allFinite()) {
-    return where + "probe.tool_length_mm = " + format_number(m.probe.tool_length_mm) +
-           " or the stylus offset is not finite";
-  }
   if (!std::isfinite(mon.hole_diameter_mm) || mon.hole_diameter_mm <= 0) {
     return where + "monument.hole_diameter_mm = " + format_number(mon.hole_diameter_mm) +
            " must be positive";
@@ -154,20 +114,7 @@ std::optional<std::string> why_config_unusable(const MachineConfig& m) {
   return std::nullopt;
 }
 
-const Tolerance* find_tolerance(const MachineConfig& m, std::string_view metric) {
-  const auto it = m.tolerances.find(std::string(metric));
-  return it == m.tolerances.end() ? nullptr : &it->second;
-}
-
-std::optional<std::string> why_tolerances_missing(const MachineConfig& m) {
-  for (std::string_view metric : {kCenterDx, kCenterDy, kFaceDz}) {
-    if (!find_tolerance(m, metric)) {
-      return machine_where(m) + ": tolerances." + std::string(metric) +
-             " is not configured; check 3 reports that metric";
-    }
-  }
-  return std::nullopt;
-}
+using detail::find_tolerance;
 
 // ---- Step 1: stylus ball centres of the touches --------------------------------------------
 
@@ -299,7 +246,10 @@ CheckResult check_repeatable_positioning(const MeasurementSet& set, const Machin
   // Step 0: is the input usable?
   if (auto why = why_set_unusable(set)) return detail::invalid(result, *why);
   if (auto why = why_config_unusable(machine)) return detail::invalid(result, *why);
-  if (auto why = why_tolerances_missing(machine)) return detail::invalid(result, *why);
+  if (auto why = detail::why_tolerances_missing(machine, {kCenterDx, kCenterDy, kFaceDz},
+                                                "check 3")) {
+    return detail::invalid(result, *why);
+  }
 
   // Step 1: ball centres of the touches.
   const TouchedBallCentres centres = ball_centres_of_touches(set.touches, machine.probe);

@@ -1,6 +1,9 @@
 #include "ncqual/solver/solve.hpp"
 
+#include "ncqual/solver/fixture_checks.hpp"
 #include "ncqual/solver/monument_positioning.hpp"
+#include "ncqual/solver/monument_probe_checks.hpp"
+#include "ncqual/solver/part_setpoints.hpp"
 #include "result_building.hpp"
 
 #include <exception>
@@ -19,8 +22,20 @@ CheckResult stamped(CheckResult result, const MeasurementSet& set, std::int64_t 
 
 CheckResult dispatch(const MeasurementSet& set, const MachineConfig& machine) {
   switch (set.kind) {
+    case CheckKind::MonumentCAlignment:
+      return check_c_axis_alignment(set, machine);
+    case CheckKind::MonumentToolLength:
+      return check_composite_tool_length(set, machine);
     case CheckKind::MonumentPositioning:
       return check_repeatable_positioning(set, machine);
+    case CheckKind::MonumentCRotation:
+      return check_c_rotation(set, machine);
+    case CheckKind::FixturePreCalibration:
+      return check_fixture_precalibration(set, machine);
+    case CheckKind::FixturePostCalibration:
+      return check_fixture_postcalibration(set, machine);
+    case CheckKind::PartSetPoints:
+      return check_part_setpoints(set, machine);
     default:
       return detail::invalid(detail::result_for(set),
                              "check kind '" + std::string(to_string(set.kind)) +
@@ -30,7 +45,20 @@ CheckResult dispatch(const MeasurementSet& set, const MachineConfig& machine) {
 
 }  // namespace
 
-bool is_implemented(CheckKind kind) { return kind == CheckKind::MonumentPositioning; }
+bool is_implemented(CheckKind kind) {
+  switch (kind) {
+    case CheckKind::MonumentCAlignment:
+    case CheckKind::MonumentToolLength:
+    case CheckKind::MonumentPositioning:
+    case CheckKind::MonumentCRotation:
+    case CheckKind::FixturePreCalibration:
+    case CheckKind::FixturePostCalibration:
+    case CheckKind::PartSetPoints:
+      return true;
+    default:
+      return false;
+  }
+}
 
 CheckResult solve(const MeasurementSet& set, const PlantConfig& plant, std::int64_t time_ns) {
   const MachineConfig* machine = plant.find_machine(set.machine_id);

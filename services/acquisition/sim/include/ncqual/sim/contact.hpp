@@ -72,4 +72,17 @@ struct RingGaugePlate {
 // "edge_-x", "edge_+y", "edge_-y"); std::nullopt when it meets none.
 std::optional<Contact> first_contact(const RingGaugePlate& plate, const BallMove& move);
 
+// A set-point block: an axis-parallel cube of side `size_mm` whose reference corner `corner_mm`
+// is at its least X, least Y and top Z (the block extends along +X, +Y and down -Z from it).
+struct SetPointBlock {
+  Eigen::Vector3d corner_mm = Eigen::Vector3d::Zero();
+  double size_mm = 50.0;
+
+  bool contains(const Eigen::Vector3d& p, double tol) const;
+};
+
+// The first face of the block the ball meets within the move's travel: "top", "-x", "+x",
+// "-y", "+y" or "bottom"; std::nullopt when it meets none (edges and corners not modelled).
+std::optional<Contact> first_contact(const SetPointBlock& block, const BallMove& move);
+
 }  // namespace ncqual::sim

@@ -12,6 +12,8 @@
 #include "ncqual/sim/simulator_config.hpp"
 
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -41,11 +43,26 @@ class MachineSimulator {
   // True monument: the taught one moved by monument_shift.
   const RingGaugePlate& true_monument() const { return true_monument_; }
 
-  // Runs one probing move on the true machine. `noise_mm` displaces the latched readouts along
-  // the move. Returns the touch, or std::nullopt with `*why` set when the probe alarms.
+  // True set-point blocks of the part loaded for `request_id`: intended corner + the block's
+  // shift + the part's seating offset for that request (reproducible, like the touch noise).
+  std::map<std::string, SetPointBlock> true_setpoint_blocks(const std::string& request_id) const;
+  // The seating offset of the part loaded for `request_id`.
+  Eigen::Vector3d part_seating_mm(const std::string& request_id) const;
+
+  // Runs one probing move on the true machine against the monument (or `block`). `noise_mm`
+  // displaces the latched readouts along the move. Returns the touch, or std::nullopt with
+  // `*why` set when the probe alarms.
   std::optional<Touch> execute(const ProbingMove& move, double noise_mm, std::string* why) const;
+  std::optional<Touch> execute(const ProbingMove& move, double noise_mm, const SetPointBlock& block,
+                               std::string* why) const;
 
  private:
+  using ContactFinder = std::function<std::optional<Contact>(const BallMove&)>;
+  using StartCheck = std::function<bool(const Eigen::Vector3d& centre, double radius)>;
+  std::optional<Touch> execute_against(const ProbingMove& move, double noise_mm,
+                                       const ContactFinder& contact, const StartCheck& overlaps,
+                                       std::string* why) const;
+
   MachineConfig machine_;
   SimulatorConfig config_;
   ProbeGeometry true_probe_;

@@ -42,6 +42,32 @@ AxisPosition axes_placing_ball_at(const Eigen::Vector3d& ball_centre, double a_r
 //    moves along -Z.
 std::vector<ProbingMove> monument_positioning_program(const MachineConfig& machine);
 
+// Daily probe check 1 (probe alignment with the C axis). Body at A = 0; with the head at C = 0
+// and then at C = 180 deg, monument.hole_touches radial edge touches as in check 3 (ball centre
+// placed at the taught hole centre, probe_depth below the face, moving outward).
+std::vector<ProbingMove> monument_c_alignment_program(const MachineConfig& machine);
+
+// Daily probe check 2 (composite tool length). Head at C = 90 deg, W at home. With A = +90 deg
+// (probe along -X) the ball starts kEdgeApproachClearanceMm outside the gauge edge at
+// +gauge_width/2 and moves along -X; with A = -90 deg (probe along +X) it starts outside the
+// edge at -gauge_width/2 and moves along +X. Both at the hole's Y, probe_depth below the face.
+std::vector<ProbingMove> monument_tool_length_program(const MachineConfig& machine);
+
+// Daily probe check 4 (C-axis rotational accuracy). Head at C = 90 deg; the ball starts
+// kEdgeApproachClearanceMm above the gauge's upper edge (+gauge_width/2 in Y) at the hole's X,
+// probe_depth below the face, and moves along -Y: once with A = +90 deg, once with A = -90 deg.
+std::vector<ProbingMove> monument_c_rotation_program(const MachineConfig& machine);
+
+// Per-part set points. Head at home (A = C = 0, W = 0). For each configured set point, with c
+// its intended reference corner, i = setpoints.inset_mm and d = setpoints.probe_depth_mm:
+//  - "setpoint:<name>:z": ball above the top face at (c.x + i, c.y + i), moving along -Z;
+//  - "setpoint:<name>:x": ball clear of the -X face at (y = c.y + i, z = c.z - d), along +X;
+//  - "setpoint:<name>:y": ball clear of the -Y face at (x = c.x + i, z = c.z - d), along +Y.
+std::vector<ProbingMove> part_setpoints_program(const MachineConfig& machine);
+
+// Gap between the ball and a gauge edge at the start of an edge touch.
+inline constexpr double kEdgeApproachClearanceMm = 5.0;
+
 // The program for `kind`, or std::nullopt when the simulator cannot perform it yet.
 std::optional<std::vector<ProbingMove>> program_for(CheckKind kind, const MachineConfig& machine);
 

@@ -12,6 +12,23 @@
 //       tool_length_error_mm: 0          # true L = nominal L + error
 //       c_angle_error_arcsec: 0          # true C = C readout + error (or _rad, _deg, _urad)
 //       a_home_error_arcsec: 0           # true A = A readout + error (or _rad, _deg, _urad)
+//       setpoint_shift_mm:               # set-point blocks moved, by set point name
+//         primary: [0, 0, 0]
+//     part_seating_sigma_mm: 0           # each loaded part seats off by N(0, sigma^2) per axis
+//     fixture:                           # the true holding fixture (ncqual/sim/fixture_simulator.hpp)
+//       column_x:                        # the columns' X actuators; also pogo_y:, pogo_z:
+//         offset_mm: 0                   # true travel = command + error(command), where
+//         scale_ppm: 0                   #   error(u) = offset + scale 1e-6 u
+//         curvature_um_per_m2: 0         #            + curvature 1e-3 (u / 1000)^2
+//         sine_amplitude_mm: 0           #            + amplitude sin(2 pi u / period + phase)
+//         sine_period_mm: 0              #   (u: the actuator command in the fixture frame, mm)
+//         sine_phase_deg: 0              # (or _rad, _arcsec, _urad)
+//         misalignment_y_urad: 0         # travel also moves along machine Y by angle * travel
+//         misalignment_z_urad: 0         # (pogo_y: misalignment_x_, _z_; pogo_z: _x_, _y_)
+//       pogo_offsets_mm:                 # per pogo: [dx, dy, dz] of its reference block
+//         C2R3: [0.01, 0, -0.02]
+//       wear_sigma_mm: 0                 # each placement of a pogo lands off by N(0, sigma^2)
+//                                        # per axis (worn, loose components)
 #pragma once
 
 #include "ncqual/config.hpp"
@@ -19,6 +36,8 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <map>
+#include <string>
 
 namespace ncqual::sim {
 
@@ -32,6 +51,38 @@ struct SimulatorErrors {
   double tool_length_error_mm = 0;
   double c_angle_error_rad = 0;
   double a_home_error_rad = 0;
+  // Set-point blocks moved on their fixturing devices, by set point name: true = intended + shift.
+  std::map<std::string, Eigen::Vector3d> setpoint_shift_mm;
+};
+
+// Errors of one fixture axis (all columns' X actuators, or all pogos' Y actuators, or all pogos'
+// Z extensions). A command u (fixture frame, mm, after the control's zero offsets) moves the pogo
+// by (u + error(u)) along direction(), where
+//   error(u) = offset + scale_ppm 1e-6 u + curvature_um_per_m2 1e-3 (u / 1000)^2
+//              + sine_amplitude sin(2 pi u / sine_period + sine_phase)
+//   direction() = e_axis + misalignment_rad (the own component of misalignment_rad is 0: the
+//                 other two are the small angles of the travel towards those machine axes).
+struct FixtureAxisErrors {
+  double offset_mm = 0;
+  double scale_ppm = 0;
+  double curvature_um_per_m2 = 0;
+  double sine_amplitude_mm = 0;
+  double sine_period_mm = 0;  // > 0 when sine_amplitude_mm != 0
+  double sine_phase_rad = 0;
+  Eigen::Vector3d misalignment_rad = Eigen::Vector3d::Zero();
+
+  double error_mm(double u_mm) const;
+  Eigen::Vector3d direction(int axis) const;  // axis 0, 1, 2 = X, Y, Z
+};
+
+// The true holding fixture against the nominal one of the machine's `fixture:` section. All zero
+// is a perfect fixture.
+struct FixtureErrors {
+  FixtureAxisErrors column_x;  // the column members' X actuators
+  FixtureAxisErrors pogo_y;    // the pogos' Y actuators along their columns
+  FixtureAxisErrors pogo_z;    // the pogos' Z extensions
+  std::map<std::string, Eigen::Vector3d> pogo_offsets_mm;  // by pogo label, e.g. "C2R3"
+  double wear_sigma_mm = 0;
 };
 
 struct SimulatorConfig {
@@ -41,10 +92,15 @@ struct SimulatorConfig {
   // touches deeper than this pass under the plate and never trigger.
   double plate_thickness_mm = 20.0;
   SimulatorErrors errors;
+  FixtureErrors fixture;  // the `fixture:` key of the section
+  // Each loaded part seats on its locators off by N(0, sigma^2) per axis, drawn per request;
+  // the set points move with the part.
+  double part_seating_sigma_mm = 0;
 };
 
 // Reads machine.simulator (absent or null: the defaults above). Unknown keys are refused so a
 // misspelt error never silently becomes zero. Throws ConfigError naming file, key and value.
+// `fixture:` needs the machine's own `fixture:` section, and its pogo labels must name pogos of it.
 SimulatorConfig parse_simulator_config(const MachineConfig& machine);
 
 }  // namespace ncqual::sim

@@ -1,0 +1,338 @@
+#include "ncqual/sim/fixture_simulator.hpp"
+
+#include "ncqual/sim/contact.hpp"
+#include "ncqual/sim/programs.hpp"
+#include "ncqual/sim/request_random.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+namespace ncqual::sim {
+namespace {
+
+constexpr std::string_view kConfigurationParameter = "fixture_configuration";
+// Contact points computed in machine coordinates (~1e3 mm) carry rounding of ~1e-13 mm.
+constexpr double kOnFaceTolMm = 1e-9;
+
+std::string format_number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+std::string format_vector(const Eigen::Vector3d& v) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, "(%.6f, %.6f, %.6f)", v.x(), v.y(), v.z());
+  return buffer;
+}
+
+AxisPosition moved(AxisPosition axes, const Eigen::Vector3d& by) {
+  axes.x_mm += by.x();
+  axes.y_mm += by.y();
+  axes.z_mm += by.z();
+  return axes;
+}
+
+// ---- The program ----------------------------------------------------------------------------
+
+// One probing move of the fixture program and the pogo placement it probes.
+struct FixtureMove {
+  ProbingMove move;
+  std::size_t placement = 0;  // index into the flattened placements
+  PogoFace face = PogoFace::Top;
+};
+
+struct FixtureProgram {
+  std::vector<PogoPlacement> placements;  // every probed placement, configurations in order
+  std::vector<FixtureMove> moves;
+  std::string error;  // non-empty when the request cannot be performed
+};
+
+// The five touches of one pogo, against its commanded position q = origin + c in the machine
+// frame, with the nominal probe (the machine's program knows nothing better):
+//   top: ball centre starts at q + (0, 0, r + clearance), moves along -Z;
+//   side face with outward normal n: starts at q + (h + r + clearance) n - d e_z, moves along -n;
+// travel clearance + overtravel, head at home (A = C = 0, W = 0).
+void add_pogo_moves(const FixtureConfig& f, const ProbeGeometry& nominal_probe,
+                    const PogoPlacement& placement, int configuration, std::size_t index,
+                    std::vector<FixtureMove>* moves) {
+  const Eigen::Vector3d q = f.to_machine(placement.commanded_mm);
+  const double r = nominal_probe.ball_radius_mm;
+  const double h = f.block_half_size_mm();
+  for (PogoFace face : kPogoFaces) {
+    const Eigen::Vector3d n = outward_normal(face);
+    Eigen::Vector3d start;
+    if (face == PogoFace::Top) {
+      start = q + (r + kFaceApproachClearanceMm) * n;
+    } else {
+      start = q + (h + r + kFaceApproachClearanceMm) * n;
+      start.z() -= f.probe_depth_mm;
+    }
+    FixtureMove m;
+    m.move.feature = pogo_touch_feature(placement.pogo, configuration, face);
+    m.move.start = axes_placing_ball_at(start, 0, 0, 0, nominal_probe);
+    m.move.direction = approach_direction(face);
+    m.move.travel_mm = kFaceApproachClearanceMm + kSearchOvertravelMm;
+    m.placement = index;
+    m.face = face;
+    moves->push_back(std::move(m));
+  }
+}
+
+// "fixture_configuration" of the request: an integer in 0 .. count - 1.
+std::optional<int> configuration_parameter(const CheckRequest& request, int count,
+                                           std::string* error) {
+  const NamedValue* value = find_value(request.parameters, kConfigurationParameter);
+  if (!value) return std::nullopt;
+  const double k = value->value;
+  if (!std::isfinite(k) || k != std::floor(k) || k < 0 || k > count - 1) {
+    *error = "the request's parameter " + std::string(kConfigurationParameter) + " = " +
+             format_number(k) + " is not an integer in 0.." + std::to_string(count - 1);
+    return std::nullopt;
+  }
+  return static_cast<int>(k);
+}
+
+FixtureProgram fixture_program(const FixtureConfig& f, const ProbeGeometry& nominal_probe,
+                               const CheckRequest& request) {
+  FixtureProgram program;
+  const int pre_count = f.precalibration_configuration_count();
+  const auto k = configuration_parameter(request, pre_count, &program.error);
+  if (!program.error.empty()) return program;
+  std::vector<std::vector<PogoPlacement>> configurations;
+  if (request.kind == CheckKind::FixturePreCalibration) {
+    if (!k) {
+      program.error = "a fixture pre-calibration request needs the parameter " +
+                      std::string(kConfigurationParameter) + " (0.." +
+                      std::to_string(pre_count - 1) + ")";
+      return program;
+    }
+    // The pre-calibration probes one configuration; its index in the features is k itself.
+    configurations.assign(static_cast<std::size_t>(*k), {});
+    configurations.push_back(precalibration_configuration(f, *k));
+  } else if (request.kind == CheckKind::FixturePostCalibration) {
+    configurations = postcalibration_configurations(
+        f, k ? precalibration_rows(f, *k) : RowSelection::All);
+  } else {
+    program.error = "the fixture simulator performs only '" +
+                    std::string(to_string(CheckKind::FixturePreCalibration)) + "' and '" +
+                    std::string(to_string(CheckKind::FixturePostCalibration)) + "', not '" +
+                    std::string(to_string(request.kind)) + "'";
+    return program;
+  }
+  for (std::size_t j = 0; j < configurations.size(); ++j) {
+    for (const PogoPlacement& placement : configurations[j]) {
+      program.placements.push_back(placement);
+      add_pogo_moves(f, nominal_probe, placement, static_cast<int>(j),
+                     program.placements.size() - 1, &program.moves);
+    }
+  }
+  return program;
+}
+
+// ---- The touch on the true block --------------------------------------------------------------
+
+// Whether the contact point lies on the real face of the block whose top-face centre is p.
+bool on_face(const FixtureConfig& f, const Eigen::Vector3d& p, PogoFace face,
+             const Eigen::Vector3d& point) {
+  const double h = f.block_half_size_mm() + kOnFaceTolMm;
+  const Eigen::Vector3d d = point - p;
+  const bool in_height = d.z() <= kOnFaceTolMm && d.z() >= -f.block_height_mm - kOnFaceTolMm;
+  switch (face) {
+    case PogoFace::Top:
+      return std::abs(d.x()) <= h && std::abs(d.y()) <= h;
+    case PogoFace::XMinus:
+    case PogoFace::XPlus:
+      return std::abs(d.y()) <= h && in_height;
+    default:
+      return std::abs(d.x()) <= h && in_height;
+  }
+}
+
+// Runs one move on the true machine against the true block of its pogo (top-face centre p).
+// As MachineSimulator::execute: the readouts move along u, the true ball centre along
+//   b(s) = b0 + s t,  t = b(start + u) - b(start),
+// exact while the true machine is an affine map of the readouts; |t| converts readout travel into
+// true travel. The ball meets the face plane (point p + face offset, outward normal n) at
+//   s = ((b0 - p0) . n - r) / (-t/|t| . n)     (contact.hpp, ball_meets_plane),
+// and the latched readouts are start + (s / |t| + noise) u.
+std::optional<Touch> execute_on_block(const MachineSimulator& machine, const FixtureConfig& f,
+                                      const Eigen::Vector3d& p, const FixtureMove& fm,
+                                      double noise_mm, std::string* why) {
+  const ProbingMove& move = fm.move;
+  const Eigen::Vector3d b0 = machine.true_ball_centre(move.start);
+  const Eigen::Vector3d t = machine.true_ball_centre(moved(move.start, move.direction)) - b0;
+  const double scale = t.norm();
+
+  BallMove ball;
+  ball.start = b0;
+  ball.direction = t / scale;
+  ball.travel_mm = move.travel_mm * scale;
+  ball.ball_radius_mm = machine.true_probe().ball_radius_mm;
+
+  const Eigen::Vector3d n = outward_normal(fm.face);
+  const Eigen::Vector3d plane_point = p + face_offset(f, fm.face);
+  const auto s = ball_meets_plane(ball, plane_point, n);
+  const auto fail_no_surface = [&] {
+    *why = "the probe did not trigger within " + format_number(move.travel_mm) +
+           " mm of travel from X, Y, Z = " +
+           format_vector(Eigen::Vector3d(move.start.x_mm, move.start.y_mm, move.start.z_mm)) +
+           " along " + format_vector(move.direction) + " (no surface met)";
+  };
+  if (!s) {
+    if ((b0 - plane_point).dot(n) < ball.ball_radius_mm) {
+      *why = "the probe was deflected at the start of the move at " + format_vector(b0) +
+             " (stylus ball beyond the face of the reference block)";
+    } else {
+      fail_no_surface();
+    }
+    return std::nullopt;
+  }
+  if (*s > ball.travel_mm || !on_face(f, p, fm.face, ball.centre_at(*s) - ball.ball_radius_mm * n)) {
+    fail_no_surface();
+    return std::nullopt;
+  }
+  const double readout_travel = *s / scale + noise_mm;
+  Touch touch;
+  touch.feature = move.feature;
+  touch.axes = moved(move.start, readout_travel * move.direction);
+  touch.approach = move.direction;
+  return touch;
+}
+
+}  // namespace
+
+// ---- FixtureSimulator -------------------------------------------------------------------------
+
+FixtureSimulator::FixtureSimulator(FixtureConfig fixture, FixtureErrors errors)
+    : fixture_(std::move(fixture)), errors_(std::move(errors)) {}
+
+FixtureSimulator FixtureSimulator::for_machine(const MachineConfig& machine,
+                                               const SimulatorConfig& config) {
+  if (!machine.fixture) {
+    throw ConfigError(machine.source_path + ": machine '" + machine.machine_id +
+                      "' has no `fixture:` section to simulate");
+  }
+  return FixtureSimulator(*machine.fixture, config.fixture);
+}
+
+void FixtureSimulator::apply_zero_offsets(const Correction& correction) {
+  const std::string target = "fixture:" + fixture_.fixture_id;
+  if (correction.target != target) {
+    throw std::invalid_argument("Correction.target = '" + correction.target +
+                                "': this fixture's control unit takes '" + target + "'");
+  }
+  std::map<std::string, Eigen::Vector3d> updated = zero_offsets_;
+  for (std::size_t i = 0; i < correction.offsets.size(); ++i) {
+    const NamedValue& offset = correction.offsets[i];
+    const std::string field = "Correction.offsets[" + std::to_string(i) + "]";
+    const auto name = parse_zero_offset_name(offset.name);
+    if (!name) {
+      throw std::invalid_argument(field + ".name = '" + offset.name +
+                                  "': expected '<pogo>.dx', '.dy' or '.dz', e.g. 'C2R3.dx'");
+    }
+    if (!fixture_has_pogo(fixture_, name->id)) {
+      throw std::invalid_argument(field + ".name = '" + offset.name + "': fixture '" +
+                                  fixture_.fixture_id + "' has no pogo " + name->pogo);
+    }
+    if (offset.unit != "mm") {
+      throw std::invalid_argument(field + ".unit = '" + offset.unit + "' ('" + offset.name +
+                                  "'): zero offsets are in 'mm'");
+    }
+    if (!std::isfinite(offset.value)) {
+      throw std::invalid_argument(field + ".value = " + format_number(offset.value) + " ('" +
+                                  offset.name + "') is not finite");
+    }
+    auto it = updated.try_emplace(name->pogo, Eigen::Vector3d::Zero()).first;
+    it->second[name->axis] += offset.value;
+  }
+  zero_offsets_ = std::move(updated);
+}
+
+void FixtureSimulator::clear_zero_offsets() { zero_offsets_.clear(); }
+
+Eigen::Vector3d FixtureSimulator::zero_offset_mm(const std::string& pogo) const {
+  const auto it = zero_offsets_.find(pogo);
+  return it == zero_offsets_.end() ? Eigen::Vector3d::Zero() : it->second;
+}
+
+Eigen::Vector3d FixtureSimulator::actuator_command_mm(const PogoPlacement& placement) const {
+  return placement.commanded_mm - zero_offset_mm(placement.pogo);
+}
+
+Eigen::Vector3d FixtureSimulator::true_reference_point_mm(const PogoPlacement& placement) const {
+  // p = origin + sum_j (a_j + e_j(a_j)) d_j + pogo_offset
+  const Eigen::Vector3d a = actuator_command_mm(placement);
+  const FixtureAxisErrors* axes[] = {&errors_.column_x, &errors_.pogo_y, &errors_.pogo_z};
+  Eigen::Vector3d p = fixture_.origin_mm;
+  for (int j = 0; j < 3; ++j) p += (a[j] + axes[j]->error_mm(a[j])) * axes[j]->direction(j);
+  const auto it = errors_.pogo_offsets_mm.find(placement.pogo);
+  if (it != errors_.pogo_offsets_mm.end()) p += it->second;
+  return p;
+}
+
+Eigen::Vector3d FixtureSimulator::true_delta_mm(const PogoPlacement& placement) const {
+  return true_reference_point_mm(placement) - fixture_.to_machine(placement.commanded_mm);
+}
+
+// ---- The check --------------------------------------------------------------------------------
+
+MeasurementSet perform_fixture_check(const MachineSimulator& machine, const FixtureSimulator& fixture,
+                                     const CheckRequest& request, std::int64_t time_ns) {
+  MeasurementSet set;
+  set.machine_id = request.machine_id;
+  set.request_id = request.request_id;
+  set.kind = request.kind;
+  set.time_ns = time_ns;
+  set.instrument = "touch_probe";
+  set.frame = "machine";
+  set.parameters = request.parameters;
+
+  if (request.machine_id != machine.machine().machine_id) {
+    set.error = "the request is for machine '" + request.machine_id +
+                "' but this simulator is machine '" + machine.machine().machine_id + "'";
+    return set;
+  }
+  const FixtureProgram program = fixture_program(fixture.fixture(), machine.machine().probe, request);
+  if (!program.error.empty()) {
+    set.error = program.error;
+    return set;
+  }
+
+  // Where each placed pogo truly is: the deterministic errors, then the wear scatter.
+  const std::uint64_t seed = machine.config().seed;
+  NormalSource wear(request_seed(seed, request.request_id + "/fixture_wear"));
+  const double wear_sigma = fixture.ground_truth().wear_sigma_mm;
+  std::vector<Eigen::Vector3d> true_points;
+  true_points.reserve(program.placements.size());
+  for (const PogoPlacement& placement : program.placements) {
+    Eigen::Vector3d scatter;
+    for (int j = 0; j < 3; ++j) scatter[j] = wear_sigma * wear.next();
+    true_points.push_back(fixture.true_reference_point_mm(placement) + scatter);
+  }
+
+  NormalSource noise(request_seed(seed, request.request_id));
+  const double sigma = machine.config().trigger_noise_sigma_mm;
+  std::vector<std::string> alarms;
+  for (std::size_t i = 0; i < program.moves.size(); ++i) {
+    const FixtureMove& fm = program.moves[i];
+    // One deviate per move, drawn whether or not it triggers.
+    const double noise_mm = sigma * noise.next();
+    std::string why;
+    if (auto touch = execute_on_block(machine, fixture.fixture(), true_points[fm.placement], fm,
+                                      noise_mm, &why)) {
+      set.touches.push_back(std::move(*touch));
+    } else {
+      alarms.push_back("move " + std::to_string(i) + " ('" + fm.move.feature + "'): " + why);
+    }
+  }
+  for (std::size_t i = 0; i < alarms.size(); ++i) {
+    set.error += (i ? "; " : "probe alarm: ") + alarms[i];
+  }
+  return set;
+}
+
+}  // namespace ncqual::sim

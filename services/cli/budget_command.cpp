@@ -1,0 +1,371 @@
+// `ncqual budget`: gathers the machine's budget config and metric history, hands them to
+// solver::evaluate_error_budget, prints the report. See budget_command.hpp.
+#include "budget_command.hpp"
+
+#include "ncqual/config.hpp"
+#include "ncqual/solver/error_budget.hpp"
+#include "ncqual/storage.hpp"
+#include "ncqual/units.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ncqual {
+namespace {
+
+using solver::BudgetMetric;
+using solver::ErrorBudgetConfig;
+using solver::ErrorBudgetReport;
+
+constexpr int kExitError = 1;
+
+// What the historian holds for the budget's metrics: values newest first in each metric's
+// configured unit, and the time of the newest.
+struct GatheredHistory {
+  solver::MetricHistories values;
+  std::map<std::string, std::int64_t> newest_time_ns;
+  int unconvertible = 0;  // values stored in a unit that cannot be turned into the metric's
+};
+
+// Factor turning a value in `from` into `to` when both are units of one dimension.
+std::optional<double> unit_factor(const std::string& from, const std::string& to) {
+  if (from == to || from.empty()) return 1.0;
+  for (auto dim : {units::Dimension::Length, units::Dimension::Angle}) {
+    const auto f = units::to_internal_factor(dim, from);
+    const auto t = units::to_internal_factor(dim, to);
+    if (f && t) return *f / *t;
+  }
+  return std::nullopt;
+}
+
+GatheredHistory gather_history(storage::Database& db, const std::string& machine_id,
+                               const ErrorBudgetConfig& budget) {
+  std::map<std::string, const BudgetMetric*> wanted;
+  for (const auto& s : budget.sources) {
+    for (const auto& m : s.metrics) wanted[m.name] = &m;
+  }
+  storage::HistoryQuery q;
+  q.machine_id = machine_id;
+  q.limit = 0;  // every check: the newest N values of each metric may lie far apart
+  GatheredHistory h;
+  for (const auto& record : db.history(q)) {  // newest first
+    if (!record.result || record.result->verdict == Verdict::Invalid) continue;
+    for (const Metric& metric : record.result->metrics) {
+      const auto it = wanted.find(metric.name);
+      if (it == wanted.end()) continue;
+      const auto factor = unit_factor(metric.unit, it->second->unit);
+      if (!factor) {
+        ++h.unconvertible;
+        continue;
+      }
+      auto& values = h.values[metric.name];
+      if (values.empty()) h.newest_time_ns[metric.name] = record.result->time_ns;
+      values.push_back(metric.value * *factor);
+    }
+  }
+  return h;
+}
+
+double deg(double rad) { return units::rad_to_deg(rad); }
+
+// The configured tolerance of a metric in the metric's unit: length tolerances are stored in mm.
+std::optional<Tolerance> configured_tolerance(const MachineConfig& machine,
+                                              const solver::MetricReport& m) {
+  const auto it = machine.tolerances.find(m.name);
+  if (it == machine.tolerances.end()) return std::nullopt;
+  Tolerance t = it->second;
+  if (const auto f = units::to_internal_factor(units::Dimension::Length, m.unit)) {
+    t.lower /= *f;
+    t.upper /= *f;
+  }
+  return t;
+}
+
+// ---- JSON ---------------------------------------------------------------------------------------
+
+nlohmann::json components(const solver::SourceError& e) {
+  return {{"y", e.y_mm}, {"z", e.z_mm}, {"s", e.s_mm}};
+}
+
+nlohmann::json null_if_infinite(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json to_json(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
+                       const MachineConfig& machine, const std::optional<std::string>& database,
+                       const GatheredHistory& history, int last) {
+  nlohmann::json sources = nlohmann::json::array();
+  for (const auto& s : r.sources) {
+    nlohmann::json metrics = nlohmann::json::array();
+    for (const auto& m : s.metrics) {
+      nlohmann::json tol = nullptr;
+      if (const auto t = configured_tolerance(machine, m)) {
+        tol = {{"lower", null_if_infinite(t->lower)}, {"upper", null_if_infinite(t->upper)}};
+      }
+      const auto time = history.newest_time_ns.find(m.name);
+      metrics.push_back({
+          {"name", m.name},
+          {"axis", std::string(to_string(m.axis))},
+          {"unit", m.unit},
+          {"sensitivity", m.sensitivity.sensitivity},
+          {"sensitivity_theta_deg", deg(m.sensitivity.theta_rad)},
+          {"samples", m.capability.samples},
+          {"mean", m.capability.mean},
+          {"sigma", m.capability.sigma},
+          {"max_abs", m.capability.max_abs},
+          {"capability", m.capability.capability},
+          {"capability_basis", std::string(to_string(m.capability.basis))},
+          {"derived_tolerance", m.derived_tolerance},
+          {"configured_tolerance", tol},
+          {"today_value", m.today_value ? nlohmann::json(*m.today_value) : nlohmann::json()},
+          {"today_time_ns",
+           time != history.newest_time_ns.end() ? nlohmann::json(time->second) : nlohmann::json()},
+          {"today_within_derived_tolerance", m.today_within_tolerance},
+      });
+    }
+    sources.push_back({
+        {"name", s.name},
+        {"description", s.description},
+        {"direction", std::string(to_string(s.direction))},
+        {"fixed", s.fixed},
+        {"capability_basis", std::string(to_string(s.capability_basis))},
+        {"capability_mm", components(s.capability)},
+        {"allocation_mm", components(s.allocation)},
+        {"capability_contribution_mm", s.capability_contribution_mm},
+        {"allocation_contribution_mm", s.allocation_contribution_mm},
+        {"today_mm", components(s.today)},
+        {"today_measured", s.today_measured},
+        {"today_contribution_mm", s.today_contribution_mm},
+        {"share", s.share},
+        {"metrics", metrics},
+    });
+  }
+  return {
+      {"machine_id", machine.machine_id},
+      {"config", machine.source_path},
+      {"database", database ? nlohmann::json(*database) : nlohmann::json()},
+      {"last", last},
+      {"method", std::string(to_string(c.method))},
+      {"coverage", c.coverage},
+      {"allowable_total_mm", c.allowable_total_mm},
+      {"allowable_total_in", units::mm_to_inch(c.allowable_total_mm)},
+      {"panel_radius_mm", c.panel_radius_mm},
+      {"theta_min_deg", deg(c.theta_min_rad)},
+      {"theta_max_deg", deg(c.theta_max_rad)},
+      {"rss_total_mm", r.today.rss_total_mm},
+      {"rss_total_in", units::mm_to_inch(r.today.rss_total_mm)},
+      {"rss_theta_deg", deg(r.today.theta_rad)},
+      {"within_budget", r.today.within_budget},
+      {"monte_carlo_total_mm", r.capability_monte_carlo.total_mm},
+      {"monte_carlo_theta_deg", deg(r.capability_monte_carlo.theta_rad)},
+      {"monte_carlo_samples", r.capability_monte_carlo.samples},
+      {"capability_rss_total_mm", r.capability_rss.total_mm},
+      {"capability_rss_theta_deg", deg(r.capability_rss.theta_rad)},
+      {"allocation_rss_total_mm", r.allocation_rss.total_mm},
+      {"allocation_monte_carlo_total_mm", r.allocation_monte_carlo.total_mm},
+      {"allocation",
+       {{"scale", r.allocation.scale},
+        {"theta_deg", deg(r.allocation.theta_rad)},
+        {"feasible", r.allocation.feasible},
+        {"why", r.allocation.why}}},
+      {"sources", sources},
+  };
+}
+
+// ---- Table --------------------------------------------------------------------------------------
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+// "0.2540 mm (0.0100 in)"
+std::string mm_in(double mm) {
+  return fmt("%.4f mm", mm) + fmt(" (%.4f in)", units::mm_to_inch(mm));
+}
+
+// A value in a metric's unit with sensible decimals: 4 for mm and in, 1 for arcsec, else 4
+// significant.
+std::string in_unit(double v, const std::string& unit) {
+  if (unit == "mm" || unit == "in") return fmt("%.4f ", v) + unit;
+  if (unit == "arcsec" || unit == "um") return fmt("%.1f ", v) + unit;
+  return fmt("%.4g ", v) + unit;
+}
+
+std::string tolerance_text(const std::optional<Tolerance>& t, const std::string& unit) {
+  if (!t) return "-";
+  if (std::abs(t->lower + t->upper) <= 1e-12 * std::max(1.0, std::abs(t->upper))) {
+    return "±" + in_unit(t->upper, unit);
+  }
+  return "[" + fmt("%.4g", t->lower) + ", " + fmt("%.4g", t->upper) + "] " + unit;
+}
+
+// Left-aligned in `width` columns, counting UTF-8 characters (ΔS, θ, ±), not bytes.
+std::string pad(const std::string& text, std::size_t width) {
+  std::size_t chars = 0;
+  for (unsigned char ch : text) chars += (ch & 0xC0) != 0x80 ? 1 : 0;
+  return chars >= width ? text : text + std::string(width - chars, ' ');
+}
+
+// One table row: the cells padded to their widths, separated by a space.
+std::string row(const std::vector<std::pair<std::string, std::size_t>>& cells) {
+  std::string out;
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    out += i + 1 < cells.size() ? pad(cells[i].first, cells[i].second) + " " : cells[i].first;
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
+                 const MachineConfig& machine, const std::optional<std::string>& database,
+                 int last) {
+  std::printf("Error budget of %s (%s)\n", machine.machine_id.c_str(), machine.source_path.c_str());
+  std::printf("  allowable ΔS %s on a panel of R %s, holes at θ %.1f .. %.1f deg\n",
+              mm_in(c.allowable_total_mm).c_str(),
+              (fmt("%.1f mm", c.panel_radius_mm) +
+               fmt(" (%.1f in)", units::mm_to_inch(c.panel_radius_mm)))
+                  .c_str(),
+              deg(c.theta_min_rad), deg(c.theta_max_rad));
+  const std::string from =
+      database ? "the newest " + std::to_string(last) + " values of each metric in " + *database
+               : "the configured defaults (no historian file)";
+  std::printf("  method %s, coverage %.2f %%; capabilities: %s\n",
+              std::string(to_string(c.method)).c_str(), 100 * c.coverage, from.c_str());
+  if (!r.allocation.feasible) {
+    std::printf("  ALLOCATION IMPOSSIBLE: %s\n", r.allocation.why.c_str());
+  } else {
+    std::printf("  allowance = %.3f × capability for every measured source (binding at θ = %.1f "
+                "deg)\n",
+                r.allocation.scale, deg(r.allocation.theta_rad));
+  }
+
+  std::printf("\nSources, largest consumer today first (ΔS of capability and allowance at "
+              "θ = %.1f deg, today's at θ = %.1f deg)\n",
+              deg(r.allocation.theta_rad), deg(r.today.theta_rad));
+  const std::vector<std::size_t> sw{3, 20, 3, 8, 11, 11, 22, 7};
+  std::printf("%s\n", row({{"#", sw[0]}, {"source", sw[1]}, {"dir", sw[2]}, {"basis", sw[3]},
+                           {"capab. ΔS", sw[4]}, {"allow. ΔS", sw[5]}, {"today ΔS", sw[6]},
+                           {"share", sw[7]}, {"", 0}})
+                          .c_str());
+  int rank = 0;
+  for (const auto& s : r.sources) {
+    std::printf("%s\n",
+                row({{std::to_string(++rank), sw[0]},
+                     {s.name, sw[1]},
+                     {std::string(to_string(s.direction)), sw[2]},
+                     {std::string(to_string(s.capability_basis)), sw[3]},
+                     {fmt("%.4f mm", s.capability_contribution_mm), sw[4]},
+                     {fmt("%.4f mm", s.allocation_contribution_mm), sw[5]},
+                     {mm_in(s.today_contribution_mm), sw[6]},
+                     {fmt("%5.1f %%", 100 * s.share), sw[7]},
+                     {s.fixed ? "fixed allowance" : (s.today_measured ? "" : "no value yet"), 0}})
+                    .c_str());
+  }
+
+  std::printf("\nCheck metrics (derived tolerance: the source's allowance in the metric's unit)\n");
+  const std::vector<std::size_t> mw{22, 19, 4, 4, 12, 13, 13, 12};
+  std::printf("%s\n", row({{"metric", mw[0]}, {"source", mw[1]}, {"axis", mw[2]}, {"n", mw[3]},
+                           {"capability", mw[4]}, {"derived tol.", mw[5]}, {"configured", mw[6]},
+                           {"today", mw[7]}, {"", 0}})
+                          .c_str());
+  for (const auto& s : r.sources) {
+    for (const auto& m : s.metrics) {
+      std::printf("%s\n",
+                  row({{m.name, mw[0]},
+                       {s.name, mw[1]},
+                       {std::string(to_string(m.axis)), mw[2]},
+                       {std::to_string(m.capability.samples), mw[3]},
+                       {in_unit(m.capability.capability, m.unit), mw[4]},
+                       {"±" + in_unit(m.derived_tolerance, m.unit), mw[5]},
+                       {tolerance_text(configured_tolerance(machine, m), m.unit), mw[6]},
+                       {m.today_value ? in_unit(*m.today_value, m.unit) : "-", mw[7]},
+                       {m.today_within_tolerance ? "" : "OVER ITS ALLOWANCE", 0}})
+                      .c_str());
+    }
+  }
+
+  std::printf("\nTotals (ΔS)\n");
+  auto total = [](const std::string& what, double mm, const std::string& rest) {
+    std::printf("  %s\n", row({{what, 40}, {mm_in(mm), 22}, {rest, 0}}).c_str());
+  };
+  total("allowable", c.allowable_total_mm, "");
+  total("today (RSS of the newest values)", r.today.rss_total_mm,
+        fmt("at θ = %.1f deg: ", deg(r.today.theta_rad)) +
+            (r.today.within_budget ? "WITHIN BUDGET" : "OVER BUDGET") +
+            fmt(", %.1f %% of the allowable squared",
+                100 * std::pow(r.today.rss_total_mm / c.allowable_total_mm, 2)));
+  total("capability (RSS)", r.capability_rss.total_mm,
+        fmt("at θ = %.1f deg", deg(r.capability_rss.theta_rad)));
+  total("capability (Monte Carlo, " + std::to_string(r.capability_monte_carlo.samples) +
+            " draws)",
+        r.capability_monte_carlo.total_mm,
+        fmt("at θ = %.1f deg", deg(r.capability_monte_carlo.theta_rad)));
+  total("allowances (RSS)", r.allocation_rss.total_mm, "");
+  total("allowances (Monte Carlo)", r.allocation_monte_carlo.total_mm, "");
+}
+
+}  // namespace
+
+int run_budget_command(const Args& args) {
+  const std::string plant_file = plant_config_path(args.get_or("plant", ""));
+  if (plant_file.empty()) throw ArgError("pass --plant FILE (or set NCQUAL_PLANT)");
+  const std::string machine_id = args.require("machine");
+  const int last = args.get_int("last", 30);
+  if (last < 1) throw ArgError("--last " + std::to_string(last) + ": must be at least 1");
+
+  const PlantConfig plant = load_plant_config(plant_file);
+  const MachineConfig* machine = plant.find_machine(machine_id);
+  if (!machine) {
+    std::cerr << "ncqual budget: machine '" << machine_id << "' is not configured in "
+              << plant.source_path << "\n";
+    return kExitError;
+  }
+  if (!machine->budget || machine->budget.IsNull()) {
+    std::cerr << "ncqual budget: machine '" << machine_id << "' (" << machine->source_path
+              << ") has no budget: section\n";
+    return kExitError;
+  }
+  const ErrorBudgetConfig budget = solver::parse_error_budget(machine->budget, machine->source_path);
+
+  // The historian, read only. Without a file (a plant that has not run yet) the budget still
+  // stands on the default capabilities; a --db that does not exist is a mistake.
+  const std::optional<std::string> db_flag = args.get("db");
+  const std::string db_path = db_flag ? *db_flag : plant.historian_database;
+  std::optional<std::string> database;
+  GatheredHistory history;
+  if (std::filesystem::exists(db_path)) {
+    auto db = storage::Database::open_readonly(db_path);
+    history = gather_history(db, machine_id, budget);
+    database = db_path;
+  } else if (db_flag) {
+    std::cerr << "ncqual budget: --db " << db_path << ": no such file\n";
+    return kExitError;
+  } else {
+    std::cerr << "ncqual budget: no historian at " << db_path
+              << "; capabilities are the configured defaults\n";
+  }
+  if (history.unconvertible > 0) {
+    std::cerr << "ncqual budget: skipped " << history.unconvertible
+              << " stored values whose unit differs from the budget's\n";
+  }
+
+  const ErrorBudgetReport report = solver::evaluate_error_budget(budget, history.values, last);
+  if (args.has("json")) {
+    std::cout << to_json(report, budget, *machine, database, history, last).dump(2) << "\n";
+  } else {
+    print_table(report, budget, *machine, database, last);
+  }
+  return 0;
+}
+
+}  // namespace ncqual

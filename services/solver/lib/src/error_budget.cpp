@@ -1,0 +1,930 @@
+// The error budget (patent: "Math Model Relating Production Part Accuracy to Machine System
+// Parameters"). In the order of the model:
+//   1. read the budget: allowable total, part geometry, statistics, sources (parse_error_budget);
+//   2. geometry: the ΔS of each source's error at inclination θ;
+//   3. totals: root sum square, or Monte Carlo with other distributions;
+//   4. capability of each source from the historian;
+//   5. allocation of the allowable total, and the tolerances it implies for each check metric;
+//   6. consumption: how much of the budget today's errors take.
+#include "ncqual/solver/error_budget.hpp"
+
+#include "ncqual/config.hpp"
+#include "ncqual/units.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <initializer_list>
+#include <set>
+#include <stdexcept>
+
+namespace ncqual::solver {
+namespace {
+
+using yaml::fail;
+
+// ---- Step 1: reading the budget ------------------------------------------------------------
+
+void refuse_unknown_keys(const YAML::Node& map, const std::set<std::string>& known,
+                         const std::string& prefix, const std::string& where) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    if (known.count(key)) continue;
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    fail(where, prefix + key, kv.second, "unknown key; expected one of: " + list);
+  }
+}
+
+YAML::Node required(const YAML::Node& map, const std::string& key, const std::string& prefix,
+                    const std::string& where) {
+  const YAML::Node v = map[key];
+  if (!v || v.IsNull()) fail(where, prefix + key, v, "required");
+  return v;
+}
+
+YAML::Node optional_map(const YAML::Node& map, const std::string& key, const std::string& prefix,
+                        const std::string& where) {
+  const YAML::Node v = map[key];
+  if (v && !v.IsNull() && !v.IsMap()) fail(where, prefix + key, v, "expected a mapping");
+  return v;
+}
+
+double quantity(units::Dimension dim, const YAML::Node& v, const std::string& key,
+                std::string_view default_unit, const std::string& where) {
+  if (!v.IsScalar()) fail(where, key, v, "expected a number with a unit");
+  try {
+    return units::parse_quantity(dim, v.Scalar(), default_unit);
+  } catch (const std::invalid_argument& e) {
+    fail(where, key, v, e.what());
+  }
+}
+
+double positive_length(const YAML::Node& v, const std::string& key, const std::string& where) {
+  const double mm = quantity(units::Dimension::Length, v, key, "mm", where);
+  if (!(mm > 0)) fail(where, key, v, "must be positive");
+  return mm;
+}
+
+// A bound that may be written as a length ("0.004 in") or, for a source measured by an angle, as
+// an angle ("15 arcsec"); a bare number is mm.
+struct LengthOrAngle {
+  double value = 0;
+  bool angle = false;
+};
+LengthOrAngle length_or_angle(const YAML::Node& v, const std::string& key,
+                              const std::string& where) {
+  if (!v.IsScalar()) fail(where, key, v, "expected a length or an angle with its unit");
+  try {
+    return {units::parse_quantity(units::Dimension::Length, v.Scalar(), "mm"), false};
+  } catch (const std::invalid_argument&) {
+  }
+  try {
+    return {units::parse_quantity(units::Dimension::Angle, v.Scalar(), "rad"), true};
+  } catch (const std::invalid_argument&) {
+    fail(where, key, v,
+         "expected a length (mm, um, m, in) or an angle (rad, mrad, urad, deg, arcsec)");
+  }
+}
+
+double number(const YAML::Node& map, const std::string& key, double fallback,
+              const std::string& prefix, const std::string& where) {
+  const YAML::Node v = map[key];
+  if (!v) return fallback;
+  try {
+    return yaml::number_or(map, key, fallback, where);
+  } catch (const ConfigError&) {
+    fail(where, prefix + key, v, "expected a number");
+  }
+}
+
+std::string text(const YAML::Node& map, const std::string& key, const std::string& fallback,
+                 const std::string& prefix, const std::string& where) {
+  const YAML::Node v = map[key];
+  if (!v) return fallback;
+  if (!v.IsScalar()) fail(where, prefix + key, v, "expected a single value");
+  return v.Scalar();
+}
+
+// The first of `keys` present in `map` (for naming the offending key in a message).
+std::string first_present(const YAML::Node& map, std::initializer_list<const char*> keys) {
+  for (const char* k : keys) {
+    if (map[k]) return k;
+  }
+  return *keys.begin();
+}
+
+BudgetAxis parse_axis(const YAML::Node& v, const std::string& key, const std::string& where) {
+  const std::string s = v.IsScalar() ? v.Scalar() : "";
+  if (s == "y") return BudgetAxis::Y;
+  if (s == "z") return BudgetAxis::Z;
+  if (s == "s") return BudgetAxis::S;
+  fail(where, key, v, "expected y, z or s");
+}
+
+BudgetDirection parse_direction(const YAML::Node& v, const std::string& key,
+                                const std::string& where) {
+  const std::string s = v.IsScalar() ? v.Scalar() : "";
+  if (s == "y") return BudgetDirection::Y;
+  if (s == "z") return BudgetDirection::Z;
+  if (s == "s") return BudgetDirection::S;
+  if (s == "yz") return BudgetDirection::YZ;
+  fail(where, key, v,
+       "expected y (ΔS = ΔY cos θ), z (ΔS = ΔZ sin θ), yz (both) or s (along the surface)");
+}
+
+std::vector<BudgetAxis> axes_of(BudgetDirection d) {
+  switch (d) {
+    case BudgetDirection::Y: return {BudgetAxis::Y};
+    case BudgetDirection::Z: return {BudgetAxis::Z};
+    case BudgetDirection::S: return {BudgetAxis::S};
+    case BudgetDirection::YZ: return {BudgetAxis::Y, BudgetAxis::Z};
+  }
+  return {};
+}
+
+// The unit a metric's name ends in ("center_dy_mm" -> mm, "c_angle_error_arcsec" -> arcsec).
+std::string unit_from_name(const std::string& name) {
+  for (const char* unit : {"mm", "um", "in", "arcsec", "urad", "mrad", "rad", "deg"}) {
+    const std::string suffix = std::string("_") + unit;
+    if (name.size() > suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      return unit;
+    }
+  }
+  return "";
+}
+
+BudgetMetric parse_metric(const YAML::Node& node, const std::string& key,
+                          BudgetDirection direction, const std::string& where) {
+  BudgetMetric m;
+  const std::vector<BudgetAxis> axes = axes_of(direction);
+  if (node.IsScalar()) {
+    m.name = node.Scalar();
+  } else if (node.IsMap()) {
+    refuse_unknown_keys(node, {"name", "axis", "unit", "lever_arm"}, key + ".", where);
+    const YAML::Node name = required(node, "name", key + ".", where);
+    if (!name.IsScalar()) fail(where, key + ".name", name, "expected a metric name");
+    m.name = name.Scalar();
+  } else {
+    fail(where, key, node, "expected a metric name or {name, axis, unit, lever_arm}");
+  }
+  // Never assign to a YAML::Node (yaml-cpp assigns the content, not the reference): bind once.
+  auto field = [&](const char* k) {
+    return node.IsMap() ? node[k] : YAML::Node(YAML::NodeType::Undefined);
+  };
+  const YAML::Node axis_node = field("axis");
+  const YAML::Node unit_node = field("unit");
+  const YAML::Node lever_node = field("lever_arm");
+  if (m.name.empty()) fail(where, key, node, "the metric name is empty");
+
+  if (axis_node) {
+    m.axis = parse_axis(axis_node, key + ".axis", where);
+    if (std::find(axes.begin(), axes.end(), m.axis) == axes.end()) {
+      fail(where, key + ".axis", axis_node,
+           "the source's direction is '" + std::string(to_string(direction)) +
+               "'; its metrics measure that");
+    }
+  } else if (axes.size() == 1) {
+    m.axis = axes.front();
+  } else {
+    fail(where, key + ".axis", axis_node,
+         "required for a source of direction yz: does metric '" + m.name + "' measure y or z?");
+  }
+
+  if (unit_node) {
+    if (!unit_node.IsScalar()) fail(where, key + ".unit", unit_node, "expected a unit");
+    m.unit = unit_node.Scalar();
+  } else {
+    m.unit = unit_from_name(m.name);
+    if (m.unit.empty()) {
+      fail(where, key + ".unit", unit_node,
+           "required: the name of metric '" + m.name + "' does not end in its unit");
+    }
+  }
+  const std::string unit_key = unit_node ? key + ".unit" : key;
+  const YAML::Node unit_value = unit_node ? unit_node : (node.IsScalar() ? node : node["name"]);
+  if (const auto f = units::to_internal_factor(units::Dimension::Length, m.unit)) {
+    m.angle = false;
+    m.mm_per_unit = *f;
+    if (lever_node) {
+      fail(where, key + ".lever_arm", lever_node,
+           "only an angle metric has a lever arm; '" + m.name + "' is a length in " + m.unit);
+    }
+  } else if (const auto r = units::to_internal_factor(units::Dimension::Angle, m.unit)) {
+    m.angle = true;
+    if (!lever_node) {
+      fail(where, key + ".lever_arm", lever_node,
+           "required for an angle metric: the length (e.g. the composite tool length L) that "
+           "turns its angle into a tool-tip displacement");
+    }
+    m.lever_arm_mm = positive_length(lever_node, key + ".lever_arm", where);
+    m.mm_per_unit = *r * m.lever_arm_mm;
+  } else {
+    fail(where, unit_key, unit_value,
+         "unit '" + m.unit + "' is not one of mm, um, m, in, rad, mrad, urad, deg, arcsec");
+  }
+  return m;
+}
+
+// The source's default capability or fixed allowance along each of its axes, from `<stem>` (every
+// axis) or `<stem>_y`, `<stem>_z`, `<stem>_s`.
+SourceError parse_bound(const YAML::Node& node, const std::string& stem, const BudgetSource& src,
+                        const std::string& prefix, const std::string& where) {
+  SourceError bound;
+  const YAML::Node all = node[stem];
+  for (BudgetAxis axis : axes_of(src.direction)) {
+    const std::string axis_key = stem + "_" + std::string(to_string(axis));
+    const YAML::Node own = node[axis_key];
+    if (all && own) fail(where, prefix + axis_key, own, "also given as " + stem + "; give one");
+    const YAML::Node v = own ? own : all;
+    const std::string key = prefix + (own ? axis_key : stem);
+    if (!v) {
+      fail(where, prefix + stem, v,
+           "required" + std::string(axes_of(src.direction).size() > 1
+                                        ? " (or " + stem + "_y and " + stem + "_z)"
+                                        : ""));
+    }
+    const LengthOrAngle q = length_or_angle(v, key, where);
+    double mm = q.value;
+    if (q.angle) {
+      // An angle bound becomes a length through the lever arm of the axis's angle metric.
+      const auto m = std::find_if(src.metrics.begin(), src.metrics.end(), [&](const auto& m) {
+        return m.axis == axis && m.angle;
+      });
+      if (m == src.metrics.end()) {
+        fail(where, key, v,
+             "an angle needs an angle metric with a lever arm on axis " +
+                 std::string(to_string(axis)) + "; write a length");
+      }
+      mm = q.value * m->lever_arm_mm;
+    }
+    if (!(mm > 0)) fail(where, key, v, "must be positive");
+    bound.along(axis) = mm;
+  }
+  // Components the direction does not have are refused rather than silently ignored.
+  for (BudgetAxis axis : {BudgetAxis::Y, BudgetAxis::Z, BudgetAxis::S}) {
+    const std::string axis_key = stem + "_" + std::string(to_string(axis));
+    const auto axes = axes_of(src.direction);
+    if (node[axis_key] && std::find(axes.begin(), axes.end(), axis) == axes.end()) {
+      fail(where, prefix + axis_key, node[axis_key],
+           "the source's direction is '" + std::string(to_string(src.direction)) + "'");
+    }
+  }
+  return bound;
+}
+
+BudgetSource parse_source(const YAML::Node& node, const std::string& prefix,
+                          const std::string& where) {
+  if (!node.IsMap()) fail(where, prefix.substr(0, prefix.size() - 1), node, "expected a mapping");
+  refuse_unknown_keys(node,
+                      {"name", "description", "direction", "metrics", "capability",
+                       "capability_y", "capability_z", "capability_s", "allowance",
+                       "allowance_y", "allowance_z", "allowance_s", "distribution",
+                       "weibull_shape"},
+                      prefix, where);
+  BudgetSource s;
+  const YAML::Node name = required(node, "name", prefix, where);
+  if (!name.IsScalar() || name.Scalar().empty()) fail(where, prefix + "name", name, "expected a name");
+  s.name = name.Scalar();
+  s.description = text(node, "description", "", prefix, where);
+  s.direction = parse_direction(required(node, "direction", prefix, where), prefix + "direction",
+                                where);
+
+  if (const YAML::Node metrics = node["metrics"]) {
+    if (!metrics.IsSequence()) fail(where, prefix + "metrics", metrics, "expected a list");
+    for (std::size_t i = 0; i < metrics.size(); ++i) {
+      s.metrics.push_back(parse_metric(metrics[i],
+                                       prefix + "metrics[" + std::to_string(i) + "]",
+                                       s.direction, where));
+    }
+  }
+
+  const bool has_capability = node["capability"] || node["capability_y"] ||
+                              node["capability_z"] || node["capability_s"];
+  const bool has_allowance = node["allowance"] || node["allowance_y"] || node["allowance_z"] ||
+                             node["allowance_s"];
+  if (s.fixed()) {
+    if (has_capability) {
+      const std::string key =
+          first_present(node, {"capability", "capability_y", "capability_z", "capability_s"});
+      fail(where, prefix + key, node[key],
+           "source '" + s.name + "' has no metrics: no check measures it, so give its fixed "
+           "`allowance` instead");
+    }
+    s.bound = parse_bound(node, "allowance", s, prefix, where);
+  } else {
+    if (has_allowance) {
+      const std::string key =
+          first_present(node, {"allowance", "allowance_y", "allowance_z", "allowance_s"});
+      fail(where, prefix + key, node[key],
+           "source '" + s.name + "' is measured (it has metrics): its allowance is allocated "
+           "from the budget; give its default `capability`");
+    }
+    s.bound = parse_bound(node, "capability", s, prefix, where);
+  }
+
+  const std::string dist = text(node, "distribution", "normal", prefix, where);
+  if (dist == "normal") {
+    s.distribution = BudgetDistribution::Normal;
+  } else if (dist == "uniform") {
+    s.distribution = BudgetDistribution::Uniform;
+  } else if (dist == "weibull") {
+    s.distribution = BudgetDistribution::Weibull;
+  } else {
+    fail(where, prefix + "distribution", node["distribution"],
+         "expected normal, uniform or weibull");
+  }
+  if (s.distribution == BudgetDistribution::Weibull) {
+    const YAML::Node shape = required(node, "weibull_shape", prefix, where);
+    s.weibull_shape = number(node, "weibull_shape", 0, prefix, where);
+    if (!(s.weibull_shape > 0) || !std::isfinite(s.weibull_shape)) {
+      fail(where, prefix + "weibull_shape", shape, "must be positive");
+    }
+  } else if (node["weibull_shape"]) {
+    fail(where, prefix + "weibull_shape", node["weibull_shape"],
+         "only for distribution: weibull");
+  }
+  return s;
+}
+
+// ---- Step 3 helpers ------------------------------------------------------------------------
+
+// Signed errors for a bound of 1 (see BudgetDistribution); callers scale them by the bound, so the
+// stream of draws is the same for every bound, 0 included. Holds the per-coverage constants so a
+// Monte Carlo run computes them once.
+class UnitErrorSampler {
+ public:
+  explicit UnitErrorSampler(double coverage) : coverage_(coverage) {}
+
+  double draw(BudgetDistribution distribution, double weibull_shape, std::mt19937_64& rng) {
+    switch (distribution) {
+      case BudgetDistribution::Normal:
+        if (normal_sigma_ <= 0) normal_sigma_ = 1.0 / normal_coverage_factor(coverage_);
+        return normal_sigma_ * normal_(rng);
+      case BudgetDistribution::Uniform:
+        return uniform_(rng);
+      case BudgetDistribution::Weibull: {
+        std::weibull_distribution<double> weibull(
+            weibull_shape, weibull_scale_for_bound(1.0, weibull_shape, coverage_));
+        const double magnitude = weibull(rng);
+        return sign_(rng) ? magnitude : -magnitude;
+      }
+    }
+    return 0;
+  }
+
+ private:
+  double coverage_;
+  double normal_sigma_ = 0;  // 1 / k_p, computed on the first normal draw
+  std::normal_distribution<double> normal_{0.0, 1.0};
+  std::uniform_real_distribution<double> uniform_{-1.0, 1.0};
+  std::bernoulli_distribution sign_{0.5};
+};
+
+// The p-quantile of |x| (x is reordered): the smallest value with at least p n values at or
+// below it.
+double abs_quantile(std::vector<double>& x, double p) {
+  for (double& v : x) v = std::abs(v);
+  const std::size_t n = x.size();
+  std::size_t index = static_cast<std::size_t>(std::ceil(p * static_cast<double>(n)));
+  index = std::clamp<std::size_t>(index, 1, n) - 1;
+  std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(index), x.end());
+  return x[index];
+}
+
+// Inclinations a Monte Carlo total is evaluated at: the critical angles and 9 evenly spaced (a
+// quantile of non-normal sums need not follow the A + (B - A) sin²θ shape exactly).
+std::vector<double> monte_carlo_angles(double theta_min, double theta_max) {
+  std::vector<double> angles = critical_angles(theta_min, theta_max);
+  for (int i = 0; i <= 8; ++i) angles.push_back(theta_min + (theta_max - theta_min) * i / 8.0);
+  std::sort(angles.begin(), angles.end());
+  angles.erase(std::unique(angles.begin(), angles.end()), angles.end());
+  return angles;
+}
+
+// Draws of ΔS(θ) for each angle, split into the sum over measured sources (scaled by a common
+// factor during allocation) and the sum over fixed ones.
+struct MonteCarloDraws {
+  std::vector<double> angles;
+  std::vector<std::vector<double>> measured;  // [angle][draw]
+  std::vector<std::vector<double>> fixed;     // [angle][draw]
+};
+
+MonteCarloDraws draw_totals(const ErrorBudgetConfig& config,
+                            const std::vector<SourceError>& bounds) {
+  MonteCarloDraws d;
+  d.angles = monte_carlo_angles(config.theta_min_rad, config.theta_max_rad);
+  const std::size_t n = static_cast<std::size_t>(std::max(config.samples, 1));
+  d.measured.assign(d.angles.size(), std::vector<double>(n, 0.0));
+  d.fixed.assign(d.angles.size(), std::vector<double>(n, 0.0));
+  std::vector<double> cosines, sines;
+  for (double t : d.angles) {
+    cosines.push_back(std::cos(t));
+    sines.push_back(std::sin(t));
+  }
+  std::mt19937_64 rng(config.seed);
+  UnitErrorSampler sampler(config.coverage);
+  for (std::size_t j = 0; j < n; ++j) {
+    for (std::size_t i = 0; i < config.sources.size(); ++i) {
+      const BudgetSource& s = config.sources[i];
+      // Every component is drawn, even a zero one, so that draw j of source i is the same
+      // random numbers whatever the bounds.
+      const double ey = sampler.draw(s.distribution, s.weibull_shape, rng) * bounds[i].y_mm;
+      const double ez = sampler.draw(s.distribution, s.weibull_shape, rng) * bounds[i].z_mm;
+      const double es = sampler.draw(s.distribution, s.weibull_shape, rng) * bounds[i].s_mm;
+      auto& sums = s.fixed() ? d.fixed : d.measured;
+      for (std::size_t a = 0; a < d.angles.size(); ++a) {
+        sums[a][j] += ey * cosines[a] + ez * sines[a] + es;
+      }
+    }
+  }
+  return d;
+}
+
+// The Monte Carlo total with the measured part scaled by k: max over θ of the quantile of
+// |k X(θ) + F(θ)|.
+MonteCarloTotal scaled_total(const MonteCarloDraws& d, double k, double coverage) {
+  MonteCarloTotal best;
+  std::vector<double> x;
+  for (std::size_t a = 0; a < d.angles.size(); ++a) {
+    x.resize(d.measured[a].size());
+    for (std::size_t j = 0; j < x.size(); ++j) x[j] = k * d.measured[a][j] + d.fixed[a][j];
+    const double q = abs_quantile(x, coverage);
+    if (a == 0 || q > best.total_mm) {
+      best.total_mm = q;
+      best.theta_rad = d.angles[a];
+    }
+  }
+  best.samples = static_cast<int>(x.size());
+  return best;
+}
+
+SourceError scaled(const SourceError& e, double k) { return {e.y_mm * k, e.z_mm * k, e.s_mm * k}; }
+
+}  // namespace
+
+// ---- Names -------------------------------------------------------------------------------------
+
+std::string_view to_string(BudgetAxis axis) {
+  switch (axis) {
+    case BudgetAxis::Y: return "y";
+    case BudgetAxis::Z: return "z";
+    case BudgetAxis::S: return "s";
+  }
+  return "?";
+}
+
+std::string_view to_string(BudgetDirection direction) {
+  switch (direction) {
+    case BudgetDirection::Y: return "y";
+    case BudgetDirection::Z: return "z";
+    case BudgetDirection::S: return "s";
+    case BudgetDirection::YZ: return "yz";
+  }
+  return "?";
+}
+
+std::string_view to_string(BudgetMethod method) {
+  return method == BudgetMethod::Rss ? "rss" : "monte_carlo";
+}
+
+std::string_view to_string(BudgetDistribution distribution) {
+  switch (distribution) {
+    case BudgetDistribution::Normal: return "normal";
+    case BudgetDistribution::Uniform: return "uniform";
+    case BudgetDistribution::Weibull: return "weibull";
+  }
+  return "?";
+}
+
+std::string_view to_string(CapabilityBasis basis) {
+  switch (basis) {
+    case CapabilityBasis::Default: return "default";
+    case CapabilityBasis::History: return "history";
+    case CapabilityBasis::Fixed: return "fixed";
+  }
+  return "?";
+}
+
+double SourceError::along(BudgetAxis axis) const {
+  return axis == BudgetAxis::Y ? y_mm : axis == BudgetAxis::Z ? z_mm : s_mm;
+}
+
+double& SourceError::along(BudgetAxis axis) {
+  return axis == BudgetAxis::Y ? y_mm : axis == BudgetAxis::Z ? z_mm : s_mm;
+}
+
+// ---- Step 1: the budget section ------------------------------------------------------------------
+
+ErrorBudgetConfig parse_error_budget(const YAML::Node& budget, const std::string& where) {
+  if (!budget || budget.IsNull()) {
+    fail(where, "budget", budget, "no error budget is configured for this machine");
+  }
+  if (!budget.IsMap()) fail(where, "budget", budget, "expected a mapping");
+  refuse_unknown_keys(budget, {"allowable_total", "part", "statistics", "sources"}, "budget.",
+                      where);
+  ErrorBudgetConfig c;
+  c.where = where;
+  c.allowable_total_mm = positive_length(required(budget, "allowable_total", "budget.", where),
+                                         "budget.allowable_total", where);
+
+  const YAML::Node part = optional_map(budget, "part", "budget.", where);
+  if (!part) fail(where, "budget.part", part, "required: panel_radius, theta_min, theta_max");
+  refuse_unknown_keys(part, {"panel_radius", "theta_min", "theta_max"}, "budget.part.", where);
+  c.panel_radius_mm = positive_length(required(part, "panel_radius", "budget.part.", where),
+                                      "budget.part.panel_radius", where);
+  auto angle = [&](const char* key, double fallback) {
+    const YAML::Node v = part[key];
+    if (!v) return fallback;
+    const double rad = quantity(units::Dimension::Angle, v, std::string("budget.part.") + key,
+                                "rad", where);
+    if (std::abs(rad) > units::kPi / 2 + 1e-12) {
+      fail(where, std::string("budget.part.") + key, v,
+           "an inclination lies within -90 deg .. 90 deg (a bare number is in rad)");
+    }
+    return rad;
+  };
+  c.theta_min_rad = angle("theta_min", 0.0);
+  if (!part["theta_max"]) fail(where, "budget.part.theta_max", part["theta_max"], "required");
+  c.theta_max_rad = angle("theta_max", 0.0);
+  if (c.theta_min_rad > c.theta_max_rad) {
+    fail(where, "budget.part.theta_min", part["theta_min"], "exceeds theta_max");
+  }
+
+  if (const YAML::Node st = optional_map(budget, "statistics", "budget.", where)) {
+    const std::string p = "budget.statistics.";
+    refuse_unknown_keys(st, {"method", "coverage", "samples", "seed"}, p, where);
+    const std::string method = text(st, "method", "rss", p, where);
+    if (method == "rss") {
+      c.method = BudgetMethod::Rss;
+    } else if (method == "monte_carlo") {
+      c.method = BudgetMethod::MonteCarlo;
+    } else {
+      fail(where, p + "method", st["method"], "expected rss or monte_carlo");
+    }
+    c.coverage = number(st, "coverage", c.coverage, p, where);
+    if (!(c.coverage > 0 && c.coverage < 1)) {
+      fail(where, p + "coverage", st["coverage"], "must lie strictly between 0 and 1");
+    }
+    const double samples = number(st, "samples", c.samples, p, where);
+    if (!(samples >= 1000 && samples <= 10e6) || samples != std::floor(samples)) {
+      fail(where, p + "samples", st["samples"], "must be an integer from 1000 to 10000000");
+    }
+    c.samples = static_cast<int>(samples);
+    const double seed = number(st, "seed", static_cast<double>(c.seed), p, where);
+    if (!(seed >= 0 && seed < 9007199254740992.0) || seed != std::floor(seed)) {
+      fail(where, p + "seed", st["seed"], "must be a non-negative integer");
+    }
+    c.seed = static_cast<std::uint64_t>(seed);
+  }
+
+  const YAML::Node sources = required(budget, "sources", "budget.", where);
+  if (!sources.IsSequence() || sources.size() == 0) {
+    fail(where, "budget.sources", sources, "expected a non-empty list of error sources");
+  }
+  std::set<std::string> names, metric_names;
+  for (std::size_t i = 0; i < sources.size(); ++i) {
+    const std::string prefix = "budget.sources[" + std::to_string(i) + "].";
+    BudgetSource s = parse_source(sources[i], prefix, where);
+    if (!names.insert(s.name).second) {
+      fail(where, prefix + "name", sources[i]["name"], "another source has this name");
+    }
+    for (std::size_t k = 0; k < s.metrics.size(); ++k) {
+      // A metric counted in two sources would count its error twice.
+      if (!metric_names.insert(s.metrics[k].name).second) {
+        fail(where, prefix + "metrics[" + std::to_string(k) + "]", sources[i]["metrics"][k],
+             "metric '" + s.metrics[k].name + "' already measures another source");
+      }
+    }
+    c.sources.push_back(std::move(s));
+  }
+  return c;
+}
+
+// ---- Step 2: geometry --------------------------------------------------------------------------
+
+double axis_sensitivity(BudgetAxis axis, double theta_rad) {
+  switch (axis) {
+    case BudgetAxis::Y: return std::abs(std::cos(theta_rad));  // ΔS = ΔY cos θ
+    case BudgetAxis::Z: return std::abs(std::sin(theta_rad));  // ΔS = ΔZ sin θ
+    case BudgetAxis::S: return 1.0;                            // along the surface
+  }
+  return 0;
+}
+
+double contribution_mm(const SourceError& e, double theta_rad) {
+  const double y = e.y_mm * std::cos(theta_rad);
+  const double z = e.z_mm * std::sin(theta_rad);
+  return std::sqrt(y * y + z * z + e.s_mm * e.s_mm);
+}
+
+std::vector<double> critical_angles(double theta_min, double theta_max) {
+  std::vector<double> out{theta_min, theta_max};
+  if (theta_min < 0 && theta_max > 0) out.push_back(0.0);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+AxisWorst worst_axis_sensitivity(BudgetAxis axis, double theta_min, double theta_max) {
+  AxisWorst best;
+  bool first = true;
+  for (double t : critical_angles(theta_min, theta_max)) {
+    const double s = axis_sensitivity(axis, t);
+    if (first || s > best.sensitivity) best = {s, t};
+    first = false;
+  }
+  return best;
+}
+
+// ---- Step 3: totals ----------------------------------------------------------------------------
+
+double rss_total_mm(const std::vector<SourceError>& errors, double theta_rad) {
+  double sum = 0;
+  for (const auto& e : errors) {
+    const double c = contribution_mm(e, theta_rad);
+    sum += c * c;
+  }
+  return std::sqrt(sum);
+}
+
+WorstTotal worst_rss_total(const std::vector<SourceError>& errors, double theta_min,
+                           double theta_max) {
+  WorstTotal best;
+  bool first = true;
+  for (double t : critical_angles(theta_min, theta_max)) {
+    const double total = rss_total_mm(errors, t);
+    if (first || total > best.total_mm) best = {total, t};
+    first = false;
+  }
+  return best;
+}
+
+double normal_coverage_factor(double coverage) {
+  if (!(coverage > 0 && coverage < 1)) {
+    throw std::invalid_argument("normal_coverage_factor: coverage must lie in (0, 1)");
+  }
+  // erf(k / sqrt 2) rises monotonically from 0 at k = 0: bisect.
+  double lo = 0, hi = 40;
+  for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erf(mid / std::sqrt(2.0)) < coverage ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double weibull_scale_for_bound(double bound, double shape, double coverage) {
+  return bound / std::pow(-std::log1p(-coverage), 1.0 / shape);
+}
+
+double draw_signed_error(BudgetDistribution distribution, double weibull_shape, double bound,
+                         double coverage, std::mt19937_64& rng) {
+  UnitErrorSampler sampler(coverage);
+  return sampler.draw(distribution, weibull_shape, rng) * bound;
+}
+
+MonteCarloTotal monte_carlo_total(const ErrorBudgetConfig& config,
+                                  const std::vector<SourceError>& bounds) {
+  if (bounds.size() != config.sources.size()) {
+    throw std::invalid_argument("monte_carlo_total: one bound per source expected");
+  }
+  return scaled_total(draw_totals(config, bounds), 1.0, config.coverage);
+}
+
+// ---- Step 4: capability from the historian ------------------------------------------------------
+
+MetricCapability capability_from_history(const std::vector<double>& values_newest_first,
+                                         int last_n, double default_capability,
+                                         double coverage) {
+  MetricCapability c;
+  std::size_t n = values_newest_first.size();
+  if (last_n > 0) n = std::min(n, static_cast<std::size_t>(last_n));
+  c.samples = static_cast<int>(n);
+  if (n == 0) {
+    c.capability = default_capability;
+    return c;
+  }
+  double sum = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sum += values_newest_first[i];
+    c.max_abs = std::max(c.max_abs, std::abs(values_newest_first[i]));
+  }
+  c.mean = sum / static_cast<double>(n);
+  if (n > 1) {
+    double ss = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = values_newest_first[i] - c.mean;
+      ss += d * d;
+    }
+    c.sigma = std::sqrt(ss / static_cast<double>(n - 1));
+  }
+  if (c.samples >= kMinHistorySamples) {
+    const double k = normal_coverage_factor(coverage);
+    c.capability = std::max({std::abs(c.mean) + k * c.sigma, c.max_abs,
+                             kCapabilityFloorFraction * default_capability});
+    c.basis = CapabilityBasis::History;
+  } else {
+    c.capability = std::max(default_capability, c.max_abs);
+    c.basis = CapabilityBasis::Default;
+  }
+  return c;
+}
+
+// ---- Step 5: allocation and derived tolerances ----------------------------------------------------
+
+Allocation allocate_budget(const ErrorBudgetConfig& config,
+                           const std::vector<SourceError>& capabilities) {
+  if (capabilities.size() != config.sources.size()) {
+    throw std::invalid_argument("allocate_budget: one capability per source expected");
+  }
+  const double T = config.allowable_total_mm;
+  std::vector<SourceError> measured(config.sources.size()), fixed(config.sources.size());
+  for (std::size_t i = 0; i < config.sources.size(); ++i) {
+    (config.sources[i].fixed() ? fixed : measured)[i] = capabilities[i];
+  }
+
+  Allocation a;
+  // RSS: k = min over θ of sqrt((T² - F(θ)²) / C(θ)²). Both C² and F² have the form
+  // A + (B - A) sin²θ, so the binding θ is one of the critical angles.
+  double k = std::numeric_limits<double>::infinity();
+  for (double t : critical_angles(config.theta_min_rad, config.theta_max_rad)) {
+    const double F = rss_total_mm(fixed, t);
+    const double C = rss_total_mm(measured, t);
+    if (F > T) {
+      a.feasible = false;
+      a.why = "the fixed allowances alone total " + std::to_string(F) + " mm at θ = " +
+              std::to_string(units::rad_to_deg(t)) + " deg, over the allowable " +
+              std::to_string(T) + " mm";
+      k = 0;
+      a.theta_rad = t;
+      break;
+    }
+    if (C <= 0) continue;
+    const double k_t = std::sqrt((T * T - F * F) / (C * C));
+    if (k_t < k) {
+      k = k_t;
+      a.theta_rad = t;
+    }
+  }
+  if (!std::isfinite(k)) k = 0;  // no measured source has any capability: nothing to share
+
+  if (a.feasible && k > 0 && config.method == BudgetMethod::MonteCarlo) {
+    // Monte Carlo: the same draws for every k (common random numbers); bisect on k until the
+    // coverage quantile of |k X + F| at the worst θ equals T.
+    const MonteCarloDraws draws = draw_totals(config, capabilities);
+    const MonteCarloTotal at_zero = scaled_total(draws, 0.0, config.coverage);
+    if (at_zero.total_mm > T) {
+      a.feasible = false;
+      a.why = "the fixed allowances alone give a Monte Carlo total of " +
+              std::to_string(at_zero.total_mm) + " mm, over the allowable " + std::to_string(T) +
+              " mm";
+      k = 0;
+      a.theta_rad = at_zero.theta_rad;
+    } else {
+      double lo = 0, hi = k;
+      while (scaled_total(draws, hi, config.coverage).total_mm < T && hi < 1e9) hi *= 2;
+      for (int i = 0; i < 60 && hi - lo > 1e-9 * hi; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (scaled_total(draws, mid, config.coverage).total_mm < T ? lo : hi) = mid;
+      }
+      k = 0.5 * (lo + hi);
+      a.theta_rad = scaled_total(draws, k, config.coverage).theta_rad;
+    }
+  }
+
+  a.scale = k;
+  for (std::size_t i = 0; i < config.sources.size(); ++i) {
+    a.allowances.push_back(config.sources[i].fixed() ? capabilities[i] : scaled(capabilities[i], k));
+  }
+  return a;
+}
+
+AxisWorst metric_sensitivity(const BudgetMetric& metric, double theta_min, double theta_max) {
+  AxisWorst w = worst_axis_sensitivity(metric.axis, theta_min, theta_max);
+  w.sensitivity *= metric.mm_per_unit;
+  return w;
+}
+
+double derived_tolerance(const BudgetMetric& metric, const SourceError& allowance) {
+  return allowance.along(metric.axis) / metric.mm_per_unit;
+}
+
+// ---- Step 6: consumption ---------------------------------------------------------------------------
+
+Consumption budget_consumption(const ErrorBudgetConfig& config,
+                               const std::vector<SourceError>& today) {
+  Consumption c;
+  c.allowable_total_mm = config.allowable_total_mm;
+  const WorstTotal worst = worst_rss_total(today, config.theta_min_rad, config.theta_max_rad);
+  c.theta_rad = worst.theta_rad;
+  c.rss_total_mm = worst.total_mm;
+  const double T2 = config.allowable_total_mm * config.allowable_total_mm;
+  for (std::size_t i = 0; i < today.size(); ++i) {
+    const double ds = contribution_mm(today[i], c.theta_rad);
+    c.items.push_back({i, ds, ds * ds / T2});
+  }
+  std::stable_sort(c.items.begin(), c.items.end(), [](const auto& a, const auto& b) {
+    return a.contribution_mm > b.contribution_mm;
+  });
+  c.within_budget = c.rss_total_mm <= config.allowable_total_mm;
+  return c;
+}
+
+// ---- Everything at once ---------------------------------------------------------------------------
+
+ErrorBudgetReport evaluate_error_budget(const ErrorBudgetConfig& config,
+                                        const MetricHistories& histories, int last_n) {
+  ErrorBudgetReport r;
+  r.allowable_total_mm = config.allowable_total_mm;
+  r.method = config.method;
+  r.coverage = config.coverage;
+
+  std::vector<SourceReport> sources;
+  std::vector<SourceError> capabilities, today;
+  for (std::size_t i = 0; i < config.sources.size(); ++i) {
+    const BudgetSource& s = config.sources[i];
+    SourceReport sr;
+    sr.index = i;
+    sr.name = s.name;
+    sr.description = s.description;
+    sr.direction = s.direction;
+    sr.fixed = s.fixed();
+    sr.capability = s.bound;
+    sr.today = s.bound;
+    sr.capability_basis = s.fixed() ? CapabilityBasis::Fixed : CapabilityBasis::Default;
+    sr.today_measured = !s.fixed();
+
+    SourceError from_history, newest;
+    std::set<BudgetAxis> axes_with_history, axes_with_today;
+    for (const BudgetMetric& m : s.metrics) {
+      MetricReport mr;
+      mr.name = m.name;
+      mr.axis = m.axis;
+      mr.unit = m.unit;
+      mr.mm_per_unit = m.mm_per_unit;
+      mr.sensitivity = metric_sensitivity(m, config.theta_min_rad, config.theta_max_rad);
+      static const std::vector<double> kNone;
+      const auto it = histories.find(m.name);
+      const std::vector<double>& values = it == histories.end() ? kNone : it->second;
+      const double default_in_unit = s.bound.along(m.axis) / m.mm_per_unit;
+      mr.capability = capability_from_history(values, last_n, default_in_unit, config.coverage);
+      if (mr.capability.samples > 0) {
+        // Each axis: the largest capability among its metrics that have values.
+        double& h = from_history.along(m.axis);
+        h = std::max(h, mr.capability.capability * m.mm_per_unit);
+        axes_with_history.insert(m.axis);
+        if (mr.capability.basis == CapabilityBasis::History) {
+          sr.capability_basis = CapabilityBasis::History;
+        }
+        mr.today_value = values.front();
+        double& t = newest.along(m.axis);
+        t = std::max(t, std::abs(values.front()) * m.mm_per_unit);
+        axes_with_today.insert(m.axis);
+      }
+      sr.metrics.push_back(std::move(mr));
+    }
+    for (BudgetAxis axis : axes_with_history) sr.capability.along(axis) = from_history.along(axis);
+    for (BudgetAxis axis : axes_of(s.direction)) {
+      if (s.fixed()) break;
+      if (axes_with_today.count(axis)) {
+        sr.today.along(axis) = newest.along(axis);
+      } else {
+        sr.today.along(axis) = sr.capability.along(axis);  // nothing measured yet
+        sr.today_measured = false;
+      }
+    }
+    capabilities.push_back(sr.capability);
+    today.push_back(sr.today);
+    sources.push_back(std::move(sr));
+  }
+
+  r.allocation = allocate_budget(config, capabilities);
+  r.capability_rss = worst_rss_total(capabilities, config.theta_min_rad, config.theta_max_rad);
+  r.capability_monte_carlo = monte_carlo_total(config, capabilities);
+  r.allocation_rss =
+      worst_rss_total(r.allocation.allowances, config.theta_min_rad, config.theta_max_rad);
+  r.allocation_monte_carlo = monte_carlo_total(config, r.allocation.allowances);
+  r.today = budget_consumption(config, today);
+
+  for (SourceReport& sr : sources) {
+    const BudgetSource& s = config.sources[sr.index];
+    sr.allocation = r.allocation.allowances[sr.index];
+    sr.capability_contribution_mm = contribution_mm(sr.capability, r.allocation.theta_rad);
+    sr.allocation_contribution_mm = contribution_mm(sr.allocation, r.allocation.theta_rad);
+    for (std::size_t k = 0; k < s.metrics.size(); ++k) {
+      MetricReport& mr = sr.metrics[k];
+      mr.derived_tolerance = derived_tolerance(s.metrics[k], sr.allocation);
+      mr.today_within_tolerance = !mr.today_value || std::abs(*mr.today_value) <= mr.derived_tolerance;
+    }
+  }
+  for (const ConsumptionItem& item : r.today.items) {
+    SourceReport& sr = sources[item.source];
+    sr.today_contribution_mm = item.contribution_mm;
+    sr.share = item.share;
+    r.sources.push_back(std::move(sr));
+  }
+  return r;
+}
+
+}  // namespace ncqual::solver
