@@ -23,19 +23,6 @@ std::string format_number(double v) {
   return buffer;
 }
 
-std::string format_vector(const Eigen::Vector3d& v) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof buffer, "(%.6f, %.6f, %.6f)", v.x(), v.y(), v.z());
-  return buffer;
-}
-
-AxisPosition moved(AxisPosition axes, const Eigen::Vector3d& by) {
-  axes.x_mm += by.x();
-  axes.y_mm += by.y();
-  axes.z_mm += by.z();
-  return axes;
-}
-
 // ---- The program ----------------------------------------------------------------------------
 
 // One probing move of the fixture program and the pogo placement it probes.
@@ -152,55 +139,28 @@ bool on_face(const FixtureConfig& f, const Eigen::Vector3d& p, PogoFace face,
   }
 }
 
-// Runs one move on the true machine against the true block of its pogo (top-face centre p).
-// As MachineSimulator::execute: the readouts move along u, the true ball centre along
-//   b(s) = b0 + s t,  t = b(start + u) - b(start),
-// exact while the true machine is an affine map of the readouts; |t| converts readout travel into
-// true travel. The ball meets the face plane (point p + face offset, outward normal n) at
-//   s = ((b0 - p0) . n - r) / (-t/|t| . n)     (contact.hpp, ball_meets_plane),
-// and the latched readouts are start + (s / |t| + noise) u.
+// Runs one move on the true machine (MachineSimulator::execute) against the face it is meant to
+// touch on the true block of its pogo (top-face centre p): the plane through p + face offset
+// with outward normal n, where the contact point must lie on the block's real face. The probe
+// deflects at once when the ball starts closer to that plane than its radius.
 std::optional<Touch> execute_on_block(const MachineSimulator& machine, const FixtureConfig& f,
                                       const Eigen::Vector3d& p, const FixtureMove& fm,
                                       double noise_mm, std::string* why) {
-  const ProbingMove& move = fm.move;
-  const Eigen::Vector3d b0 = machine.true_ball_centre(move.start);
-  const Eigen::Vector3d t = machine.true_ball_centre(moved(move.start, move.direction)) - b0;
-  const double scale = t.norm();
-
-  BallMove ball;
-  ball.start = b0;
-  ball.direction = t / scale;
-  ball.travel_mm = move.travel_mm * scale;
-  ball.ball_radius_mm = machine.true_probe().ball_radius_mm;
-
   const Eigen::Vector3d n = outward_normal(fm.face);
   const Eigen::Vector3d plane_point = p + face_offset(f, fm.face);
-  const auto s = ball_meets_plane(ball, plane_point, n);
-  const auto fail_no_surface = [&] {
-    *why = "the probe did not trigger within " + format_number(move.travel_mm) +
-           " mm of travel from X, Y, Z = " +
-           format_vector(Eigen::Vector3d(move.start.x_mm, move.start.y_mm, move.start.z_mm)) +
-           " along " + format_vector(move.direction) + " (no surface met)";
+  const auto meets_face = [&](const BallMove& ball) -> std::optional<Contact> {
+    const auto s = ball_meets_plane(ball, plane_point, n);
+    if (!s || *s > ball.travel_mm) return std::nullopt;
+    const Eigen::Vector3d centre = ball.centre_at(*s);
+    const Eigen::Vector3d point = centre - ball.ball_radius_mm * n;
+    if (!on_face(f, p, fm.face, point)) return std::nullopt;
+    return Contact{*s, fm.move.feature, centre, point};
   };
-  if (!s) {
-    if ((b0 - plane_point).dot(n) < ball.ball_radius_mm) {
-      *why = "the probe was deflected at the start of the move at " + format_vector(b0) +
-             " (stylus ball beyond the face of the reference block)";
-    } else {
-      fail_no_surface();
-    }
-    return std::nullopt;
-  }
-  if (*s > ball.travel_mm || !on_face(f, p, fm.face, ball.centre_at(*s) - ball.ball_radius_mm * n)) {
-    fail_no_surface();
-    return std::nullopt;
-  }
-  const double readout_travel = *s / scale + noise_mm;
-  Touch touch;
-  touch.feature = move.feature;
-  touch.axes = moved(move.start, readout_travel * move.direction);
-  touch.approach = move.direction;
-  return touch;
+  const auto beyond_face = [&](const Eigen::Vector3d& centre, double radius) {
+    return (centre - plane_point).dot(n) < radius;
+  };
+  return machine.execute(fm.move, noise_mm, meets_face, beyond_face,
+                         "the pogo's reference block, beyond the face probed", why);
 }
 
 }  // namespace

@@ -106,22 +106,24 @@ std::map<std::string, SetPointBlock> MachineSimulator::true_setpoint_blocks(
 
 std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double noise_mm,
                                                std::string* why) const {
-  return execute_against(
+  return execute(
       move, noise_mm, [&](const BallMove& ball) { return first_contact(true_monument_, ball); },
-      [&](const Eigen::Vector3d& c, double r) { return true_monument_.overlaps_ball(c, r); }, why);
+      [&](const Eigen::Vector3d& c, double r) { return true_monument_.overlaps_ball(c, r); },
+      "the monument", why);
 }
 
 std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double noise_mm,
                                                const SetPointBlock& block, std::string* why) const {
-  return execute_against(
+  return execute(
       move, noise_mm, [&](const BallMove& ball) { return first_contact(block, ball); },
-      [&](const Eigen::Vector3d& c, double r) { return block.contains(c, r); }, why);
+      [&](const Eigen::Vector3d& c, double r) { return block.contains(c, r); },
+      "the set-point block", why);
 }
 
-std::optional<Touch> MachineSimulator::execute_against(const ProbingMove& move, double noise_mm,
-                                                       const ContactFinder& find_contact,
-                                                       const StartCheck& overlaps,
-                                                       std::string* why) const {
+std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double noise_mm,
+                                               const ContactFinder& find_contact,
+                                               const StartCheck& cuts_into,
+                                               const std::string& body, std::string* why) const {
   // The axes move the readouts along u; the true ball centre then moves along
   //   b(s) = b(start + s u) = b0 + s t,  t = b(start + u) - b(start),
   // exact while the true machine is an affine map of the readouts (the errors modelled so
@@ -136,15 +138,15 @@ std::optional<Touch> MachineSimulator::execute_against(const ProbingMove& move, 
   ball.travel_mm = move.travel_mm * scale;
   ball.ball_radius_mm = true_probe_.ball_radius_mm;
 
-  if (overlaps(b0, ball.ball_radius_mm)) {
+  if (cuts_into(b0, ball.ball_radius_mm)) {
     *why = "the probe was deflected at the start of the move at " + format_vector(b0) +
-           " (stylus ball inside the body probed)";
+           " (stylus ball inside " + body + ")";
     return std::nullopt;
   }
   const auto contact = find_contact(ball);
   if (!contact) {
     char travel[32];
-    std::snprintf(travel, sizeof travel, "%.3f", move.travel_mm);
+    std::snprintf(travel, sizeof travel, "%.6g", move.travel_mm);
     *why = "the probe did not trigger within " + std::string(travel) + " mm of travel from " +
            "X, Y, Z = " +
            format_vector(Eigen::Vector3d(move.start.x_mm, move.start.y_mm, move.start.z_mm)) +

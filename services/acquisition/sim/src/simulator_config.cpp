@@ -10,16 +10,6 @@ namespace {
 
 using yaml::fail;
 
-void refuse_unknown_keys(const YAML::Node& section, const std::set<std::string>& known,
-                         const std::string& where) {
-  for (const auto& kv : section) {
-    const std::string key = kv.first.as<std::string>();
-    if (known.count(key)) continue;
-    std::string list;
-    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-    fail(where, key, kv.second, "unknown key; expected one of: " + list);
-  }
-}
 
 const YAML::Node optional_map(const YAML::Node& parent, const std::string& key,
                               const std::string& where) {
@@ -56,7 +46,7 @@ SimulatorErrors parse_errors(const YAML::Node& node, const MachineConfig& machin
     known.insert("c_angle_error" + suffix);
     known.insert("a_home_error" + suffix);
   }
-  refuse_unknown_keys(node, known, where);
+  yaml::refuse_unknown_keys(node, known, "", where);
   e.machine_shift_mm =
       yaml::lengths_mm_or(node, "machine_shift_mm", 3, Eigen::VectorXd::Zero(3), where);
   e.monument_shift_mm =
@@ -96,7 +86,7 @@ FixtureAxisErrors parse_fixture_axis(const YAML::Node& node, int axis, const std
       if (other != axis) known.insert(std::string("misalignment_") + kAxes[other] + suffix);
     }
   }
-  refuse_unknown_keys(node, known, where);
+  yaml::refuse_unknown_keys(node, known, "", where);
   e.offset_mm = yaml::length_mm_or(node, "offset_mm", 0.0, where);
   e.scale_ppm = yaml::number_or(node, "scale_ppm", 0.0, where);
   e.curvature_um_per_m2 = yaml::number_or(node, "curvature_um_per_m2", 0.0, where);
@@ -126,8 +116,8 @@ FixtureErrors parse_fixture_errors(const YAML::Node& node, const MachineConfig& 
   if (!machine.fixture) {
     fail(where, "fixture", node, "the machine has no `fixture:` section to simulate");
   }
-  refuse_unknown_keys(node, {"column_x", "pogo_y", "pogo_z", "pogo_offsets_mm", "wear_sigma_mm"},
-                      where);
+  yaml::refuse_unknown_keys(
+      node, {"column_x", "pogo_y", "pogo_z", "pogo_offsets_mm", "wear_sigma_mm"}, "", where);
   e.column_x = parse_fixture_axis(optional_map(node, "column_x", where), 0, where + " column_x");
   e.pogo_y = parse_fixture_axis(optional_map(node, "pogo_y", where), 1, where + " pogo_y");
   e.pogo_z = parse_fixture_axis(optional_map(node, "pogo_z", where), 2, where + " pogo_z");
@@ -186,10 +176,10 @@ SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
   if (!node.IsMap()) fail(file, "simulator", node, "expected a mapping");
 
   const std::string where = file + " [simulator]";
-  refuse_unknown_keys(node,
-                      {"seed", "trigger_noise_sigma_mm", "plate_thickness_mm", "errors", "fixture",
-                       "part_seating_sigma_mm"},
-                      where);
+  yaml::refuse_unknown_keys(node,
+                            {"seed", "trigger_noise_sigma_mm", "plate_thickness_mm", "errors",
+                             "fixture", "part_seating_sigma_mm"},
+                            "", where);
   config.seed = parse_seed(node, where);
   config.trigger_noise_sigma_mm =
       yaml::length_mm_or(node, "trigger_noise_sigma_mm", config.trigger_noise_sigma_mm, where);

@@ -56,12 +56,17 @@ class MachineSimulator {
   std::optional<Touch> execute(const ProbingMove& move, double noise_mm, const SetPointBlock& block,
                                std::string* why) const;
 
- private:
+  // The same against any body: `find_contact` gives the first contact of the true ball's move
+  // within its travel (std::nullopt: none), `cuts_into` whether a ball at (centre, radius)
+  // already cuts into the body at the start, when the probe deflects at once. `body` names it
+  // in the alarm ("the monument", ...).
   using ContactFinder = std::function<std::optional<Contact>(const BallMove&)>;
   using StartCheck = std::function<bool(const Eigen::Vector3d& centre, double radius)>;
-  std::optional<Touch> execute_against(const ProbingMove& move, double noise_mm,
-                                       const ContactFinder& contact, const StartCheck& overlaps,
-                                       std::string* why) const;
+  std::optional<Touch> execute(const ProbingMove& move, double noise_mm,
+                               const ContactFinder& find_contact, const StartCheck& cuts_into,
+                               const std::string& body, std::string* why) const;
+
+ private:
 
   MachineConfig machine_;
   SimulatorConfig config_;
