@@ -96,12 +96,7 @@ Tolerance parse_tolerance(const YAML::Node& node, const std::string& metric,
     return t;
   }
   if (node.IsMap()) {
-    for (const auto& kv : node) {
-      const std::string k = kv.first.as<std::string>();
-      if (k != "lower" && k != "upper") {
-        fail(where, key + "." + k, kv.second, "unknown key (expected lower and upper)");
-      }
-    }
+    yaml::refuse_unknown_keys(node, {"lower", "upper"}, key + ".", where);
     auto read = [&](const char* which) {
       const YAML::Node v = node[which];
       if (!v) fail(where, key + "." + which, v, "missing");
@@ -117,12 +112,7 @@ Tolerance parse_tolerance(const YAML::Node& node, const std::string& metric,
 
 PartSetPointsConfig parse_setpoints(const YAML::Node& node, const std::string& where) {
   if (!node.IsMap()) fail(where, "setpoints", node, "expected a mapping");
-  for (const auto& kv : node) {
-    const std::string k = kv.first.as<std::string>();
-    if (k != "probe_depth_mm" && k != "inset_mm" && k != "points") {
-      fail(where, "setpoints." + k, kv.second, "unknown key (expected probe_depth_mm, inset_mm, points)");
-    }
-  }
+  yaml::refuse_unknown_keys(node, {"probe_depth_mm", "inset_mm", "points"}, "setpoints.", where);
   PartSetPointsConfig c;
   c.probe_depth_mm = yaml::length_mm_or(node, "probe_depth_mm", c.probe_depth_mm, where);
   c.inset_mm = yaml::length_mm_or(node, "inset_mm", c.inset_mm, where);
@@ -159,6 +149,17 @@ namespace yaml {
 void fail(const std::string& where, const std::string& key, const YAML::Node& value,
           const std::string& why) {
   throw ConfigError(where + ": " + key + " = " + describe(value) + ": " + why);
+}
+
+void refuse_unknown_keys(const YAML::Node& section, const std::set<std::string>& known,
+                         const std::string& prefix, const std::string& where) {
+  for (const auto& kv : section) {
+    const std::string key = kv.first.as<std::string>();
+    if (known.count(key)) continue;
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    fail(where, prefix + key, kv.second, "unknown key; expected one of: " + list);
+  }
 }
 
 double length_mm(const YAML::Node& node, const std::string& key, const std::string& where) {

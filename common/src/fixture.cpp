@@ -46,17 +46,6 @@ constexpr const char* kAxisNames[] = {"x", "y", "z"};
 
 // ---- YAML readers: keys are named in full ("fixture.columns.pitch_mm") in errors -------------
 
-void refuse_unknown_keys(const YAML::Node& section, const std::string& prefix,
-                         const std::set<std::string>& known, const std::string& where) {
-  for (const auto& kv : section) {
-    const std::string key = kv.first.as<std::string>();
-    if (known.count(key)) continue;
-    std::string list;
-    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-    fail(where, prefix + key, kv.second, "unknown key; expected one of: " + list);
-  }
-}
-
 YAML::Node required_map(const YAML::Node& parent, const std::string& key, const std::string& full,
                         const std::string& where) {
   const YAML::Node node = parent[key];
@@ -160,9 +149,9 @@ void require_increasing(const std::vector<double>& values, const std::string& ke
 //   home[i] = first + i * pitch,  i = 0 .. count - 1
 std::vector<double> homes(const YAML::Node& section, const std::string& axis,
                           const std::string& prefix, int minimum_count, const std::string& where) {
-  refuse_unknown_keys(section, prefix,
+  yaml::refuse_unknown_keys(section,
                       {"count", "first_" + axis + "_mm", "pitch_mm", "home_" + axis + "_mm",
-                       "home_" + axis + "_in"},
+                       "home_" + axis + "_in"}, prefix,
                       where);
   std::string list_key;
   auto listed = length_list(section, "home_" + axis, prefix, where, &list_key);
@@ -225,9 +214,9 @@ PostCalibrationPattern parse_postcalibration(const YAML::Node& node, const Fixtu
   if (!node || node.IsNull()) return p;
   const std::string prefix = "fixture.postcalibration.";
   if (!node.IsMap()) fail(where, "fixture.postcalibration", node, "expected a mapping");
-  refuse_unknown_keys(node, prefix,
+  yaml::refuse_unknown_keys(node,
                       {"z_mm", "z_in", "y_offsets_mm", "y_offsets_in", "x_offsets_mm",
-                       "x_offsets_in"},
+                       "x_offsets_in"}, prefix,
                       where);
   struct {
     const char* stem;
@@ -454,9 +443,9 @@ std::optional<ZeroOffsetName> parse_zero_offset_name(std::string_view name) {
 FixtureConfig parse_fixture_config(const YAML::Node& node, const std::string& where) {
   if (!node.IsMap()) fail(where, "fixture", node, "expected a mapping");
   const std::string prefix = "fixture.";
-  refuse_unknown_keys(node, prefix,
+  yaml::refuse_unknown_keys(node,
                       {"fixture_id", "origin_mm", "columns", "rows", "z_planes_mm", "z_planes_in",
-                       "reference_block", "probe_depth_mm", "postcalibration"},
+                       "reference_block", "probe_depth_mm", "postcalibration"}, prefix,
                       where);
   FixtureConfig f;
 
@@ -496,7 +485,7 @@ FixtureConfig parse_fixture_config(const YAML::Node& node, const std::string& wh
 
   const YAML::Node block = required_map(node, "reference_block", prefix + "reference_block", where);
   const std::string block_prefix = prefix + "reference_block.";
-  refuse_unknown_keys(block, block_prefix, {"size_mm", "height_mm"}, where);
+  yaml::refuse_unknown_keys(block, {"size_mm", "height_mm"}, block_prefix, where);
   f.block_size_mm = required_length(block, "size_mm", block_prefix, where);
   if (!(f.block_size_mm > 0)) fail(where, block_prefix + "size_mm", block["size_mm"], "must be positive");
   f.block_height_mm = required_length(block, "height_mm", block_prefix, where);

@@ -175,7 +175,7 @@ int cmd_check(const Args& args) {
                          "op-" + machine + "-" + std::to_string(clock.now_ns()) + "-" +
                              std::to_string(getpid()),
                          *kind, std::string("operator:") + (getenv("USER") ? getenv("USER") : host),
-                         clock.now_ns()};
+                         clock.now_ns(), {}};
 
   const int domain = ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id);
   ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});

@@ -313,11 +313,23 @@ struct Database::Impl {
     request.time_ns = q.int64(3);
     request.attempt = q.int32(4);
     request.verifies_correction_of = q.text(5);
-    request.parameters = load_parameters(kSelectRequestParameters, request_id);
+    request.parameters = load_named_values(kSelectRequestParameters, request_id);
     return request;
   }
 
-  std::vector<NamedValue> load_parameters(const Sql& select, const std::string& request_id) {
+  // Named values of a request's row in a (request_id, idx, name, value, unit) table: request and
+  // measurement parameters, result offsets.
+  void store_named_values(const Sql& insert, const std::string& request_id,
+                          const std::vector<NamedValue>& values) {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const NamedValue& p = values[i];
+      Query(statements, insert)
+          .bind(request_id, static_cast<std::int64_t>(i), p.name, p.value, p.unit)
+          .run();
+    }
+  }
+
+  std::vector<NamedValue> load_named_values(const Sql& select, const std::string& request_id) {
     std::vector<NamedValue> values;
     Query q(statements, select);
     q.bind(request_id);
@@ -339,7 +351,7 @@ struct Database::Impl {
     set.frame = q.text(3);
     set.time_ns = q.int64(4);
     set.error = q.text(5);
-    set.parameters = load_parameters(kSelectMeasurementParameters, request_id);
+    set.parameters = load_named_values(kSelectMeasurementParameters, request_id);
     if (summary) {
       summary->instrument = set.instrument;
       summary->frame = set.frame;
@@ -380,12 +392,8 @@ struct Database::Impl {
       while (q.step()) result.likely_causes.push_back(q.text(0));
     }
     if (correction_target) {
-      Correction correction;
-      correction.target = *correction_target;
-      Query q(statements, kSelectResultOffsets);
-      q.bind(request_id);
-      while (q.step()) correction.offsets.push_back(NamedValue{q.text(0), q.real(1), q.text(2)});
-      result.correction = std::move(correction);
+      result.correction =
+          Correction{*correction_target, load_named_values(kSelectResultOffsets, request_id)};
     }
     return result;
   }
@@ -563,12 +571,7 @@ bool Database::store(const CheckRequest& request) {
       insert.run();
       if (insert.changes() == 0) return false;
     }
-    for (std::size_t i = 0; i < request.parameters.size(); ++i) {
-      const NamedValue& p = request.parameters[i];
-      Query(impl_->statements, kInsertRequestParameter)
-          .bind(request.request_id, static_cast<std::int64_t>(i), p.name, p.value, p.unit)
-          .run();
-    }
+    impl_->store_named_values(kInsertRequestParameter, request.request_id, request.parameters);
     impl_->note_check(kUpsertCheckRequested, "CheckRequest", request.request_id, request.machine_id,
                       request.kind, request.time_ns);
     impl_->touch_machine(request.machine_id, request.time_ns);
@@ -586,12 +589,7 @@ bool Database::store(const MeasurementSet& set) {
       insert.run();
       if (insert.changes() == 0) return false;
     }
-    for (std::size_t i = 0; i < set.parameters.size(); ++i) {
-      const NamedValue& p = set.parameters[i];
-      Query(impl_->statements, kInsertMeasurementParameter)
-          .bind(set.request_id, static_cast<std::int64_t>(i), p.name, p.value, p.unit)
-          .run();
-    }
+    impl_->store_named_values(kInsertMeasurementParameter, set.request_id, set.parameters);
     for (std::size_t i = 0; i < set.touches.size(); ++i) {
       const Touch& t = set.touches[i];
       Query(impl_->statements, kInsertTouch)
@@ -640,13 +638,8 @@ bool Database::store(const CheckResult& result) {
           .run();
     }
     if (result.correction) {
-      const auto& offsets = result.correction->offsets;
-      for (std::size_t i = 0; i < offsets.size(); ++i) {
-        Query(impl_->statements, kInsertResultOffset)
-            .bind(result.request_id, static_cast<std::int64_t>(i), offsets[i].name,
-                  offsets[i].value, offsets[i].unit)
-            .run();
-      }
+      impl_->store_named_values(kInsertResultOffset, result.request_id,
+                                result.correction->offsets);
     }
     impl_->note_check(kUpsertCheckResult, "CheckResult", result.request_id, result.machine_id,
                       result.kind, result.time_ns);

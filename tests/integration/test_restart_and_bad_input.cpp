@@ -19,7 +19,7 @@ std::vector<std::string> order_checks(ncqual::dds::Writer<ncqual::dds::CheckComm
   std::vector<std::string> ids;
   for (int i = first; i < first + count; ++i) {
     CheckCommand cmd{machine, "restart-test-" + std::to_string(i), CheckKind::MonumentPositioning,
-                     "test", WallClock().now_ns()};
+                     "test", WallClock().now_ns(), {}};
     EXPECT_TRUE(commands.write(cmd));
     ids.push_back(cmd.request_id);
   }

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include <map>
+#include <set>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -100,6 +101,10 @@ namespace yaml {
 // Throws ConfigError "<where>: <key> = '<value>': <why>", the one shape of every config error.
 [[noreturn]] void fail(const std::string& where, const std::string& key, const YAML::Node& value,
                        const std::string& why);
+// Refuses any key of the mapping `section` not in `known`, so a misspelt key never silently
+// takes its default: ConfigError "<where>: <prefix><key> = ...: unknown key; expected one of: ...".
+void refuse_unknown_keys(const YAML::Node& section, const std::set<std::string>& known,
+                         const std::string& prefix, const std::string& where);
 double length_mm(const YAML::Node& node, const std::string& key, const std::string& where);
 double length_mm_or(const YAML::Node& node, const std::string& key, double fallback,
                     const std::string& where);

@@ -6,9 +6,19 @@
 #include "ncqual/sim/simulator_config.hpp"
 
 #include <random>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace ncqual::testing {
+
+// The metric of `name` in a result; throws (failing the test) with the result's reason when
+// the check did not report it.
+inline const Metric& metric(const CheckResult& r, std::string_view name) {
+  const Metric* m = find_metric(r, name);
+  if (!m) throw std::runtime_error("no metric " + std::string(name) + ": " + r.reason);
+  return *m;
+}
 
 inline double uniform(std::mt19937_64& rng, double lo, double hi) {
   return std::uniform_real_distribution<double>(lo, hi)(rng);

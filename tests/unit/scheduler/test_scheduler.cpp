@@ -70,13 +70,13 @@ TEST(Scheduler, OperatorCommandsAreValidated) {
   SimulatedClock clock;
   Recorder rec;
   Scheduler s(plant, clock, rec.outputs());
-  EXPECT_NE(s.command({"nope", "r1", CheckKind::MonumentPositioning, "op", 0}).find("'nope'"),
+  EXPECT_NE(s.command({"nope", "r1", CheckKind::MonumentPositioning, "op", 0, {}}).find("'nope'"),
             std::string::npos);
-  EXPECT_NE(s.command({"m1", "", CheckKind::MonumentPositioning, "op", 0}).find("request_id"),
+  EXPECT_NE(s.command({"m1", "", CheckKind::MonumentPositioning, "op", 0, {}}).find("request_id"),
             std::string::npos);
   EXPECT_TRUE(rec.requests.empty());
-  EXPECT_EQ(s.command({"m1", "r1", CheckKind::MonumentPositioning, "operator:ann", 0}), "");
-  EXPECT_EQ(s.command({"m1", "r1", CheckKind::MonumentPositioning, "operator:ann", 0}), "");
+  EXPECT_EQ(s.command({"m1", "r1", CheckKind::MonumentPositioning, "operator:ann", 0, {}}), "");
+  EXPECT_EQ(s.command({"m1", "r1", CheckKind::MonumentPositioning, "operator:ann", 0, {}}), "");
   ASSERT_EQ(rec.requests.size(), 1u);  // the resent order is not a second request
   EXPECT_EQ(rec.requests[0].request_id, "r1");
   EXPECT_EQ(rec.requests[0].requested_by, "operator:ann");

@@ -24,6 +24,7 @@ using testing::pm1_fixture;
 using testing::pm1_with_fixture;
 using testing::random_fixture;
 using testing::random_machine;
+using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 
@@ -36,12 +37,6 @@ const std::string kZeroDrift(fixture_checks::kCauseZeroDrift);
 const std::string kMisaligned(fixture_checks::kCauseMisaligned);
 const std::string kNonlinear(fixture_checks::kCauseNonlinear);
 const std::string kWear(fixture_checks::kCauseWear);
-
-const Metric& metric(const CheckResult& r, const std::string& name) {
-  const Metric* m = find_metric(r, name);
-  if (!m) throw std::runtime_error("no metric " + name + ": " + r.reason);
-  return *m;
-}
 
 MachineConfig with_fixture(MachineConfig m, const FixtureConfig& f) {
   m.fixture = f;

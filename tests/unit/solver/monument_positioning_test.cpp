@@ -19,16 +19,11 @@ namespace {
 using testing::pm1_like_machine;
 using testing::random_machine;
 using testing::request;
+using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-const Metric& metric(const CheckResult& r, std::string_view name) {
-  const Metric* m = find_metric(r, name);
-  if (!m) throw std::runtime_error("no metric " + std::string(name) + ": " + r.reason);
-  return *m;
-}
 
 MeasurementSet simulate(const MachineConfig& m, const sim::SimulatorConfig& c,
                         const std::string& id) {

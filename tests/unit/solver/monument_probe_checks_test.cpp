@@ -25,16 +25,11 @@ namespace {
 using testing::pm1_like_machine;
 using testing::random_machine;
 using testing::request;
+using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-const Metric& metric(const CheckResult& r, std::string_view name) {
-  const Metric* m = find_metric(r, name);
-  if (!m) throw std::runtime_error("no metric " + std::string(name) + ": " + r.reason);
-  return *m;
-}
 
 // The tolerances of checks 1, 2 and 4 (pm1's, deploy/machines/pm1.yaml).
 MachineConfig with_probe_tolerances(MachineConfig m) {
@@ -89,8 +84,12 @@ class GroundTruthTally {
       if (e.truth > band.upper + margin || e.truth < band.lower - margin) must_fail = true;
       if (e.truth > band.upper - margin || e.truth < band.lower + margin) must_pass = false;
     }
-    if (must_fail) EXPECT_EQ(result.verdict, Verdict::Fail) << "case " << i;
-    if (must_pass) EXPECT_EQ(result.verdict, Verdict::Pass) << "case " << i << ": " << result.reason;
+    if (must_fail) {
+      EXPECT_EQ(result.verdict, Verdict::Fail) << "case " << i;
+    }
+    if (must_pass) {
+      EXPECT_EQ(result.verdict, Verdict::Pass) << "case " << i << ": " << result.reason;
+    }
     if (result.verdict == Verdict::Fail) {
       ++fails_;
       ASSERT_FALSE(result.likely_causes.empty());

@@ -21,6 +21,7 @@ namespace {
 
 using testing::pm1_like_machine;
 using testing::request;
+using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 
@@ -31,12 +32,6 @@ MachineConfig machine_with_setpoints() {
   m.setpoints.points = {{"primary", {600, 300, 400}}, {"secondary", {3400, 300, 420}}};
   m.tolerances["setpoint_max_dev_mm"] = {0, 0.05};
   return m;
-}
-
-const Metric& metric(const CheckResult& r, const std::string& name) {
-  const Metric* m = find_metric(r, name);
-  if (!m) throw std::runtime_error("no metric " + name + ": " + r.reason);
-  return *m;
 }
 
 TEST(PartSetPoints, RecoversBlockShiftsAndSeatingWithMachineErrors) {
@@ -83,7 +78,9 @@ TEST(PartSetPoints, RecoversBlockShiftsAndSeatingWithMachineErrors) {
     }
     const Metric& max = metric(r, "setpoint_max_dev_mm");
     EXPECT_NEAR(max.value, largest_truth, 5 * std::sqrt(3.0) * sigma);
-    if (largest_truth > 0.05 + 9 * sigma) EXPECT_EQ(r.verdict, Verdict::Fail) << "case " << i;
+    if (largest_truth > 0.05 + 9 * sigma) {
+      EXPECT_EQ(r.verdict, Verdict::Fail) << "case " << i;
+    }
     if (r.verdict == Verdict::Pass) {
       ++passes;
       // The primary set point's deviation becomes the part program's zero reference.

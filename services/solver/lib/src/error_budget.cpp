@@ -22,19 +22,10 @@ namespace ncqual::solver {
 namespace {
 
 using yaml::fail;
+using yaml::refuse_unknown_keys;
 
 // ---- Step 1: reading the budget ------------------------------------------------------------
 
-void refuse_unknown_keys(const YAML::Node& map, const std::set<std::string>& known,
-                         const std::string& prefix, const std::string& where) {
-  for (const auto& kv : map) {
-    const std::string key = kv.first.as<std::string>();
-    if (known.count(key)) continue;
-    std::string list;
-    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-    fail(where, prefix + key, kv.second, "unknown key; expected one of: " + list);
-  }
-}
 
 YAML::Node required(const YAML::Node& map, const std::string& key, const std::string& prefix,
                     const std::string& where) {
