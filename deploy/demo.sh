@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The main job: install, build, start the four ncqual services and one simulated machine on a
-# private DDS domain, run a qualification cycle (daily monument checks 1 to 4; the weekly fixture
-# pre-calibration, with its post-calibration when it issues zero offsets; the set points of the
-# first part), print a summary, stop everything. The probe is qualified on the monument before it
+# private DDS domain, run a qualification cycle (the monthly global check with a laser tracker:
+# master frame, grid, rotary C, A and W, circles in XY, YZ and XZ, an ISO 230-2 run of X; daily
+# monument checks 1 to 4; the weekly fixture pre-calibration, with its post-calibration when it
+# issues zero offsets; the set points of the first part), print a summary, stop everything. The probe is qualified on the monument before it
 # measures the fixture: a bent stylus would otherwise be "corrected" into the fixture's zero
 # offsets (patent: the fixture check "is performed only after all of the monument checks have
 # been successfully completed").
@@ -48,8 +49,10 @@ qos_profiles: $root/deploy/qos/ncqual-qos.xml
 historian:
   database: $db
 scheduler:
-  startup_checks: [monument_c_alignment, monument_tool_length, monument_positioning,
-                   monument_c_rotation, fixture_precal, part_setpoints]
+  startup_checks: [global_master_frame, global_grid, rotary_c, rotary_a, rotary_w, circle_xy,
+                   circle_yz, circle_xz, linear_axis_run, monument_c_alignment,
+                   monument_tool_length, monument_positioning, monument_c_rotation, fixture_precal,
+                   part_setpoints]
 machines:
   - $scenario
 YAML

@@ -297,6 +297,9 @@ MachineConfig parse_machine_config(const YAML::Node& root, const std::string& wh
   if (const YAML::Node fixture = root["fixture"]; fixture && !fixture.IsNull()) {
     m.fixture = parse_fixture_config(fixture, where);
   }
+  if (const YAML::Node gc = root["global_check"]; gc && !gc.IsNull()) {
+    m.global_check = parse_global_check_config(gc, where);
+  }
   return m;
 }
 

@@ -3,7 +3,8 @@
 // MeasurementSet. It never judges a measurement. It also stands for the holding fixture's
 // control unit: it applies the zero offsets the solver publishes as Compensations (replayed from
 // the durable topic after a restart), and a post-calibration that verifies a correction waits
-// until that correction is applied.
+// until that correction is applied. The monthly checks are measured by a simulated laser tracker
+// (ncqual/sim/tracker_simulator.hpp) when the machine config has a global_check: section.
 #include "ncqual/args.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
@@ -11,6 +12,7 @@
 #include "ncqual/sim/fixture_simulator.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/simulator_config.hpp"
+#include "ncqual/sim/tracker_simulator.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -46,6 +48,8 @@ int main(int argc, char** argv) {
     const sim::MachineSimulator simulator(machine, sim_config);
     std::optional<sim::FixtureSimulator> fixture;
     if (machine.fixture) fixture = sim::FixtureSimulator::for_machine(machine, sim_config);
+    std::optional<sim::TrackerSimulator> tracker;
+    if (machine.global_check) tracker.emplace(machine, sim_config);
     // Requests older than this are history, not work: a restarted acquisition must not move the
     // machine for checks long since answered.
     const std::int64_t max_age_ns =
@@ -67,17 +71,22 @@ int main(int argc, char** argv) {
       MeasurementSet set;
       const bool fixture_check = req.kind == CheckKind::FixturePreCalibration ||
                                  req.kind == CheckKind::FixturePostCalibration;
-      if (!malformed.empty() || (fixture_check && !fixture)) {
+      const bool tracker_check = is_tracker_check(req.kind);
+      if (!malformed.empty() || (fixture_check && !fixture) || (tracker_check && !tracker)) {
         set.machine_id = req.machine_id;
         set.request_id = req.request_id;
         set.kind = req.kind;
         set.time_ns = now;
         set.parameters = req.parameters;
         set.error = !malformed.empty() ? "malformed CheckRequest: " + malformed
+                    : fixture_check    ? "machine '" + machine.machine_id +
+                                          "' has no fixture: section to probe"
                                        : "machine '" + machine.machine_id +
-                                             "' has no fixture: section to probe";
+                                          "' has no global_check: section for the laser tracker";
       } else if (fixture_check) {
         set = sim::perform_fixture_check(simulator, *fixture, req, now);
+      } else if (tracker_check) {
+        set = tracker->perform(req, now);
       } else {
         set = simulator.perform(req, now);
       }

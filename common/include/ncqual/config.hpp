@@ -6,6 +6,7 @@
 #pragma once
 
 #include "ncqual/fixture.hpp"
+#include "ncqual/global_check.hpp"
 #include "ncqual/kinematics.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -70,6 +71,7 @@ struct MachineConfig {
   YAML::Node budget;           // the `budget:` section (error budget), read by solver::parse_error_budget
   std::optional<FixtureConfig> fixture;  // the `fixture:` section (ncqual/fixture.hpp), if any
   PartSetPointsConfig setpoints;         // the `setpoints:` section
+  std::optional<GlobalCheckConfig> global_check;  // the `global_check:` section (monthly, tracker)
 
   // Tolerance of a metric; throws ConfigError naming the machine and metric when absent.
   const Tolerance& tolerance(const std::string& metric) const;

@@ -1,5 +1,7 @@
 #include "ncqual/sim/simulator_config.hpp"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <set>
 #include <string>
@@ -141,6 +143,150 @@ FixtureErrors parse_fixture_errors(const YAML::Node& node, const MachineConfig& 
   return e;
 }
 
+TrackerModel parse_tracker(const YAML::Node& node, const std::string& where) {
+  TrackerModel t;
+  if (!node || node.IsNull()) return t;
+  yaml::refuse_unknown_keys(node,
+                            {"position_mm", "yaw_deg", "pitch_deg", "roll_deg",
+                             "angular_sigma_urad", "radial_sigma_um", "radial_sigma_um_per_m",
+                             "linear_run_standoff_mm", "ifm_sigma_um", "ifm_sigma_um_per_m",
+                             "samples_per_point"},
+                            "", where);
+  t.position_mm = yaml::lengths_mm_or(node, "position_mm", 3, t.position_mm, where);
+  t.ypr_rad = Eigen::Vector3d(yaml::angle_rad_or(node, "yaw_deg", t.ypr_rad[0], where),
+                              yaml::angle_rad_or(node, "pitch_deg", t.ypr_rad[1], where),
+                              yaml::angle_rad_or(node, "roll_deg", t.ypr_rad[2], where));
+  t.angular_sigma_rad = yaml::angle_rad_or(node, "angular_sigma_urad", t.angular_sigma_rad, where);
+  t.radial_sigma_mm = yaml::length_mm_or(node, "radial_sigma_um", t.radial_sigma_mm, where);
+  t.radial_sigma_mm_per_m =
+      yaml::number_or(node, "radial_sigma_um_per_m", t.radial_sigma_mm_per_m * 1000, where) / 1000;
+  const double samples = yaml::number_or(node, "samples_per_point", 1, where);
+  if (samples < 1 || samples > 100000 || samples != std::floor(samples)) {
+    fail(where, "samples_per_point", node["samples_per_point"], "must be an integer from 1 to 100000");
+  }
+  t.samples_per_point = static_cast<int>(samples);
+  t.linear_run_standoff_mm =
+      yaml::length_mm_or(node, "linear_run_standoff_mm", t.linear_run_standoff_mm, where);
+  t.ifm_sigma_mm = yaml::length_mm_or(node, "ifm_sigma_um", t.ifm_sigma_mm, where);
+  t.ifm_sigma_mm_per_m =
+      yaml::number_or(node, "ifm_sigma_um_per_m", t.ifm_sigma_mm_per_m * 1000, where) / 1000;
+  for (const auto& [key, value] : {std::pair<const char*, double>{"angular_sigma_urad", t.angular_sigma_rad},
+                                   {"radial_sigma_um", t.radial_sigma_mm},
+                                   {"radial_sigma_um_per_m", t.radial_sigma_mm_per_m},
+                                   {"linear_run_standoff_mm", t.linear_run_standoff_mm},
+                                   {"ifm_sigma_um", t.ifm_sigma_mm},
+                                   {"ifm_sigma_um_per_m", t.ifm_sigma_mm_per_m}}) {
+    if (!(value >= 0) || !std::isfinite(value)) fail(where, key, node[key], "must not be negative");
+  }
+  return t;
+}
+
+// Two angles under one key (e.g. c_axis_tilt_urad: [about X, about Y]).
+Eigen::Vector2d angle_pair(const YAML::Node& node, const std::string& key, const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return Eigen::Vector2d::Zero();
+  if (!v.IsSequence() || v.size() != 2) fail(where, key, v, "expected a list of 2 angles");
+  Eigen::Vector2d out;
+  for (int i = 0; i < 2; ++i) {
+    YAML::Node wrapper;
+    wrapper[key] = v[static_cast<std::size_t>(i)];
+    out[i] = yaml::angle_rad_or(wrapper, key, 0, where);
+  }
+  return out;
+}
+
+Eigen::Vector2d axis_range(const YAML::Node& ranges, const char* axis, const std::string& where) {
+  const YAML::Node r = ranges[axis];
+  if (!r || !r.IsSequence() || r.size() != 2) {
+    fail(where, std::string("range_mm.") + axis, r, "expected [low, high] in mm");
+  }
+  const Eigen::Vector2d out = yaml::lengths_mm_or(ranges, axis, 2, Eigen::VectorXd::Zero(2), where);
+  if (!(out[1] > out[0])) fail(where, std::string("range_mm.") + axis, r, "high must exceed low");
+  return out;
+}
+
+VolumetricTruth parse_volumetric(const YAML::Node& node, const std::string& where) {
+  VolumetricTruth v;
+  if (!node || node.IsNull()) return v;
+  std::set<std::string> known = {"repeatability_sigma_mm", "backlash_mm", "expansion_ppm_per_K",
+                                 "temperature_C", "range_mm", "c_axis_tilt_urad",
+                                 "c_periodic_arcsec", "c_periodic_phase_deg", "a_axis_tilt_urad",
+                                 "a_periodic_arcsec", "w_scale_ppm", "w_misalignment_urad",
+                                 "EC(0X)Y_urad", "EB(0X)Z_urad", "EA(0Y)Z_urad"};
+  for (int i = 0; i < 18; ++i) {
+    const std::string name(volumetric::function_name(i));
+    known.insert(name + (i % 6 < 3 ? "_um" : "_urad"));
+  }
+  yaml::refuse_unknown_keys(node, known, "", where);
+  v.repeatability_sigma_mm = yaml::length_mm_or(node, "repeatability_sigma_mm", 0.0, where);
+  if (!(v.repeatability_sigma_mm >= 0)) {
+    fail(where, "repeatability_sigma_mm", node["repeatability_sigma_mm"], "must not be negative");
+  }
+  v.backlash_mm = yaml::lengths_mm_or(node, "backlash_mm", 3, v.backlash_mm, where);
+  if (const YAML::Node e = node["expansion_ppm_per_K"]) {
+    if (!e.IsSequence() || e.size() != 3) fail(where, "expansion_ppm_per_K", e, "expected 3 numbers");
+    for (int i = 0; i < 3; ++i) {
+      YAML::Node w;
+      w["v"] = e[static_cast<std::size_t>(i)];
+      v.expansion_per_K[i] = yaml::number_or(w, "v", 0, where + " expansion_ppm_per_K") * 1e-6;
+    }
+  }
+  if (const YAML::Node t = node["temperature_C"]) {
+    if (!t.IsSequence() || t.size() != 3) fail(where, "temperature_C", t, "expected 3 numbers");
+    for (int i = 0; i < 3; ++i) {
+      YAML::Node w;
+      w["v"] = t[static_cast<std::size_t>(i)];
+      v.temperature_C[i] = yaml::number_or(w, "v", 20, where + " temperature_C");
+    }
+  }
+  bool any_function = false;
+  for (int i = 0; i < 18; ++i) {
+    const std::string key =
+        std::string(volumetric::function_name(i)) + (i % 6 < 3 ? "_um" : "_urad");
+    const YAML::Node c = node[key];
+    if (!c) continue;
+    if (!c.IsSequence() || c.size() == 0 || c.size() > 12) {
+      fail(where, key, c, "expected a list of 1 to 12 Legendre coefficients");
+    }
+    any_function = true;
+    auto& f = v.rigid_body.functions[static_cast<std::size_t>(i)];
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      YAML::Node w;
+      w["v"] = c[k];
+      const double value = yaml::number_or(w, "v", 0, where + " " + key);
+      if (!std::isfinite(value)) fail(where, key, c, "must be finite");
+      f.coefficients.push_back(value * (i % 6 < 3 ? 1e-3 : 1e-6));  // um -> mm, urad -> rad
+    }
+  }
+  const YAML::Node ranges = node["range_mm"];
+  if (any_function || ranges) {
+    if (!ranges || !ranges.IsMap()) {
+      fail(where, "range_mm", ranges, "required with error functions: {x: [lo, hi], y: .., z: ..}");
+    }
+    yaml::refuse_unknown_keys(ranges, {"x", "y", "z"}, "range_mm.", where);
+    const char* axes[] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a) {
+      const Eigen::Vector2d r = axis_range(ranges, axes[a], where);
+      for (int k = 0; k < 6; ++k) {
+        auto& f = v.rigid_body.functions[static_cast<std::size_t>(a * 6 + k)];
+        f.lo_mm = r[0];
+        f.hi_mm = r[1];
+      }
+    }
+  }
+  v.rigid_body.ec0xy_rad = yaml::angle_rad_or(node, "EC(0X)Y_urad", 0, where);
+  v.rigid_body.eb0xz_rad = yaml::angle_rad_or(node, "EB(0X)Z_urad", 0, where);
+  v.rigid_body.ea0yz_rad = yaml::angle_rad_or(node, "EA(0Y)Z_urad", 0, where);
+  v.c_axis_tilt_rad = angle_pair(node, "c_axis_tilt_urad", where);
+  v.c_periodic_rad = yaml::angle_rad_or(node, "c_periodic_arcsec", 0, where);
+  v.c_periodic_phase_rad = yaml::angle_rad_or(node, "c_periodic_phase_deg", 0, where);
+  v.a_axis_tilt_rad = angle_pair(node, "a_axis_tilt_urad", where);
+  v.a_periodic_rad = yaml::angle_rad_or(node, "a_periodic_arcsec", 0, where);
+  v.w_scale_ppm = yaml::number_or(node, "w_scale_ppm", 0, where);
+  v.w_misalignment_rad = angle_pair(node, "w_misalignment_urad", where);
+  return v;
+}
+
 std::uint64_t parse_seed(const YAML::Node& node, const std::string& where) {
   const double seed = yaml::number_or(node, "seed", 1, where);
   // Integers up to 2^53 are exact in a double.
@@ -161,6 +307,13 @@ double FixtureAxisErrors::error_mm(double u_mm) const {
   return e;
 }
 
+Eigen::Matrix3d TrackerModel::rotation() const {
+  return (Eigen::AngleAxisd(ypr_rad[0], Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(ypr_rad[1], Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(ypr_rad[2], Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
 Eigen::Vector3d FixtureAxisErrors::direction(int axis) const {
   Eigen::Vector3d d = misalignment_rad;
   d[axis] = 1.0;
@@ -178,7 +331,7 @@ SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
   const std::string where = file + " [simulator]";
   yaml::refuse_unknown_keys(node,
                             {"seed", "trigger_noise_sigma_mm", "plate_thickness_mm", "errors",
-                             "fixture", "part_seating_sigma_mm"},
+                             "fixture", "part_seating_sigma_mm", "tracker", "volumetric"},
                             "", where);
   config.seed = parse_seed(node, where);
   config.trigger_noise_sigma_mm =
@@ -199,6 +352,9 @@ SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
   }
   config.fixture = parse_fixture_errors(optional_map(node, "fixture", where), machine,
                                         file + " [simulator.fixture]");
+  config.tracker = parse_tracker(optional_map(node, "tracker", where), file + " [simulator.tracker]");
+  config.volumetric =
+      parse_volumetric(optional_map(node, "volumetric", where), file + " [simulator.volumetric]");
   return config;
 }
 

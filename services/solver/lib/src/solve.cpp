@@ -1,6 +1,7 @@
 #include "ncqual/solver/solve.hpp"
 
 #include "ncqual/solver/fixture_checks.hpp"
+#include "ncqual/solver/global_checks.hpp"
 #include "ncqual/solver/monument_positioning.hpp"
 #include "ncqual/solver/monument_probe_checks.hpp"
 #include "ncqual/solver/part_setpoints.hpp"
@@ -36,6 +37,20 @@ CheckResult dispatch(const MeasurementSet& set, const MachineConfig& machine) {
       return check_fixture_postcalibration(set, machine);
     case CheckKind::PartSetPoints:
       return check_part_setpoints(set, machine);
+    case CheckKind::GlobalMasterFrame:
+      return check_global_master_frame(set, machine);
+    case CheckKind::GlobalGrid:
+      return check_global_grid(set, machine);
+    case CheckKind::RotaryW:
+    case CheckKind::RotaryA:
+    case CheckKind::RotaryC:
+      return check_rotary_axis(set, machine);
+    case CheckKind::CircleXY:
+    case CheckKind::CircleYZ:
+    case CheckKind::CircleXZ:
+      return check_circle(set, machine);
+    case CheckKind::LinearAxisRun:
+      return check_linear_axis_run(set, machine);
     default:
       return detail::invalid(detail::result_for(set),
                              "check kind '" + std::string(to_string(set.kind)) +
@@ -54,6 +69,15 @@ bool is_implemented(CheckKind kind) {
     case CheckKind::FixturePreCalibration:
     case CheckKind::FixturePostCalibration:
     case CheckKind::PartSetPoints:
+    case CheckKind::GlobalMasterFrame:
+    case CheckKind::GlobalGrid:
+    case CheckKind::RotaryW:
+    case CheckKind::RotaryA:
+    case CheckKind::RotaryC:
+    case CheckKind::CircleXY:
+    case CheckKind::CircleYZ:
+    case CheckKind::CircleXZ:
+    case CheckKind::LinearAxisRun:
       return true;
     default:
       return false;

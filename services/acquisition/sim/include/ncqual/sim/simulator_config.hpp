@@ -29,9 +29,39 @@
 //         C2R3: [0.01, 0, -0.02]
 //       wear_sigma_mm: 0                 # each placement of a pogo lands off by N(0, sigma^2)
 //                                        # per axis (worn, loose components)
+//     tracker:                           # the laser tracker of the monthly check
+//       position_mm: [2200, -2500, 1000] # its origin in the machine frame
+//       yaw_deg: 90                      # its axes: Rz(yaw) Ry(pitch) Rx(roll) of the machine's
+//       pitch_deg: 0
+//       roll_deg: 0
+//       angular_sigma_urad: 20           # per encoder angle (azimuth, elevation), 1 sigma
+//       radial_sigma_um: 4               # range noise: radial_sigma_um + radial_sigma_um_per_m * r
+//       radial_sigma_um_per_m: 0.8
+//       samples_per_point: 1             # a static point averages this many readings
+//       linear_run_standoff_mm: 1000     # ISO 230-2 station on the axis line, before the run
+//       ifm_sigma_um: 0.5                # its range noise (interferometer mode):
+//       ifm_sigma_um_per_m: 0.4          #   ifm_sigma_um + ifm_sigma_um_per_m * r
+//     volumetric:                        # what the tracker sees of the machine (ground truth)
+//       repeatability_sigma_mm: 0.001    # each axis lands off by N(0, sigma^2) per move
+//       backlash_mm: [0, 0, 0]           # reversal per axis: lags the command by half of it
+//       expansion_ppm_per_K: [11.5, 11.5, 11.5]  # per axis scale (1 + alpha (T - 20 C))
+//       temperature_C: [20, 20, 20]
+//       range_mm: {x: [200, 4200], y: [200, 1700], z: [600, 1200]}  # Legendre ranges
+//       EXX_um: [0, 12, -4]              # Legendre coefficients c0, c1, ... of each of the 18
+//       EAX_urad: [0, 5]                 #   error functions (ncqual/volumetric.hpp): _um for
+//       EC(0X)Y_urad: 20                 #   E{X,Y,Z}K, _urad for E{A,B,C}K; squareness EC(0X)Y,
+//                                        #   EB(0X)Z, EA(0Y)Z in urad
+//       c_axis_tilt_urad: [0, 0]         # C axis tilted about machine X, Y
+//       c_periodic_arcsec: 0             # once-per-turn angular error of C (amplitude, phase)
+//       c_periodic_phase_deg: 0
+//       a_axis_tilt_urad: [0, 0]         # A axis tilted about the head's Y, Z
+//       a_periodic_arcsec: 0
+//       w_scale_ppm: 0                   # W travel scale error
+//       w_misalignment_urad: [0, 0]      # W travel tilted from the tool axis (body X, Y)
 #pragma once
 
 #include "ncqual/config.hpp"
+#include "ncqual/volumetric.hpp"
 
 #include <Eigen/Core>
 
@@ -85,6 +115,46 @@ struct FixtureErrors {
   double wear_sigma_mm = 0;
 };
 
+// The laser tracker: where it stands and how noisy it is (Aguado et al. 2019: angular encoders
+// 20 urad, range 4 um + 0.8 um/m).
+struct TrackerModel {
+  Eigen::Vector3d position_mm = Eigen::Vector3d(2200, -2500, 1000);
+  Eigen::Vector3d ypr_rad = Eigen::Vector3d(1.5707963267948966, 0, 0);  // yaw, pitch, roll
+  double angular_sigma_rad = 20e-6;
+  double radial_sigma_mm = 0.004;
+  double radial_sigma_mm_per_m = 0.0008;
+  // A static point is the mean of this many readings (the tracker's measurement time): its noise
+  // is the reading noise above / sqrt(samples_per_point).
+  int samples_per_point = 1;
+  // The linear axis run (ISO 230-2) is measured from a second station on the axis line,
+  // `linear_run_standoff_mm` before the first target, looking along the axis, in interferometer
+  // (IFM) mode: range noise ifm_sigma + ifm_sigma_per_m * r.
+  double linear_run_standoff_mm = 1000;
+  double ifm_sigma_mm = 0.0005;
+  double ifm_sigma_mm_per_m = 0.0004;
+
+  // Rotation tracker frame -> machine frame.
+  Eigen::Matrix3d rotation() const;
+};
+
+// The machine as the tracker sees it over its whole envelope: the 21 rigid-body errors of X, Y, Z,
+// thermal expansion, reversal and repeatability of the linear axes, and the errors of the wrist
+// (C and A axis tilts and periodic errors, W scale and direction). c_angle_error and a_home_error
+// of SimulatorErrors are the rotary zero errors.
+struct VolumetricTruth {
+  double repeatability_sigma_mm = 0;
+  Eigen::Vector3d backlash_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d expansion_per_K = Eigen::Vector3d::Constant(11.5e-6);
+  Eigen::Vector3d temperature_C = Eigen::Vector3d::Constant(20);
+  volumetric::RigidBodyErrors rigid_body;
+  Eigen::Vector2d c_axis_tilt_rad = Eigen::Vector2d::Zero();
+  double c_periodic_rad = 0, c_periodic_phase_rad = 0;
+  Eigen::Vector2d a_axis_tilt_rad = Eigen::Vector2d::Zero();
+  double a_periodic_rad = 0;
+  double w_scale_ppm = 0;
+  Eigen::Vector2d w_misalignment_rad = Eigen::Vector2d::Zero();
+};
+
 struct SimulatorConfig {
   std::uint64_t seed = 1;
   double trigger_noise_sigma_mm = 0.001;
@@ -96,6 +166,8 @@ struct SimulatorConfig {
   // Each loaded part seats on its locators off by N(0, sigma^2) per axis, drawn per request;
   // the set points move with the part.
   double part_seating_sigma_mm = 0;
+  TrackerModel tracker;
+  VolumetricTruth volumetric;
 };
 
 // Reads machine.simulator (absent or null: the defaults above). Unknown keys are refused so a

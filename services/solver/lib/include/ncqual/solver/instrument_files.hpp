@@ -1,0 +1,110 @@
+// Readers of instrument exports (CSV, see ncqual/csv.hpp for the common format): text (or a
+// parsed CsvTable) in, typed data out, no file I/O here (the caller reads the file, e.g. with
+// ncqual::read_csv_file, and passes the table); every problem a CsvError "<file>:<line>:<column>: <message>" (column left out when a
+// whole row is wrong, line too when the whole file is). Columns are found by name, in any
+// order; columns the format does not name are ignored (instrument exports carry extras:
+// temperatures, time stamps). Lengths in mm, angles in degrees in the file, radians inside.
+//
+// ISO 230-2 run (laser interferometer):
+//     target_mm,cycle,direction,measured_mm
+//     0,1,up,0.0012
+//   direction is "up" (approach in +) or "down" (in -), any case; cycle an integer.
+//   Refused besides cell errors, with the line of the offending reading: a repeated (target,
+//   cycle, direction) naming the first line too; a target and direction with a single cycle; a
+//   target measured in one direction only while other targets have both; and, at the last
+//   data line (the header line when there is none), fewer than 2 targets.
+//
+// Circle (ballbar, grid encoder, tracker), one of the layouts
+//     angle_deg,radius_mm        polar about the instrument's centre (0, 0) of the plane
+//     x_mm,y_mm | y_mm,z_mm | x_mm,z_mm   coordinates; the pair names the plane (XY, YZ, XZ)
+//     u_mm,v_mm                  coordinates in the plane's first and second axis
+//   with an optional direction column ("ccw" or "cw", any case; default ccw). The plane comes
+//   from the header's coordinate pair or from the `plane` argument; angle_deg/radius_mm and
+//   u_mm/v_mm need the argument. Refused besides cell errors: no layout in the header (the
+//   error lists the layouts), both polar and coordinate columns, a pair that names another plane
+//   than the argument, x_mm,y_mm,z_mm without the argument (which pair?), a radius <= 0, a
+//   repeated angle (angle_deg equal modulo 360, same direction; naming the first line), and
+//   the refusals of evaluate_circular_test (fewer than 8 points in a direction, at its last
+//   line; points not round the circle; ...).
+//
+// Grid / master-frame run (laser tracker):
+//     point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas
+//   commanded target position in machine axes and measured position in the instrument frame,
+//   mm. Refused besides cell errors: an empty point name, a repeated point name or a repeated
+//   commanded position (naming both lines), a file with no points.
+#pragma once
+
+#include "ncqual/csv.hpp"
+#include "ncqual/kinematics.hpp"
+#include "ncqual/model.hpp"
+#include "ncqual/solver/circular_test.hpp"
+#include "ncqual/solver/iso230_2.hpp"
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ncqual::solver {
+
+struct Iso230_2File {
+  std::string file;
+  std::vector<PositioningReading> readings;  // in file order, ready for evaluate_iso230_2
+  std::vector<int> lines;                    // lines[k]: the file line of readings[k]
+};
+
+// Parses an ISO 230-2 run; `file` names it in errors. The readings it returns pass
+// find_iso230_2_problem.
+Iso230_2File read_iso230_2_csv(std::string_view text, const std::string& file);
+Iso230_2File read_iso230_2_csv(const CsvTable& table);
+
+struct CircleFile {
+  std::string file;
+  CircularTestInput input;  // plane and points; nominal radius and centre left unset
+  std::vector<int> lines;   // lines[k]: the file line of input.points[k]
+  bool polar = false;       // angle_deg,radius_mm (else coordinates)
+};
+
+// Parses a circle file; `plane` is the caller's plane (nullopt: take it from the header).
+// The input it returns passes find_circular_test_problem.
+CircleFile read_circle_csv(std::string_view text, const std::string& file,
+                           std::optional<Plane> plane);
+CircleFile read_circle_csv(const CsvTable& table, std::optional<Plane> plane);
+
+struct GridFilePoint {
+  std::string point;                                      // name, unique in the file
+  Eigen::Vector3d commanded_mm = Eigen::Vector3d::Zero();  // machine axes
+  Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();   // instrument frame
+  int line = 0;                                           // file line
+};
+
+// Parses a grid / master-frame run, points in file order.
+std::vector<GridFilePoint> read_grid_csv(std::string_view text, const std::string& file);
+std::vector<GridFilePoint> read_grid_csv(const CsvTable& table);
+
+// ---- Imports: instrument exports as the tracker points of a MeasurementSet ---------------------
+// Labelled as the monthly programs label them (ncqual/global_check.hpp), so an export goes
+// through the same solver check as a simulated measurement (`ncqual import`). Commanded axes are
+// the pivot positions that put `target` (the reflector's geometry, usually the machine's
+// global_check.targets[0]) at the file's commanded position, A = C = W = 0.
+
+// x_run:<i>, y_run:<i>, grid:<i>:t0; measured in the file's instrument frame.
+std::vector<TrackerPoint> tracker_points_for_grid(const std::vector<GridFilePoint>& x_run,
+                                                  const std::vector<GridFilePoint>& y_run,
+                                                  const std::vector<GridFilePoint>& grid,
+                                                  const ProbeGeometry& target);
+
+// run:<cycle>:<up|down>:<i> (i: the target's rank), along machine axis `axis` (0, 1, 2) from
+// `at_mm` (the other two coordinates); the 1-D reading becomes a point on the axis line.
+std::vector<TrackerPoint> tracker_points_for_linear_run(const Iso230_2File& run, int axis,
+                                                        const Eigen::Vector3d& at_mm,
+                                                        const ProbeGeometry& target);
+
+// ccw:<i>, cw:<i>; the file's (u, v) in the plane's two machine axes about `centre_mm`.
+std::vector<TrackerPoint> tracker_points_for_circle(const CircleFile& circle,
+                                                    const Eigen::Vector3d& centre_mm,
+                                                    const ProbeGeometry& target);
+
+}  // namespace ncqual::solver

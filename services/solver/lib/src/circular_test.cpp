@@ -1,0 +1,330 @@
+#include "ncqual/solver/circular_test.hpp"
+
+#include "ncqual/solver/circle_fit.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <tuple>
+
+namespace ncqual::solver {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kMinPointsPerDirection = 8;
+constexpr double kMaxGapRad = kPi / 3;          // 60°
+constexpr double kGapSlackRad = 1e-9;           // rounding allowance on the gap test
+constexpr double kDuplicateAngleRad = 1e-9;
+
+std::string num(double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+double deg(double rad) { return rad * 180.0 / kPi; }
+
+// An angle in degrees for messages, rounded to 1e-6 deg (no "5e-15" for 0).
+std::string deg_text(double rad) {
+  const double d = std::round(deg(rad) * 1e6) / 1e6;
+  return num(d == 0 ? 0.0 : d);
+}
+
+// Angle of p about c in [0, 2π).
+double angle_about(const Eigen::Vector2d& p, const Eigen::Vector2d& c) {
+  double a = std::atan2(p.y() - c.y(), p.x() - c.x());
+  if (a < 0) a += 2 * kPi;
+  if (a >= 2 * kPi) a -= 2 * kPi;
+  return a;
+}
+
+// The points of one path about a centre: angle, radius and index into the input.
+struct Polar {
+  double theta = 0;
+  double r = 0;
+  std::size_t index = 0;
+};
+
+std::vector<Polar> polar_sorted(const std::vector<CircularPoint>& points,
+                                const std::vector<std::size_t>& indices,
+                                const Eigen::Vector2d& centre) {
+  std::vector<Polar> out;
+  out.reserve(indices.size());
+  for (std::size_t i : indices) {
+    out.push_back(Polar{angle_about(points[i].uv_mm, centre), (points[i].uv_mm - centre).norm(), i});
+  }
+  std::sort(out.begin(), out.end(), [](const Polar& a, const Polar& b) { return a.theta < b.theta; });
+  return out;
+}
+
+// Largest gap between neighbouring angles (the one across 0 included) and the position in
+// `sorted` of the point that opens it.
+std::pair<double, std::size_t> largest_gap(const std::vector<Polar>& sorted) {
+  double gap = sorted.front().theta + 2 * kPi - sorted.back().theta;
+  std::size_t at = sorted.size() - 1;
+  for (std::size_t k = 1; k < sorted.size(); ++k) {
+    const double g = sorted[k].theta - sorted[k - 1].theta;
+    if (g > gap) {
+      gap = g;
+      at = k - 1;
+    }
+  }
+  return {gap, at};
+}
+
+std::vector<std::size_t> indices_of(const CircularTestInput& input, PathDirection d) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < input.points.size(); ++i) {
+    if (input.points[i].direction == d) out.push_back(i);
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector2d> coordinates(const CircularTestInput& input,
+                                         const std::vector<std::size_t>& indices) {
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(indices.size());
+  for (std::size_t i : indices) out.push_back(input.points[i].uv_mm);
+  return out;
+}
+
+std::string direction_prefix(PathDirection d) {
+  return "direction " + std::string(to_string(d)) + ": ";
+}
+
+// Least squares of r_i - R on (1, cos θ, sin θ, cos 2θ, sin 2θ).
+RadialHarmonics fit_harmonics(const std::vector<Polar>& polar, double radius) {
+  const Eigen::Index n = static_cast<Eigen::Index>(polar.size());
+  Eigen::MatrixXd design(n, 5);
+  Eigen::VectorXd rhs(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = polar[static_cast<std::size_t>(i)].theta;
+    design.row(i) << 1, std::cos(t), std::sin(t), std::cos(2 * t), std::sin(2 * t);
+    rhs(i) = polar[static_cast<std::size_t>(i)].r - radius;
+  }
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(design);
+  if (qr.rank() < 5) {
+    throw std::invalid_argument(
+        "evaluate_circular_test: the angles of the points do not resolve the 2θ terms of the "
+        "radial deviation (rank " + std::to_string(qr.rank()) + " of 5)");
+  }
+  const Eigen::VectorXd c = qr.solve(rhs);
+  RadialHarmonics h;
+  h.a0_mm = c(0);
+  h.a1_mm = c(1);
+  h.b1_mm = c(2);
+  h.a2_mm = c(3);
+  h.b2_mm = c(4);
+  h.residual_rms_mm = std::sqrt((design * c - rhs).squaredNorm() / static_cast<double>(n));
+  return h;
+}
+
+CircleFit fit_or_throw(const std::vector<Eigen::Vector2d>& pts, const std::string& what) {
+  CircleFit fit = fit_circle(pts);
+  if (!fit.ok()) throw std::invalid_argument("evaluate_circular_test: " + what + fit.error);
+  return fit;
+}
+
+RadialReference reference_for(const CircularTestInput& input, const CircleFit& fit) {
+  RadialReference ref;
+  ref.nominal_centre = input.nominal_centre_mm.has_value();
+  ref.nominal_radius = input.nominal_radius_mm.has_value();
+  ref.centre_mm = ref.nominal_centre ? *input.nominal_centre_mm : fit.centre;
+  ref.radius_mm = ref.nominal_radius ? *input.nominal_radius_mm : fit.radius;
+  return ref;
+}
+
+// F_max, F_min of the points about the reference.
+std::pair<double, double> radial_deviation(const std::vector<Eigen::Vector2d>& pts,
+                                           const RadialReference& ref) {
+  double hi = -INFINITY, lo = INFINITY;
+  for (const auto& p : pts) {
+    const double f = (p - ref.centre_mm).norm() - ref.radius_mm;
+    hi = std::max(hi, f);
+    lo = std::min(lo, f);
+  }
+  return {hi, lo};
+}
+
+double spread(const std::vector<Polar>& polar) {
+  double hi = -INFINITY, lo = INFINITY;
+  for (const auto& p : polar) {
+    hi = std::max(hi, p.r);
+    lo = std::min(lo, p.r);
+  }
+  return hi - lo;
+}
+
+// Radius of the sorted path at angle theta, interpolated linearly in θ between the neighbours.
+double radius_at(const std::vector<Polar>& sorted, double theta) {
+  const auto it = std::upper_bound(sorted.begin(), sorted.end(), theta,
+                                   [](double t, const Polar& p) { return t < p.theta; });
+  const std::size_t n = sorted.size();
+  const std::size_t next = static_cast<std::size_t>(it - sorted.begin());
+  const Polar& b = sorted[next % n];
+  const Polar& a = sorted[(next + n - 1) % n];
+  const double ta = next == 0 ? a.theta - 2 * kPi : a.theta;
+  const double tb = next == n ? b.theta + 2 * kPi : b.theta;
+  if (!(tb - ta > 1e-15)) return a.r;
+  return a.r + (theta - ta) / (tb - ta) * (b.r - a.r);
+}
+
+// Largest |r_a(θ) - r_b(θ)| at the points of either path.
+double hysteresis(const std::vector<Polar>& a, const std::vector<Polar>& b) {
+  double h = 0;
+  for (const auto& p : a) h = std::max(h, std::abs(p.r - radius_at(b, p.theta)));
+  for (const auto& p : b) h = std::max(h, std::abs(p.r - radius_at(a, p.theta)));
+  return h;
+}
+
+CircularPathFigures path_figures(const CircularTestInput& input, PathDirection d,
+                                 const std::vector<std::size_t>& indices) {
+  const auto pts = coordinates(input, indices);
+  const CircleFit fit = fit_or_throw(pts, direction_prefix(d));
+  const auto polar = polar_sorted(input.points, indices, fit.centre);
+  CircularPathFigures f;
+  f.direction = d;
+  f.point_count = static_cast<int>(indices.size());
+  f.lsc_centre_mm = fit.centre;
+  f.lsc_radius_mm = fit.radius;
+  f.lsc_rms_mm = fit.rms_residual;
+  f.G_mm = spread(polar);
+  f.F_reference = reference_for(input, fit);
+  std::tie(f.F_max_mm, f.F_min_mm) = radial_deviation(pts, f.F_reference);
+  f.max_gap_rad = largest_gap(polar).first;
+  f.harmonics = fit_harmonics(polar, fit.radius);
+  f.scale_mismatch_um_per_m = 2 * f.harmonics.a2_mm / fit.radius * 1e6;
+  f.squareness_urad = -2 * f.harmonics.b2_mm / fit.radius * 1e6;
+  return f;
+}
+
+}  // namespace
+
+std::string_view to_string(Plane p) {
+  switch (p) {
+    case Plane::XY: return "XY";
+    case Plane::YZ: return "YZ";
+    case Plane::XZ: return "XZ";
+  }
+  return "?";
+}
+
+std::optional<Plane> parse_plane(std::string_view text) {
+  std::string up(text);
+  for (char& c : up) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (up == "XY") return Plane::XY;
+  if (up == "YZ") return Plane::YZ;
+  if (up == "XZ") return Plane::XZ;
+  return std::nullopt;
+}
+
+std::string_view to_string(PathDirection d) { return d == PathDirection::Ccw ? "ccw" : "cw"; }
+
+CircularPoint circular_point_from_polar(double theta_rad, double radius_mm,
+                                        PathDirection direction) {
+  return CircularPoint{radius_mm * Eigen::Vector2d(std::cos(theta_rad), std::sin(theta_rad)),
+                       direction};
+}
+
+std::optional<CircularTestProblem> find_circular_test_problem(const CircularTestInput& input) {
+  using P = CircularTestProblem;
+  if (input.nominal_radius_mm &&
+      !(std::isfinite(*input.nominal_radius_mm) && *input.nominal_radius_mm > 0)) {
+    return P{std::nullopt, std::nullopt,
+             "nominal_radius_mm = " + num(*input.nominal_radius_mm) +
+                 ": must be a finite number > 0"};
+  }
+  if (input.nominal_centre_mm && !input.nominal_centre_mm->allFinite()) {
+    return P{std::nullopt, std::nullopt,
+             "nominal_centre_mm = (" + num(input.nominal_centre_mm->x()) + ", " +
+                 num(input.nominal_centre_mm->y()) + "): not finite"};
+  }
+  if (input.points.empty()) return P{std::nullopt, std::nullopt, "no points"};
+  for (std::size_t i = 0; i < input.points.size(); ++i) {
+    const auto& p = input.points[i].uv_mm;
+    if (!p.allFinite()) {
+      return P{i, std::nullopt,
+               "u_mm = " + num(p.x()) + ", v_mm = " + num(p.y()) + ": not a finite point"};
+    }
+  }
+  for (PathDirection d : {PathDirection::Ccw, PathDirection::Cw}) {
+    const auto idx = indices_of(input, d);
+    if (idx.empty()) continue;
+    const std::string pre = direction_prefix(d);
+    if (static_cast<int>(idx.size()) < kMinPointsPerDirection) {
+      return P{idx.back(), std::nullopt,
+               pre + std::to_string(idx.size()) + " points; a circular test needs at least " +
+                   std::to_string(kMinPointsPerDirection) +
+                   " per direction (the fit of the 2θ shape has 5 terms)"};
+    }
+    const CircleFit fit = fit_circle(coordinates(input, idx));
+    if (!fit.ok()) return P{std::nullopt, std::nullopt, pre + fit.error};
+    const auto polar = polar_sorted(input.points, idx, fit.centre);
+    for (std::size_t k = 0; k < polar.size(); ++k) {
+      const Polar& a = polar[k];
+      const Polar& b = polar[(k + 1) % polar.size()];
+      const double dt = k + 1 < polar.size() ? b.theta - a.theta : b.theta + 2 * kPi - a.theta;
+      if (dt < kDuplicateAngleRad) {
+        const std::size_t later = std::max(a.index, b.index);
+        const auto& p = input.points[later].uv_mm;
+        return P{later, std::min(a.index, b.index),
+                 pre + "u_mm = " + num(p.x()) + ", v_mm = " + num(p.y()) + " at " +
+                     deg_text(b.theta) +
+                     " deg about the path's LSC centre: the same angle as another point"};
+      }
+    }
+    const auto [gap, at] = largest_gap(polar);
+    if (gap > kMaxGapRad + kGapSlackRad) {
+      const double from = polar[at].theta;
+      const double to = polar[(at + 1) % polar.size()].theta;
+      return P{polar[at].index, std::nullopt,
+               pre + "no points between " + deg_text(from) + " and " + deg_text(to) +
+                   " deg about the path's LSC centre, a gap of " + deg_text(gap) +
+                   " deg; the points must go round the circle (no gap above " +
+                   deg_text(kMaxGapRad) + " deg)"};
+    }
+  }
+  return std::nullopt;
+}
+
+CircularTestResult evaluate_circular_test(const CircularTestInput& input) {
+  if (const auto p = find_circular_test_problem(input)) {
+    std::string what = "evaluate_circular_test: ";
+    if (p->index) what += "points[" + std::to_string(*p->index) + "]: ";
+    what += p->message;
+    if (p->first_index) what += " (points[" + std::to_string(*p->first_index) + "])";
+    throw std::invalid_argument(what);
+  }
+  CircularTestResult out;
+  out.plane = input.plane;
+  const auto ccw = indices_of(input, PathDirection::Ccw);
+  const auto cw = indices_of(input, PathDirection::Cw);
+  if (!ccw.empty()) out.ccw = path_figures(input, PathDirection::Ccw, ccw);
+  if (!cw.empty()) out.cw = path_figures(input, PathDirection::Cw, cw);
+
+  std::vector<std::size_t> all(input.points.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  const auto pts = coordinates(input, all);
+  const CircleFit fit = fit_or_throw(pts, "all points: ");
+  out.lsc_centre_mm = fit.centre;
+  out.lsc_radius_mm = fit.radius;
+  out.G_mm = std::max(out.ccw ? out.ccw->G_mm : 0.0, out.cw ? out.cw->G_mm : 0.0);
+  out.F_reference = reference_for(input, fit);
+  std::tie(out.F_max_mm, out.F_min_mm) = radial_deviation(pts, out.F_reference);
+  const auto polar_all = polar_sorted(input.points, all, fit.centre);
+  out.harmonics = fit_harmonics(polar_all, fit.radius);
+  out.scale_mismatch_um_per_m = 2 * out.harmonics.a2_mm / fit.radius * 1e6;
+  out.squareness_urad = -2 * out.harmonics.b2_mm / fit.radius * 1e6;
+  if (out.ccw && out.cw) {
+    out.G_b_mm = spread(polar_all);
+    out.H_mm = hysteresis(polar_sorted(input.points, ccw, fit.centre),
+                          polar_sorted(input.points, cw, fit.centre));
+  }
+  return out;
+}
+
+}  // namespace ncqual::solver

@@ -1,0 +1,307 @@
+#include "ncqual/solver/instrument_files.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <tuple>
+
+namespace ncqual::solver {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string num(double v) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+// The line a whole-data problem is reported at: the last data row, or the header.
+int last_line(const CsvTable& t) { return t.rows.empty() ? t.header_line : t.rows.back().line; }
+
+// Turns a problem found by the solver (indices into the data) into a CsvError at file lines.
+[[noreturn]] void fail_at_lines(const CsvTable& t, const std::vector<int>& lines,
+                                const std::optional<std::size_t>& index,
+                                const std::optional<std::size_t>& first_index,
+                                const std::string& message) {
+  const int line = index ? lines[*index] : last_line(t);
+  std::string text = message;
+  if (first_index) text += " (first at line " + std::to_string(lines[*first_index]) + ")";
+  throw CsvError(t.file, line, 0, text);
+}
+
+std::string column_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+[[noreturn]] void fail_header(const CsvTable& t, const std::string& why) {
+  throw CsvError(t.file, t.header_line, 0, why + "; the header has: " + column_list(t.header));
+}
+
+struct CoordinatePair {
+  Plane plane;
+  const char* u;
+  const char* v;
+};
+constexpr CoordinatePair kPairs[] = {
+    {Plane::XY, "x_mm", "y_mm"}, {Plane::YZ, "y_mm", "z_mm"}, {Plane::XZ, "x_mm", "z_mm"}};
+
+}  // namespace
+
+// ---- ISO 230-2 ----------------------------------------------------------------------------------
+
+Iso230_2File read_iso230_2_csv(const CsvTable& t) {
+  const std::size_t c_target = t.require_column("target_mm");
+  const std::size_t c_cycle = t.require_column("cycle");
+  const std::size_t c_direction = t.require_column("direction");
+  const std::size_t c_measured = t.require_column("measured_mm");
+  Iso230_2File out;
+  out.file = t.file;
+  for (const CsvRow& row : t.rows) {
+    PositioningReading r;
+    r.target_mm = t.number(row, c_target);
+    r.cycle = t.integer(row, c_cycle);
+    r.direction = t.word(row, c_direction, {"up", "down"}) == "up" ? Approach::Up : Approach::Down;
+    r.measured_mm = t.number(row, c_measured);
+    out.readings.push_back(r);
+    out.lines.push_back(row.line);
+  }
+  if (const auto p = find_iso230_2_problem(out.readings)) {
+    fail_at_lines(t, out.lines, p->index, p->first_index, p->message);
+  }
+  return out;
+}
+
+Iso230_2File read_iso230_2_csv(std::string_view text, const std::string& file) {
+  return read_iso230_2_csv(read_csv(text, file));
+}
+
+// ---- Circle -------------------------------------------------------------------------------------
+
+CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
+  const bool has_angle = t.find_column("angle_deg").has_value();
+  const bool has_radius = t.find_column("radius_mm").has_value();
+  const bool has_uv = t.find_column("u_mm") && t.find_column("v_mm");
+  std::vector<const CoordinatePair*> pairs;
+  for (const auto& p : kPairs) {
+    if (t.find_column(p.u) && t.find_column(p.v)) pairs.push_back(&p);
+  }
+  const bool polar = has_angle || has_radius;
+  const bool coordinates = has_uv || !pairs.empty();
+  const std::string plane_needed = "pass the plane (XY, YZ or XZ)";
+
+  CircleFile out;
+  out.file = t.file;
+  out.polar = polar;
+  std::size_t c_a = 0, c_b = 0;  // angle/radius or u/v
+  if (polar && coordinates) {
+    fail_header(t, "both polar (angle_deg, radius_mm) and coordinate columns; a circle file has "
+                "one layout");
+  }
+  if (polar) {
+    c_a = t.require_column("angle_deg");
+    c_b = t.require_column("radius_mm");
+    if (!plane) fail_header(t, "angle_deg, radius_mm do not name the plane: " + plane_needed);
+    out.input.plane = *plane;
+  } else if (has_uv) {
+    if (!pairs.empty()) {
+      fail_header(t, "both u_mm, v_mm and " + std::string(pairs.front()->u) + ", " +
+                  pairs.front()->v + "; a circle file has one coordinate pair");
+    }
+    if (!plane) fail_header(t, "u_mm, v_mm do not name the plane: " + plane_needed);
+    c_a = *t.find_column("u_mm");
+    c_b = *t.find_column("v_mm");
+    out.input.plane = *plane;
+  } else if (!pairs.empty()) {
+    const CoordinatePair* chosen = nullptr;
+    if (plane) {
+      for (const auto* p : pairs) {
+        if (p->plane == *plane) chosen = p;
+      }
+      if (!chosen) {
+        const CoordinatePair* named = pairs.front();
+        throw CsvError(t.file, t.header_line, static_cast<int>(*t.find_column(named->u)) + 1,
+                       std::string("the header's ") + named->u + ", " + named->v +
+                           " name plane " + std::string(to_string(named->plane)) + ", but plane " +
+                           std::string(to_string(*plane)) + " was asked for");
+      }
+    } else if (pairs.size() > 1) {
+      fail_header(t, "x_mm, y_mm and z_mm name more than one plane: " + plane_needed);
+    } else {
+      chosen = pairs.front();
+    }
+    c_a = *t.find_column(chosen->u);
+    c_b = *t.find_column(chosen->v);
+    out.input.plane = chosen->plane;
+  } else {
+    fail_header(t, "no circle columns: expected angle_deg,radius_mm or a coordinate pair x_mm,y_mm "
+                "| y_mm,z_mm | x_mm,z_mm | u_mm,v_mm");
+  }
+
+  const std::optional<std::size_t> c_direction = t.find_column("direction");
+  // First line of each (direction, angle modulo 360) of a polar file.
+  std::map<std::pair<PathDirection, double>, int> angles_seen;
+  for (const CsvRow& row : t.rows) {
+    PathDirection d = PathDirection::Ccw;
+    if (c_direction) d = t.word(row, *c_direction, {"ccw", "cw"}) == "ccw" ? PathDirection::Ccw
+                                                                          : PathDirection::Cw;
+    const double a = t.number(row, c_a);
+    const double b = t.number(row, c_b);
+    CircularPoint p;
+    if (polar) {
+      if (!(b > 0)) t.fail(row.line, c_b, "column 'radius_mm' = '" + t.cell(row, c_b) +
+                                              "': a radius must be > 0");
+      double wrapped = std::fmod(a, 360.0);
+      if (wrapped < 0) wrapped += 360.0;
+      if (wrapped == 0) wrapped = 0;  // -0 and 360 are 0
+      const auto [it, fresh] = angles_seen.emplace(std::make_pair(d, wrapped), row.line);
+      if (!fresh) {
+        t.fail(row.line, c_a,
+               "angle_deg = " + num(a) + ", direction " + std::string(to_string(d)) +
+                   ": the same angle as line " + std::to_string(it->second));
+      }
+      p = circular_point_from_polar(a * kPi / 180.0, b, d);
+    } else {
+      p = CircularPoint{Eigen::Vector2d(a, b), d};
+    }
+    out.input.points.push_back(p);
+    out.lines.push_back(row.line);
+  }
+  if (const auto p = find_circular_test_problem(out.input)) {
+    fail_at_lines(t, out.lines, p->index, p->first_index, p->message);
+  }
+  return out;
+}
+
+CircleFile read_circle_csv(std::string_view text, const std::string& file,
+                           std::optional<Plane> plane) {
+  return read_circle_csv(read_csv(text, file), plane);
+}
+
+// ---- Grid ---------------------------------------------------------------------------------------
+
+std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
+  const std::size_t c_point = t.require_column("point");
+  const char* const cmd_names[] = {"x_cmd", "y_cmd", "z_cmd"};
+  const char* const meas_names[] = {"x_meas", "y_meas", "z_meas"};
+  std::size_t c_cmd[3], c_meas[3];
+  for (int k = 0; k < 3; ++k) c_cmd[k] = t.require_column(cmd_names[k]);
+  for (int k = 0; k < 3; ++k) c_meas[k] = t.require_column(meas_names[k]);
+
+  std::vector<GridFilePoint> out;
+  std::map<std::string, int> names;
+  std::map<std::tuple<double, double, double>, std::pair<std::string, int>> positions;
+  for (const CsvRow& row : t.rows) {
+    GridFilePoint g;
+    g.line = row.line;
+    g.point = t.cell(row, c_point);
+    if (g.point.empty()) t.fail(row.line, c_point, "column 'point' is empty: name the point");
+    for (int k = 0; k < 3; ++k) g.commanded_mm(k) = t.number(row, c_cmd[k]);
+    for (int k = 0; k < 3; ++k) g.measured_mm(k) = t.number(row, c_meas[k]);
+    const auto [name_it, fresh_name] = names.emplace(g.point, row.line);
+    if (!fresh_name) {
+      t.fail(row.line, c_point,
+             "point '" + g.point + "' repeats line " + std::to_string(name_it->second));
+    }
+    const auto key = std::make_tuple(g.commanded_mm.x(), g.commanded_mm.y(), g.commanded_mm.z());
+    const auto [pos_it, fresh_pos] = positions.emplace(key, std::make_pair(g.point, row.line));
+    if (!fresh_pos) {
+      t.fail(row.line, c_cmd[0],
+             "point '" + g.point + "': commanded position (" + num(g.commanded_mm.x()) + ", " +
+                 num(g.commanded_mm.y()) + ", " + num(g.commanded_mm.z()) + ") repeats point '" +
+                 pos_it->second.first + "' on line " + std::to_string(pos_it->second.second));
+    }
+    out.push_back(g);
+  }
+  if (out.empty()) throw CsvError(t.file, t.header_line, 0, "no points after the header");
+  return out;
+}
+
+std::vector<GridFilePoint> read_grid_csv(std::string_view text, const std::string& file) {
+  return read_grid_csv(read_csv(text, file));
+}
+
+// ---- Imports -----------------------------------------------------------------------------------
+
+namespace {
+
+TrackerPoint tracker_point(std::string label, const Eigen::Vector3d& commanded_target,
+                           const Eigen::Vector3d& measured, const ProbeGeometry& target) {
+  // stylus_ball_centre at A = C = W = 0 is pivot + (ox, oy, -L).
+  const Eigen::Vector3d pivot =
+      commanded_target -
+      Eigen::Vector3d(target.stylus_offset_mm.x(), target.stylus_offset_mm.y(), -target.tool_length_mm);
+  TrackerPoint p;
+  p.label = std::move(label);
+  p.commanded.x_mm = pivot.x();
+  p.commanded.y_mm = pivot.y();
+  p.commanded.z_mm = pivot.z();
+  p.measured_mm = measured;
+  return p;
+}
+
+}  // namespace
+
+std::vector<TrackerPoint> tracker_points_for_grid(const std::vector<GridFilePoint>& x_run,
+                                                  const std::vector<GridFilePoint>& y_run,
+                                                  const std::vector<GridFilePoint>& grid,
+                                                  const ProbeGeometry& target) {
+  std::vector<TrackerPoint> out;
+  for (std::size_t i = 0; i < x_run.size(); ++i) {
+    out.push_back(tracker_point("x_run:" + std::to_string(i), x_run[i].commanded_mm,
+                                x_run[i].measured_mm, target));
+  }
+  for (std::size_t i = 0; i < y_run.size(); ++i) {
+    out.push_back(tracker_point("y_run:" + std::to_string(i), y_run[i].commanded_mm,
+                                y_run[i].measured_mm, target));
+  }
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    out.push_back(tracker_point("grid:" + std::to_string(i) + ":t0", grid[i].commanded_mm,
+                                grid[i].measured_mm, target));
+  }
+  return out;
+}
+
+std::vector<TrackerPoint> tracker_points_for_linear_run(const Iso230_2File& run, int axis,
+                                                        const Eigen::Vector3d& at_mm,
+                                                        const ProbeGeometry& target) {
+  if (axis < 0 || axis > 2) throw std::invalid_argument("axis " + std::to_string(axis) + ": expected 0, 1 or 2");
+  std::vector<double> targets;
+  for (const auto& r : run.readings) targets.push_back(r.target_mm);
+  std::sort(targets.begin(), targets.end());
+  targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+  std::vector<TrackerPoint> out;
+  for (const auto& r : run.readings) {
+    const auto rank = std::lower_bound(targets.begin(), targets.end(), r.target_mm) - targets.begin();
+    Eigen::Vector3d commanded = at_mm, measured = at_mm;
+    commanded[axis] = r.target_mm;
+    measured[axis] = r.measured_mm;
+    out.push_back(tracker_point("run:" + std::to_string(r.cycle) + ":" +
+                                    std::string(to_string(r.direction)) + ":" + std::to_string(rank),
+                                commanded, measured, target));
+  }
+  return out;
+}
+
+std::vector<TrackerPoint> tracker_points_for_circle(const CircleFile& circle,
+                                                    const Eigen::Vector3d& centre_mm,
+                                                    const ProbeGeometry& target) {
+  const int u = circle.input.plane == Plane::YZ ? 1 : 0;
+  const int v = circle.input.plane == Plane::XY ? 1 : 2;
+  std::vector<TrackerPoint> out;
+  int counts[2] = {0, 0};
+  for (const auto& p : circle.input.points) {
+    const bool ccw = p.direction == PathDirection::Ccw;
+    Eigen::Vector3d at = centre_mm;
+    at[u] += p.uv_mm.x();
+    at[v] += p.uv_mm.y();
+    out.push_back(tracker_point(std::string(ccw ? "ccw:" : "cw:") + std::to_string(counts[ccw]++),
+                                at, at, target));
+  }
+  return out;
+}
+
+}  // namespace ncqual::solver

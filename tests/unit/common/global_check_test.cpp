@@ -1,0 +1,184 @@
+// The `global_check:` section of a machine config and the programs of the monthly tracker checks.
+#include "ncqual/config.hpp"
+#include "ncqual/global_check.hpp"
+#include "ncqual/units.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <string>
+
+namespace ncqual {
+namespace {
+
+const std::string kHead = R"(
+machine_id: t1
+probe: {tool_length_mm: 300, ball_radius_mm: 2}
+monument: {hole_center_mm: [10, 20], hole_diameter_mm: 40, face_z_mm: 100}
+)";
+
+const std::string kGlobal = R"(
+global_check:
+  targets:
+    - {tool_length_mm: 300}
+    - {tool_length_in: 20, offset_mm: [150, 0]}
+  master_frame:
+    x_run: {x: {from_mm: 200, to_mm: 4200, points: 11}, at_mm: [950, 900]}
+    y_run: {y_mm: [200, 500, 800, 1100, 1400, 1700], at_mm: [2200, 900]}
+  grid:
+    x: {from_mm: 200, to_mm: 4200, points: 9}
+    y: {from_mm: 200, to_mm: 1700, points: 6}
+    z_in: [24, 32, 40, 48]
+  rotary:
+    at_mm: [2200, 950, 1000]
+    c: {a_deg: 45, from_deg: 0, to_deg: 330, points: 12}
+    a: {c_deg: 0, from_deg: -90, to_deg: 90, points: 13}
+    w: {w: {from_mm: 0, to_mm: 300, points: 7}}
+  circles: {centre_mm: [2200, 950, 900], radius_mm: 300, points: 36, bidirectional: true}
+  linear_run:
+    axis: y
+    at_mm: [1000, 0, 900]
+    targets_mm: [200, 610, 1015, 1430]
+    cycles: 3
+)";
+
+MachineConfig parse(const std::string& text) {
+  return parse_machine_config(YAML::Load(kHead + text), "t1.yaml");
+}
+
+std::string with(const std::string& from, const std::string& to) {
+  std::string text = kGlobal;
+  const auto at = text.find(from);
+  if (at == std::string::npos) throw std::logic_error("no '" + from + "' in the text");
+  return text.replace(at, from.size(), to);
+}
+
+TEST(GlobalCheckConfig, ParsesRangesListsUnitsAndTargets) {
+  const MachineConfig m = parse(kGlobal);
+  ASSERT_TRUE(m.global_check);
+  const GlobalCheckConfig& g = *m.global_check;
+  ASSERT_EQ(g.targets.size(), 2u);
+  EXPECT_DOUBLE_EQ(g.targets[1].tool_length_mm, 20 * 25.4);
+  EXPECT_DOUBLE_EQ(g.targets[1].stylus_offset_mm.x(), 150);
+  ASSERT_EQ(g.x_run_mm.size(), 11u);
+  EXPECT_DOUBLE_EQ(g.x_run_mm[1], 600);
+  EXPECT_EQ(g.y_run_mm.size(), 6u);
+  EXPECT_DOUBLE_EQ(g.grid_z_mm[3], 48 * 25.4);
+  EXPECT_NEAR(g.c_check_a_rad, units::deg_to_rad(45), 1e-15);
+  EXPECT_NEAR(g.c_check_c_rad[11], units::deg_to_rad(330), 1e-12);
+  EXPECT_EQ(g.a_check_a_rad.size(), 13u);
+  EXPECT_EQ(g.w_check_w_mm.size(), 7u);
+  EXPECT_EQ(g.circle.points, 36);
+  EXPECT_EQ(g.linear_run.axis, 1);
+  EXPECT_EQ(g.linear_run.cycles, 3);
+}
+
+TEST(GlobalCheckConfig, NoSectionMeansNoTrackerCheck) {
+  EXPECT_FALSE(parse("").global_check);
+}
+
+TEST(GlobalCheckConfig, RefusesBadValuesNamingTheKey) {
+  auto refused = [](const std::string& text, const std::string& key) {
+    try {
+      parse(text);
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted: " << key;
+  };
+  refused(with("- {tool_length_mm: 300}", "- {tool_length_mm: 0}"), "global_check.targets[0].tool_length_mm");
+  refused(with("points: 9}", "points: 1}"), "global_check.grid.x.points");
+  refused(with("a_deg: 45", "a_deg: 0"), "global_check.rotary.c.a_deg");
+  refused(with("axis: y", "axis: w"), "global_check.linear_run.axis");
+  refused(with("cycles: 3", "cycles: 1"), "global_check.linear_run.cycles");
+  refused(with("radius_mm: 300", "radius_mm: -3"), "global_check.circles.radius_mm");
+  refused(with("at_mm: [2200, 900]", "at_mm: [2200, 901]"), "global_check.master_frame.y_run.at_mm");
+  refused(with("y_mm: [200, 500,", "y_mm: [500, 200,"), "global_check.master_frame.y_run.y");
+  refused(with("  grid:", "  gird: {}\n  grid:"), "global_check.gird");
+}
+
+TEST(GlobalCheckProgram, EveryKindStartsWithTheMasterFrameRuns) {
+  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  for (CheckKind kind : all_check_kinds()) {
+    if (!is_tracker_check(kind)) {
+      EXPECT_THROW(global_check_program(kind, g), std::invalid_argument);
+      continue;
+    }
+    const auto moves = global_check_program(kind, g);
+    if (kind == CheckKind::LinearAxisRun) {  // its own station: no master-frame runs
+      EXPECT_EQ(moves[0].label, "");
+      continue;
+    }
+    ASSERT_GE(moves.size(), 17u) << to_string(kind);
+    EXPECT_EQ(moves[0].label, "x_run:0");
+    EXPECT_DOUBLE_EQ(moves[10].commanded.x_mm, 4200);
+    EXPECT_DOUBLE_EQ(moves[10].commanded.y_mm, 950);
+    EXPECT_EQ(moves[11].label, "y_run:0");
+    EXPECT_DOUBLE_EQ(moves[16].commanded.y_mm, 1700);
+    std::set<std::string> labels;
+    for (const auto& m : moves) {
+      if (!m.label.empty()) {
+        EXPECT_TRUE(labels.insert(m.label).second) << m.label;
+      }
+    }
+  }
+}
+
+TEST(GlobalCheckProgram, GridCoversEveryPointWithEveryTarget) {
+  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  const auto moves = global_check_program(CheckKind::GlobalGrid, g);
+  ASSERT_EQ(moves.size(), 17u + 2 * 216);
+  // point i = (iz * ny + iy) * nx + ix; target 1 after all of target 0.
+  const TrackerMove& m = moves[17 + 216 + (2 * 6 + 3) * 9 + 4];
+  EXPECT_EQ(m.label, "grid:" + std::to_string((2 * 6 + 3) * 9 + 4) + ":t1");
+  EXPECT_EQ(m.target, 1);
+  EXPECT_DOUBLE_EQ(m.commanded.x_mm, 200 + 4 * 500);
+  EXPECT_DOUBLE_EQ(m.commanded.y_mm, 200 + 3 * 300);
+  EXPECT_DOUBLE_EQ(m.commanded.z_mm, 40 * 25.4);
+}
+
+TEST(GlobalCheckProgram, CircleRunsBothWaysFromTheSameSideAndRotaryHoldsXyz) {
+  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  const auto circle = global_check_program(CheckKind::CircleYZ, g);
+  std::map<std::string, AxisPosition> at;
+  for (const auto& m : circle) {
+    if (!m.label.empty()) at[m.label] = m.commanded;
+    if (m.label.rfind("x_run", 0) == 0 || m.label.rfind("y_run", 0) == 0) continue;
+    EXPECT_DOUBLE_EQ(m.commanded.x_mm, 2200);  // the YZ plane
+  }
+  ASSERT_EQ(at.size(), 17u + 72u);
+  EXPECT_NEAR(at["ccw:9"].y_mm, 950, 1e-9);        // 90 degrees: +v
+  EXPECT_NEAR(at["ccw:9"].z_mm, 900 + 300, 1e-9);
+  EXPECT_NEAR(at["cw:9"].z_mm, at["ccw:9"].z_mm, 1e-12);
+  for (CheckKind kind : {CheckKind::RotaryA, CheckKind::RotaryC, CheckKind::RotaryW}) {
+    for (const auto& m : global_check_program(kind, g)) {
+      if (m.label.rfind("x_run", 0) == 0 || m.label.rfind("y_run", 0) == 0) continue;
+      EXPECT_DOUBLE_EQ(m.commanded.x_mm, 2200);
+      EXPECT_DOUBLE_EQ(m.commanded.y_mm, 950);
+      EXPECT_DOUBLE_EQ(m.commanded.z_mm, 1000);
+    }
+  }
+}
+
+TEST(GlobalCheckProgram, LinearRunApproachesEveryTargetFromBothSidesWithOverrun) {
+  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  const auto moves = global_check_program(CheckKind::LinearAxisRun, g);
+  int measured = 0;
+  double previous = 0;
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    const auto& m = moves[i];
+    if (!m.label.empty()) {
+      ++measured;
+      const bool up = m.label.find(":up:") != std::string::npos;
+      // Arrived from below when up, from above when down.
+      EXPECT_EQ(m.commanded.y_mm > previous, up) << m.label;
+    }
+    previous = m.commanded.y_mm;
+  }
+  EXPECT_EQ(measured, 3 * 2 * 4);
+}
+
+}  // namespace
+}  // namespace ncqual

@@ -1,0 +1,195 @@
+// The monthly tracker checks end to end: the tracker simulator measures the true machine of
+// deploy/machines/pm1.yaml (with errors changed here), the solver judges the set; the figures are
+// compared with the simulator's ground truth within bounds derived from the tracker's noise.
+#include "ncqual/solver/global_checks.hpp"
+#include "ncqual/solver/solve.hpp"
+
+#include "ncqual/sim/tracker_simulator.hpp"
+#include "ncqual/units.hpp"
+#include "test_machines.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+namespace ncqual::solver {
+namespace {
+
+using testing::metric;
+
+MachineConfig pm1() {
+  return load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
+}
+
+// A perfect machine (no volumetric, rotary or thermal error) seen by a tracker of the given noise.
+sim::SimulatorConfig perfect(const MachineConfig& m, double angular_sigma_rad, double radial_sigma_mm) {
+  sim::SimulatorConfig c = sim::parse_simulator_config(m);
+  c.volumetric = sim::VolumetricTruth{};
+  c.volumetric.temperature_C = Eigen::Vector3d::Constant(20);
+  c.errors = sim::SimulatorErrors{};
+  c.tracker.angular_sigma_rad = angular_sigma_rad;
+  c.tracker.radial_sigma_mm = radial_sigma_mm;
+  c.tracker.radial_sigma_mm_per_m = 0;
+  c.tracker.ifm_sigma_mm = radial_sigma_mm;
+  c.tracker.ifm_sigma_mm_per_m = 0;
+  c.tracker.samples_per_point = 1;
+  return c;
+}
+
+CheckResult run(const MachineConfig& m, const sim::SimulatorConfig& c, CheckKind kind,
+                const std::string& id) {
+  const sim::TrackerSimulator tracker(m, c);
+  CheckRequest req;
+  req.machine_id = m.machine_id;
+  req.request_id = id;
+  req.kind = kind;
+  return solve(tracker.perform(req, 1), m, 2);
+}
+
+// 1 sigma of one tracker coordinate, the worst over the grid: the transverse error of an angle
+// reading at the largest range.
+double worst_point_sigma(const MachineConfig& m, const sim::SimulatorConfig& c) {
+  const GlobalCheckConfig& g = *m.global_check;
+  double r_max = 0;
+  for (double x : {g.grid_x_mm.front(), g.grid_x_mm.back()}) {
+    for (double y : {g.grid_y_mm.front(), g.grid_y_mm.back()}) {
+      for (double z : {g.grid_z_mm.front(), g.grid_z_mm.back()}) {
+        r_max = std::max(r_max, (Eigen::Vector3d(x, y, z - 300) - c.tracker.position_mm).norm());
+      }
+    }
+  }
+  return std::max(c.tracker.angular_sigma_rad * r_max,
+                  c.tracker.radial_sigma_mm + c.tracker.radial_sigma_mm_per_m * r_max / 1000);
+}
+
+// 1 sigma of a least-squares slope over the grid's positions of one axis (every other point
+// repeats the same positions): sigma / sqrt(sum (q - mean)^2 over all grid points).
+double slope_sigma(const std::vector<double>& q, std::size_t repeats, double sigma) {
+  double mean = 0;
+  for (double v : q) mean += v / q.size();
+  double ss = 0;
+  for (double v : q) ss += (v - mean) * (v - mean);
+  return sigma / std::sqrt(ss * repeats);
+}
+
+TEST(GlobalChecks, PerfectMachineWithoutNoiseMeasuresZeroEverywhere) {
+  const MachineConfig m = pm1();
+  const sim::SimulatorConfig c = perfect(m, 0, 0);
+  const CheckResult frame = run(m, c, CheckKind::GlobalMasterFrame, "mf");
+  ASSERT_EQ(frame.verdict, Verdict::Pass) << frame.reason;
+  EXPECT_NEAR(metric(frame, "master_orthogonality_urad").value, 0, 1e-6);
+  EXPECT_NEAR(metric(frame, "master_x_straightness_mm").value, 0, 1e-9);
+  const CheckResult grid = run(m, c, CheckKind::GlobalGrid, "g");
+  ASSERT_EQ(grid.verdict, Verdict::Pass) << grid.reason;
+  EXPECT_NEAR(metric(grid, "grid_max_deviation_mm").value, 0, 1e-9);
+  for (const char* name : {"grid_squareness_xy_urad", "grid_squareness_yz_urad",
+                           "grid_squareness_zx_urad", "grid_scale_x_um_per_m",
+                           "grid_scale_z_um_per_m"}) {
+    EXPECT_NEAR(metric(grid, name).value, 0, 1e-6) << name;
+  }
+  const CheckResult linear = run(m, c, CheckKind::LinearAxisRun, "l");
+  ASSERT_EQ(linear.verdict, Verdict::Pass) << linear.reason;
+  EXPECT_NEAR(metric(linear, "linear_E_mm").value, 0, 1e-9);
+  EXPECT_NEAR(metric(linear, "linear_B_mm").value, 0, 1e-9);
+}
+
+TEST(GlobalChecks, GridRecoversInjectedSquarenessScaleAndThermalExpansion) {
+  const MachineConfig m = pm1();
+  const GlobalCheckConfig& g = *m.global_check;
+  for (int seed = 1; seed <= 5; ++seed) {
+    sim::SimulatorConfig c = perfect(m, 20e-6, 0.004);
+    c.seed = seed;
+    c.volumetric.rigid_body.ec0xy_rad = 40e-6;
+    c.volumetric.rigid_body.eb0xz_rad = -25e-6;
+    c.volumetric.rigid_body.ea0yz_rad = 30e-6;
+    c.volumetric.temperature_C = Eigen::Vector3d(21.0, 20.0, 22.0);  // X +11.5, Z +23 um/m
+    const CheckResult grid = run(m, c, CheckKind::GlobalGrid, "g" + std::to_string(seed));
+    ASSERT_NE(grid.verdict, Verdict::Invalid) << grid.reason;
+    const double sigma = worst_point_sigma(m, c);
+    const std::size_t nx = g.grid_x_mm.size(), ny = g.grid_y_mm.size(), nz = g.grid_z_mm.size();
+    // A squareness is the difference of two slopes (one per axis): its sigma is within the root
+    // sum square of both axes' slope sigmas.
+    const double sx = slope_sigma(g.grid_x_mm, ny * nz, sigma);
+    const double sy = slope_sigma(g.grid_y_mm, nx * nz, sigma);
+    const double sz = slope_sigma(g.grid_z_mm, nx * ny, sigma);
+    auto bound = [](double a, double b) { return 5 * std::hypot(a, b) * 1e6; };
+    EXPECT_NEAR(metric(grid, "grid_squareness_xy_urad").value, 40, bound(sx, sy));
+    EXPECT_NEAR(metric(grid, "grid_squareness_yz_urad").value, 30, bound(sy, sz));
+    EXPECT_NEAR(metric(grid, "grid_squareness_zx_urad").value, 25, bound(sz, sx));
+    EXPECT_NEAR(metric(grid, "grid_scale_x_um_per_m").value, 11.5, 5 * sx * 1e6);
+    EXPECT_NEAR(metric(grid, "grid_scale_y_um_per_m").value, 0, 5 * sy * 1e6);
+    EXPECT_NEAR(metric(grid, "grid_scale_z_um_per_m").value, 23, 5 * sz * 1e6);
+  }
+}
+
+TEST(GlobalChecks, LinearRunSeesTheReversalAndFailsWithBacklashFirst) {
+  const MachineConfig m = pm1();
+  sim::SimulatorConfig c = perfect(m, 20e-6, 0.004);
+  c.tracker.ifm_sigma_mm = 0.0005;  // the linear run's station, interferometer mode
+  c.tracker.ifm_sigma_mm_per_m = 0.0004;
+  c.volumetric.backlash_mm = Eigen::Vector3d(0.030, 0, 0);
+  c.volumetric.repeatability_sigma_mm = 0.001;
+  const CheckResult r = run(m, c, CheckKind::LinearAxisRun, "lin");
+  ASSERT_EQ(r.verdict, Verdict::Fail) << r.reason;
+  // Every target's reversal is the backlash; B = max |B_i| over 11 targets of 5 cycles: the
+  // noise of a mean of 5 readings (repeatability and tracker) stays within 5 sigma.
+  // One reading: repeatability and the range noise at the farthest target (standoff 1 m + 4 m).
+  const double sigma = std::hypot(0.001, 0.0005 + 0.0004 * 5.0) * std::sqrt(2.0 / 5);
+  EXPECT_NEAR(metric(r, "linear_B_mm").value, 0.030, 5 * sigma);
+  ASSERT_FALSE(r.likely_causes.empty());
+  EXPECT_NE(r.likely_causes[0].find("backlash"), std::string::npos) << r.likely_causes[0];
+}
+
+TEST(GlobalChecks, TheExampleMachinePassesEveryTrackerCheckItImplements) {
+  const MachineConfig m = pm1();
+  const sim::SimulatorConfig c = sim::parse_simulator_config(m);
+  for (CheckKind kind : all_check_kinds()) {
+    if (!is_tracker_check(kind)) continue;
+    for (int seed = 0; seed < 3; ++seed) {
+      const CheckResult r = run(m, c, kind, std::string(to_string(kind)) + std::to_string(seed));
+      EXPECT_EQ(r.verdict, Verdict::Pass) << to_string(kind) << ": " << r.reason;
+    }
+  }
+}
+
+TEST(GlobalChecks, BadTrackerSetsAreInvalidNamingTheField) {
+  const MachineConfig m = pm1();
+  const sim::TrackerSimulator tracker(m, perfect(m, 0, 0));
+  CheckRequest req;
+  req.machine_id = "pm1";
+  req.request_id = "bad";
+  req.kind = CheckKind::GlobalGrid;
+  const MeasurementSet good = tracker.perform(req, 1);
+  auto expect_invalid = [&](MeasurementSet set, const std::string& needle) {
+    const CheckResult r = solve(set, m, 2);
+    EXPECT_EQ(r.verdict, Verdict::Invalid);
+    EXPECT_NE(r.reason.find(needle), std::string::npos) << r.reason;
+  };
+  MeasurementSet s = good;
+  s.tracker_points[20].label = "grid:x";
+  expect_invalid(s, "tracker_points[20].label = 'grid:x'");
+  s = good;
+  s.tracker_points[30].measured_mm.y() = std::nan("");
+  expect_invalid(s, "tracker_points[30].measured_mm");
+  s = good;
+  s.tracker_points[40].label = "grid:9999:t7";
+  expect_invalid(s, "names target 7");
+  s = good;
+  s.tracker_points[41].label = s.tracker_points[42].label;
+  expect_invalid(s, "repeats tracker_points[41]");
+  s = good;
+  s.tracker_points.erase(s.tracker_points.begin(), s.tracker_points.begin() + 10);  // X run gone
+  expect_invalid(s, "master frame:");
+  s = good;
+  s.tracker_points.clear();
+  expect_invalid(s, "tracker_points is empty");
+  MachineConfig no_tolerance = m;
+  no_tolerance.tolerances.erase("grid_rms_deviation_mm");
+  const CheckResult r = solve(good, no_tolerance, 2);
+  EXPECT_EQ(r.verdict, Verdict::Invalid);
+  EXPECT_NE(r.reason.find("grid_rms_deviation_mm"), std::string::npos) << r.reason;
+}
+
+}  // namespace
+}  // namespace ncqual::solver

@@ -1,0 +1,341 @@
+// Readers of instrument exports: good files of each format (extra columns, comments, CRLF, any
+// column order) and every kind of bad file, with the exact "<file>:<line>:<column>: " of the
+// refusal.
+#include "ncqual/solver/instrument_files.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ncqual::solver {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The what() of the CsvError that `f` throws, or "(accepted)".
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const CsvError& e) {
+    return e.what();
+  }
+  return "(accepted)";
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
+
+// ---- ISO 230-2 ----------------------------------------------------------------------------------
+
+// Example 1 of iso230_2_test.cpp (µm deviations at 0, 100, 200 mm; E = 8 µm, B̄ = 8/3 µm) with
+// the columns in another order, an extra column, comments, CRLF and mixed case directions.
+const char* kGoodRun =
+    "# laser run, axis X\r\n"
+    "cycle,direction,target_mm,temperature_C,measured_mm\r\n"  // line 2
+    "1,up,0,20.1,0.001\r\n"                                    // line 3
+    "2,Up,0,20.1,0.002\r\n"
+    "3,UP,0,20.1,0.003\r\n"
+    "1,up,100,20.1,100.004\r\n"
+    "2,up,100,20.1,100.006\r\n"
+    "3,up,100,20.1,100.008\r\n"
+    "1,up,200,20.1,199.999\r\n"
+    "2,up,200,20.1,200.000\r\n"
+    "3,up,200,20.1,200.001\r\n"
+    "\r\n"
+    "# return\r\n"
+    "1,down,0,20.2,-0.002\r\n"  // line 14
+    "2,down,0,20.2,-0.001\r\n"
+    "3,down,0,20.2,0.000\r\n"
+    "1,down,100,20.2,100.002\r\n"
+    "2,down,100,20.2,100.003\r\n"
+    "3,down,100,20.2,100.004\r\n"
+    "1,down,200,20.2,199.997\r\n"
+    "2,down,200,20.2,199.998\r\n"
+    "3,down,200,20.2,199.999\r\n";  // line 22
+
+TEST(InstrumentFiles, ReadsAnIso230_2Run) {
+  const Iso230_2File f = read_iso230_2_csv(kGoodRun, "run.csv");
+  EXPECT_EQ(f.file, "run.csv");
+  ASSERT_EQ(f.readings.size(), 18u);
+  ASSERT_EQ(f.lines.size(), 18u);
+  EXPECT_EQ(f.lines.front(), 3);
+  EXPECT_EQ(f.lines[9], 14);
+  EXPECT_EQ(f.lines.back(), 22);
+  EXPECT_EQ(f.readings[1].cycle, 2);
+  EXPECT_EQ(f.readings[1].direction, Approach::Up);
+  EXPECT_EQ(f.readings[9].direction, Approach::Down);
+  EXPECT_DOUBLE_EQ(f.readings[5].target_mm, 100);
+  EXPECT_DOUBLE_EQ(f.readings[5].measured_mm, 100.008);
+  const Iso230_2Result r = evaluate_iso230_2(f.readings);
+  EXPECT_NEAR(*r.E_mm, 0.008, 1e-12);
+  EXPECT_NEAR(*r.B_mean_mm, 0.008 / 3, 1e-12);
+}
+
+std::string run_error(const std::string& text) {
+  return error_of([&] { read_iso230_2_csv(text, "run.csv"); });
+}
+
+const char* kRunHeader = "target_mm,cycle,direction,measured_mm\n";
+
+TEST(InstrumentFiles, Iso230_2MissingColumn) {
+  EXPECT_EQ(run_error("# x\ntarget_mm,cycle,direction,measured\n0,1,up,0\n"),
+            "run.csv:2: missing column 'measured_mm'; the header has: target_mm, cycle, "
+            "direction, measured");
+}
+
+TEST(InstrumentFiles, Iso230_2NonNumericCell) {
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0.001\n0,2,up,abc\n"),
+            "run.csv:3:4: column 'measured_mm' = 'abc': expected a number");
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0.001\n0,1.5,up,0\n"),
+            "run.csv:3:2: column 'cycle' = '1.5': expected an integer");
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "nan,1,up,0.001\n"),
+            "run.csv:2:1: column 'target_mm' = 'nan': expected a finite number");
+}
+
+TEST(InstrumentFiles, Iso230_2BadDirectionWord) {
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0\n0,2,left,0\n"),
+            "run.csv:3:3: column 'direction' = 'left': expected one of up, down");
+}
+
+TEST(InstrumentFiles, Iso230_2WrongCellCount) {
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0\n0,2,up\n"),
+            "run.csv:3:4: 3 cells, but the header (line 1) has 4 columns: target_mm, cycle, "
+            "direction, measured_mm");
+}
+
+TEST(InstrumentFiles, Iso230_2DuplicateNamesBothLines) {
+  std::string text = kGoodRun;
+  text += "2,up,100,20.3,100.005\r\n";  // line 23 repeats line 7 (100 mm, cycle 2, up)
+  EXPECT_EQ(run_error(text),
+            "run.csv:23: target_mm = 100, cycle = 2, direction = up: a second reading of the "
+            "same target, cycle and direction (first at line 7)");
+}
+
+TEST(InstrumentFiles, Iso230_2TooFewPoints) {
+  // One target only: reported at the last data line.
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0\n0,2,up,0\n\n# end\n"),
+            "run.csv:3: only 1 target (target_mm = 0); ISO 230-2 needs at least 2 targets");
+  // Header only.
+  EXPECT_EQ(run_error(std::string("# nothing yet\n") + kRunHeader), "run.csv:2: no readings");
+  // One cycle at a target and direction: the line of that reading.
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0\n0,2,up,0\n100,1,up,100\n"),
+            "run.csv:4: target_mm = 100, direction = up: 1 cycle; at least 2 are needed for the "
+            "standard uncertainty s (n - 1 in its denominator)");
+  // A target measured one way only.
+  EXPECT_EQ(run_error(std::string(kRunHeader) +
+                      "0,1,up,0\n0,2,up,0\n0,1,down,0\n0,2,down,0\n100,1,up,100\n100,2,up,100\n"),
+            "run.csv:6: target_mm = 100 has up readings but no down readings, while other "
+            "targets do");
+}
+
+// ---- Circle -------------------------------------------------------------------------------------
+
+// The hand-worked case of circular_test_test.cpp as a polar file: 8 angles, radius 10 mm plus
+// ccw 2 cos 2θ µm and cw 1 + sin 2θ µm (G ccw 0.004, G cw 0.002, G(b) 0.004, H 0.003 mm).
+// Data lines 3..10 are ccw, 11..18 cw.
+std::string polar_file(bool with_direction = true) {
+  std::string text = "# ballbar\n";
+  text += with_direction ? "angle_deg,radius_mm,direction,feed_mm_min\n" : "angle_deg,radius_mm\n";
+  const double ccw[] = {2, 0, -2, 0, 2, 0, -2, 0}, cw[] = {1, 2, 1, 0, 1, 2, 1, 0};
+  for (int dir = 0; dir < (with_direction ? 2 : 1); ++dir) {
+    for (int k = 0; k < 8; ++k) {
+      char line[96];
+      std::snprintf(line, sizeof line, "%d,%.4f", 45 * k, 10 + (dir == 0 ? ccw[k] : cw[k]) * 1e-3);
+      text += line;
+      if (with_direction) text += dir == 0 ? ",ccw,1000" : ",CW,1000";
+      text += "\n";
+    }
+  }
+  return text;
+}
+
+TEST(InstrumentFiles, ReadsAPolarCircle) {
+  const CircleFile f = read_circle_csv(polar_file(), "c.csv", Plane::XY);
+  EXPECT_TRUE(f.polar);
+  EXPECT_EQ(f.input.plane, Plane::XY);
+  ASSERT_EQ(f.input.points.size(), 16u);
+  EXPECT_EQ(f.lines.front(), 3);
+  EXPECT_EQ(f.lines.back(), 18);
+  EXPECT_EQ(f.input.points[7].direction, PathDirection::Ccw);
+  EXPECT_EQ(f.input.points[8].direction, PathDirection::Cw);
+  // 90 deg, 9.998 mm -> (0, 9.998).
+  EXPECT_NEAR(f.input.points[2].uv_mm.x(), 0, 1e-12);
+  EXPECT_NEAR(f.input.points[2].uv_mm.y(), 9.998, 1e-12);
+  EXPECT_FALSE(f.input.nominal_radius_mm || f.input.nominal_centre_mm);
+  const CircularTestResult r = evaluate_circular_test(f.input);
+  EXPECT_NEAR(*r.G_b_mm, 0.004, 1e-9);
+  EXPECT_NEAR(*r.H_mm, 0.003, 1e-9);
+  // Without a direction column every point is ccw.
+  const CircleFile one = read_circle_csv(polar_file(false), "c.csv", Plane::YZ);
+  ASSERT_EQ(one.input.points.size(), 8u);
+  EXPECT_EQ(one.input.points[5].direction, PathDirection::Ccw);
+  EXPECT_EQ(one.input.plane, Plane::YZ);
+}
+
+// 12 points of a circle of radius 50 about (100, -20) in the given columns.
+std::string coordinate_file(const std::string& header) {
+  std::string text = header + "\n";
+  for (int k = 0; k < 12; ++k) {
+    const double t = k * kPi / 6;
+    char line[96];
+    std::snprintf(line, sizeof line, "%.9f,%.9f", 100 + 50 * std::cos(t), -20 + 50 * std::sin(t));
+    text += line;
+    text += "\n";
+  }
+  return text;
+}
+
+TEST(InstrumentFiles, ReadsCoordinateCirclesAndTheirPlane) {
+  const CircleFile xz = read_circle_csv(coordinate_file("x_mm,z_mm"), "c.csv", std::nullopt);
+  EXPECT_FALSE(xz.polar);
+  EXPECT_EQ(xz.input.plane, Plane::XZ);
+  const CircularTestResult r = evaluate_circular_test(xz.input);
+  EXPECT_NEAR(r.lsc_centre_mm.x(), 100, 1e-6);
+  EXPECT_NEAR(r.lsc_centre_mm.y(), -20, 1e-6);
+  EXPECT_NEAR(r.lsc_radius_mm, 50, 1e-6);
+  EXPECT_EQ(read_circle_csv(coordinate_file("y_mm,z_mm"), "c.csv", Plane::YZ).input.plane,
+            Plane::YZ);
+  EXPECT_EQ(read_circle_csv(coordinate_file("u_mm,v_mm"), "c.csv", Plane::XZ).input.plane,
+            Plane::XZ);
+  // x, y and z: the plane argument picks the pair.
+  std::string xyz = "x_mm,y_mm,z_mm\n";
+  for (int k = 0; k < 8; ++k) {
+    xyz += std::to_string(5 * std::cos(k * kPi / 4)) + ",7," +
+           std::to_string(5 * std::sin(k * kPi / 4)) + "\n";
+  }
+  const CircleFile f = read_circle_csv(xyz, "c.csv", Plane::XZ);
+  EXPECT_EQ(f.input.plane, Plane::XZ);
+  EXPECT_NEAR(f.input.points[2].uv_mm.y(), 5, 1e-6);
+  EXPECT_EQ(error_of([&] { read_circle_csv(xyz, "c.csv", std::nullopt); }),
+            "c.csv:1: x_mm, y_mm and z_mm name more than one plane: pass the plane (XY, YZ or "
+            "XZ); the header has: x_mm, y_mm, z_mm");
+}
+
+std::string circle_error(const std::string& text, std::optional<Plane> plane = Plane::XY) {
+  return error_of([&] { read_circle_csv(text, "c.csv", plane); });
+}
+
+TEST(InstrumentFiles, CirclePlaneMismatchAndMissingPlane) {
+  EXPECT_EQ(circle_error(coordinate_file("x_mm,z_mm"), Plane::YZ),
+            "c.csv:1:1: the header's x_mm, z_mm name plane XZ, but plane YZ was asked for");
+  EXPECT_EQ(circle_error(coordinate_file("u_mm,v_mm"), std::nullopt),
+            "c.csv:1: u_mm, v_mm do not name the plane: pass the plane (XY, YZ or XZ); the "
+            "header has: u_mm, v_mm");
+  EXPECT_EQ(circle_error(polar_file(), std::nullopt),
+            "c.csv:2: angle_deg, radius_mm do not name the plane: pass the plane (XY, YZ or "
+            "XZ); the header has: angle_deg, radius_mm, direction, feed_mm_min");
+}
+
+TEST(InstrumentFiles, CircleMissingColumns) {
+  EXPECT_EQ(circle_error("angle_deg,r_mm\n0,10\n"),
+            "c.csv:1: missing column 'radius_mm'; the header has: angle_deg, r_mm");
+  EXPECT_EQ(circle_error("x_mm,q_mm\n0,10\n"),
+            "c.csv:1: no circle columns: expected angle_deg,radius_mm or a coordinate pair "
+            "x_mm,y_mm | y_mm,z_mm | x_mm,z_mm | u_mm,v_mm; the header has: x_mm, q_mm");
+  EXPECT_EQ(circle_error("angle_deg,radius_mm,x_mm,y_mm\n0,10,1,1\n"),
+            "c.csv:1: both polar (angle_deg, radius_mm) and coordinate columns; a circle file "
+            "has one layout; the header has: angle_deg, radius_mm, x_mm, y_mm");
+}
+
+TEST(InstrumentFiles, CircleNonNumericAndBadWords) {
+  std::string text = polar_file();
+  text.replace(text.find("90,9.9980"), 9, "90,9.998x");  // line 5
+  EXPECT_EQ(circle_error(text), "c.csv:5:2: column 'radius_mm' = '9.998x': expected a number");
+  text = polar_file();
+  text.replace(text.find(",CW,"), 4, ",cc,");  // line 11
+  EXPECT_EQ(circle_error(text), "c.csv:11:3: column 'direction' = 'cc': expected one of ccw, cw");
+  text = polar_file();
+  text.replace(text.find("90,9.9980"), 9, "90,-9.998");
+  EXPECT_EQ(circle_error(text), "c.csv:5:2: column 'radius_mm' = '-9.998': a radius must be > 0");
+}
+
+TEST(InstrumentFiles, CircleWrongCellCount) {
+  std::string text = polar_file();
+  text.replace(text.find("90,9.9980,ccw,1000"), 18, "90,9.9980,ccw");
+  EXPECT_EQ(circle_error(text),
+            "c.csv:5:4: 3 cells, but the header (line 2) has 4 columns: angle_deg, radius_mm, "
+            "direction, feed_mm_min");
+}
+
+TEST(InstrumentFiles, CircleTooFewPointsAtTheLastLineOfTheDirection) {
+  std::string text = polar_file();
+  text.erase(text.rfind("315,"));  // drop the last cw line: 7 cw points, the last on line 17
+  EXPECT_EQ(circle_error(text),
+            "c.csv:17: direction cw: 7 points; a circular test needs at least 8 per direction "
+            "(the fit of the 2θ shape has 5 terms)");
+}
+
+TEST(InstrumentFiles, CircleDuplicateAngleNamesBothLines) {
+  std::string text = polar_file();
+  text += "360,10.0020,ccw,1000\n";  // line 19, 360 = 0 deg of line 3
+  EXPECT_EQ(circle_error(text),
+            "c.csv:19:1: angle_deg = 360, direction ccw: the same angle as line 3");
+  // A repeated coordinate point (found by the evaluation's check).
+  std::string coords = coordinate_file("x_mm,y_mm");
+  coords += "150.000000000,-20.000000000\n";  // line 14 repeats line 2 (0 deg)
+  const std::string why = circle_error(coords);
+  EXPECT_TRUE(starts_with(why, "c.csv:14: direction ccw: u_mm = 150")) << why;
+  EXPECT_NE(why.find("the same angle as another point (first at line 2)"), std::string::npos)
+      << why;
+}
+
+TEST(InstrumentFiles, CirclePointsNotRoundTheCircle) {
+  std::string text = "angle_deg,radius_mm\n";
+  for (int k = 0; k < 10; ++k) text += std::to_string(20 * k) + ",10\n";  // 0..180 deg
+  const std::string why = circle_error(text);
+  EXPECT_TRUE(starts_with(why, "c.csv:11: direction ccw: no points between 180 and 0 deg")) << why;
+}
+
+// ---- Grid ---------------------------------------------------------------------------------------
+
+const char* kGrid =
+    "# tracker run 2024-05-01\n"
+    "point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas,rms_um\n"
+    "P1,0,0,0,1000.010,2000.020,-3.000,2\n"
+    "\"P 2\",500,0,0,1500.012,2000.021,-2.998,2\n"
+    "P3,500,400,-100,1500.009,2400.030,-103.001,3\n";
+
+TEST(InstrumentFiles, ReadsAGridRun) {
+  const std::vector<GridFilePoint> g = read_grid_csv(kGrid, "g.csv");
+  ASSERT_EQ(g.size(), 3u);
+  EXPECT_EQ(g[0].point, "P1");
+  EXPECT_EQ(g[1].point, "P 2");
+  EXPECT_EQ(g[2].line, 5);
+  EXPECT_DOUBLE_EQ(g[2].commanded_mm.z(), -100);
+  EXPECT_DOUBLE_EQ(g[2].measured_mm.y(), 2400.030);
+  EXPECT_DOUBLE_EQ(g[1].measured_mm.x(), 1500.012);
+}
+
+std::string grid_error(const std::string& text) {
+  return error_of([&] { read_grid_csv(text, "g.csv"); });
+}
+
+TEST(InstrumentFiles, GridDuplicatePointNamesBothLines) {
+  EXPECT_EQ(grid_error(std::string(kGrid) + "P1,900,0,0,1,2,3,1\n"),
+            "g.csv:6:1: point 'P1' repeats line 3");
+  EXPECT_EQ(grid_error(std::string(kGrid) + "P4,500,400,-100,1,2,3,1\n"),
+            "g.csv:6:2: point 'P4': commanded position (500, 400, -100) repeats point 'P3' on "
+            "line 5");
+}
+
+TEST(InstrumentFiles, GridMissingColumnNonNumericAndEmpty) {
+  EXPECT_EQ(grid_error("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas\nP1,0,0,0,1,2\n"),
+            "g.csv:1: missing column 'z_meas'; the header has: point, x_cmd, y_cmd, z_cmd, "
+            "x_meas, y_meas");
+  EXPECT_EQ(grid_error("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\nP1,0,0,0,1,two,3\n"),
+            "g.csv:2:6: column 'y_meas' = 'two': expected a number");
+  EXPECT_EQ(grid_error("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\n,0,0,0,1,2,3\n"),
+            "g.csv:2:1: column 'point' is empty: name the point");
+  EXPECT_EQ(grid_error("# none\npoint,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\n"),
+            "g.csv:2: no points after the header");
+  EXPECT_EQ(grid_error(std::string(kGrid) + "P9,1,2,3,4,5,6\n"),
+            "g.csv:6:8: 7 cells, but the header (line 2) has 8 columns: point, x_cmd, y_cmd, "
+            "z_cmd, x_meas, y_meas, z_meas, rms_um");
+}
+
+}  // namespace
+}  // namespace ncqual::solver
