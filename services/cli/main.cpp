@@ -7,10 +7,18 @@
 //                  --settled --machine M [--since-ns T]) [--timeout S]
 //   ncqual count   [--plant F | --db F] [--machine M]
 //   ncqual budget  --machine M [--plant F] [--db F] [--last N] [--json]   (budget_command.hpp)
+//   ncqual analyze iso230-2 FILE [--json]                                 (analyze_command.hpp)
+//   ncqual analyze circle FILE [--plane XY|YZ|XZ] [--nominal-radius-mm R] [--centre-mm U,V]
+//                  [--json]
+//   ncqual analyze grid --x-run F --y-run F --grid F [--json]
+//   ncqual import  iso230-2|circle FILE | grid --x-run F --y-run F --grid F  --machine M
+//                                                                          (import_command.hpp)
 //
 // Exit codes: 0 success (for `check --wait`: PASS), 1 error, 2 usage, 3 FAIL, 4 INVALID,
 // 5 timed out.
+#include "analyze_command.hpp"
 #include "budget_command.hpp"
+#include "import_command.hpp"
 #include "ncqual/args.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/config.hpp"
@@ -50,6 +58,15 @@ const char* kUsage =
     "  budget --machine M [--plant F] [--db F] [--last N] [--json]\n"
     "      the error budget: capability, allowance and today's share of every error source,\n"
     "      derived tolerances of the check metrics, RSS and Monte Carlo totals\n"
+    "  analyze iso230-2 FILE [--json]\n"
+    "  analyze circle FILE [--plane XY|YZ|XZ] [--nominal-radius-mm R] [--centre-mm U,V] [--json]\n"
+    "  analyze grid --x-run F --y-run F --grid F [--json]\n"
+    "      evaluate an instrument export (ISO 230-2 positioning run, ISO 230-4 circular test,\n"
+    "      tracker grid) on its own, without services; `ncqual analyze --help` for the formats\n"
+    "  import iso230-2|circle FILE --machine M | import grid --x-run F --y-run F --grid F\n"
+    "         --machine M\n"
+    "      publish an instrument export as a MeasurementSet of the machine: the solver judges\n"
+    "      it, the historian stores it; prints its request id\n"
     "The plant config comes from --plant or NCQUAL_PLANT; the domain from --domain,\n"
     "NCQUAL_DOMAIN or the plant config.\n"
     "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out.\n";
@@ -307,6 +324,12 @@ int main(int argc, char** argv) {
     }
     if (command == "count") {
       return cmd_count(Args(rest, {"plant", "db", "machine"}, {}));
+    }
+    if (command == "analyze") {
+      return run_analyze(rest);
+    }
+    if (command == "import") {
+      return run_import(rest);
     }
     if (command == "budget") {
       return run_budget_command(Args(rest, kBudgetFlagsWithValue, kBudgetSwitches));

@@ -1,0 +1,400 @@
+// `ncqual analyze` end to end: instrument files written here, the built `ncqual` binary run on
+// them, its --json document checked against figures worked by hand (independent of the
+// solver), and the exit codes and file:line:column messages of bad files and bad usage.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Vec3 {
+  double v[3];
+};
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+class AnalyzeCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device rd;
+    dir_ = fs::temp_directory_path() /
+           ("ncqual-analyze-cli-" + std::to_string(getpid()) + "-" + std::to_string(rd() % 100000));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    if (!std::getenv("NCQUAL_KEEP_TEST_DIRS")) fs::remove_all(dir_, ec);
+  }
+
+  std::string write(const std::string& name, const std::string& text) {
+    const auto path = dir_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+
+  // Runs `ncqual <args>` (args already shell-safe: our paths have no spaces or quotes).
+  CliRun run(const std::string& args) {
+    CliRun r;
+    const std::string err_path = (dir_ / "stderr.txt").string();
+    const std::string command = std::string(NCQUAL_CLI_EXE) + " " + args + " 2>" + err_path;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
+    const int status = pclose(pipe);
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::ifstream err(err_path);
+    std::stringstream text;
+    text << err.rdbuf();
+    r.err = text.str();
+    return r;
+  }
+
+  json run_json(const std::string& args) {
+    const CliRun r = run(args + " --json");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    try {
+      return json::parse(r.out);
+    } catch (const json::exception& e) {
+      ADD_FAILURE() << "not JSON: " << e.what() << "\n" << r.out;
+      return json();
+    }
+  }
+
+  fs::path dir_;
+};
+
+// 3 targets x 3 cycles, deviations (µm):
+//   0:   up 1, 2, 3 (mean 2, s 1)     down -2, -1, 0 (mean -1, s 1)
+//   100: up 4, 6, 8 (mean 6, s 2)     down 2, 3, 4 (mean 3, s 1)
+//   200: up -1, 0, 1 (mean 0, s 1)    down -3, -2, -1 (mean -2, s 1)
+// By hand (µm): B_i 3, 3, 2 -> B 3, B̄ 8/3; R_i↑ 4, 8, 4 -> R↑ 8; R↓ 4;
+// R_i = max(2s↑ + 2s↓ + |B_i|, R↑, R↓) = 7, 9, 6 -> R 9; E↑ 6 - 0 = 6; E↓ 3 - (-2) = 5;
+// E = 6 - (-2) = 8; x̄_i 0.5, 4.5, -1 -> M 5.5; A↑ = (6 + 4) - (0 - 2) = 12;
+// A↓ = (3 + 2) - (-2 - 2) = 9; A = 10 - (-4) = 14.
+std::string run_file(bool with_down) {
+  std::string text = "# interferometer export\ntarget_mm,cycle,direction,measured_mm,air_C\n";
+  const double up[3][3] = {{1, 2, 3}, {4, 6, 8}, {-1, 0, 1}};
+  const double down[3][3] = {{-2, -1, 0}, {2, 3, 4}, {-3, -2, -1}};
+  for (int dir = 0; dir < (with_down ? 2 : 1); ++dir) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        const double target = 100.0 * i;
+        const double dev = (dir == 0 ? up : down)[i][j] * 1e-3;
+        char line[128];
+        std::snprintf(line, sizeof line, "%.0f,%d,%s,%.4f,20.0\n", target, j + 1,
+                      dir == 0 ? "up" : "down", target + dev);
+        text += line;
+      }
+    }
+  }
+  return text;
+}
+
+TEST_F(AnalyzeCli, Iso230_2JsonHasTheHandWorkedFigures) {
+  const std::string path = write("run.csv", run_file(true));
+  const json j = run_json("analyze iso230-2 " + path);
+  EXPECT_EQ(j["standard"], "ISO 230-2:2014");
+  EXPECT_EQ(j["unit"], "mm");
+  EXPECT_EQ(j["targets"], 3);
+  EXPECT_EQ(j["cycles"], 3);
+  const double tol = 1e-9;
+  EXPECT_NEAR(j["A"].get<double>(), 0.014, tol);
+  EXPECT_NEAR(j["A_up"].get<double>(), 0.012, tol);
+  EXPECT_NEAR(j["A_down"].get<double>(), 0.009, tol);
+  EXPECT_NEAR(j["E"].get<double>(), 0.008, tol);
+  EXPECT_NEAR(j["E_up"].get<double>(), 0.006, tol);
+  EXPECT_NEAR(j["E_down"].get<double>(), 0.005, tol);
+  EXPECT_NEAR(j["M"].get<double>(), 0.0055, tol);
+  EXPECT_NEAR(j["R"].get<double>(), 0.009, tol);
+  EXPECT_NEAR(j["R_up"].get<double>(), 0.008, tol);
+  EXPECT_NEAR(j["R_down"].get<double>(), 0.004, tol);
+  EXPECT_NEAR(j["B"].get<double>(), 0.003, tol);
+  EXPECT_NEAR(j["B_mean"].get<double>(), 0.008 / 3, tol);
+  ASSERT_EQ(j["per_target"].size(), 3u);
+  const json& t1 = j["per_target"][1];
+  EXPECT_NEAR(t1["target_mm"].get<double>(), 100, tol);
+  EXPECT_EQ(t1["up"]["n"], 3);
+  EXPECT_NEAR(t1["up"]["mean"].get<double>(), 0.006, tol);
+  EXPECT_NEAR(t1["up"]["s"].get<double>(), 0.002, tol);
+  EXPECT_NEAR(t1["down"]["s"].get<double>(), 0.001, tol);
+  EXPECT_NEAR(t1["B"].get<double>(), 0.003, tol);
+  EXPECT_NEAR(t1["R"].get<double>(), 0.009, tol);
+  EXPECT_NEAR(t1["mean"].get<double>(), 0.0045, tol);
+}
+
+TEST_F(AnalyzeCli, Iso230_2UnidirectionalFiguresAreNull) {
+  const std::string path = write("up.csv", run_file(false));
+  const json j = run_json("analyze iso230-2 " + path);
+  EXPECT_NEAR(j["E_up"].get<double>(), 0.006, 1e-9);
+  EXPECT_NEAR(j["A_up"].get<double>(), 0.012, 1e-9);
+  for (const char* name : {"A", "A_down", "E", "E_down", "M", "R", "R_down", "B", "B_mean"}) {
+    EXPECT_TRUE(j[name].is_null()) << name;
+  }
+  EXPECT_TRUE(j["per_target"][0]["down"].is_null());
+  EXPECT_TRUE(j["per_target"][0]["B"].is_null());
+}
+
+TEST_F(AnalyzeCli, Iso230_2TableIsPrinted) {
+  const std::string path = write("run.csv", run_file(true));
+  const CliRun r = run("analyze iso230-2 " + path);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("ISO 230-2:2014"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("0.0140"), std::string::npos) << r.out;    // A
+  EXPECT_NE(r.out.find("100.0000"), std::string::npos) << r.out;  // a target row
+}
+
+// The hand-worked circle: 8 angles, radius 10 mm + ccw 2 cos 2θ µm, cw 1 + sin 2θ µm. The LSC
+// of each path and of both is centred at (0, 0) (no first harmonic on 8 even angles); radii
+// ccw 10, cw 10.001, both 10.0005. G ccw 0.004, cw 0.002; G(b) 10.002 - 9.998 = 0.004;
+// H = max |cw - ccw| = 3 µm; F about the LSC of both: 10.002 - 10.0005, 9.998 - 10.0005.
+std::string circle_file(bool with_cw) {
+  std::string text = "angle_deg,radius_mm,direction\n";
+  const double ccw[] = {2, 0, -2, 0, 2, 0, -2, 0}, cw[] = {1, 2, 1, 0, 1, 2, 1, 0};
+  for (int dir = 0; dir < (with_cw ? 2 : 1); ++dir) {
+    for (int k = 0; k < 8; ++k) {
+      char line[96];
+      std::snprintf(line, sizeof line, "%d,%.4f,%s\n", 45 * k,
+                    10 + (dir == 0 ? ccw[k] : cw[k]) * 1e-3, dir == 0 ? "ccw" : "cw");
+      text += line;
+    }
+  }
+  return text;
+}
+
+TEST_F(AnalyzeCli, CircleJsonHasTheHandWorkedFigures) {
+  const std::string path = write("circle.csv", circle_file(true));
+  const json j = run_json("analyze circle " + path + " --plane YZ");
+  const double tol = 1e-8;
+  EXPECT_EQ(j["plane"], "YZ");
+  EXPECT_EQ(j["unit"], "mm");
+  EXPECT_EQ(j["points"], 16);
+  EXPECT_NEAR(j["lsc_radius_mm"].get<double>(), 10.0005, tol);
+  EXPECT_NEAR(j["lsc_centre_mm"][0].get<double>(), 0, tol);
+  EXPECT_NEAR(j["lsc_centre_mm"][1].get<double>(), 0, tol);
+  EXPECT_NEAR(j["G_mm"].get<double>(), 0.004, tol);
+  EXPECT_NEAR(j["G_b_mm"].get<double>(), 0.004, tol);
+  EXPECT_NEAR(j["H_mm"].get<double>(), 0.003, tol);
+  EXPECT_NEAR(j["F_max_mm"].get<double>(), 0.0015, tol);
+  EXPECT_NEAR(j["F_min_mm"].get<double>(), -0.0025, tol);
+  EXPECT_EQ(j["F_reference"]["centre"], "lsc");
+  EXPECT_EQ(j["F_reference"]["radius"], "lsc");
+  EXPECT_NEAR(j["directions"]["ccw"]["G_mm"].get<double>(), 0.004, tol);
+  EXPECT_NEAR(j["directions"]["cw"]["G_mm"].get<double>(), 0.002, tol);
+  EXPECT_NEAR(j["directions"]["cw"]["lsc_radius_mm"].get<double>(), 10.001, tol);
+  // Shape: ccw a2 = 2 µm -> 2 a2 / R = 400 µm/m; cw b2 = 1 µm -> -2 b2 / R = -199.98 µrad;
+  // both: a2 = 1, b2 = 0.5 µm about R = 10.0005.
+  EXPECT_NEAR(j["directions"]["ccw"]["scale_mismatch_um_per_m"].get<double>(), 400, 1e-3);
+  EXPECT_NEAR(j["directions"]["cw"]["squareness_urad"].get<double>(), -2e-3 / 10.001 * 1e6, 1e-3);
+  EXPECT_NEAR(j["scale_mismatch_um_per_m"].get<double>(), 2e-3 / 10.0005 * 1e6, 1e-3);
+  EXPECT_NEAR(j["squareness_urad"].get<double>(), -1e-3 / 10.0005 * 1e6, 1e-3);
+}
+
+TEST_F(AnalyzeCli, CircleRadialDeviationAboutTheNominal) {
+  const std::string path = write("circle.csv", circle_file(true));
+  // About (0, 0) with R0 = 9.999: the radii 9.998 .. 10.002 give F +0.003 / -0.001.
+  const json j = run_json("analyze circle " + path +
+                          " --plane XY --nominal-radius-mm 9.999 --centre-mm 0,0");
+  EXPECT_NEAR(j["F_max_mm"].get<double>(), 0.003, 1e-9);
+  EXPECT_NEAR(j["F_min_mm"].get<double>(), -0.001, 1e-9);
+  EXPECT_EQ(j["F_reference"]["centre"], "nominal");
+  EXPECT_EQ(j["F_reference"]["radius"], "nominal");
+  EXPECT_NEAR(j["F_reference"]["radius_mm"].get<double>(), 9.999, 1e-12);
+  EXPECT_NEAR(j["directions"]["cw"]["F_min_mm"].get<double>(), 0.001, 1e-9);
+}
+
+TEST_F(AnalyzeCli, CircleUnidirectionalHasNullBidirectionalFigures) {
+  const std::string path = write("ccw.csv", circle_file(false));
+  const json j = run_json("analyze circle " + path + " --plane XZ");
+  EXPECT_TRUE(j["G_b_mm"].is_null());
+  EXPECT_TRUE(j["H_mm"].is_null());
+  EXPECT_TRUE(j["directions"]["cw"].is_null());
+  EXPECT_NEAR(j["G_mm"].get<double>(), 0.004, 1e-8);
+}
+
+TEST_F(AnalyzeCli, CircleCoordinatesRecoverScaleMismatchAndSquareness) {
+  // A machine moving commanded (x, y) to ((1 + s_x) x - ε y, (1 + s_y) y) about a centre
+  // (250, 125), radius 100, 72 points each way, no noise, written with 6 decimals (0.5 nm
+  // rounding). First order: mismatch s_x - s_y = 30 µm/m, squareness ε = 20 µrad (the Y motion
+  // leaning to -X: the angle between the axes over 90°). Rounding adds at most 1 nm to a2, b2:
+  // 2e-6/100 = 0.02 µm/m or µrad; second-order terms ~ 1e-4 of the values.
+  const double sx = 20e-6, sy = -10e-6, eps = 20e-6;
+  std::string text = "x_mm,y_mm,direction\n";
+  for (const char* dir : {"ccw", "cw"}) {
+    for (int k = 0; k < 72; ++k) {
+      const double t = (k + 0.5) * 2 * kPi / 72;
+      const double x = 100 * std::cos(t), y = 100 * std::sin(t);
+      char line[128];
+      std::snprintf(line, sizeof line, "%.6f,%.6f,%s\n", 250 + (1 + sx) * x - eps * y,
+                    125 + (1 + sy) * y, dir);
+      text += line;
+    }
+  }
+  const std::string path = write("xy.csv", text);
+  const json j = run_json("analyze circle " + path);
+  EXPECT_EQ(j["plane"], "XY");
+  EXPECT_EQ(j["layout"], "coordinates");
+  EXPECT_NEAR(j["scale_mismatch_um_per_m"].get<double>(), 30, 0.1);
+  EXPECT_NEAR(j["squareness_urad"].get<double>(), 20, 0.1);
+  EXPECT_NEAR(j["lsc_centre_mm"][0].get<double>(), 250, 1e-5);
+  EXPECT_NEAR(j["lsc_radius_mm"].get<double>(), 100 * (1 + (sx + sy) / 2), 1e-5);
+  EXPECT_NEAR(j["H_mm"].get<double>(), 0, 2e-6);
+}
+
+TEST_F(AnalyzeCli, BadFileExitsOneWithFileLineColumn) {
+  std::string text = run_file(true);
+  text.replace(text.find("100.0060"), 8, "100.0O60");  // letter O, line 7
+  const std::string path = write("bad.csv", text);
+  const CliRun r = run("analyze iso230-2 " + path + " --json");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(r.err, path + ":7:4: column 'measured_mm' = '100.0O60': expected a number\n");
+
+  // A repeated reading names both lines.
+  const std::string dup = write("dup.csv", run_file(true) + "100,2,up,100.0050,20.0\n");
+  const CliRun d = run("analyze iso230-2 " + dup);
+  EXPECT_EQ(d.exit_code, 1);
+  EXPECT_EQ(d.err, dup + ":21: target_mm = 100, cycle = 2, direction = up: a second reading of "
+                         "the same target, cycle and direction (first at line 7)\n");
+
+  // A circle file whose pair names another plane than --plane.
+  const std::string xz = write("xz.csv", "x_mm,z_mm\n1,2\n");
+  const CliRun p = run("analyze circle " + xz + " --plane XY");
+  EXPECT_EQ(p.exit_code, 1);
+  EXPECT_EQ(p.err, xz + ":1:1: the header's x_mm, z_mm name plane XZ, but plane XY was asked "
+                        "for\n");
+
+  // Too few points of a direction: at its last line.
+  std::string few = circle_file(true);
+  few.erase(few.rfind("315,"));
+  const std::string few_path = write("few.csv", few);
+  const CliRun f = run("analyze circle " + few_path + " --plane XY");
+  EXPECT_EQ(f.exit_code, 1);
+  EXPECT_EQ(f.err.rfind(few_path + ":16: direction cw: 7 points;", 0), 0u) << f.err;
+
+  // A file that is not there.
+  const std::string missing = (dir_ / "missing.csv").string();
+  const CliRun m = run("analyze iso230-2 " + missing);
+  EXPECT_EQ(m.exit_code, 1);
+  EXPECT_EQ(m.err, missing + ": cannot read: No such file or directory\n");
+}
+
+TEST_F(AnalyzeCli, BadUsageExitsTwoWithTheUsage) {
+  const std::string path = write("run.csv", run_file(true));
+  for (const std::string& args :
+       {std::string("analyze"), std::string("analyze nothing " + path),
+        std::string("analyze iso230-2"), std::string("analyze iso230-2 " + path + " " + path),
+        std::string("analyze iso230-2 " + path + " --plane XY"),
+        std::string("analyze circle " + path + " --plane QQ"),
+        std::string("analyze circle " + path + " --centre-mm 1"),
+        std::string("analyze circle " + path + " --centre-mm 1,x"),
+        std::string("analyze circle " + path + " --nominal-radius-mm -3")}) {
+    const CliRun r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("usage: ncqual analyze"), std::string::npos) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("analyze circle FILE"), std::string::npos) << args;
+  }
+  const CliRun top = run("");
+  EXPECT_EQ(top.exit_code, 2);
+  EXPECT_NE(top.out.find("analyze iso230-2 FILE"), std::string::npos) << top.out;
+}
+
+// A machine whose Y axis leans towards -X by 80 urad (xy out of square by +80 urad) and whose X
+// scale is +25 um/m, seen by a tracker turned 30 degrees about Z and shifted; no noise. The runs
+// and the grid are written as the tracker would export them.
+struct GridFiles {
+  std::string x_run, y_run, grid;
+};
+
+Vec3 tracker_reading(double x, double y, double z) {
+  const double xa = x * (1 + 25e-6) - 80e-6 * y, ya = y, za = z;  // actual (machine frame)
+  const double c = std::cos(kPi / 6), s = std::sin(kPi / 6);
+  // tracker = R^T (actual - position), R = Rz(30 deg), position (500, -2000, 300)
+  const double dx = xa - 500, dy = ya + 2000, dz = za - 300;
+  return {c * dx + s * dy, -s * dx + c * dy, dz};
+}
+
+std::string grid_line(const std::string& name, double x, double y, double z) {
+  const Vec3 m = tracker_reading(x, y, z);
+  char line[256];
+  std::snprintf(line, sizeof line, "%s,%.1f,%.1f,%.1f,%.9f,%.9f,%.9f\n", name.c_str(), x, y, z,
+                m.v[0], m.v[1], m.v[2]);
+  return line;
+}
+
+const char* kGridHeader = "point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\n";
+
+TEST_F(AnalyzeCli, GridJsonRecoversSquarenessAndScaleInTheMasterFrame) {
+  std::string x = kGridHeader, y = kGridHeader, g = kGridHeader;
+  for (int i = 0; i <= 10; ++i) x += grid_line("x" + std::to_string(i), 200 + 400 * i, 950, 900);
+  for (int i = 0; i <= 9; ++i) y += grid_line("y" + std::to_string(i), 2200, 200 + 150 * i, 900);
+  int n = 0;
+  for (double z : {600.0, 800.0, 1000.0, 1200.0}) {
+    for (double yy : {200.0, 500.0, 800.0, 1100.0, 1400.0, 1700.0}) {
+      for (int i = 0; i < 9; ++i) g += grid_line("g" + std::to_string(n++), 200 + 500 * i, yy, z);
+    }
+  }
+  const json r = run_json("analyze grid --x-run " + write("x.csv", x) + " --y-run " +
+                          write("y.csv", y) + " --grid " + write("g.csv", g));
+  ASSERT_TRUE(r.is_object());
+  EXPECT_EQ(r["points"], 216);
+  // By hand: the actual motions are X (1 + 25e-6, 0, 0), Y (-80e-6, 1, 0), Z (0, 0, 1):
+  // angle(X, Y) = 90 deg + 80 urad, |X| - 1 = 25 um/m, the rest square and true.
+  EXPECT_NEAR(r["squareness_xy_urad"].get<double>(), 80, 0.01);
+  EXPECT_NEAR(r["squareness_yz_urad"].get<double>(), 0, 0.01);
+  EXPECT_NEAR(r["squareness_zx_urad"].get<double>(), 0, 0.01);
+  EXPECT_NEAR(r["scale_x_um_per_m"].get<double>(), 25, 0.01);
+  EXPECT_NEAR(r["scale_y_um_per_m"].get<double>(), 0, 0.01);
+  EXPECT_NEAR(r["master_frame"]["orthogonality_urad"].get<double>(), 80, 0.01);
+  ASSERT_EQ(r["per_point"].size(), 216u);
+  // The shear is spread over both axes: the worst point is a far corner, off by about
+  // 25e-6 * dx + 40e-6 * dy there, not by the whole 80 urad lever.
+  EXPECT_GT(r["max_deviation_mm"].get<double>(), 0.03);
+  EXPECT_LT(r["max_deviation_mm"].get<double>(), 0.12);
+  const CliRun table = run("analyze grid --x-run " + write("x2.csv", x) + " --y-run " +
+                           write("y2.csv", y) + " --grid " + write("g2.csv", g));
+  EXPECT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("squareness xy"), std::string::npos) << table.out;
+}
+
+TEST_F(AnalyzeCli, BadGridFilesNameFileLineAndColumn) {
+  std::string x = kGridHeader, y = kGridHeader;
+  for (int i = 0; i <= 4; ++i) x += grid_line("x" + std::to_string(i), 200 + 400 * i, 950, 900);
+  for (int i = 0; i <= 4; ++i) y += grid_line("y" + std::to_string(i), 2200, 200 + 150 * i, 900);
+  const std::string xf = write("x.csv", x), yf = write("y.csv", y);
+  auto refused = [&](const std::string& grid_text, const std::string& expected) {
+    const std::string gf = write("bad.csv", grid_text);
+    const CliRun r = run("analyze grid --x-run " + xf + " --y-run " + yf + " --grid " + gf);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find(gf + ":" + expected), std::string::npos) << r.err;
+  };
+  const std::string a = grid_line("g0", 200, 200, 600), b = grid_line("g1", 700, 200, 800);
+  const std::string c = grid_line("g2", 700, 700, 600), d = grid_line("g3", 200, 700, 1000);
+  const std::string e = grid_line("g4", 1200, 500, 700);
+  refused("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas\ng0,200,200,600,1,2\n", "1:");  // no z_meas
+  refused(std::string(kGridHeader) + a + "g1,700,abc,800,1,2,3\n", "3:3:"); // non-numeric
+  refused(std::string(kGridHeader) + a + b + c + d + grid_line("g0", 1200, 500, 700), "6:1:");
+  refused(std::string(kGridHeader) + a + b + c + d, "5:");                    // 4 < 5 points
+  refused(std::string(kGridHeader) + a + b + c + d + e + "g5,1,2\n", "7:");   // cell count
+}
+
+}  // namespace

@@ -1,0 +1,87 @@
+// `ncqual import`: a real instrument's export published as a MeasurementSet goes through the
+// real solver and historian processes over DDS (domain 206) and is stored with its result, the
+// figures those of the file worked by hand.
+#include "harness.hpp"
+
+#include "ncqual/storage.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <sys/wait.h>
+#include <fstream>
+
+namespace ncqual::testing {
+namespace {
+
+// Runs the CLI with `args`; returns its exit code and stdout.
+std::pair<int, std::string> cli(const std::string& args) {
+  std::string out;
+  FILE* pipe = popen((std::string(NCQUAL_CLI_EXE) + " " + args + " 2>&1").c_str(), "r");
+  if (!pipe) return {-1, out};
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
+  Plant plant("import", 206);
+  plant.add_machine("pm1", "extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\n");
+  plant.write_plant("[]");
+  plant.start("historian");
+  plant.start("solver");
+  // 3 targets x 3 cycles, deviations in um (by hand, as in the analyze test):
+  //   0:   up 1, 2, 3    down -2, -1, 0   -> B_0 = 2 - (-1) = 3
+  //   100: up 4, 6, 8    down 2, 3, 4     -> B_1 = 3, s_up = 2: R_1 = max(2*2 + 2*1 + 3, 8, 4) = 9
+  //   200: up -1, 0, 1   down -3, -2, -1  -> B_2 = 2
+  // B = 3 um, R = 9 um, E = 6 - (-2) = 8 um, A = (6 + 4) - (-2 - 2) = 14 um.
+  const int dev[3][2][3] = {{{1, 2, 3}, {-2, -1, 0}}, {{4, 6, 8}, {2, 3, 4}}, {{-1, 0, 1}, {-3, -2, -1}}};
+  const std::string file = (plant.dir() / "run.csv").string();
+  {
+    std::ofstream out(file);
+    out.precision(12);
+    out << "target_mm,cycle,direction,measured_mm\n";
+    for (int t = 0; t < 3; ++t) {
+      for (int d = 0; d < 2; ++d) {
+        for (int c = 0; c < 3; ++c) {
+          out << 1000 + 100 * t << "," << c + 1 << "," << (d == 0 ? "up" : "down") << ","
+              << 1000 + 100 * t + dev[t][d][c] * 1e-3 << "\n";
+        }
+      }
+    }
+  }
+  const auto [code, out] = cli("import iso230-2 " + file + " --machine pm1 --plant " +
+                               plant.plant_file() + " --domain 206");
+  ASSERT_EQ(code, 0) << out;
+  const std::string request = out.substr(out.rfind("import-"), out.find('\n', out.rfind("import-")) - out.rfind("import-"));
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    const auto rec = db.find_check(request);
+    return rec && rec->result && rec->measurement;
+  })) << plant.log("solver");
+  auto db = storage::Database::open_readonly(plant.db_path());
+  const auto rec = db.find_check(request);
+  ASSERT_TRUE(rec && rec->result);
+  EXPECT_EQ(rec->result->kind, CheckKind::LinearAxisRun);
+  EXPECT_EQ(rec->result->verdict, Verdict::Pass) << rec->result->reason;
+  EXPECT_EQ(rec->measurement->tracker_points, 18);
+  EXPECT_EQ(rec->measurement->instrument, "import");
+  auto value = [&](const char* name) {
+    const Metric* m = find_metric(*rec->result, name);
+    return m ? m->value : -1.0;
+  };
+  EXPECT_NEAR(value("linear_B_mm"), 0.003, 1e-9);
+  EXPECT_NEAR(value("linear_R_mm"), 0.009, 1e-9);
+  EXPECT_NEAR(value("linear_E_mm"), 0.008, 1e-9);
+  EXPECT_NEAR(value("linear_A_mm"), 0.014, 1e-9);
+
+  // A bad file is refused before anything is published, naming file, line and column.
+  std::ofstream(plant.dir() / "bad.csv") << "target_mm,cycle,direction,measured_mm\n0,1,up,x\n";
+  const auto [bad_code, bad_out] = cli("import iso230-2 " + (plant.dir() / "bad.csv").string() +
+                                       " --machine pm1 --plant " + plant.plant_file());
+  EXPECT_EQ(bad_code, 1);
+  EXPECT_NE(bad_out.find("bad.csv:2:4:"), std::string::npos) << bad_out;
+}
+
+}  // namespace
+}  // namespace ncqual::testing
