@@ -1,0 +1,1028 @@
+// Monte Carlo uncertainty of the volumetric verification, eq. 23-24 of Aguado et al. and the
+// tracker location search. See the header for what is propagated and how.
+#include "ncqual/solver/verification_uncertainty.hpp"
+
+#include "ncqual/kinematics.hpp"
+#include "ncqual/solver/volumetric_identification.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <tuple>
+
+namespace ncqual::solver {
+
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+using volumetric::kFunctionCount;
+
+constexpr int kMaxDegree = 12;            // as IdentificationOptions accepts
+constexpr double kDistinctMm = 1e-3;      // axis positions closer than this are one position
+constexpr double kDuplicateMm = 1e-6;     // (commanded, tool offset) pairs equal within this
+constexpr double kAtTrackerMm = 1e-6;     // a point this close to the tracker has no direction
+constexpr int kMaxThreads = 64;
+constexpr double kMaxSamples = 5e7;       // trials x points stored for the quantiles
+constexpr double kMaxCandidates = 1e6;
+constexpr int kBlockTrials = 50;          // trials per accumulation block (thread-independent)
+
+// ----------------------------------------------------------------------------------------------
+// Messages
+
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+std::string vec(const Vector3d& v) {
+  return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")";
+}
+
+[[noreturn]] void refuse(const std::string& field, const std::string& value, const std::string& why) {
+  throw std::invalid_argument(field + " = " + value + ": " + why);
+}
+
+void need_finite(const std::string& field, double v) {
+  if (!std::isfinite(v)) refuse(field, num(v), "not finite");
+}
+
+void need_finite(const std::string& field, const Vector3d& v) {
+  if (!v.allFinite()) refuse(field, vec(v), "not finite");
+}
+
+void need_sigma(const std::string& field, double v) {
+  if (!(std::isfinite(v) && v >= 0)) refuse(field, num(v), "expected a finite value >= 0");
+}
+
+void need_sigma(const std::string& field, const Vector3d& v) {
+  if (!v.allFinite() || (v.array() < 0).any()) refuse(field, vec(v), "expected finite values >= 0");
+}
+
+// ----------------------------------------------------------------------------------------------
+// Validation
+
+void check_tracker(const TrackerUncertaintyModel& t) {
+  need_finite("TrackerUncertaintyModel.position_mm", t.position_mm);
+  need_finite("TrackerUncertaintyModel.ypr_rad", t.ypr_rad);
+  need_sigma("TrackerUncertaintyModel.angular_sigma_rad", t.angular_sigma_rad);
+  need_sigma("TrackerUncertaintyModel.radial_sigma_mm", t.radial_sigma_mm);
+  need_sigma("TrackerUncertaintyModel.radial_sigma_mm_per_m", t.radial_sigma_mm_per_m);
+  if (t.samples_per_point < 1) {
+    refuse("TrackerUncertaintyModel.samples_per_point", std::to_string(t.samples_per_point),
+           "expected >= 1");
+  }
+  need_sigma("TrackerUncertaintyModel.position_sigma_mm", t.position_sigma_mm);
+  need_sigma("TrackerUncertaintyModel.orientation_sigma_rad", t.orientation_sigma_rad);
+}
+
+std::string point_field(std::size_t i, const DesignPoint& p, const std::string& field) {
+  return "VerificationDesign.points[" + std::to_string(i) + "] ('" + p.label + "')." + field;
+}
+
+void check_design(const VerificationDesign& d) {
+  if (d.points.empty()) {
+    throw std::invalid_argument("VerificationDesign.points: empty; a grid of points is needed");
+  }
+  for (std::size_t i = 0; i < d.points.size(); ++i) {
+    need_finite(point_field(i, d.points[i], "commanded_mm"), d.points[i].commanded_mm);
+    need_finite(point_field(i, d.points[i], "tool_offset_mm"), d.points[i].tool_offset_mm);
+  }
+  if (!(std::isfinite(d.identification_sigma_mm) && d.identification_sigma_mm > 0)) {
+    refuse("VerificationDesign.identification_sigma_mm", num(d.identification_sigma_mm),
+           "expected a finite value > 0");
+  }
+  if (d.max_degree < 1 || d.max_degree > kMaxDegree) {
+    refuse("VerificationDesign.max_degree", std::to_string(d.max_degree),
+           "expected 1.." + std::to_string(kMaxDegree));
+  }
+  if (!(d.rank_tolerance > 0 && d.rank_tolerance < 1)) {
+    refuse("VerificationDesign.rank_tolerance", num(d.rank_tolerance), "expected 0 < tolerance < 1");
+  }
+}
+
+void check_tracker_sees(const VerificationDesign& d, const TrackerUncertaintyModel& t) {
+  for (std::size_t i = 0; i < d.points.size(); ++i) {
+    const DesignPoint& p = d.points[i];
+    if ((p.commanded_mm + p.tool_offset_mm - t.position_mm).norm() < kAtTrackerMm) {
+      refuse(point_field(i, p, "commanded_mm + tool_offset_mm"),
+             vec(p.commanded_mm + p.tool_offset_mm),
+             "at the tracker's position " + vec(t.position_mm) + " (no direction to measure)");
+    }
+  }
+}
+
+void check_sources(const UncertaintySources& s, const VerificationDesign& d) {
+  need_sigma("UncertaintySources.repeatability_sigma_mm", s.repeatability_sigma_mm);
+  need_finite("UncertaintySources.expansion_per_K", s.expansion_per_K);
+  need_sigma("UncertaintySources.expansion_sigma_per_K", s.expansion_sigma_per_K);
+  need_finite("UncertaintySources.temperature_deviation_K", s.temperature_deviation_K);
+  need_sigma("UncertaintySources.temperature_sigma_K", s.temperature_sigma_K);
+  for (int f = 0; f < kFunctionCount; ++f) {
+    const auto& fn = s.errors.functions[static_cast<std::size_t>(f)];
+    for (std::size_t k = 0; k < fn.coefficients.size(); ++k) {
+      if (!std::isfinite(fn.coefficients[k])) {
+        refuse("UncertaintySources.errors." + std::string(volumetric::function_name(f)) +
+                   ".coefficients[" + std::to_string(k) + "]",
+               num(fn.coefficients[k]), "not finite");
+      }
+    }
+  }
+  need_finite("UncertaintySources.errors.ec0xy_rad", s.errors.ec0xy_rad);
+  need_finite("UncertaintySources.errors.eb0xz_rad", s.errors.eb0xz_rad);
+  need_finite("UncertaintySources.errors.ea0yz_rad", s.errors.ea0yz_rad);
+  // Evaluates every function once: refuses coefficients over an empty range (names lo, hi).
+  try {
+    (void)volumetric::actual_position(s.errors, d.points.front().commanded_mm,
+                                      d.points.front().tool_offset_mm);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("UncertaintySources.errors: ") + e.what());
+  }
+}
+
+void check_options(const MonteCarloOptions& o, std::size_t points) {
+  if (o.trials < 1) refuse("MonteCarloOptions.trials", std::to_string(o.trials), "expected >= 1");
+  if (o.threads < 1 || o.threads > kMaxThreads) {
+    refuse("MonteCarloOptions.threads", std::to_string(o.threads),
+           "expected 1.." + std::to_string(kMaxThreads));
+  }
+  if (static_cast<double>(o.trials) * static_cast<double>(points) > kMaxSamples) {
+    refuse("MonteCarloOptions.trials", std::to_string(o.trials),
+           "times the " + std::to_string(points) + " design points exceeds " + num(kMaxSamples) +
+               " stored residuals");
+  }
+}
+
+// ----------------------------------------------------------------------------------------------
+// Eq. 23-24
+
+Matrix3d rotation_ypr(const Vector3d& ypr) {
+  return (Eigen::AngleAxisd(ypr[0], Vector3d::UnitZ()) * Eigen::AngleAxisd(ypr[1], Vector3d::UnitY()) *
+          Eigen::AngleAxisd(ypr[2], Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Vector3d to_spherical(const Vector3d& p) {
+  const double r = p.norm();
+  return {r, std::atan2(p.y(), p.x()), std::asin(std::clamp(p.z() / r, -1.0, 1.0))};
+}
+
+Vector3d from_spherical(const Vector3d& s) {
+  const double ce = std::cos(s[2]);
+  return {s[0] * ce * std::cos(s[1]), s[0] * ce * std::sin(s[1]), s[0] * std::sin(s[2])};
+}
+
+struct NoiseScale {
+  double range0, range1_per_mm, angle;  // one averaged point
+};
+
+NoiseScale noise_scale(const TrackerUncertaintyModel& t) {
+  const double avg = 1.0 / std::sqrt(static_cast<double>(t.samples_per_point));
+  return {t.radial_sigma_mm * avg, t.radial_sigma_mm_per_m / 1000.0 * avg, t.angular_sigma_rad * avg};
+}
+
+// u_p^2 of eq. 24 for a point at range r, elevation e.
+double up_squared(const NoiseScale& n, double r, double e) {
+  const double ur = n.range0 + n.range1_per_mm * r;
+  const double ce = std::cos(e);
+  return ur * ur + r * r * n.angle * n.angle * (1.0 + ce * ce);
+}
+
+TrackerPointUncertainty point_uncertainty(const NoiseScale& n, const Matrix3d& machine_from_tracker,
+                                          const Vector3d& position, const Vector3d& point) {
+  const Vector3d local = machine_from_tracker.transpose() * (point - position);
+  const Vector3d s = to_spherical(local);
+  const double r = s[0], a = s[1], e = s[2];
+  const double ur = n.range0 + n.range1_per_mm * r;
+  // Columns: d(x, y, z) / d(r, azimuth, elevation).
+  Matrix3d J;
+  J << std::cos(e) * std::cos(a), -r * std::cos(e) * std::sin(a), -r * std::sin(e) * std::cos(a),
+      std::cos(e) * std::sin(a), r * std::cos(e) * std::cos(a), -r * std::sin(e) * std::sin(a),
+      std::sin(e), 0.0, r * std::cos(e);
+  const Vector3d var(ur * ur, n.angle * n.angle, n.angle * n.angle);
+  const Matrix3d cov_tracker = J * var.asDiagonal() * J.transpose();
+  const Matrix3d cov_machine = machine_from_tracker * cov_tracker * machine_from_tracker.transpose();
+  TrackerPointUncertainty out;
+  out.range_mm = r;
+  out.azimuth_rad = a;
+  out.elevation_rad = e;
+  out.u_tracker_mm = cov_tracker.diagonal().cwiseMax(0.0).cwiseSqrt();
+  out.u_machine_mm = cov_machine.diagonal().cwiseMax(0.0).cwiseSqrt();
+  out.u_p_mm = std::sqrt(up_squared(n, r, e));
+  return out;
+}
+
+// ----------------------------------------------------------------------------------------------
+// The identification, linearised at zero errors about the nominal frame (the machine frame: each
+// trial's readings are first brought onto the nominal targets by a rigid fit). Same candidate
+// terms, order and identifiability test as identify_rigid_body_errors.
+
+enum class Kind { FrameTranslation, FrameRotation, Squareness, Coefficient };
+
+struct Param {
+  Kind kind;
+  int index;  // frame component 0..2, squareness 0..2, function 0..17
+  int order;  // Legendre order (coefficients)
+};
+
+struct LinearIdentification {
+  int observations = 0;            // 3 n
+  int candidates = 0;              // candidate parameters before the identifiability test
+  MatrixXd J;                      // 3n x na, accepted columns (machine frame)
+  MatrixXd H_inverse;              // (J'J)^-1
+  MatrixXd covariance;             // sigma^2 (J'J)^-1, the BIC's
+  double penalty = 0;              // ln(observations)
+  // Per function: accepted column indices by increasing order (BIC candidates for dropping).
+  std::array<std::vector<int>, kFunctionCount> stacks;
+  std::vector<std::string> unidentifiable;
+};
+
+int distinct_positions(std::vector<double> q) {
+  std::sort(q.begin(), q.end());
+  int n = 0;
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    if (i == 0 || q[i] - q[i - 1] > kDistinctMm) ++n;
+  }
+  return n;
+}
+
+std::string param_name(const Param& p) {
+  static const char* const kFrame[2][3] = {{"frame tx", "frame ty", "frame tz"},
+                                           {"frame rx", "frame ry", "frame rz"}};
+  switch (p.kind) {
+    case Kind::FrameTranslation: return kFrame[0][p.index];
+    case Kind::FrameRotation: return kFrame[1][p.index];
+    case Kind::Squareness:
+      return std::string(volumetric::function_name(volumetric::kSquarenessEC0XY + p.index));
+    case Kind::Coefficient:
+      return std::string(volumetric::function_name(p.index)) + " P" + std::to_string(p.order);
+  }
+  return "";
+}
+
+Matrix3d skew(const Vector3d& v) {
+  Matrix3d k;
+  k << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return k;
+}
+
+// Refusals shared with the full identification: duplicates, too few positions per axis, too few
+// observations, a frame the design cannot fix.
+LinearIdentification linearise(const VerificationDesign& design, const std::vector<Vector3d>& commanded) {
+  const std::size_t n = design.points.size();
+  // Duplicates.
+  std::vector<std::tuple<long long, long long, long long, long long, long long, long long, std::size_t>> keys;
+  keys.reserve(n);
+  const auto key = [](double v) { return std::llround(v / kDuplicateMm); };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vector3d& c = commanded[i];
+    const Vector3d& t = design.points[i].tool_offset_mm;
+    keys.emplace_back(key(c.x()), key(c.y()), key(c.z()), key(t.x()), key(t.y()), key(t.z()), i);
+  }
+  std::sort(keys.begin(), keys.end());
+  for (std::size_t i = 1; i < keys.size(); ++i) {
+    const auto drop_index = [](const auto& k) {
+      return std::make_tuple(std::get<0>(k), std::get<1>(k), std::get<2>(k), std::get<3>(k),
+                             std::get<4>(k), std::get<5>(k));
+    };
+    if (drop_index(keys[i - 1]) == drop_index(keys[i])) {
+      const std::size_t a = std::min(std::get<6>(keys[i - 1]), std::get<6>(keys[i]));
+      const std::size_t b = std::max(std::get<6>(keys[i - 1]), std::get<6>(keys[i]));
+      refuse(point_field(b, design.points[b], "(commanded_mm, tool_offset_mm)"),
+             "(" + vec(design.points[b].commanded_mm) + ", " + vec(design.points[b].tool_offset_mm) + ")",
+             "duplicates points[" + std::to_string(a) + "] ('" + design.points[a].label + "')");
+    }
+  }
+  // Axis ranges and highest orders.
+  std::array<double, 3> lo{}, hi{};
+  std::array<int, 3> cap{};
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> q;
+    q.reserve(n);
+    for (const auto& c : commanded) q.push_back(c[a]);
+    const int distinct = distinct_positions(q);
+    if (distinct < 3) {
+      refuse("VerificationDesign.points: commanded " + std::string(1, "XYZ"[a]), std::to_string(distinct) +
+             " distinct position(s)", "at least 3 are needed per axis");
+    }
+    const auto [mn, mx] = std::minmax_element(q.begin(), q.end());
+    lo[static_cast<std::size_t>(a)] = *mn;
+    hi[static_cast<std::size_t>(a)] = *mx;
+    cap[static_cast<std::size_t>(a)] = std::min(design.max_degree, distinct - 1);
+  }
+  // Candidate layout, in the identification's priority order.
+  std::vector<Param> params;
+  for (int i = 0; i < 3; ++i) params.push_back({Kind::FrameTranslation, i, -1});
+  for (int i = 0; i < 3; ++i) params.push_back({Kind::FrameRotation, i, -1});
+  for (int s = 0; s < 3; ++s) params.push_back({Kind::Squareness, s, -1});
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int comp = 0; comp < 3; ++comp) {
+      const int first = comp == axis ? 1 : 2;
+      for (int k = first; k <= cap[static_cast<std::size_t>(axis)]; ++k) {
+        params.push_back({Kind::Coefficient, axis * 6 + comp, k});
+      }
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int comp = 3; comp < 6; ++comp) {
+      const int first = axis == volumetric::kAxisZ ? 0 : 1;
+      for (int k = first; k <= cap[static_cast<std::size_t>(axis)]; ++k) {
+        params.push_back({Kind::Coefficient, axis * 6 + comp, k});
+      }
+    }
+  }
+  const int p = static_cast<int>(params.size());
+  const int m = 3 * static_cast<int>(n);
+  if (m < p) {
+    throw std::invalid_argument("VerificationDesign.points: " + std::to_string(n) + " points give " +
+                                std::to_string(m) + " observations, fewer than the " +
+                                std::to_string(p) + " unknowns of the candidate model (max_degree = " +
+                                std::to_string(design.max_degree) + ")");
+  }
+  // Jacobian at zero errors: p = c + t, every rotation the identity.
+  MatrixXd J = MatrixXd::Zero(m, p);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vector3d& c = commanded[i];
+    const Vector3d& t = design.points[i].tool_offset_mm;
+    const Vector3d pos = c + t;
+    std::array<std::array<double, kMaxDegree + 1>, 3> leg{};
+    for (int a = 0; a < 3; ++a) {
+      const auto ua = static_cast<std::size_t>(a);
+      const double u = volumetric::normalized_coordinate(c[a], lo[ua], hi[ua]);
+      for (int k = 0; k <= cap[ua]; ++k) leg[ua][static_cast<std::size_t>(k)] = volumetric::legendre(k, u);
+    }
+    // Effect of a small rotation of each axis' carriage: -[w]x with w the vector it carries.
+    const std::array<Matrix3d, 3> d_ang = {-skew(Vector3d(0, c.y(), c.z()) + t),
+                                           -skew(Vector3d(0, 0, c.z()) + t), -skew(t)};
+    const Matrix3d frame_rotation = -skew(pos);
+    const auto row = static_cast<Eigen::Index>(3 * i);
+    for (int j = 0; j < p; ++j) {
+      const Param& q = params[static_cast<std::size_t>(j)];
+      Vector3d col = Vector3d::Zero();
+      switch (q.kind) {
+        case Kind::FrameTranslation: col = Vector3d::Unit(q.index); break;
+        case Kind::FrameRotation: col = frame_rotation.col(q.index); break;
+        case Kind::Squareness:
+          col = q.index == 0 ? Vector3d(-c.y(), 0, 0)
+                : q.index == 1 ? Vector3d(c.z(), 0, 0)
+                               : Vector3d(0, -c.z(), 0);
+          break;
+        case Kind::Coefficient: {
+          const int axis = q.index / 6, comp = q.index % 6;
+          const double P = leg[static_cast<std::size_t>(axis)][static_cast<std::size_t>(q.order)];
+          col = comp < 3 ? Vector3d(Vector3d::Unit(comp) * P)
+                         : Vector3d(d_ang[static_cast<std::size_t>(axis)].col(comp - 3) * P);
+          break;
+        }
+      }
+      J.block<3, 1>(row, j) = col;
+    }
+  }
+  // Identifiability: incremental Cholesky of the column-normalised normal matrix.
+  const MatrixXd H = J.transpose() * J;
+  std::vector<int> accepted;
+  std::vector<bool> rejected(static_cast<std::size_t>(p), false);
+  MatrixXd L = MatrixXd::Zero(p, p);
+  VectorXd scale = VectorXd::Zero(p);
+  for (int j = 0; j < p; ++j) {
+    if (!(H(j, j) > 0)) {
+      rejected[static_cast<std::size_t>(j)] = true;
+      continue;
+    }
+    scale(j) = 1.0 / std::sqrt(H(j, j));
+    const int k = static_cast<int>(accepted.size());
+    VectorXd l(k);
+    for (int a = 0; a < k; ++a) {
+      const int ja = accepted[static_cast<std::size_t>(a)];
+      l(a) = H(ja, j) * scale(ja) * scale(j);
+    }
+    if (k > 0) L.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(l);
+    const double d = 1.0 - l.squaredNorm();
+    if (d > design.rank_tolerance) {
+      L.block(k, 0, 1, k) = l.transpose();
+      L(k, k) = std::sqrt(d);
+      accepted.push_back(j);
+    } else {
+      rejected[static_cast<std::size_t>(j)] = true;
+    }
+  }
+  LinearIdentification out;
+  for (int j = 0; j < p; ++j) {
+    const Param& q = params[static_cast<std::size_t>(j)];
+    if (rejected[static_cast<std::size_t>(j)] &&
+        (q.kind == Kind::FrameRotation || q.kind == Kind::FrameTranslation)) {
+      throw std::invalid_argument(
+          "VerificationDesign.points: the design cannot determine the instrument frame (" +
+          param_name(q) + "): the commanded positions (and tool offsets) do not span space");
+    }
+  }
+  std::array<bool, kFunctionCount> any{}, all{};
+  all.fill(true);
+  for (int j = 0; j < p; ++j) {
+    const Param& q = params[static_cast<std::size_t>(j)];
+    if (q.kind != Kind::Coefficient) continue;
+    any[static_cast<std::size_t>(q.index)] = true;
+    all[static_cast<std::size_t>(q.index)] = all[static_cast<std::size_t>(q.index)] && rejected[static_cast<std::size_t>(j)];
+  }
+  for (int f = 0; f < kFunctionCount; ++f) {
+    if (any[static_cast<std::size_t>(f)] && all[static_cast<std::size_t>(f)]) {
+      out.unidentifiable.emplace_back(volumetric::function_name(f));
+    }
+  }
+  for (int j = 0; j < p; ++j) {
+    const Param& q = params[static_cast<std::size_t>(j)];
+    if (q.kind == Kind::Squareness && rejected[static_cast<std::size_t>(j)]) {
+      out.unidentifiable.emplace_back(volumetric::function_name(volumetric::kSquarenessEC0XY + q.index));
+    }
+  }
+  const int na = static_cast<int>(accepted.size());
+  out.observations = m;
+  out.candidates = p;
+  out.J.resize(m, na);
+  VectorXd s(na);
+  for (int a = 0; a < na; ++a) {
+    const int j = accepted[static_cast<std::size_t>(a)];
+    out.J.col(a) = J.col(j);
+    s(a) = scale(j);
+    const Param& q = params[static_cast<std::size_t>(j)];
+    if (q.kind == Kind::Coefficient) out.stacks[static_cast<std::size_t>(q.index)].push_back(a);
+  }
+  // (J'J)^-1 through the column-normalised matrix (well conditioned once identifiable).
+  MatrixXd Hn(na, na);
+  for (int a = 0; a < na; ++a) {
+    for (int b = 0; b < na; ++b) {
+      Hn(a, b) = H(accepted[static_cast<std::size_t>(a)], accepted[static_cast<std::size_t>(b)]) * s(a) * s(b);
+    }
+  }
+  const MatrixXd Hn_inv = Hn.ldlt().solve(MatrixXd::Identity(na, na));
+  out.H_inverse = s.asDiagonal() * Hn_inv * s.asDiagonal();
+  out.covariance = out.H_inverse * (design.identification_sigma_mm * design.identification_sigma_mm);
+  out.penalty = std::log(static_cast<double>(m));
+  return out;
+}
+
+// ----------------------------------------------------------------------------------------------
+// One trial: the draws and the simulated readings.
+
+struct Fixed {
+  const VerificationDesign* design = nullptr;
+  const TrackerUncertaintyModel* tracker = nullptr;
+  const UncertaintySources* sources = nullptr;
+  std::vector<Vector3d> commanded;  // q (design)
+  std::vector<Vector3d> analysed;   // q (1 + alpha Delta T): what the analysis identifies with
+  std::vector<Vector3d> nominal;    // analysed + tool offset: the nominal targets (machine frame)
+  std::vector<Matrix3d> chain_jacobian;  // d actual_position / d axis positions at analysed
+  Vector3d nominal_scale = Vector3d::Ones();  // 1 + alpha Delta T as the analysis corrects
+  Vector3d range_middle = Vector3d::Zero();   // middle of each axis' commanded range
+  Matrix3d tracker_rotation = Matrix3d::Identity();
+  NoiseScale noise{};
+};
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+
+// Fills `truth` (where the targets are, noise- and repeatability-free, tracker frame) and
+// `measured` (the readings, tracker frame), 3 per point; returns the true thermal scale
+// 1 + alpha Delta T per axis.
+Vector3d simulate_trial(const Fixed& f, std::uint64_t seed, int trial, VectorXd& truth, VectorXd& measured) {
+  std::mt19937_64 rng(splitmix64(seed ^ splitmix64(static_cast<std::uint64_t>(trial) + 0x5851f42d4c957f2dULL)));
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const UncertaintySources& s = *f.sources;
+  const TrackerUncertaintyModel& t = *f.tracker;
+  // Thermal state of this verification.
+  Vector3d scale;
+  for (int k = 0; k < 3; ++k) {
+    const double alpha = s.expansion_per_K[k] + s.expansion_sigma_per_K[k] * normal(rng);
+    const double dT = s.temperature_deviation_K[k] + s.temperature_sigma_K[k] * normal(rng);
+    scale[k] = 1.0 + alpha * dT;
+  }
+  // Where the tracker really stands.
+  Vector3d position = t.position_mm;
+  Vector3d w;
+  for (int k = 0; k < 3; ++k) position[k] += t.position_sigma_mm * normal(rng);
+  for (int k = 0; k < 3; ++k) w[k] = t.orientation_sigma_rad * normal(rng);
+  const Matrix3d machine_from_tracker = volumetric::rotation_from_vector(w) * f.tracker_rotation;
+  const Matrix3d tracker_from_machine = machine_from_tracker.transpose();
+  const std::size_t n = f.commanded.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vector3d& q = f.commanded[i];
+    const Vector3d& tool = f.design->points[i].tool_offset_mm;
+    Vector3d repeat;
+    for (int k = 0; k < 3; ++k) repeat[k] = s.repeatability_sigma_mm[k] * normal(rng);
+    // The exact chain where the axes truly are; the repeatability displacement (micrometres)
+    // through the chain's Jacobian (its curvature leaves far below 1e-9 mm).
+    const Vector3d actual = volumetric::actual_position(s.errors, q.cwiseProduct(scale), tool);
+    const Vector3d systematic = tracker_from_machine * (actual - position);
+    const Vector3d landed =
+        tracker_from_machine * (actual + f.chain_jacobian[i] * repeat.cwiseProduct(scale) - position);
+    Vector3d sph = to_spherical(landed);
+    const double r0 = sph[0];
+    sph[0] += (f.noise.range0 + f.noise.range1_per_mm * r0) * normal(rng);
+    sph[1] += f.noise.angle * normal(rng);
+    sph[2] += f.noise.angle * normal(rng);
+    const auto row = static_cast<Eigen::Index>(3 * i);
+    truth.segment<3>(row) = systematic;
+    measured.segment<3>(row) = from_spherical(sph);
+  }
+  return scale;
+}
+
+// Rigid best fit (unweighted): target ~ R source + T.
+Eigen::Isometry3d rigid_fit(const VectorXd& source, const std::vector<Vector3d>& target) {
+  const std::size_t n = target.size();
+  Vector3d ms = Vector3d::Zero(), mt = Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    ms += source.segment<3>(static_cast<Eigen::Index>(3 * i));
+    mt += target[i];
+  }
+  ms /= static_cast<double>(n);
+  mt /= static_cast<double>(n);
+  Matrix3d S = Matrix3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    S += (source.segment<3>(static_cast<Eigen::Index>(3 * i)) - ms) * (target[i] - mt).transpose();
+  }
+  const Eigen::JacobiSVD<Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Matrix3d D = Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = svd.matrixV() * D * svd.matrixU().transpose();
+  out.translation() = mt - out.linear() * ms;
+  return out;
+}
+
+struct Workspace {
+  VectorXd truth, measured, e, aligned_truth, correction, g, b, col;
+  MatrixXd C;
+  std::array<int, kFunctionCount> remaining{};
+};
+
+// Linearised identification of one trial: residual (machine axes) per point into `residual`;
+// returns the number of parameters kept.
+int linear_trial(const Fixed& f, const LinearIdentification& lin, Workspace& w, VectorXd& residual) {
+  const std::size_t n = f.nominal.size();
+  const Eigen::Isometry3d A = rigid_fit(w.measured, f.nominal);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto row = static_cast<Eigen::Index>(3 * i);
+    w.e.segment<3>(row) = A * Vector3d(w.measured.segment<3>(row)) - f.nominal[i];
+    w.aligned_truth.segment<3>(row) = A * Vector3d(w.truth.segment<3>(row));
+  }
+  // Full linear solution, then the BIC's backward elimination (as the identification does it).
+  w.g.noalias() = lin.J.transpose() * w.e;
+  w.b.noalias() = lin.H_inverse * w.g;
+  w.C = lin.covariance;
+  const int na = static_cast<int>(w.b.size());
+  w.col.resize(na);
+  int kept = na;
+  for (int fn = 0; fn < kFunctionCount; ++fn) {
+    w.remaining[static_cast<std::size_t>(fn)] = static_cast<int>(lin.stacks[static_cast<std::size_t>(fn)].size());
+  }
+  for (;;) {
+    int best = -1;
+    double best_rise = lin.penalty;
+    for (int fn = 0; fn < kFunctionCount; ++fn) {
+      const int left = w.remaining[static_cast<std::size_t>(fn)];
+      if (left == 0) continue;
+      const int j = lin.stacks[static_cast<std::size_t>(fn)][static_cast<std::size_t>(left - 1)];
+      const double rise = w.b(j) * w.b(j) / w.C(j, j);
+      if (rise < best_rise) {
+        best_rise = rise;
+        best = fn;
+      }
+    }
+    if (best < 0) break;
+    const int j = lin.stacks[static_cast<std::size_t>(best)][static_cast<std::size_t>(--w.remaining[static_cast<std::size_t>(best)])];
+    // Only the lower triangle of C is kept up to date.
+    w.col.head(j) = w.C.row(j).head(j).transpose();
+    w.col.tail(na - j) = w.C.col(j).tail(na - j);
+    const double cjj = w.col(j);
+    w.b -= w.col * (w.b(j) / cjj);
+    w.C.selfadjointView<Eigen::Lower>().rankUpdate(w.col, -1.0 / cjj);
+    w.b(j) = 0;
+    w.C.row(j).head(j).setZero();
+    w.C.col(j).tail(na - j).setZero();
+    --kept;
+  }
+  w.correction.noalias() = lin.J * w.b;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto row = static_cast<Eigen::Index>(3 * i);
+    residual.segment<3>(row) =
+        w.aligned_truth.segment<3>(row) - (f.nominal[i] + w.correction.segment<3>(row));
+  }
+  return kept;
+}
+
+// The full identification of one trial.
+int full_trial(const Fixed& f, Workspace& w, VectorXd& residual) {
+  const VerificationDesign& d = *f.design;
+  const std::size_t n = d.points.size();
+  std::vector<VolumetricPoint> points(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    points[i].label = d.points[i].label;
+    points[i].commanded_mm = f.analysed[i];
+    points[i].tool_offset_mm = d.points[i].tool_offset_mm;
+    points[i].measured_mm = w.measured.segment<3>(static_cast<Eigen::Index>(3 * i));
+    points[i].sigma_mm = d.identification_sigma_mm;
+  }
+  IdentificationOptions options;
+  options.max_degree = d.max_degree;
+  options.rank_tolerance = d.rank_tolerance;
+  const IdentifiedErrors id = identify_rigid_body_errors(points, options);
+  const Matrix3d to_machine_axes = id.instrument_from_machine.linear().transpose();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto row = static_cast<Eigen::Index>(3 * i);
+    // predicted = measured - after; residual = truth - predicted (instrument frame).
+    const Vector3d predicted = points[i].measured_mm - id.point_residuals[i].after_mm;
+    residual.segment<3>(row) = to_machine_axes * (Vector3d(w.truth.segment<3>(row)) - predicted);
+  }
+  return static_cast<int>(id.parameters.size());
+}
+
+// Per-block accumulators (Welford per point and axis), merged in block order.
+struct Block {
+  int count = 0;
+  VectorXd mean, m2;   // 3n
+  VectorXd sum_sq;     // n: sum of |e|^2
+  double kept = 0;
+};
+
+SampleSummary summarise(std::vector<double> v) {
+  SampleSummary s;
+  const double n = static_cast<double>(v.size());
+  s.mean = std::accumulate(v.begin(), v.end(), 0.0) / n;
+  double ss = 0;
+  for (double x : v) ss += (x - s.mean) * (x - s.mean);
+  s.sigma = v.size() > 1 ? std::sqrt(ss / (n - 1)) : 0.0;
+  s.max = *std::max_element(v.begin(), v.end());
+  const std::size_t k = static_cast<std::size_t>(std::ceil(0.95 * n)) - 1;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  s.quantile95 = v[k];
+  return s;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------------
+
+Eigen::Matrix3d TrackerUncertaintyModel::rotation() const { return rotation_ypr(ypr_rad); }
+
+VerificationDesign grid_verification_design(const GlobalCheckConfig& config) {
+  VerificationDesign d;
+  for (const TrackerMove& move : global_check_program(CheckKind::GlobalGrid, config)) {
+    if (move.label.rfind("grid:", 0) != 0) continue;
+    if (move.target < 0 || move.target >= static_cast<int>(config.targets.size())) {
+      refuse("GlobalCheckConfig.targets: move '" + move.label + "' target", std::to_string(move.target),
+             "not one of the " + std::to_string(config.targets.size()) + " targets");
+    }
+    AxisPosition at = move.commanded;
+    at.w_mm = 0;
+    at.a_rad = 0;
+    at.c_rad = 0;
+    const Vector3d pivot(at.x_mm, at.y_mm, at.z_mm);
+    DesignPoint p;
+    p.label = move.label;
+    p.commanded_mm = pivot;
+    p.tool_offset_mm = stylus_ball_centre(at, config.targets[static_cast<std::size_t>(move.target)]) - pivot;
+    d.points.push_back(std::move(p));
+  }
+  if (d.points.empty()) {
+    throw std::invalid_argument("GlobalCheckConfig: the GlobalGrid program has no grid point "
+                                "(grid_x_mm, grid_y_mm, grid_z_mm or targets empty)");
+  }
+  return d;
+}
+
+double expansion_uncertainty_per_K(double alpha_per_K) {
+  need_finite("alpha_per_K", alpha_per_K);
+  const double width = std::max(0.1 * std::abs(alpha_per_K), 2e-6);
+  return width / (2.0 * std::sqrt(3.0));
+}
+
+TrackerPointUncertainty tracker_point_uncertainty(const TrackerUncertaintyModel& tracker,
+                                                  const Eigen::Vector3d& point_mm) {
+  check_tracker(tracker);
+  need_finite("point_mm", point_mm);
+  if ((point_mm - tracker.position_mm).norm() < kAtTrackerMm) {
+    refuse("point_mm", vec(point_mm), "at the tracker's position " + vec(tracker.position_mm));
+  }
+  return point_uncertainty(noise_scale(tracker), tracker.rotation(), tracker.position_mm, point_mm);
+}
+
+VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesign& design,
+                                                          const TrackerUncertaintyModel& tracker,
+                                                          const UncertaintySources& sources,
+                                                          const MonteCarloOptions& options) {
+  check_design(design);
+  check_tracker(tracker);
+  check_tracker_sees(design, tracker);
+  check_sources(sources, design);
+  check_options(options, design.points.size());
+
+  const std::size_t n = design.points.size();
+  Fixed f;
+  f.design = &design;
+  f.tracker = &tracker;
+  f.sources = &sources;
+  f.tracker_rotation = tracker.rotation();
+  f.noise = noise_scale(tracker);
+  f.nominal_scale = Vector3d::Ones() + sources.expansion_per_K.cwiseProduct(sources.temperature_deviation_K);
+  Vector3d lo = design.points.front().commanded_mm, hi = lo;
+  for (const DesignPoint& p : design.points) {
+    lo = lo.cwiseMin(p.commanded_mm);
+    hi = hi.cwiseMax(p.commanded_mm);
+  }
+  f.range_middle = (lo + hi) / 2;
+  for (const DesignPoint& p : design.points) {
+    f.commanded.push_back(p.commanded_mm);
+    f.analysed.push_back(p.commanded_mm.cwiseProduct(f.nominal_scale));
+    f.nominal.push_back(f.analysed.back() + p.tool_offset_mm);
+    Matrix3d D;
+    for (int k = 0; k < 3; ++k) {
+      constexpr double h = 1.0;  // mm; central differences of a polynomial chain
+      const Vector3d dq = Vector3d::Unit(k) * h;
+      D.col(k) = (volumetric::actual_position(sources.errors, f.analysed.back() + dq, p.tool_offset_mm) -
+                  volumetric::actual_position(sources.errors, f.analysed.back() - dq, p.tool_offset_mm)) /
+                 (2 * h);
+    }
+    f.chain_jacobian.push_back(D);
+  }
+  // The linear identification also validates the design as the full one would.
+  const LinearIdentification lin = linearise(design, f.analysed);
+
+  const int trials = options.trials;
+  const int blocks = (trials + kBlockTrials - 1) / kBlockTrials;
+  std::vector<Block> block(static_cast<std::size_t>(blocks));
+  std::vector<double> trial_mean(static_cast<std::size_t>(trials)), trial_max(static_cast<std::size_t>(trials));
+  std::vector<double> magnitude(n * static_cast<std::size_t>(trials));  // point-major
+  std::atomic<int> next{0};
+  const int threads = std::min(options.threads, blocks);
+  std::vector<std::exception_ptr> failure(static_cast<std::size_t>(threads));
+
+  const auto worker = [&](int id) {
+    try {
+      Workspace w;
+      const auto m = static_cast<Eigen::Index>(3 * n);
+      w.truth.resize(m);
+      w.measured.resize(m);
+      w.e.resize(m);
+      w.aligned_truth.resize(m);
+      w.correction.resize(m);
+      VectorXd residual(m);
+      for (int bi; (bi = next.fetch_add(1)) < blocks;) {
+        Block& B = block[static_cast<std::size_t>(bi)];
+        B.mean = VectorXd::Zero(m);
+        B.m2 = VectorXd::Zero(m);
+        B.sum_sq = VectorXd::Zero(static_cast<Eigen::Index>(n));
+        const int first = bi * kBlockTrials, last = std::min(trials, first + kBlockTrials);
+        for (int k = first; k < last; ++k) {
+          const Vector3d scale = simulate_trial(f, options.seed, k, w.truth, w.measured);
+          const int kept = options.method == IdentificationMethod::Full ? full_trial(f, w, residual)
+                                                                         : linear_trial(f, lin, w, residual);
+          // From the verification's thermal state to 20 C: the model carries the thermal
+          // correction's error as a scale about the middle of each axis' range.
+          const Vector3d mis_scale = scale - f.nominal_scale;
+          for (std::size_t i = 0; i < n; ++i) {
+            residual.segment<3>(static_cast<Eigen::Index>(3 * i)) -=
+                f.chain_jacobian[i] * (f.commanded[i] - f.range_middle).cwiseProduct(mis_scale);
+          }
+          B.kept += kept;
+          ++B.count;
+          const double inv = 1.0 / B.count;
+          const VectorXd delta = residual - B.mean;
+          B.mean += delta * inv;
+          B.m2 += delta.cwiseProduct(residual - B.mean);
+          double sum = 0, mx = 0;
+          for (std::size_t i = 0; i < n; ++i) {
+            const double sq = residual.segment<3>(static_cast<Eigen::Index>(3 * i)).squaredNorm();
+            const double mag = std::sqrt(sq);
+            B.sum_sq(static_cast<Eigen::Index>(i)) += sq;
+            magnitude[i * static_cast<std::size_t>(trials) + static_cast<std::size_t>(k)] = mag;
+            sum += mag;
+            mx = std::max(mx, mag);
+          }
+          trial_mean[static_cast<std::size_t>(k)] = sum / static_cast<double>(n);
+          trial_max[static_cast<std::size_t>(k)] = mx;
+        }
+      }
+    } catch (...) {
+      failure[static_cast<std::size_t>(id)] = std::current_exception();
+    }
+  };
+  if (threads == 1) {
+    worker(0);
+  } else {
+    std::vector<std::thread> pool;
+    pool.reserve(static_cast<std::size_t>(threads));
+    for (int id = 0; id < threads; ++id) pool.emplace_back(worker, id);
+    for (auto& th : pool) th.join();
+  }
+  for (const auto& e : failure) {
+    if (e) std::rethrow_exception(e);
+  }
+
+  // Merge the blocks in order (Chan et al.): independent of the thread count.
+  Block total = block.front();
+  for (std::size_t bi = 1; bi < block.size(); ++bi) {
+    const Block& B = block[bi];
+    const double na = total.count, nb = B.count, nt = na + nb;
+    const VectorXd delta = B.mean - total.mean;
+    total.m2 += B.m2 + delta.cwiseProduct(delta) * (na * nb / nt);
+    total.mean += delta * (nb / nt);
+    total.sum_sq += B.sum_sq;
+    total.kept += B.kept;
+    total.count += B.count;
+  }
+
+  VerificationUncertainty out;
+  out.method = options.method;
+  out.trials = trials;
+  out.observations = lin.observations;
+  out.candidate_parameters = static_cast<int>(lin.J.cols());
+  out.mean_kept_parameters = total.kept / trials;
+  out.unidentifiable = lin.unidentifiable;
+  std::vector<double> column(static_cast<std::size_t>(trials));
+  double u_sum = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const DesignPoint& d = design.points[i];
+    PointUncertainty p;
+    p.label = d.label;
+    p.commanded_mm = d.commanded_mm;
+    p.tool_offset_mm = d.tool_offset_mm;
+    const auto row = static_cast<Eigen::Index>(3 * i);
+    p.mean_mm = total.mean.segment<3>(row);
+    p.sigma_mm = trials > 1 ? Vector3d((total.m2.segment<3>(row) / (trials - 1.0)).cwiseMax(0.0).cwiseSqrt())
+                            : Vector3d::Zero();
+    p.rms_mm = std::sqrt(total.sum_sq(static_cast<Eigen::Index>(i)) / trials);
+    std::copy_n(magnitude.begin() + static_cast<std::ptrdiff_t>(i * static_cast<std::size_t>(trials)), trials,
+                column.begin());
+    const std::size_t k = static_cast<std::size_t>(std::ceil(0.95 * trials)) - 1;
+    std::nth_element(column.begin(), column.begin() + static_cast<std::ptrdiff_t>(k), column.end());
+    p.bound95_mm = column[k];
+    p.tracker_u_mm = point_uncertainty(f.noise, f.tracker_rotation, tracker.position_mm, d.commanded_mm + d.tool_offset_mm).u_p_mm;
+    out.tracker_max_u_mm = std::max(out.tracker_max_u_mm, p.tracker_u_mm);
+    u_sum += p.tracker_u_mm;
+    out.points.push_back(std::move(p));
+  }
+  out.tracker_mean_u_mm = u_sum / static_cast<double>(n);
+  out.mean_residual_mm = summarise(trial_mean);
+  out.max_residual_mm = summarise(trial_max);
+  out.trial_mean_mm = std::move(trial_mean);
+  out.trial_max_mm = std::move(trial_max);
+  return out;
+}
+
+TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
+                                            const TrackerUncertaintyModel& tracker,
+                                            const TrackerRegion& region,
+                                            const LocationSearchOptions& options) {
+  if (design.points.empty()) {
+    throw std::invalid_argument("VerificationDesign.points: empty; a grid of points is needed");
+  }
+  for (std::size_t i = 0; i < design.points.size(); ++i) {
+    need_finite(point_field(i, design.points[i], "commanded_mm"), design.points[i].commanded_mm);
+    need_finite(point_field(i, design.points[i], "tool_offset_mm"), design.points[i].tool_offset_mm);
+  }
+  check_tracker(tracker);
+  need_finite("TrackerRegion.lo_mm", region.lo_mm);
+  need_finite("TrackerRegion.hi_mm", region.hi_mm);
+  for (int k = 0; k < 3; ++k) {
+    if (region.lo_mm[k] > region.hi_mm[k]) {
+      refuse("TrackerRegion.lo_mm[" + std::string(1, "xyz"[k]) + "]", num(region.lo_mm[k]),
+             "above hi_mm[" + std::string(1, "xyz"[k]) + "] = " + num(region.hi_mm[k]));
+    }
+    if (region.steps[k] < 1) {
+      refuse("TrackerRegion.steps[" + std::string(1, "xyz"[k]) + "]", std::to_string(region.steps[k]),
+             "expected >= 1");
+    }
+  }
+  const double grid_size = static_cast<double>(region.steps[0]) * region.steps[1] * region.steps[2];
+  if (grid_size > kMaxCandidates) {
+    refuse("TrackerRegion.steps", "(" + std::to_string(region.steps[0]) + ", " + std::to_string(region.steps[1]) +
+           ", " + std::to_string(region.steps[2]) + ")", "more than " + num(kMaxCandidates) + " candidates");
+  }
+  need_sigma("TrackerRegion.envelope_clearance_mm", region.envelope_clearance_mm);
+  need_sigma("TrackerRegion.min_range_mm", region.min_range_mm);
+  if (!(std::isfinite(region.max_range_mm) && region.max_range_mm > region.min_range_mm)) {
+    refuse("TrackerRegion.max_range_mm", num(region.max_range_mm),
+           "expected finite and above min_range_mm = " + num(region.min_range_mm));
+  }
+  if (options.report < 1) refuse("LocationSearchOptions.report", std::to_string(options.report), "expected >= 1");
+
+  const std::size_t n = design.points.size();
+  std::vector<Vector3d> targets;
+  targets.reserve(n);
+  Vector3d env_lo = Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Vector3d env_hi = -env_lo;
+  for (const DesignPoint& p : design.points) {
+    targets.push_back(p.commanded_mm + p.tool_offset_mm);
+    env_lo = env_lo.cwiseMin(targets.back());
+    env_hi = env_hi.cwiseMax(targets.back());
+  }
+  const Vector3d centre = (env_lo + env_hi) / 2;
+  const Vector3d keep_out_lo = env_lo.array() - region.envelope_clearance_mm;
+  const Vector3d keep_out_hi = env_hi.array() + region.envelope_clearance_mm;
+  const NoiseScale noise = noise_scale(tracker);
+
+  const auto evaluate = [&](const Vector3d& position, const Matrix3d& R, TrackerCandidate& c) {
+    double mx = -1, sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vector3d local = R.transpose() * (targets[i] - position);
+      const double r = local.norm();
+      const double e = std::asin(std::clamp(local.z() / r, -1.0, 1.0));
+      const double u = std::sqrt(up_squared(noise, r, e));
+      sum += u;
+      if (u > mx) {
+        mx = u;
+        c.worst_point = static_cast<int>(i);
+      }
+    }
+    c.max_u_mm = mx;
+    c.mean_u_mm = sum / static_cast<double>(n);
+  };
+
+  TrackerLocationSearch out;
+  {
+    check_tracker_sees(design, tracker);
+    TrackerCandidate given;
+    evaluate(tracker.position_mm, tracker.rotation(), given);
+    out.given_max_u_mm = given.max_u_mm;
+  }
+  std::vector<TrackerCandidate> tried;
+  const auto coordinate = [&](int axis, int i) {
+    const int steps = region.steps[axis];
+    if (steps == 1) return (region.lo_mm[axis] + region.hi_mm[axis]) / 2;
+    return region.lo_mm[axis] + (region.hi_mm[axis] - region.lo_mm[axis]) * i / (steps - 1);
+  };
+  for (int iz = 0; iz < region.steps[2]; ++iz) {
+    for (int iy = 0; iy < region.steps[1]; ++iy) {
+      for (int ix = 0; ix < region.steps[0]; ++ix) {
+        const Vector3d position(coordinate(0, ix), coordinate(1, iy), coordinate(2, iz));
+        const bool inside = (position.array() >= keep_out_lo.array()).all() &&
+                            (position.array() <= keep_out_hi.array()).all();
+        bool in_range = true;
+        for (const Vector3d& t : targets) {
+          const double r = (t - position).norm();
+          if (r < region.min_range_mm || r > region.max_range_mm || r < kAtTrackerMm) {
+            in_range = false;
+            break;
+          }
+        }
+        if (inside || !in_range) {
+          ++out.excluded;
+          continue;
+        }
+        TrackerCandidate c;
+        c.position_mm = position;
+        const Vector3d to_centre = centre - position;
+        c.yaw_rad = (std::abs(to_centre.x()) + std::abs(to_centre.y()) > 0)
+                        ? std::atan2(to_centre.y(), to_centre.x())
+                        : tracker.ypr_rad[0];
+        evaluate(position, rotation_ypr(Vector3d(c.yaw_rad, tracker.ypr_rad[1], tracker.ypr_rad[2])), c);
+        tried.push_back(c);
+      }
+    }
+  }
+  out.tried = static_cast<int>(tried.size());
+  if (tried.empty()) {
+    throw std::invalid_argument(
+        "TrackerRegion: all " + std::to_string(out.excluded) +
+        " candidate positions are excluded (inside the working envelope " + vec(env_lo) + " .. " +
+        vec(env_hi) + " grown by envelope_clearance_mm = " + num(region.envelope_clearance_mm) +
+        ", or a design point outside min_range_mm = " + num(region.min_range_mm) +
+        " .. max_range_mm = " + num(region.max_range_mm) + ")");
+  }
+  std::stable_sort(tried.begin(), tried.end(), [](const TrackerCandidate& a, const TrackerCandidate& b) {
+    if (a.max_u_mm != b.max_u_mm) return a.max_u_mm < b.max_u_mm;
+    return a.mean_u_mm < b.mean_u_mm;
+  });
+  const TrackerCandidate& best = tried.front();
+  out.best = tracker;
+  out.best.position_mm = best.position_mm;
+  out.best.ypr_rad[0] = best.yaw_rad;
+  out.max_u_mm = best.max_u_mm;
+  out.mean_u_mm = best.mean_u_mm;
+  tried.resize(std::min(tried.size(), static_cast<std::size_t>(options.report)));
+  out.candidates = std::move(tried);
+  return out;
+}
+
+}  // namespace ncqual::solver
