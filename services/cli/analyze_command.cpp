@@ -5,6 +5,7 @@
 
 #include "ncqual/args.hpp"
 #include "ncqual/csv.hpp"
+#include "ncqual/units.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/global_grid.hpp"
 #include "ncqual/solver/instrument_files.hpp"
@@ -40,7 +41,7 @@ const char* const kAnalyzeUsage =
 namespace {
 
 constexpr int kExitError = 1, kExitUsage = 2;
-constexpr double kPi = 3.14159265358979323846;
+using units::kPi;
 
 using nlohmann::json;
 

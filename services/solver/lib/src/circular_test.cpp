@@ -1,5 +1,8 @@
 #include "ncqual/solver/circular_test.hpp"
 
+#include "ncqual/units.hpp"
+#include "result_building.hpp"
+
 #include "ncqual/solver/circle_fit.hpp"
 
 #include <Eigen/Dense>
@@ -14,24 +17,18 @@
 namespace ncqual::solver {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using units::kPi;
 constexpr int kMinPointsPerDirection = 8;
 constexpr double kMaxGapRad = kPi / 3;          // 60°
 constexpr double kGapSlackRad = 1e-9;           // rounding allowance on the gap test
 constexpr double kDuplicateAngleRad = 1e-9;
-
-std::string num(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 double deg(double rad) { return rad * 180.0 / kPi; }
 
 // An angle in degrees for messages, rounded to 1e-6 deg (no "5e-15" for 0).
 std::string deg_text(double rad) {
   const double d = std::round(deg(rad) * 1e6) / 1e6;
-  return num(d == 0 ? 0.0 : d);
+  return detail::quote_number(d == 0 ? 0.0 : d);
 }
 
 // Angle of p about c in [0, 2π).
@@ -235,20 +232,20 @@ std::optional<CircularTestProblem> find_circular_test_problem(const CircularTest
   if (input.nominal_radius_mm &&
       !(std::isfinite(*input.nominal_radius_mm) && *input.nominal_radius_mm > 0)) {
     return P{std::nullopt, std::nullopt,
-             "nominal_radius_mm = " + num(*input.nominal_radius_mm) +
+             "nominal_radius_mm = " + detail::quote_number(*input.nominal_radius_mm) +
                  ": must be a finite number > 0"};
   }
   if (input.nominal_centre_mm && !input.nominal_centre_mm->allFinite()) {
     return P{std::nullopt, std::nullopt,
-             "nominal_centre_mm = (" + num(input.nominal_centre_mm->x()) + ", " +
-                 num(input.nominal_centre_mm->y()) + "): not finite"};
+             "nominal_centre_mm = (" + detail::quote_number(input.nominal_centre_mm->x()) + ", " +
+                 detail::quote_number(input.nominal_centre_mm->y()) + "): not finite"};
   }
   if (input.points.empty()) return P{std::nullopt, std::nullopt, "no points"};
   for (std::size_t i = 0; i < input.points.size(); ++i) {
     const auto& p = input.points[i].uv_mm;
     if (!p.allFinite()) {
       return P{i, std::nullopt,
-               "u_mm = " + num(p.x()) + ", v_mm = " + num(p.y()) + ": not a finite point"};
+               "u_mm = " + detail::quote_number(p.x()) + ", v_mm = " + detail::quote_number(p.y()) + ": not a finite point"};
     }
   }
   for (PathDirection d : {PathDirection::Ccw, PathDirection::Cw}) {
@@ -272,7 +269,7 @@ std::optional<CircularTestProblem> find_circular_test_problem(const CircularTest
         const std::size_t later = std::max(a.index, b.index);
         const auto& p = input.points[later].uv_mm;
         return P{later, std::min(a.index, b.index),
-                 pre + "u_mm = " + num(p.x()) + ", v_mm = " + num(p.y()) + " at " +
+                 pre + "u_mm = " + detail::quote_number(p.x()) + ", v_mm = " + detail::quote_number(p.y()) + " at " +
                      deg_text(b.theta) +
                      " deg about the path's LSC centre: the same angle as another point"};
       }

@@ -1,5 +1,8 @@
 #include "ncqual/solver/global_grid.hpp"
 
+#include "ncqual/units.hpp"
+#include "result_building.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -14,17 +17,7 @@
 namespace ncqual::solver {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-std::string num(double v) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.10g", v);
-  return buffer;
-}
-
-std::string vec(const Eigen::Vector3d& v) {
-  return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")";
-}
+using units::kPi;
 
 [[noreturn]] void refuse(const std::string& why) {
   throw std::invalid_argument("analyze_grid: " + why);
@@ -42,19 +35,19 @@ void validate(const MasterFrame& frame, const std::vector<FramePoint>& grid,
            " is negative");
   }
   if (!std::isfinite(options.plane_tolerance_mm) || !(options.plane_tolerance_mm > 0)) {
-    refuse("options.plane_tolerance_mm = " + num(options.plane_tolerance_mm) +
+    refuse("options.plane_tolerance_mm = " + detail::quote_number(options.plane_tolerance_mm) +
            " must be a positive length");
   }
   const Eigen::Matrix3d r = frame.instrument_to_master.linear();
   const Eigen::Vector3d t = frame.instrument_to_master.translation();
   if (!r.allFinite() || !t.allFinite()) {
-    refuse("frame.instrument_to_master is not finite (translation " + vec(t) + ")");
+    refuse("frame.instrument_to_master is not finite (translation " + detail::quote_vector(t) + ")");
   }
   const double orthonormal_error = (r.transpose() * r - Eigen::Matrix3d::Identity())
                                        .cwiseAbs().maxCoeff();
   if (orthonormal_error > global_grid::kOrthonormalTolerance || r.determinant() < 0) {
     refuse("frame.instrument_to_master is not a rotation (|R^T R - I| = " +
-           num(orthonormal_error) + ", det = " + num(r.determinant()) + ")");
+           detail::quote_number(orthonormal_error) + ", det = " + detail::quote_number(r.determinant()) + ")");
   }
   if (static_cast<int>(grid.size()) < global_grid::kMinPoints) {
     refuse("grid has " + std::to_string(grid.size()) + " points; at least " +
@@ -65,11 +58,11 @@ void validate(const MasterFrame& frame, const std::vector<FramePoint>& grid,
   for (const auto& p : grid) {
     if (!labels.insert(p.label).second) refuse("grid label '" + p.label + "' appears twice");
     if (!p.commanded_mm.allFinite()) {
-      refuse("grid point '" + p.label + "' commanded_mm = " + vec(p.commanded_mm) +
+      refuse("grid point '" + p.label + "' commanded_mm = " + detail::quote_vector(p.commanded_mm) +
              " is not finite");
     }
     if (!p.measured_mm.allFinite()) {
-      refuse("grid point '" + p.label + "' measured_mm = " + vec(p.measured_mm) +
+      refuse("grid point '" + p.label + "' measured_mm = " + detail::quote_vector(p.measured_mm) +
              " is not finite");
     }
   }
@@ -86,8 +79,8 @@ void validate(const MasterFrame& frame, const std::vector<FramePoint>& grid,
     }
     if (hi - lo <= options.plane_tolerance_mm) {
       std::string why = "all " + std::to_string(grid.size()) +
-                        " grid points lie on the one plane " + names[k] + " = " + num(lo) +
-                        " mm (spread " + num(hi - lo) + " mm)";
+                        " grid points lie on the one plane " + names[k] + " = " + detail::quote_number(lo) +
+                        " mm (spread " + detail::quote_number(hi - lo) + " mm)";
       if (axis == 2) {
         why += ": the Z scale and the YZ and ZX squareness would be undefined; measure at least "
                "two constant-Z planes";
@@ -111,8 +104,8 @@ void validate(const MasterFrame& frame, const std::vector<FramePoint>& grid,
   const double largest = std::sqrt(std::max(0.0, eig.eigenvalues()(2)));
   if (!(smallest >= global_grid::kMinSpreadRatio * largest)) {
     refuse("the commanded grid positions are (nearly) coplanar (normal " +
-           vec(eig.eigenvectors().col(0)) + ", spread across the plane " +
-           num(largest > 0 ? smallest / largest : 0.0) +
+           detail::quote_vector(eig.eigenvectors().col(0)) + ", spread across the plane " +
+           detail::quote_number(largest > 0 ? smallest / largest : 0.0) +
            " of that along it): the affine fit of the axis motions needs points spanning 3-D");
   }
 }

@@ -1,5 +1,8 @@
 #include "ncqual/solver/instrument_files.hpp"
 
+#include "ncqual/units.hpp"
+#include "result_building.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,13 +12,7 @@
 namespace ncqual::solver {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-std::string num(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
+using units::kPi;
 
 // The line a whole-data problem is reported at: the last data row, or the header.
 int last_line(const CsvTable& t) { return t.rows.empty() ? t.header_line : t.rows.back().line; }
@@ -160,7 +157,7 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
       const auto [it, fresh] = angles_seen.emplace(std::make_pair(d, wrapped), row.line);
       if (!fresh) {
         t.fail(row.line, c_a,
-               "angle_deg = " + num(a) + ", direction " + std::string(to_string(d)) +
+               "angle_deg = " + detail::quote_number(a) + ", direction " + std::string(to_string(d)) +
                    ": the same angle as line " + std::to_string(it->second));
       }
       p = circular_point_from_polar(a * kPi / 180.0, b, d);
@@ -210,8 +207,8 @@ std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
     const auto [pos_it, fresh_pos] = positions.emplace(key, std::make_pair(g.point, row.line));
     if (!fresh_pos) {
       t.fail(row.line, c_cmd[0],
-             "point '" + g.point + "': commanded position (" + num(g.commanded_mm.x()) + ", " +
-                 num(g.commanded_mm.y()) + ", " + num(g.commanded_mm.z()) + ") repeats point '" +
+             "point '" + g.point + "': commanded position (" + detail::quote_number(g.commanded_mm.x()) + ", " +
+                 detail::quote_number(g.commanded_mm.y()) + ", " + detail::quote_number(g.commanded_mm.z()) + ") repeats point '" +
                  pos_it->second.first + "' on line " + std::to_string(pos_it->second.second));
     }
     out.push_back(g);

@@ -1,5 +1,7 @@
 #include "ncqual/solver/iso230_2.hpp"
 
+#include "result_building.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,12 +11,6 @@
 
 namespace ncqual::solver {
 namespace {
-
-std::string num(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 // The readings of one target, by direction, as indices into the input.
 struct TargetReadings {
@@ -83,11 +79,11 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
   if (r.empty()) return ReadingProblem{std::nullopt, std::nullopt, "no readings"};
   for (std::size_t i = 0; i < r.size(); ++i) {
     if (!std::isfinite(r[i].target_mm)) {
-      return ReadingProblem{i, std::nullopt, "target_mm = " + num(r[i].target_mm) +
+      return ReadingProblem{i, std::nullopt, "target_mm = " + detail::quote_number(r[i].target_mm) +
                                                  " is not a finite number"};
     }
     if (!std::isfinite(r[i].measured_mm)) {
-      return ReadingProblem{i, std::nullopt, "measured_mm = " + num(r[i].measured_mm) +
+      return ReadingProblem{i, std::nullopt, "measured_mm = " + detail::quote_number(r[i].measured_mm) +
                                                  " is not a finite number"};
     }
   }
@@ -97,7 +93,7 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
                                                           r[i].direction), i);
     if (!fresh) {
       return ReadingProblem{i, it->second,
-                            "target_mm = " + num(r[i].target_mm) +
+                            "target_mm = " + detail::quote_number(r[i].target_mm) +
                                 ", cycle = " + std::to_string(r[i].cycle) + ", direction = " +
                                 std::string(to_string(r[i].direction)) +
                                 ": a second reading of the same target, cycle and direction"};
@@ -106,7 +102,7 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
   const auto targets = group(r);
   if (targets.size() < 2) {
     return ReadingProblem{std::nullopt, std::nullopt,
-                          "only 1 target (target_mm = " + num(targets.begin()->first) +
+                          "only 1 target (target_mm = " + detail::quote_number(targets.begin()->first) +
                               "); ISO 230-2 needs at least 2 targets"};
   }
   bool any_up = false, any_down = false;
@@ -119,7 +115,7 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
       const auto& idx = t.of(a);
       if (idx.size() == 1) {
         return ReadingProblem{idx.front(), std::nullopt,
-                              "target_mm = " + num(target) + ", direction = " +
+                              "target_mm = " + detail::quote_number(target) + ", direction = " +
                                   std::string(to_string(a)) +
                                   ": 1 cycle; at least 2 are needed for the standard "
                                   "uncertainty s (n - 1 in its denominator)"};
@@ -132,7 +128,7 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
       const bool other_elsewhere = other == Approach::Up ? any_up : any_down;
       if (!t.of(a).empty() && t.of(other).empty() && other_elsewhere) {
         return ReadingProblem{t.of(a).front(), std::nullopt,
-                              "target_mm = " + num(target) + " has " +
+                              "target_mm = " + detail::quote_number(target) + " has " +
                                   std::string(to_string(a)) + " readings but no " +
                                   std::string(to_string(other)) +
                                   " readings, while other targets do"};

@@ -1,5 +1,8 @@
 #include "ncqual/solver/master_frame.hpp"
 
+#include "ncqual/units.hpp"
+#include "result_building.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -12,18 +15,8 @@
 namespace ncqual::solver {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using units::kPi;
 const char* const kAxisNames[3] = {"x", "y", "z"};
-
-std::string num(double v) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.10g", v);
-  return buffer;
-}
-
-std::string vec(const Eigen::Vector3d& v) {
-  return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")";
-}
 
 [[noreturn]] void refuse(const std::string& why) {
   throw std::invalid_argument("fit_master_frame: " + why);
@@ -38,11 +31,11 @@ void validate_run(const std::vector<FramePoint>& points, const std::string& run,
   }
   for (const auto& p : points) {
     if (!p.commanded_mm.allFinite()) {
-      refuse(run + " point '" + p.label + "' commanded_mm = " + vec(p.commanded_mm) +
+      refuse(run + " point '" + p.label + "' commanded_mm = " + detail::quote_vector(p.commanded_mm) +
              " is not finite");
     }
     if (!p.measured_mm.allFinite()) {
-      refuse(run + " point '" + p.label + "' measured_mm = " + vec(p.measured_mm) +
+      refuse(run + " point '" + p.label + "' measured_mm = " + detail::quote_vector(p.measured_mm) +
              " is not finite");
     }
   }
@@ -53,8 +46,8 @@ void validate_run(const std::vector<FramePoint>& points, const std::string& run,
       const double diff = p.commanded_mm(k) - first.commanded_mm(k);
       if (std::abs(diff) > master_frame::kSameCommandedMm) {
         refuse(run + " point '" + p.label + "' commanded " + kAxisNames[k] + " = " +
-               num(p.commanded_mm(k)) + " mm differs from that of its first point '" +
-               first.label + "' (" + num(first.commanded_mm(k)) + " mm) by " + num(diff) +
+               detail::quote_number(p.commanded_mm(k)) + " mm differs from that of its first point '" +
+               first.label + "' (" + detail::quote_number(first.commanded_mm(k)) + " mm) by " + detail::quote_number(diff) +
                " mm: an " + kAxisNames[axis] + " run moves " + kAxisNames[axis] + " only");
       }
     }
@@ -70,7 +63,7 @@ void validate_run(const std::vector<FramePoint>& points, const std::string& run,
     if (gap <= master_frame::kSameCommandedMm) {
       refuse(run + " points '" + sorted[i - 1]->label + "' and '" + sorted[i]->label +
              "' have the same commanded " + kAxisNames[axis] + " = " +
-             num(sorted[i]->commanded_mm(axis)) + " mm (duplicate commanded position)");
+             detail::quote_number(sorted[i]->commanded_mm(axis)) + " mm (duplicate commanded position)");
     }
   }
 }
@@ -116,8 +109,8 @@ Line fit_run_line(const std::vector<FramePoint>& points, const std::string& run,
     line.slope = -line.slope;
   }
   if (!std::isfinite(line.slope) || std::abs(line.slope - 1) > master_frame::kMaxScaleDeviation) {
-    refuse(run + ": the measured travel along the fitted line is " + num(line.slope) +
-           " times the commanded travel (allowed 1 +- " + num(master_frame::kMaxScaleDeviation) +
+    refuse(run + ": the measured travel along the fitted line is " + detail::quote_number(line.slope) +
+           " times the commanded travel (allowed 1 +- " + detail::quote_number(master_frame::kMaxScaleDeviation) +
            "): wrong unit, wrong points, or the target did not move");
   }
   return line;
@@ -174,8 +167,8 @@ MasterFrame fit_master_frame(const std::vector<FramePoint>& x_run,
   const double zx = x_run.front().commanded_mm.z();
   const double zy = y_run.front().commanded_mm.z();
   if (std::abs(zx - zy) > master_frame::kSameCommandedMm) {
-    refuse("x_run is at commanded z = " + num(zx) + " mm (point '" + x_run.front().label +
-           "'), y_run at z = " + num(zy) + " mm (point '" + y_run.front().label +
+    refuse("x_run is at commanded z = " + detail::quote_number(zx) + " mm (point '" + x_run.front().label +
+           "'), y_run at z = " + detail::quote_number(zy) + " mm (point '" + y_run.front().label +
            "'): both runs must be at one commanded Z");
   }
 
@@ -187,10 +180,10 @@ MasterFrame fit_master_frame(const std::vector<FramePoint>& x_run,
   const double angle = std::atan2(u.cross(v).norm(), u.dot(v));
   const double non_orthogonality = angle - kPi / 2;
   if (std::abs(non_orthogonality) > master_frame::kMaxNonOrthogonalityRad) {
-    refuse("the fitted x_run and y_run lines are " + num(angle * 180 / kPi) +
-           " degrees apart (directions " + vec(u) + " and " + vec(v) +
+    refuse("the fitted x_run and y_run lines are " + detail::quote_number(angle * 180 / kPi) +
+           " degrees apart (directions " + detail::quote_vector(u) + " and " + detail::quote_vector(v) +
            "): (nearly) parallel lines cannot define a frame; allowed 90 +- " +
-           num(master_frame::kMaxNonOrthogonalityRad * 180 / kPi) + " degrees");
+           detail::quote_number(master_frame::kMaxNonOrthogonalityRad * 180 / kPi) + " degrees");
   }
 
   // Step 2: the symmetric orthonormal pair nearest to (u, v), Z = X x Y.

@@ -47,17 +47,17 @@ std::string describe_out_of_band(const Metric& metric) {
          format_number(metric.lower - metric.value) + unit;
 }
 
-std::string format_number(double value) {
+std::string format_number(double value, int digits) {
   if (std::isnan(value)) return "nan";
   if (std::isinf(value)) return value > 0 ? "inf" : "-inf";
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value);
+  char buffer[48];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
   return buffer;
 }
 
-std::string format_vector(const Eigen::Vector3d& v) {
-  return "(" + format_number(v.x()) + ", " + format_number(v.y()) + ", " + format_number(v.z()) +
-         ")";
+std::string format_vector(const Eigen::Vector3d& v, int digits) {
+  return "(" + format_number(v.x(), digits) + ", " + format_number(v.y(), digits) + ", " +
+         format_number(v.z(), digits) + ")";
 }
 
 }  // namespace ncqual::solver::detail

@@ -24,8 +24,13 @@ Metric judged_metric(std::string_view name, double value, std::string_view unit,
 // "0.0412 mm is above the upper limit 0.025 mm by 0.0162 mm" for a metric out of its band.
 std::string describe_out_of_band(const Metric& metric);
 
-// Numbers in reasons: shortest round-trippable-enough text, "nan" and "inf" as such.
-std::string format_number(double value);
-std::string format_vector(const Eigen::Vector3d& v);
+// Numbers in reasons: 6 significant digits (or `digits`), "nan" and "inf" as such.
+std::string format_number(double value, int digits = 6);
+std::string format_vector(const Eigen::Vector3d& v, int digits = 6);
+
+// Values quoted in a refusal of input: 10 significant digits, so what the caller gave shows in
+// full.
+inline std::string quote_number(double value) { return format_number(value, 10); }
+inline std::string quote_vector(const Eigen::Vector3d& v) { return format_vector(v, 10); }
 
 }  // namespace ncqual::solver::detail

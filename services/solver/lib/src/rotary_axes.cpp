@@ -1,5 +1,8 @@
 #include "ncqual/solver/rotary_axes.hpp"
 
+#include "ncqual/units.hpp"
+#include "result_building.hpp"
+
 #include "ncqual/solver/circle_fit.hpp"
 
 #include <Eigen/Dense>
@@ -15,18 +18,8 @@
 namespace ncqual::solver {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using units::kPi;
 constexpr double kArcsecPerRad = 180.0 * 3600.0 / kPi;
-
-std::string num(double v) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.10g", v);
-  return buffer;
-}
-
-std::string vec(const Eigen::Vector3d& v) {
-  return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")";
-}
 
 // Wraps an angle to (-pi, pi].
 double wrap(double a) {
@@ -60,20 +53,20 @@ void validate_common(const std::string& who, const std::vector<RotaryPoint>& poi
   }
   if (!std::isfinite(geometry.tool_length_mm) || !geometry.stylus_offset_mm.allFinite()) {
     throw std::invalid_argument(who + ": geometry.tool_length_mm = " +
-                                num(geometry.tool_length_mm) + ", stylus_offset_mm = (" +
-                                num(geometry.stylus_offset_mm.x()) + ", " +
-                                num(geometry.stylus_offset_mm.y()) + ") must be finite");
+                                detail::quote_number(geometry.tool_length_mm) + ", stylus_offset_mm = (" +
+                                detail::quote_number(geometry.stylus_offset_mm.x()) + ", " +
+                                detail::quote_number(geometry.stylus_offset_mm.y()) + ") must be finite");
   }
   for (const auto& p : points) {
     for (const auto& f : kFields) {
       if (!std::isfinite(p.commanded.*(f.member))) {
         throw std::invalid_argument(who + ": point '" + p.label + "' commanded." + f.name +
-                                    " = " + num(p.commanded.*(f.member)) + " is not finite");
+                                    " = " + detail::quote_number(p.commanded.*(f.member)) + " is not finite");
       }
     }
     if (!p.measured_master_mm.allFinite()) {
       throw std::invalid_argument(who + ": point '" + p.label + "' measured_master_mm = " +
-                                  vec(p.measured_master_mm) + " is not finite");
+                                  detail::quote_vector(p.measured_master_mm) + " is not finite");
     }
   }
   const RotaryPoint& first = points.front();
@@ -85,8 +78,8 @@ void validate_common(const std::string& who, const std::vector<RotaryPoint>& poi
       if (std::abs(diff) > limit) {
         throw std::invalid_argument(
             who + ": point '" + p.label + "' commanded." + f.name + " = " +
-            num(p.commanded.*(f.member)) + " differs from that of the first point '" +
-            first.label + "' (" + num(first.commanded.*(f.member)) + ") by " + num(diff) +
+            detail::quote_number(p.commanded.*(f.member)) + " differs from that of the first point '" +
+            first.label + "' (" + detail::quote_number(first.commanded.*(f.member)) + ") by " + detail::quote_number(diff) +
             ": this check holds every axis but the one it checks");
       }
     }
@@ -168,8 +161,8 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
       throw std::invalid_argument(
           who + ": points '" + angles[i].second->label + "' and '" + angles[j].second->label +
           "' have the same commanded." + moving_name + " (" +
-          num(angles[i].second->commanded.*moving) + " and " +
-          num(angles[j].second->commanded.*moving) + ", modulo 2 pi): duplicate angle");
+          detail::quote_number(angles[i].second->commanded.*moving) + " and " +
+          detail::quote_number(angles[j].second->commanded.*moving) + ", modulo 2 pi): duplicate angle");
     }
     largest_gap = std::max(largest_gap, gap);
   }
@@ -177,8 +170,8 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
   if (coverage < rotary_axes::kMinArcRad) {
     throw std::invalid_argument(
         who + ": the commanded " + moving_name + " cover an arc of " +
-        num(coverage * 180 / kPi) + " degrees (2 pi minus the largest gap between consecutive " +
-        "angles); at least " + num(rotary_axes::kMinArcRad * 180 / kPi) +
+        detail::quote_number(coverage * 180 / kPi) + " degrees (2 pi minus the largest gap between consecutive " +
+        "angles); at least " + detail::quote_number(rotary_axes::kMinArcRad * 180 / kPi) +
         " are needed to locate the centre of the circle");
   }
 
@@ -197,10 +190,10 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
   out.nominal_radius_mm = (p0 - p0.dot(k) * k).norm();
   if (!(out.nominal_radius_mm >= rotary_axes::kMinRadiusMm)) {
     throw std::invalid_argument(
-        who + ": the nominal target is " + num(out.nominal_radius_mm) + " mm from the " +
+        who + ": the nominal target is " + detail::quote_number(out.nominal_radius_mm) + " mm from the " +
         std::string(rotary_axis_name(axis)) + " axis (geometry.tool_length_mm = " +
-        num(geometry.tool_length_mm) + ", point '" + first.label + "'); at least " +
-        num(rotary_axes::kMinRadiusMm) + " mm is needed for the target to sweep a circle" +
+        detail::quote_number(geometry.tool_length_mm) + ", point '" + first.label + "'); at least " +
+        detail::quote_number(rotary_axes::kMinRadiusMm) + " mm is needed for the target to sweep a circle" +
         (axis == RotaryAxis::C ? " (tilt A or offset the target)" : ""));
   }
   AxisPosition zero = first.commanded;
@@ -226,7 +219,7 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
         who + ": the measured_master_mm of the " + std::string(rotary_axis_name(axis)) +
         " points " +
         (rms_along > rotary_axes::kCoincidentMm ? "are (nearly) collinear" : "all coincide") +
-        " (rms spread " + num(rms_along) + " mm along their line, " + num(rms_across) +
+        " (rms spread " + detail::quote_number(rms_along) + " mm along their line, " + detail::quote_number(rms_across) +
         " mm across it): they define no circle");
   }
   Eigen::Vector3d n = s.vectors.col(0).normalized();
@@ -237,9 +230,9 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
   // projected into the plane, e2 = n x e1 (so angles from e1 about n are right-handed).
   Eigen::Vector3d e1 = zero_direction - zero_direction.dot(n) * n;
   if (!(e1.norm() > 1e-9 * (1 + zero_direction.norm()))) {
-    throw std::invalid_argument(who + ": the fitted plane (normal " + vec(n) +
+    throw std::invalid_argument(who + ": the fitted plane (normal " + detail::quote_vector(n) +
                                 ") is perpendicular to the nominal zero direction " +
-                                vec(zero_direction) + ": the measured points are not a circle "
+                                detail::quote_vector(zero_direction) + ": the measured points are not a circle "
                                 "about the " + std::string(rotary_axis_name(axis)) + " axis");
   }
   e1.normalize();
@@ -310,7 +303,7 @@ WAxisResult analyze_w_axis(const std::vector<RotaryPoint>& points, const ProbeGe
     if (sorted[i]->commanded.w_mm - sorted[i - 1]->commanded.w_mm <= rotary_axes::kHeldMm) {
       throw std::invalid_argument(who + ": points '" + sorted[i - 1]->label + "' and '" +
                                   sorted[i]->label + "' have the same commanded.w_mm = " +
-                                  num(sorted[i]->commanded.w_mm) + " (duplicate position)");
+                                  detail::quote_number(sorted[i]->commanded.w_mm) + " (duplicate position)");
     }
   }
 
@@ -342,8 +335,8 @@ WAxisResult analyze_w_axis(const std::vector<RotaryPoint>& points, const ProbeGe
   }
   if (!std::isfinite(slope) || std::abs(slope - 1) > rotary_axes::kMaxScaleDeviation) {
     throw std::invalid_argument(who + ": the measured travel along the fitted line is " +
-                                num(slope) + " times the commanded W travel (allowed 1 +- " +
-                                num(rotary_axes::kMaxScaleDeviation) +
+                                detail::quote_number(slope) + " times the commanded W travel (allowed 1 +- " +
+                                detail::quote_number(rotary_axes::kMaxScaleDeviation) +
                                 "): wrong unit, wrong points, or the spindle did not move");
   }
   out.direction = u;

@@ -1,4 +1,6 @@
 // Monte Carlo uncertainty of the volumetric verification, eq. 23-24 of Aguado et al. and the
+
+#include "result_building.hpp"
 // tracker location search. See the header for what is propagated and how.
 #include "ncqual/solver/verification_uncertainty.hpp"
 
@@ -44,35 +46,24 @@ constexpr int kBlockTrials = 50;          // trials per accumulation block (thre
 // ----------------------------------------------------------------------------------------------
 // Messages
 
-std::string num(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
-
-std::string vec(const Vector3d& v) {
-  return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")";
-}
-
 [[noreturn]] void refuse(const std::string& field, const std::string& value, const std::string& why) {
   throw std::invalid_argument(field + " = " + value + ": " + why);
 }
 
 void need_finite(const std::string& field, double v) {
-  if (!std::isfinite(v)) refuse(field, num(v), "not finite");
+  if (!std::isfinite(v)) refuse(field, detail::quote_number(v), "not finite");
 }
 
 void need_finite(const std::string& field, const Vector3d& v) {
-  if (!v.allFinite()) refuse(field, vec(v), "not finite");
+  if (!v.allFinite()) refuse(field, detail::quote_vector(v), "not finite");
 }
 
 void need_sigma(const std::string& field, double v) {
-  if (!(std::isfinite(v) && v >= 0)) refuse(field, num(v), "expected a finite value >= 0");
+  if (!(std::isfinite(v) && v >= 0)) refuse(field, detail::quote_number(v), "expected a finite value >= 0");
 }
 
 void need_sigma(const std::string& field, const Vector3d& v) {
-  if (!v.allFinite() || (v.array() < 0).any()) refuse(field, vec(v), "expected finite values >= 0");
+  if (!v.allFinite() || (v.array() < 0).any()) refuse(field, detail::quote_vector(v), "expected finite values >= 0");
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -105,7 +96,7 @@ void check_design(const VerificationDesign& d) {
     need_finite(point_field(i, d.points[i], "tool_offset_mm"), d.points[i].tool_offset_mm);
   }
   if (!(std::isfinite(d.identification_sigma_mm) && d.identification_sigma_mm > 0)) {
-    refuse("VerificationDesign.identification_sigma_mm", num(d.identification_sigma_mm),
+    refuse("VerificationDesign.identification_sigma_mm", detail::quote_number(d.identification_sigma_mm),
            "expected a finite value > 0");
   }
   if (d.max_degree < 1 || d.max_degree > kMaxDegree) {
@@ -113,7 +104,7 @@ void check_design(const VerificationDesign& d) {
            "expected 1.." + std::to_string(kMaxDegree));
   }
   if (!(d.rank_tolerance > 0 && d.rank_tolerance < 1)) {
-    refuse("VerificationDesign.rank_tolerance", num(d.rank_tolerance), "expected 0 < tolerance < 1");
+    refuse("VerificationDesign.rank_tolerance", detail::quote_number(d.rank_tolerance), "expected 0 < tolerance < 1");
   }
 }
 
@@ -122,8 +113,8 @@ void check_tracker_sees(const VerificationDesign& d, const TrackerUncertaintyMod
     const DesignPoint& p = d.points[i];
     if ((p.commanded_mm + p.tool_offset_mm - t.position_mm).norm() < kAtTrackerMm) {
       refuse(point_field(i, p, "commanded_mm + tool_offset_mm"),
-             vec(p.commanded_mm + p.tool_offset_mm),
-             "at the tracker's position " + vec(t.position_mm) + " (no direction to measure)");
+             detail::quote_vector(p.commanded_mm + p.tool_offset_mm),
+             "at the tracker's position " + detail::quote_vector(t.position_mm) + " (no direction to measure)");
     }
   }
 }
@@ -140,7 +131,7 @@ void check_sources(const UncertaintySources& s, const VerificationDesign& d) {
       if (!std::isfinite(fn.coefficients[k])) {
         refuse("UncertaintySources.errors." + std::string(volumetric::function_name(f)) +
                    ".coefficients[" + std::to_string(k) + "]",
-               num(fn.coefficients[k]), "not finite");
+               detail::quote_number(fn.coefficients[k]), "not finite");
       }
     }
   }
@@ -164,7 +155,7 @@ void check_options(const MonteCarloOptions& o, std::size_t points) {
   }
   if (static_cast<double>(o.trials) * static_cast<double>(points) > kMaxSamples) {
     refuse("MonteCarloOptions.trials", std::to_string(o.trials),
-           "times the " + std::to_string(points) + " design points exceeds " + num(kMaxSamples) +
+           "times the " + std::to_string(points) + " design points exceeds " + detail::quote_number(kMaxSamples) +
                " stored residuals");
   }
 }
@@ -305,7 +296,7 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
       const std::size_t a = std::min(std::get<6>(keys[i - 1]), std::get<6>(keys[i]));
       const std::size_t b = std::max(std::get<6>(keys[i - 1]), std::get<6>(keys[i]));
       refuse(point_field(b, design.points[b], "(commanded_mm, tool_offset_mm)"),
-             "(" + vec(design.points[b].commanded_mm) + ", " + vec(design.points[b].tool_offset_mm) + ")",
+             "(" + detail::quote_vector(design.points[b].commanded_mm) + ", " + detail::quote_vector(design.points[b].tool_offset_mm) + ")",
              "duplicates points[" + std::to_string(a) + "] ('" + design.points[a].label + "')");
     }
   }
@@ -722,7 +713,7 @@ TrackerPointUncertainty tracker_point_uncertainty(const TrackerUncertaintyModel&
   check_tracker(tracker);
   need_finite("point_mm", point_mm);
   if ((point_mm - tracker.position_mm).norm() < kAtTrackerMm) {
-    refuse("point_mm", vec(point_mm), "at the tracker's position " + vec(tracker.position_mm));
+    refuse("point_mm", detail::quote_vector(point_mm), "at the tracker's position " + detail::quote_vector(tracker.position_mm));
   }
   return point_uncertainty(noise_scale(tracker), tracker.rotation(), tracker.position_mm, point_mm);
 }
@@ -906,8 +897,8 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
   need_finite("TrackerRegion.hi_mm", region.hi_mm);
   for (int k = 0; k < 3; ++k) {
     if (region.lo_mm[k] > region.hi_mm[k]) {
-      refuse("TrackerRegion.lo_mm[" + std::string(1, "xyz"[k]) + "]", num(region.lo_mm[k]),
-             "above hi_mm[" + std::string(1, "xyz"[k]) + "] = " + num(region.hi_mm[k]));
+      refuse("TrackerRegion.lo_mm[" + std::string(1, "xyz"[k]) + "]", detail::quote_number(region.lo_mm[k]),
+             "above hi_mm[" + std::string(1, "xyz"[k]) + "] = " + detail::quote_number(region.hi_mm[k]));
     }
     if (region.steps[k] < 1) {
       refuse("TrackerRegion.steps[" + std::string(1, "xyz"[k]) + "]", std::to_string(region.steps[k]),
@@ -917,13 +908,13 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
   const double grid_size = static_cast<double>(region.steps[0]) * region.steps[1] * region.steps[2];
   if (grid_size > kMaxCandidates) {
     refuse("TrackerRegion.steps", "(" + std::to_string(region.steps[0]) + ", " + std::to_string(region.steps[1]) +
-           ", " + std::to_string(region.steps[2]) + ")", "more than " + num(kMaxCandidates) + " candidates");
+           ", " + std::to_string(region.steps[2]) + ")", "more than " + detail::quote_number(kMaxCandidates) + " candidates");
   }
   need_sigma("TrackerRegion.envelope_clearance_mm", region.envelope_clearance_mm);
   need_sigma("TrackerRegion.min_range_mm", region.min_range_mm);
   if (!(std::isfinite(region.max_range_mm) && region.max_range_mm > region.min_range_mm)) {
-    refuse("TrackerRegion.max_range_mm", num(region.max_range_mm),
-           "expected finite and above min_range_mm = " + num(region.min_range_mm));
+    refuse("TrackerRegion.max_range_mm", detail::quote_number(region.max_range_mm),
+           "expected finite and above min_range_mm = " + detail::quote_number(region.min_range_mm));
   }
   if (options.report < 1) refuse("LocationSearchOptions.report", std::to_string(options.report), "expected >= 1");
 
@@ -1005,10 +996,10 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
   if (tried.empty()) {
     throw std::invalid_argument(
         "TrackerRegion: all " + std::to_string(out.excluded) +
-        " candidate positions are excluded (inside the working envelope " + vec(env_lo) + " .. " +
-        vec(env_hi) + " grown by envelope_clearance_mm = " + num(region.envelope_clearance_mm) +
-        ", or a design point outside min_range_mm = " + num(region.min_range_mm) +
-        " .. max_range_mm = " + num(region.max_range_mm) + ")");
+        " candidate positions are excluded (inside the working envelope " + detail::quote_vector(env_lo) + " .. " +
+        detail::quote_vector(env_hi) + " grown by envelope_clearance_mm = " + detail::quote_number(region.envelope_clearance_mm) +
+        ", or a design point outside min_range_mm = " + detail::quote_number(region.min_range_mm) +
+        " .. max_range_mm = " + detail::quote_number(region.max_range_mm) + ")");
   }
   std::stable_sort(tried.begin(), tried.end(), [](const TrackerCandidate& a, const TrackerCandidate& b) {
     if (a.max_u_mm != b.max_u_mm) return a.max_u_mm < b.max_u_mm;

@@ -1,5 +1,7 @@
 #include "ncqual/solver/volumetric_identification.hpp"
 
+#include "result_building.hpp"
+
 #include <ceres/ceres.h>
 
 #include <Eigen/Cholesky>
@@ -534,12 +536,6 @@ Solved run(const Pipeline& in) {
 // ----------------------------------------------------------------------------------------------
 // Validation helpers
 
-std::string vec_str(const Vector3d& v) {
-  std::ostringstream os;
-  os << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
-  return os.str();
-}
-
 void check_options(const IdentificationOptions& o) {
   if (o.max_degree < 1 || o.max_degree > kMaxOrder) {
     throw std::invalid_argument("IdentificationOptions.max_degree = " + std::to_string(o.max_degree) +
@@ -769,9 +765,9 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
   for (std::size_t i = 0; i < points.size(); ++i) {
     const VolumetricPoint& p = points[i];
     const std::string where = "points[" + std::to_string(i) + "] ('" + p.label + "')";
-    if (!p.commanded_mm.allFinite()) throw std::invalid_argument(where + ".commanded_mm = " + vec_str(p.commanded_mm) + ": not finite");
-    if (!p.tool_offset_mm.allFinite()) throw std::invalid_argument(where + ".tool_offset_mm = " + vec_str(p.tool_offset_mm) + ": not finite");
-    if (!p.measured_mm.allFinite()) throw std::invalid_argument(where + ".measured_mm = " + vec_str(p.measured_mm) + ": not finite");
+    if (!p.commanded_mm.allFinite()) throw std::invalid_argument(where + ".commanded_mm = " + detail::format_vector(p.commanded_mm) + ": not finite");
+    if (!p.tool_offset_mm.allFinite()) throw std::invalid_argument(where + ".tool_offset_mm = " + detail::format_vector(p.tool_offset_mm) + ": not finite");
+    if (!p.measured_mm.allFinite()) throw std::invalid_argument(where + ".measured_mm = " + detail::format_vector(p.measured_mm) + ": not finite");
     if (!(std::isfinite(p.sigma_mm) && p.sigma_mm > 0)) {
       std::ostringstream os;
       os << where << ".sigma_mm = " << p.sigma_mm << ": expected a finite value > 0";
@@ -790,7 +786,7 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
       const std::size_t i1 = std::min(std::get<6>(a), std::get<6>(b)), i2 = std::max(std::get<6>(a), std::get<6>(b));
       throw std::invalid_argument("points[" + std::to_string(i2) + "] ('" + points[i2].label +
                                   "'): duplicate (commanded_mm, tool_offset_mm) = (" +
-                                  vec_str(points[i2].commanded_mm) + ", " + vec_str(points[i2].tool_offset_mm) +
+                                  detail::format_vector(points[i2].commanded_mm) + ", " + detail::format_vector(points[i2].tool_offset_mm) +
                                   ") of points[" + std::to_string(i1) + "] ('" + points[i1].label + "')");
     }
   }
@@ -853,9 +849,9 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
     if (r.diagonal < 0 || r.diagonal > 3) {
       throw std::invalid_argument(where + ".diagonal = " + std::to_string(r.diagonal) + ": expected 0..3");
     }
-    if (!r.commanded_mm.allFinite()) throw std::invalid_argument(where + ".commanded_mm = " + vec_str(r.commanded_mm) + ": not finite");
+    if (!r.commanded_mm.allFinite()) throw std::invalid_argument(where + ".commanded_mm = " + detail::format_vector(r.commanded_mm) + ": not finite");
     if (!r.direction.allFinite() || std::abs(r.direction.norm() - 1.0) > kUnitTolerance) {
-      throw std::invalid_argument(where + ".direction = " + vec_str(r.direction) + ": expected a unit vector");
+      throw std::invalid_argument(where + ".direction = " + detail::format_vector(r.direction) + ": expected a unit vector");
     }
     if (!std::isfinite(r.displacement_mm)) {
       std::ostringstream os;
@@ -872,7 +868,7 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
     const auto k = std::make_tuple(key(r.commanded_mm.x()), key(r.commanded_mm.y()), key(r.commanded_mm.z()), i);
     for (const auto& o : s) {
       if (std::get<0>(o) == std::get<0>(k) && std::get<1>(o) == std::get<1>(k) && std::get<2>(o) == std::get<2>(k)) {
-        throw std::invalid_argument(where + ".commanded_mm = " + vec_str(r.commanded_mm) +
+        throw std::invalid_argument(where + ".commanded_mm = " + detail::format_vector(r.commanded_mm) +
                                     ": repeats readings[" + std::to_string(std::get<3>(o)) + "] of diagonal " +
                                     std::to_string(r.diagonal));
       }
@@ -953,8 +949,8 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
 
 VolumetricPrediction predict_position(const IdentifiedErrors& identified, const Eigen::Vector3d& commanded_mm,
                                       const Eigen::Vector3d& tool_offset_mm) {
-  if (!commanded_mm.allFinite()) throw std::invalid_argument("predict_position: commanded_mm = " + vec_str(commanded_mm) + ": not finite");
-  if (!tool_offset_mm.allFinite()) throw std::invalid_argument("predict_position: tool_offset_mm = " + vec_str(tool_offset_mm) + ": not finite");
+  if (!commanded_mm.allFinite()) throw std::invalid_argument("predict_position: commanded_mm = " + detail::format_vector(commanded_mm) + ": not finite");
+  if (!tool_offset_mm.allFinite()) throw std::invalid_argument("predict_position: tool_offset_mm = " + detail::format_vector(tool_offset_mm) + ": not finite");
   Layout L;
   for (int a = 0; a < 3; ++a) {
     L.lo[static_cast<std::size_t>(a)] = identified.errors.functions[static_cast<std::size_t>(a * 6)].lo_mm;
