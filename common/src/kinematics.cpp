@@ -1,5 +1,8 @@
 #include "ncqual/kinematics.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace ncqual {
 
 Eigen::Matrix3d wrist_rotation(double a_rad, double c_rad) {
@@ -17,6 +20,23 @@ Eigen::Vector3d stylus_ball_centre(const AxisPosition& axes, const ProbeGeometry
   const Eigen::Vector3d in_body(probe.stylus_offset_mm.x(), probe.stylus_offset_mm.y(),
                                 -(probe.tool_length_mm + axes.w_mm));
   return pivot + wrist_rotation(axes.a_rad, axes.c_rad) * in_body;
+}
+
+Eigen::Matrix3d rotation_from_ypr(const Eigen::Vector3d& ypr_rad) {
+  return (Eigen::AngleAxisd(ypr_rad[0], Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(ypr_rad[1], Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(ypr_rad[2], Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::Vector3d tracker_spherical(const Eigen::Vector3d& p) {
+  const double r = p.norm();
+  return {r, std::atan2(p.y(), p.x()), std::asin(std::clamp(p.z() / r, -1.0, 1.0))};
+}
+
+Eigen::Vector3d tracker_cartesian(const Eigen::Vector3d& s) {
+  const double ce = std::cos(s[2]);
+  return {s[0] * ce * std::cos(s[1]), s[0] * ce * std::sin(s[1]), s[0] * std::sin(s[2])};
 }
 
 }  // namespace ncqual

@@ -34,4 +34,14 @@ Eigen::Vector3d tool_direction(double a_rad, double c_rad);
 // Position of the stylus ball centre in the machine frame.
 Eigen::Vector3d stylus_ball_centre(const AxisPosition& axes, const ProbeGeometry& probe);
 
+// An instrument's orientation from yaw, pitch, roll (rad): Rz(yaw) Ry(pitch) Rx(roll), the
+// rotation from the instrument's frame to the machine's. The tracker simulator and the
+// verification uncertainty model place the laser tracker with it.
+Eigen::Matrix3d rotation_from_ypr(const Eigen::Vector3d& ypr_rad);
+
+// A laser tracker's spherical coordinates of a point in its own frame: (range, azimuth about its
+// z from its x, elevation from its xy plane), and back. Its encoder noise lives in these.
+Eigen::Vector3d tracker_spherical(const Eigen::Vector3d& p);
+Eigen::Vector3d tracker_cartesian(const Eigen::Vector3d& range_azimuth_elevation);
+
 }  // namespace ncqual

@@ -307,12 +307,7 @@ double FixtureAxisErrors::error_mm(double u_mm) const {
   return e;
 }
 
-Eigen::Matrix3d TrackerModel::rotation() const {
-  return (Eigen::AngleAxisd(ypr_rad[0], Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(ypr_rad[1], Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(ypr_rad[2], Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
+Eigen::Matrix3d TrackerModel::rotation() const { return rotation_from_ypr(ypr_rad); }
 
 Eigen::Vector3d FixtureAxisErrors::direction(int axis) const {
   Eigen::Vector3d d = misalignment_rad;

@@ -16,16 +16,6 @@ Eigen::Matrix3d rotation_about(const Eigen::Vector3d& axis, double angle) {
   return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
 }
 
-// Spherical coordinates of the tracker: range, azimuth (about its z from its x), elevation.
-Eigen::Vector3d to_spherical(const Eigen::Vector3d& p) {
-  const double r = p.norm();
-  return {r, std::atan2(p.y(), p.x()), std::asin(p.z() / r)};
-}
-Eigen::Vector3d from_spherical(const Eigen::Vector3d& s) {
-  return {s[0] * std::cos(s[2]) * std::cos(s[1]), s[0] * std::cos(s[2]) * std::sin(s[1]),
-          s[0] * std::sin(s[2])};
-}
-
 }  // namespace
 
 TrackerSimulator::TrackerSimulator(MachineConfig machine, SimulatorConfig config)
@@ -125,7 +115,7 @@ MeasurementSet TrackerSimulator::perform(const CheckRequest& request, std::int64
     const ProbeGeometry& target = gc.targets.at(static_cast<std::size_t>(move.target));
     const Eigen::Vector3d in_tracker =
         to_machine.transpose() * (true_target(landed, target, direction) - station);
-    Eigen::Vector3d s = to_spherical(in_tracker);
+    Eigen::Vector3d s = tracker_spherical(in_tracker);
     const double averaged = 1 / std::sqrt(static_cast<double>(tracker.samples_per_point));
     const double range_sigma = (range_sigma_0 + range_sigma_per_m * s[0] / 1000) * averaged;
     s[0] += range_sigma * normal.next();
@@ -134,7 +124,7 @@ MeasurementSet TrackerSimulator::perform(const CheckRequest& request, std::int64
     TrackerPoint point;
     point.label = move.label;
     point.commanded = move.commanded;
-    point.measured_mm = from_spherical(s);
+    point.measured_mm = tracker_cartesian(s);
     set.tracker_points.push_back(std::move(point));
   }
   return set;

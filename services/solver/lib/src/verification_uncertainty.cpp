@@ -163,22 +163,6 @@ void check_options(const MonteCarloOptions& o, std::size_t points) {
 // ----------------------------------------------------------------------------------------------
 // Eq. 23-24
 
-Matrix3d rotation_ypr(const Vector3d& ypr) {
-  return (Eigen::AngleAxisd(ypr[0], Vector3d::UnitZ()) * Eigen::AngleAxisd(ypr[1], Vector3d::UnitY()) *
-          Eigen::AngleAxisd(ypr[2], Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
-Vector3d to_spherical(const Vector3d& p) {
-  const double r = p.norm();
-  return {r, std::atan2(p.y(), p.x()), std::asin(std::clamp(p.z() / r, -1.0, 1.0))};
-}
-
-Vector3d from_spherical(const Vector3d& s) {
-  const double ce = std::cos(s[2]);
-  return {s[0] * ce * std::cos(s[1]), s[0] * ce * std::sin(s[1]), s[0] * std::sin(s[2])};
-}
-
 struct NoiseScale {
   double range0, range1_per_mm, angle;  // one averaged point
 };
@@ -198,7 +182,7 @@ double up_squared(const NoiseScale& n, double r, double e) {
 TrackerPointUncertainty point_uncertainty(const NoiseScale& n, const Matrix3d& machine_from_tracker,
                                           const Vector3d& position, const Vector3d& point) {
   const Vector3d local = machine_from_tracker.transpose() * (point - position);
-  const Vector3d s = to_spherical(local);
+  const Vector3d s = tracker_spherical(local);
   const double r = s[0], a = s[1], e = s[2];
   const double ur = n.range0 + n.range1_per_mm * r;
   // Columns: d(x, y, z) / d(r, azimuth, elevation).
@@ -526,14 +510,14 @@ Vector3d simulate_trial(const Fixed& f, std::uint64_t seed, int trial, VectorXd&
     const Vector3d systematic = tracker_from_machine * (actual - position);
     const Vector3d landed =
         tracker_from_machine * (actual + f.chain_jacobian[i] * repeat.cwiseProduct(scale) - position);
-    Vector3d sph = to_spherical(landed);
+    Vector3d sph = tracker_spherical(landed);
     const double r0 = sph[0];
     sph[0] += (f.noise.range0 + f.noise.range1_per_mm * r0) * normal(rng);
     sph[1] += f.noise.angle * normal(rng);
     sph[2] += f.noise.angle * normal(rng);
     const auto row = static_cast<Eigen::Index>(3 * i);
     truth.segment<3>(row) = systematic;
-    measured.segment<3>(row) = from_spherical(sph);
+    measured.segment<3>(row) = tracker_cartesian(sph);
   }
   return scale;
 }
@@ -674,7 +658,7 @@ SampleSummary summarise(std::vector<double> v) {
 
 // ------------------------------------------------------------------------------------------------
 
-Eigen::Matrix3d TrackerUncertaintyModel::rotation() const { return rotation_ypr(ypr_rad); }
+Eigen::Matrix3d TrackerUncertaintyModel::rotation() const { return rotation_from_ypr(ypr_rad); }
 
 VerificationDesign grid_verification_design(const GlobalCheckConfig& config) {
   VerificationDesign d;
@@ -987,7 +971,7 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
         c.yaw_rad = (std::abs(to_centre.x()) + std::abs(to_centre.y()) > 0)
                         ? std::atan2(to_centre.y(), to_centre.x())
                         : tracker.ypr_rad[0];
-        evaluate(position, rotation_ypr(Vector3d(c.yaw_rad, tracker.ypr_rad[1], tracker.ypr_rad[2])), c);
+        evaluate(position, rotation_from_ypr(Vector3d(c.yaw_rad, tracker.ypr_rad[1], tracker.ypr_rad[2])), c);
         tried.push_back(c);
       }
     }
