@@ -17,23 +17,9 @@ std::string format_vector(const Eigen::Vector3d& v) {
 
 // The instrument a check kind uses and the frame its coordinates are in.
 void describe_instrument(CheckKind kind, MeasurementSet* set) {
-  switch (kind) {
-    case CheckKind::GlobalMasterFrame:
-    case CheckKind::GlobalGrid:
-    case CheckKind::RotaryW:
-    case CheckKind::RotaryA:
-    case CheckKind::RotaryC:
-    case CheckKind::CircleXY:
-    case CheckKind::CircleYZ:
-    case CheckKind::CircleXZ:
-    case CheckKind::LinearAxisRun:
-      set->instrument = "laser_tracker";
-      set->frame = "tracker";
-      return;
-    default:
-      set->instrument = "touch_probe";
-      set->frame = "machine";
-  }
+  const bool tracker = is_tracker_check(kind);
+  set->instrument = tracker ? "laser_tracker" : "touch_probe";
+  set->frame = tracker ? "tracker" : "machine";
 }
 
 ProbeGeometry make_true_probe(const ProbeGeometry& nominal, const SimulatorErrors& e) {

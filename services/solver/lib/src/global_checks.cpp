@@ -144,7 +144,7 @@ std::vector<FramePoint> group(const std::vector<LabelledPoint>& points, const st
 // Step 0 of every tracker check: a set of this kind from the tracker, a machine with a
 // global_check section and the tolerances, points sorted. Returns the reason when unusable.
 std::optional<std::string> prepare(const MeasurementSet& set, const MachineConfig& machine,
-                                   std::initializer_list<std::string_view> metrics,
+                                   const std::vector<std::string_view>& metrics,
                                    std::string_view check, std::vector<LabelledPoint>* points) {
   if (auto why = detail::why_not_a_set_of(set, set.kind, check)) return why;
   if (!machine.global_check) {
@@ -324,12 +324,8 @@ CheckResult check_rotary_axis(const MeasurementSet& set, const MachineConfig& ma
                                      a + "_dR_max_mm", a + "_axis_tilt_urad"};
   std::vector<LabelledPoint> points;
   const std::string check = "the " + std::string(rotary_axis_name(axis)) + " axis check";
-  if (auto why = prepare(set, machine, {}, check, &points)) return detail::invalid(result, *why);
-  for (const auto& name : names) {
-    if (!detail::find_tolerance(machine, name)) {
-      return detail::invalid(result, machine_where(machine) + " has no tolerance for " + name +
-                                         ", which " + check + " reports");
-    }
+  if (auto why = prepare(set, machine, {names.begin(), names.end()}, check, &points)) {
+    return detail::invalid(result, *why);
   }
   const GlobalCheckConfig& gc = *machine.global_check;
   std::string why;
@@ -443,13 +439,11 @@ CheckResult check_circle(const MeasurementSet& set, const MachineConfig& machine
     return detail::invalid(result, check + ": " + e.what());
   }
   const bool both = r.G_b_mm.has_value();
-  std::vector<std::string> names = {g_name};
-  if (both) names.push_back(h_name);
-  for (const auto& name : names) {
-    if (!detail::find_tolerance(machine, name)) {
-      return detail::invalid(result, machine_where(machine) + " has no tolerance for " + name +
-                                         ", which " + check + " reports");
-    }
+  if (auto why = detail::why_tolerances_missing(
+          machine, both ? std::vector<std::string_view>{g_name, h_name}
+                        : std::vector<std::string_view>{g_name},
+          check)) {
+    return detail::invalid(result, *why);
   }
   add(result, machine, g_name, both ? *r.G_b_mm : r.G_mm, "mm");
   if (both) add(result, machine, h_name, *r.H_mm, "mm");

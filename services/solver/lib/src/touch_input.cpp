@@ -81,7 +81,7 @@ const Tolerance* find_tolerance(const MachineConfig& m, std::string_view metric)
 }
 
 std::optional<std::string> why_tolerances_missing(const MachineConfig& m,
-                                                  std::initializer_list<std::string_view> metrics,
+                                                  const std::vector<std::string_view>& metrics,
                                                   std::string_view check) {
   for (std::string_view metric : metrics) {
     if (!find_tolerance(m, metric)) {

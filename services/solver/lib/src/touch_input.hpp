@@ -8,7 +8,6 @@
 
 #include <Eigen/Core>
 
-#include <initializer_list>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -50,7 +49,7 @@ const Tolerance* find_tolerance(const MachineConfig& m, std::string_view metric)
 
 // Every metric in `metrics` has a configured tolerance; else which one is missing.
 std::optional<std::string> why_tolerances_missing(const MachineConfig& m,
-                                                  std::initializer_list<std::string_view> metrics,
+                                                  const std::vector<std::string_view>& metrics,
                                                   std::string_view check);
 
 // The point where the ball met the surface: its centre moved by the ball radius along the
