@@ -211,4 +211,19 @@ CircleFit fit_circle(const std::vector<Eigen::Vector2d>& points) {
   return denormalise(n, x.head<2>(), std::abs(x(2)), iterations);
 }
 
+PrincipalAxes principal_axes(const std::vector<Eigen::Vector3d>& points) {
+  PrincipalAxes axes;
+  for (const auto& p : points) axes.centroid += p;
+  axes.centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) {
+    const Eigen::Vector3d d = p - axes.centroid;
+    scatter += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
+  axes.values = eig.eigenvalues();
+  axes.vectors = eig.eigenvectors();
+  return axes;
+}
+
 }  // namespace ncqual::solver

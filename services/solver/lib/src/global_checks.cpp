@@ -4,6 +4,7 @@
 
 #include "ncqual/global_check.hpp"
 #include "ncqual/kinematics.hpp"
+#include "ncqual/solver/circle_fit.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/global_grid.hpp"
 #include "ncqual/solver/iso230_2.hpp"
@@ -13,8 +14,6 @@
 #include "ncqual/units.hpp"
 #include "result_building.hpp"
 #include "touch_input.hpp"
-
-#include <Eigen/Eigenvalues>
 
 #include <cctype>
 #include <cmath>
@@ -496,22 +495,20 @@ CheckResult check_linear_axis_run(const MeasurementSet& set, const MachineConfig
                                        " run:<cycle>:<up|down>:<i> points; it needs at least 2 "
                                        "targets x 2 cycles");
   }
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> measured;
   double commanded_mean = 0;
   for (const auto* p : run_points) {
-    centroid += p->point->measured_mm;
+    measured.push_back(p->point->measured_mm);
     commanded_mean += commanded_target(*p, gc)[axis];
   }
-  centroid /= static_cast<double>(run_points.size());
   commanded_mean /= static_cast<double>(run_points.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  const PrincipalAxes line = principal_axes(measured);
+  const Eigen::Vector3d& centroid = line.centroid;
   Eigen::Vector3d oriented = Eigen::Vector3d::Zero();
   for (const auto* p : run_points) {
-    const Eigen::Vector3d d = p->point->measured_mm - centroid;
-    scatter += d * d.transpose();
-    oriented += d * (commanded_target(*p, gc)[axis] - commanded_mean);
+    oriented += (p->point->measured_mm - centroid) * (commanded_target(*p, gc)[axis] - commanded_mean);
   }
-  Eigen::Vector3d direction = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(scatter).eigenvectors().col(2);
+  Eigen::Vector3d direction = line.vectors.col(2);
   if (direction.dot(oriented) < 0) direction = -direction;
   std::vector<PositioningReading> readings;
   for (const auto* p : run_points) {

@@ -1,5 +1,7 @@
 #include "ncqual/solver/global_grid.hpp"
 
+#include "ncqual/solver/circle_fit.hpp"
+
 #include "ncqual/units.hpp"
 #include "result_building.hpp"
 
@@ -91,20 +93,15 @@ void validate(const MasterFrame& frame, const std::vector<FramePoint>& grid,
       refuse(why);
     }
   }
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : grid) mean += p.commanded_mm;
-  mean /= static_cast<double>(grid.size());
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const auto& p : grid) {
-    const Eigen::Vector3d d = p.commanded_mm - mean;
-    scatter += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
-  const double smallest = std::sqrt(std::max(0.0, eig.eigenvalues()(0)));
-  const double largest = std::sqrt(std::max(0.0, eig.eigenvalues()(2)));
+  std::vector<Eigen::Vector3d> commanded;
+  commanded.reserve(grid.size());
+  for (const auto& p : grid) commanded.push_back(p.commanded_mm);
+  const PrincipalAxes axes = principal_axes(commanded);
+  const double smallest = std::sqrt(std::max(0.0, axes.values(0)));
+  const double largest = std::sqrt(std::max(0.0, axes.values(2)));
   if (!(smallest >= global_grid::kMinSpreadRatio * largest)) {
     refuse("the commanded grid positions are (nearly) coplanar (normal " +
-           detail::quote_vector(eig.eigenvectors().col(0)) + ", spread across the plane " +
+           detail::quote_vector(axes.vectors.col(0)) + ", spread across the plane " +
            detail::quote_number(largest > 0 ? smallest / largest : 0.0) +
            " of that along it): the affine fit of the axis motions needs points spanning 3-D");
   }

@@ -1,5 +1,7 @@
 #include "ncqual/solver/master_frame.hpp"
 
+#include "ncqual/solver/circle_fit.hpp"
+
 #include "ncqual/units.hpp"
 #include "result_building.hpp"
 
@@ -80,20 +82,17 @@ struct Line {
 Line fit_run_line(const std::vector<FramePoint>& points, const std::string& run, int axis) {
   const double n = static_cast<double>(points.size());
   Line line;
+  std::vector<Eigen::Vector3d> measured;
+  measured.reserve(points.size());
   for (const auto& p : points) {
-    line.centroid += p.measured_mm;
+    measured.push_back(p.measured_mm);
     line.mean_commanded += p.commanded_mm(axis);
   }
-  line.centroid /= n;
   line.mean_commanded /= n;
   // Principal direction: eigenvector of the largest eigenvalue of the scatter matrix.
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) {
-    const Eigen::Vector3d d = p.measured_mm - line.centroid;
-    scatter += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(scatter);
-  line.direction = eig.eigenvectors().col(2).normalized();
+  const PrincipalAxes axes = principal_axes(measured);
+  line.centroid = axes.centroid;
+  line.direction = axes.vectors.col(2).normalized();
   // Slope of along-line position s_i = (p_i - centroid).u against commanded a_i:
   //   slope = sum s_i (a_i - mean a) / sum (a_i - mean a)^2.
   double sxy = 0, sxx = 0;

@@ -97,26 +97,12 @@ Eigen::Vector2d tilt_components(const Eigen::Vector3d& k, const Eigen::Vector3d&
   return Eigen::Vector2d(theta.dot(ref1), theta.dot(ref2));
 }
 
-// Centroid and eigen-decomposition of the scatter of points (eigenvalues increasing).
-struct Scatter {
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  Eigen::Vector3d values = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d vectors = Eigen::Matrix3d::Identity();
-};
-
-Scatter scatter_of(const std::vector<RotaryPoint>& points) {
-  Scatter s;
-  for (const auto& p : points) s.centroid += p.measured_master_mm;
-  s.centroid /= static_cast<double>(points.size());
-  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
-  for (const auto& p : points) {
-    const Eigen::Vector3d d = p.measured_master_mm - s.centroid;
-    m += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(m);
-  s.values = eig.eigenvalues();
-  s.vectors = eig.eigenvectors();
-  return s;
+// Principal axes of the measured points (eigenvalues increasing).
+PrincipalAxes scatter_of(const std::vector<RotaryPoint>& points) {
+  std::vector<Eigen::Vector3d> measured;
+  measured.reserve(points.size());
+  for (const auto& p : points) measured.push_back(p.measured_master_mm);
+  return principal_axes(measured);
 }
 
 }  // namespace
@@ -209,7 +195,7 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
   }
 
   // Step 2: the plane of the measured points (total least squares), normal oriented like k.
-  const Scatter s = scatter_of(points);
+  const PrincipalAxes s = scatter_of(points);
   const double count = static_cast<double>(points.size());
   const double rms_along = std::sqrt(std::max(0.0, s.values(2)) / count);
   const double rms_across = std::sqrt(std::max(0.0, s.values(1)) / count);
@@ -316,7 +302,7 @@ WAxisResult analyze_w_axis(const std::vector<RotaryPoint>& points, const ProbeGe
   out.tilt_reference_2 = body.col(1);
 
   // Step 1: the line (total least squares) and its scale, oriented towards increasing W.
-  const Scatter s = scatter_of(points);
+  const PrincipalAxes s = scatter_of(points);
   Eigen::Vector3d u = s.vectors.col(2).normalized();
   double mean_w = 0;
   for (const auto& p : points) mean_w += p.commanded.w_mm;

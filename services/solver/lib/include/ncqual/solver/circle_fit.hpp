@@ -1,7 +1,9 @@
-// Least-squares circle through points in a plane.
+// Least-squares circle through points in a plane, and the principal axes of a point cloud (the
+// total-least-squares line or plane through it).
 //
 // Used by probe check 3 (the hole centre from touches on the edge of the monument's ring
-// gauge hole) and, later, by the C-alignment check and the tracker circle tests.
+// gauge hole), the C-alignment check, the tracker's master-frame runs, rotary axes, circles
+// and linear axis runs.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,5 +35,16 @@ CircleFit fit_circle_algebraic(const std::vector<Eigen::Vector2d>& points);
 // Refuses (error non-empty) fewer than 3 points, non-finite coordinates, coincident and
 // (near-)collinear points.
 CircleFit fit_circle(const std::vector<Eigen::Vector2d>& points);
+
+// Centroid of 3-D points and the eigen-decomposition of their scatter matrix
+// sum_i (p_i - centroid)(p_i - centroid)^T, eigenvalues increasing: the total-least-squares line
+// through the points runs along vectors.col(2), the plane through them has normal vectors.col(0).
+// Needs at least one point (an empty set gives a NaN centroid).
+struct PrincipalAxes {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d values = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d vectors = Eigen::Matrix3d::Identity();
+};
+PrincipalAxes principal_axes(const std::vector<Eigen::Vector3d>& points);
 
 }  // namespace ncqual::solver
