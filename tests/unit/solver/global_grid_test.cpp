@@ -3,6 +3,8 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include "tracker_truth.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -21,33 +23,11 @@ constexpr double kPi = 3.14159265358979323846;
 
 // ---- Truth, written independently of the code under test ------------------------------------
 
-// The machine (machine frame, mm):
-//   p = (1 + sx) c_x e_x + (1 + sy) c_y Rz(exy) e_y + (1 + sz) c_z Ry(ezx) Rx(eyz) e_z
-//       + X straightness b (1 - (c_x/half_x)^2) in Y and Z + Y straightness likewise + offset.
-// exy turns the Y motion about +Z, eyz the Z motion about +X, ezx the Z motion about +Y: by the
-// ISO 230-1 definition, EC(0X)Y = exy, EA(0Y)Z = eyz, EB(0X)Z = ezx.
-struct TruthMachine {
-  double sx = 0, sy = 0, sz = 0;
-  double exy = 0, eyz = 0, ezx = 0;
-  double bow_x_in_y = 0, bow_x_in_z = 0, half_x = 2000;
-  double bow_y_in_x = 0, bow_y_in_z = 0, half_y = 1000;
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+using testing::Placement;
 
-  Eigen::Vector3d x_motion() const { return (1 + sx) * Eigen::Vector3d::UnitX(); }
-  Eigen::Vector3d y_motion() const {
-    return (1 + sy) * (Eigen::AngleAxisd(exy, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitY());
-  }
-  Eigen::Vector3d z_motion() const {
-    return (1 + sz) * (Eigen::AngleAxisd(ezx, Eigen::Vector3d::UnitY()) *
-                       Eigen::AngleAxisd(eyz, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ());
-  }
-  Eigen::Vector3d position(const Eigen::Vector3d& c) const {
-    const double sag_x = 1 - (c.x() / half_x) * (c.x() / half_x);
-    const double sag_y = 1 - (c.y() / half_y) * (c.y() / half_y);
-    return x_motion() * c.x() + y_motion() * c.y() + z_motion() * c.z() +
-           Eigen::Vector3d(0, bow_x_in_y, bow_x_in_z) * sag_x +
-           Eigen::Vector3d(bow_y_in_x, 0, bow_y_in_z) * sag_y + offset;
-  }
+// The machine of these tests: X travel +-2000 mm.
+struct TruthMachine : testing::TruthMachine {
+  TruthMachine() { half_x = 2000; }
 };
 
 // Angle between two vectors minus 90 degrees, rad (by acos, the test's own formula).
@@ -55,21 +35,7 @@ double truth_squareness(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::acos(a.dot(b) / (a.norm() * b.norm())) - kPi / 2;
 }
 
-struct Placement {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // machine = R tracker + T
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  Eigen::Vector3d to_tracker(const Eigen::Vector3d& machine) const {
-    return rotation.transpose() * (machine - translation);
-  }
-};
-
-Placement random_placement(std::mt19937_64& rng) {
-  std::normal_distribution<double> g(0, 1);
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  std::uniform_real_distribution<double> u(-5000, 5000);
-  return {q.toRotationMatrix(), Eigen::Vector3d(u(rng), u(rng), u(rng))};
-}
+Placement random_placement(std::mt19937_64& rng) { return testing::random_placement(rng, 5000); }
 
 // The measurement: X run (11 points, x = -2000 .. 2000 step 400, y = 0, z = 300), Y run (10
 // points, y = -900 .. 900 step 200, x = 0, z = 300) and the patent's grid of 216 points: 9 x

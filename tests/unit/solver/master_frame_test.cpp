@@ -2,6 +2,8 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+#include "tracker_truth.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,56 +22,11 @@ constexpr double kPi = 3.14159265358979323846;
 
 // ---- Truth, written independently of the code under test ------------------------------------
 
-// A machine with linear axis errors and straightness, the target position as a function of the
-// commanded one (machine frame, mm):
-//   p = (1 + sx) c_x e_x + (1 + sy) c_y Rz(exy) e_y + (1 + sz) c_z Ry(ezx) Rx(eyz) e_z
-//       + bow_x(c_x) + bow_y(c_y) + offset
-// exy turns the Y motion about +Z (ISO EC(0X)Y), eyz the Z motion about +X (EA(0Y)Z), ezx the Z
-// motion about +Y (EB(0X)Z). The bows are quadratic sags, zero at the ends of the travel
-// (+-half) and `b` in the middle: b (1 - (c/half)^2), in the two cross directions.
-struct TruthMachine {
-  double sx = 0, sy = 0, sz = 0;
-  double exy = 0, eyz = 0, ezx = 0;
-  double bow_x_in_y = 0, bow_x_in_z = 0, half_x = 1000;
-  double bow_y_in_x = 0, bow_y_in_z = 0, half_y = 1000;
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
 
-  Eigen::Vector3d x_motion() const { return (1 + sx) * Eigen::Vector3d::UnitX(); }
-  Eigen::Vector3d y_motion() const {
-    return (1 + sy) * (Eigen::AngleAxisd(exy, Eigen::Vector3d::UnitZ()) * Eigen::Vector3d::UnitY());
-  }
-  Eigen::Vector3d z_motion() const {
-    return (1 + sz) * (Eigen::AngleAxisd(ezx, Eigen::Vector3d::UnitY()) *
-                       Eigen::AngleAxisd(eyz, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ());
-  }
-  Eigen::Vector3d position(const Eigen::Vector3d& c) const {
-    const double sag_x = 1 - (c.x() / half_x) * (c.x() / half_x);
-    const double sag_y = 1 - (c.y() / half_y) * (c.y() / half_y);
-    return x_motion() * c.x() + y_motion() * c.y() + z_motion() * c.z() +
-           Eigen::Vector3d(0, bow_x_in_y, bow_x_in_z) * sag_x +
-           Eigen::Vector3d(bow_y_in_x, 0, bow_y_in_z) * sag_y + offset;
-  }
-};
+using testing::Placement;
+using testing::TruthMachine;
 
-// A tracker placement: machine = rotation * tracker + translation.
-struct Placement {
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
-  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
-  Eigen::Vector3d to_tracker(const Eigen::Vector3d& machine) const {
-    return rotation.transpose() * (machine - translation);
-  }
-};
-
-Placement random_placement(std::mt19937_64& rng) {
-  std::normal_distribution<double> g(0, 1);
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  std::uniform_real_distribution<double> u(-4000, 4000);
-  Placement p;
-  p.rotation = q.toRotationMatrix();
-  p.translation = Eigen::Vector3d(u(rng), u(rng), u(rng));
-  return p;
-}
+Placement random_placement(std::mt19937_64& rng) { return testing::random_placement(rng, 4000); }
 
 // X run: 11 points x = -1000 .. 1000 step 200 at (y0, z0); Y run: 10 points y = -900 .. 900
 // step 200 at (x0, z0). Measured = tracker reading of the true position plus N(0, sigma) per
