@@ -1,15 +1,15 @@
 // Monte Carlo uncertainty of the volumetric verification, eq. 23-24 of Aguado et al. and the
-
-#include "result_building.hpp"
 // tracker location search. See the header for what is propagated and how.
 #include "ncqual/solver/verification_uncertainty.hpp"
+
+#include "result_building.hpp"
+#include "volumetric_model.hpp"
 
 #include "ncqual/kinematics.hpp"
 #include "ncqual/solver/volumetric_identification.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
-#include <Eigen/SVD>
 
 #include <algorithm>
 #include <array>
@@ -22,7 +22,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
-#include <tuple>
 
 namespace ncqual::solver {
 
@@ -33,10 +32,11 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 using volumetric::kFunctionCount;
+using detail::Kind;
+using detail::Param;
+using detail::skew;
 
-constexpr int kMaxDegree = 12;            // as IdentificationOptions accepts
-constexpr double kDistinctMm = 1e-3;      // axis positions closer than this are one position
-constexpr double kDuplicateMm = 1e-6;     // (commanded, tool offset) pairs equal within this
+constexpr int kMaxDegree = detail::kMaxOrder;  // as IdentificationOptions accepts
 constexpr double kAtTrackerMm = 1e-6;     // a point this close to the tracker has no direction
 constexpr int kMaxThreads = 64;
 constexpr double kMaxSamples = 5e7;       // trials x points stored for the quantiles
@@ -206,15 +206,7 @@ TrackerPointUncertainty point_uncertainty(const NoiseScale& n, const Matrix3d& m
 // ----------------------------------------------------------------------------------------------
 // The identification, linearised at zero errors about the nominal frame (the machine frame: each
 // trial's readings are first brought onto the nominal targets by a rigid fit). Same candidate
-// terms, order and identifiability test as identify_rigid_body_errors.
-
-enum class Kind { FrameTranslation, FrameRotation, Squareness, Coefficient };
-
-struct Param {
-  Kind kind;
-  int index;  // frame component 0..2, squareness 0..2, function 0..17
-  int order;  // Legendre order (coefficients)
-};
+// terms, order and identifiability test as identify_rigid_body_errors (volumetric_model.hpp).
 
 struct LinearIdentification {
   int observations = 0;            // 3 n
@@ -228,108 +220,27 @@ struct LinearIdentification {
   std::vector<std::string> unidentifiable;
 };
 
-int distinct_positions(std::vector<double> q) {
-  std::sort(q.begin(), q.end());
-  int n = 0;
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    if (i == 0 || q[i] - q[i - 1] > kDistinctMm) ++n;
-  }
-  return n;
-}
-
-std::string param_name(const Param& p) {
-  static const char* const kFrame[2][3] = {{"frame tx", "frame ty", "frame tz"},
-                                           {"frame rx", "frame ry", "frame rz"}};
-  switch (p.kind) {
-    case Kind::FrameTranslation: return kFrame[0][p.index];
-    case Kind::FrameRotation: return kFrame[1][p.index];
-    case Kind::Squareness:
-      return std::string(volumetric::function_name(volumetric::kSquarenessEC0XY + p.index));
-    case Kind::Coefficient:
-      return std::string(volumetric::function_name(p.index)) + " P" + std::to_string(p.order);
-  }
-  return "";
-}
-
-Matrix3d skew(const Vector3d& v) {
-  Matrix3d k;
-  k << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return k;
-}
-
 // Refusals shared with the full identification: duplicates, too few positions per axis, too few
 // observations, a frame the design cannot fix.
 LinearIdentification linearise(const VerificationDesign& design, const std::vector<Vector3d>& commanded) {
   const std::size_t n = design.points.size();
-  // Duplicates.
-  std::vector<std::tuple<long long, long long, long long, long long, long long, long long, std::size_t>> keys;
-  keys.reserve(n);
-  const auto key = [](double v) { return std::llround(v / kDuplicateMm); };
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vector3d& c = commanded[i];
-    const Vector3d& t = design.points[i].tool_offset_mm;
-    keys.emplace_back(key(c.x()), key(c.y()), key(c.z()), key(t.x()), key(t.y()), key(t.z()), i);
+  std::vector<Vector3d> tool_offset;
+  for (const DesignPoint& point : design.points) tool_offset.push_back(point.tool_offset_mm);
+  if (const auto duplicate = detail::first_duplicate(commanded, tool_offset)) {
+    const auto [a, b] = *duplicate;
+    refuse(point_field(b, design.points[b], "(commanded_mm, tool_offset_mm)"),
+           "(" + detail::quote_vector(design.points[b].commanded_mm) + ", " + detail::quote_vector(design.points[b].tool_offset_mm) + ")",
+           "duplicates points[" + std::to_string(a) + "] ('" + design.points[a].label + "')");
   }
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t i = 1; i < keys.size(); ++i) {
-    const auto drop_index = [](const auto& k) {
-      return std::make_tuple(std::get<0>(k), std::get<1>(k), std::get<2>(k), std::get<3>(k),
-                             std::get<4>(k), std::get<5>(k));
-    };
-    if (drop_index(keys[i - 1]) == drop_index(keys[i])) {
-      const std::size_t a = std::min(std::get<6>(keys[i - 1]), std::get<6>(keys[i]));
-      const std::size_t b = std::max(std::get<6>(keys[i - 1]), std::get<6>(keys[i]));
-      refuse(point_field(b, design.points[b], "(commanded_mm, tool_offset_mm)"),
-             "(" + detail::quote_vector(design.points[b].commanded_mm) + ", " + detail::quote_vector(design.points[b].tool_offset_mm) + ")",
-             "duplicates points[" + std::to_string(a) + "] ('" + design.points[a].label + "')");
-    }
-  }
-  // Axis ranges and highest orders.
-  std::array<double, 3> lo{}, hi{};
-  std::array<int, 3> cap{};
-  for (int a = 0; a < 3; ++a) {
-    std::vector<double> q;
-    q.reserve(n);
-    for (const auto& c : commanded) q.push_back(c[a]);
-    const int distinct = distinct_positions(q);
-    if (distinct < 3) {
-      refuse("VerificationDesign.points: commanded " + std::string(1, "XYZ"[a]), std::to_string(distinct) +
-             " distinct position(s)", "at least 3 are needed per axis");
-    }
-    const auto [mn, mx] = std::minmax_element(q.begin(), q.end());
-    lo[static_cast<std::size_t>(a)] = *mn;
-    hi[static_cast<std::size_t>(a)] = *mx;
-    cap[static_cast<std::size_t>(a)] = std::min(design.max_degree, distinct - 1);
-  }
-  // Candidate layout, in the identification's priority order.
-  std::vector<Param> params;
-  for (int i = 0; i < 3; ++i) params.push_back({Kind::FrameTranslation, i, -1});
-  for (int i = 0; i < 3; ++i) params.push_back({Kind::FrameRotation, i, -1});
-  for (int s = 0; s < 3; ++s) params.push_back({Kind::Squareness, s, -1});
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int comp = 0; comp < 3; ++comp) {
-      const int first = comp == axis ? 1 : 2;
-      for (int k = first; k <= cap[static_cast<std::size_t>(axis)]; ++k) {
-        params.push_back({Kind::Coefficient, axis * 6 + comp, k});
-      }
-    }
-  }
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int comp = 3; comp < 6; ++comp) {
-      const int first = axis == volumetric::kAxisZ ? 0 : 1;
-      for (int k = first; k <= cap[static_cast<std::size_t>(axis)]; ++k) {
-        params.push_back({Kind::Coefficient, axis * 6 + comp, k});
-      }
-    }
-  }
+  const detail::AxisGauge gauge =
+      detail::axis_gauge(commanded, design.max_degree, std::nullopt, [](char axis, int distinct) {
+        return "VerificationDesign.points: commanded " + std::string(1, axis) + " = " +
+               std::to_string(distinct) + " distinct position(s): at least 3 are needed per axis";
+      });
+  const std::vector<Param> params = detail::candidate_parameters(gauge.cap, detail::CandidateSet::TrackerPoints);
   const int p = static_cast<int>(params.size());
   const int m = 3 * static_cast<int>(n);
-  if (m < p) {
-    throw std::invalid_argument("VerificationDesign.points: " + std::to_string(n) + " points give " +
-                                std::to_string(m) + " observations, fewer than the " +
-                                std::to_string(p) + " unknowns of the candidate model (max_degree = " +
-                                std::to_string(design.max_degree) + ")");
-  }
+  detail::refuse_too_few("VerificationDesign.points: " + std::to_string(n) + " points", m, p, design.max_degree);
   // Jacobian at zero errors: p = c + t, every rotation the identity.
   MatrixXd J = MatrixXd::Zero(m, p);
   for (std::size_t i = 0; i < n; ++i) {
@@ -339,8 +250,8 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
     std::array<std::array<double, kMaxDegree + 1>, 3> leg{};
     for (int a = 0; a < 3; ++a) {
       const auto ua = static_cast<std::size_t>(a);
-      const double u = volumetric::normalized_coordinate(c[a], lo[ua], hi[ua]);
-      for (int k = 0; k <= cap[ua]; ++k) leg[ua][static_cast<std::size_t>(k)] = volumetric::legendre(k, u);
+      const double u = volumetric::normalized_coordinate(c[a], gauge.lo[ua], gauge.hi[ua]);
+      for (int k = 0; k <= gauge.cap[ua]; ++k) leg[ua][static_cast<std::size_t>(k)] = volumetric::legendre(k, u);
     }
     // Effect of a small rotation of each axis' carriage: -[w]x with w the vector it carries.
     const std::array<Matrix3d, 3> d_ang = {-skew(Vector3d(0, c.y(), c.z()) + t),
@@ -369,63 +280,14 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
       J.block<3, 1>(row, j) = col;
     }
   }
-  // Identifiability: incremental Cholesky of the column-normalised normal matrix.
+  // Identifiability.
   const MatrixXd H = J.transpose() * J;
-  std::vector<int> accepted;
-  std::vector<bool> rejected(static_cast<std::size_t>(p), false);
-  MatrixXd L = MatrixXd::Zero(p, p);
-  VectorXd scale = VectorXd::Zero(p);
-  for (int j = 0; j < p; ++j) {
-    if (!(H(j, j) > 0)) {
-      rejected[static_cast<std::size_t>(j)] = true;
-      continue;
-    }
-    scale(j) = 1.0 / std::sqrt(H(j, j));
-    const int k = static_cast<int>(accepted.size());
-    VectorXd l(k);
-    for (int a = 0; a < k; ++a) {
-      const int ja = accepted[static_cast<std::size_t>(a)];
-      l(a) = H(ja, j) * scale(ja) * scale(j);
-    }
-    if (k > 0) L.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(l);
-    const double d = 1.0 - l.squaredNorm();
-    if (d > design.rank_tolerance) {
-      L.block(k, 0, 1, k) = l.transpose();
-      L(k, k) = std::sqrt(d);
-      accepted.push_back(j);
-    } else {
-      rejected[static_cast<std::size_t>(j)] = true;
-    }
-  }
+  const detail::Identifiability identifiable = detail::identifiable_columns(H, design.rank_tolerance);
+  const std::vector<int>& accepted = identifiable.accepted;
+  detail::refuse_undetermined_frame(params, identifiable.rejected, "VerificationDesign.points: the design");
   LinearIdentification out;
-  for (int j = 0; j < p; ++j) {
-    const Param& q = params[static_cast<std::size_t>(j)];
-    if (rejected[static_cast<std::size_t>(j)] &&
-        (q.kind == Kind::FrameRotation || q.kind == Kind::FrameTranslation)) {
-      throw std::invalid_argument(
-          "VerificationDesign.points: the design cannot determine the instrument frame (" +
-          param_name(q) + "): the commanded positions (and tool offsets) do not span space");
-    }
-  }
-  std::array<bool, kFunctionCount> any{}, all{};
-  all.fill(true);
-  for (int j = 0; j < p; ++j) {
-    const Param& q = params[static_cast<std::size_t>(j)];
-    if (q.kind != Kind::Coefficient) continue;
-    any[static_cast<std::size_t>(q.index)] = true;
-    all[static_cast<std::size_t>(q.index)] = all[static_cast<std::size_t>(q.index)] && rejected[static_cast<std::size_t>(j)];
-  }
-  for (int f = 0; f < kFunctionCount; ++f) {
-    if (any[static_cast<std::size_t>(f)] && all[static_cast<std::size_t>(f)]) {
-      out.unidentifiable.emplace_back(volumetric::function_name(f));
-    }
-  }
-  for (int j = 0; j < p; ++j) {
-    const Param& q = params[static_cast<std::size_t>(j)];
-    if (q.kind == Kind::Squareness && rejected[static_cast<std::size_t>(j)]) {
-      out.unidentifiable.emplace_back(volumetric::function_name(volumetric::kSquarenessEC0XY + q.index));
-    }
-  }
+  out.unidentifiable = detail::rejected_terms(params, identifiable.rejected).unidentifiable;
+  out.stacks = detail::order_stacks(params, accepted);
   const int na = static_cast<int>(accepted.size());
   out.observations = m;
   out.candidates = p;
@@ -434,9 +296,7 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
   for (int a = 0; a < na; ++a) {
     const int j = accepted[static_cast<std::size_t>(a)];
     out.J.col(a) = J.col(j);
-    s(a) = scale(j);
-    const Param& q = params[static_cast<std::size_t>(j)];
-    if (q.kind == Kind::Coefficient) out.stacks[static_cast<std::size_t>(q.index)].push_back(a);
+    s(a) = identifiable.scale(j);
   }
   // (J'J)^-1 through the column-normalised matrix (well conditioned once identifiable).
   MatrixXd Hn(na, na);
@@ -522,29 +382,6 @@ Vector3d simulate_trial(const Fixed& f, std::uint64_t seed, int trial, VectorXd&
   return scale;
 }
 
-// Rigid best fit (unweighted): target ~ R source + T.
-Eigen::Isometry3d rigid_fit(const VectorXd& source, const std::vector<Vector3d>& target) {
-  const std::size_t n = target.size();
-  Vector3d ms = Vector3d::Zero(), mt = Vector3d::Zero();
-  for (std::size_t i = 0; i < n; ++i) {
-    ms += source.segment<3>(static_cast<Eigen::Index>(3 * i));
-    mt += target[i];
-  }
-  ms /= static_cast<double>(n);
-  mt /= static_cast<double>(n);
-  Matrix3d S = Matrix3d::Zero();
-  for (std::size_t i = 0; i < n; ++i) {
-    S += (source.segment<3>(static_cast<Eigen::Index>(3 * i)) - ms) * (target[i] - mt).transpose();
-  }
-  const Eigen::JacobiSVD<Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Matrix3d D = Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-  out.linear() = svd.matrixV() * D * svd.matrixU().transpose();
-  out.translation() = mt - out.linear() * ms;
-  return out;
-}
-
 struct Workspace {
   VectorXd truth, measured, e, aligned_truth, correction, g, b, col;
   MatrixXd C;
@@ -555,7 +392,9 @@ struct Workspace {
 // returns the number of parameters kept.
 int linear_trial(const Fixed& f, const LinearIdentification& lin, Workspace& w, VectorXd& residual) {
   const std::size_t n = f.nominal.size();
-  const Eigen::Isometry3d A = rigid_fit(w.measured, f.nominal);
+  // Rigid best fit (unweighted): nominal ~ A measured.
+  const Eigen::Isometry3d A = detail::rigid_fit(
+      Eigen::Map<const Eigen::Matrix3Xd>(w.measured.data(), 3, static_cast<Eigen::Index>(n)), detail::as_columns(f.nominal));
   for (std::size_t i = 0; i < n; ++i) {
     const auto row = static_cast<Eigen::Index>(3 * i);
     w.e.segment<3>(row) = A * Vector3d(w.measured.segment<3>(row)) - f.nominal[i];

@@ -1,11 +1,11 @@
 #include "ncqual/solver/volumetric_identification.hpp"
 
 #include "result_building.hpp"
+#include "volumetric_model.hpp"
 
 #include <ceres/ceres.h>
 
 #include <Eigen/Cholesky>
-#include <Eigen/SVD>
 
 #include <algorithm>
 #include <cmath>
@@ -23,24 +23,18 @@ using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 using volumetric::kFunctionCount;
+using detail::Kind;
+using detail::kMaxOrder;
+using detail::Param;
+using detail::param_name;
+using detail::skew;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using Jacobian3 = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
-constexpr int kMaxOrder = 12;                // highest Legendre order accepted in the options
-constexpr double kDistinctMm = 1e-3;         // axis positions closer than this are one position
-constexpr double kDuplicateMm = 1e-6;        // (commanded, tool offset) pairs equal within this
-constexpr double kUnitTolerance = 1e-6;      // |direction| = 1 within this
+constexpr double kUnitTolerance = 1e-6;  // |direction| = 1 within this
 
 // ----------------------------------------------------------------------------------------------
-// Parameter layout
-
-enum class Kind { FrameRotation, FrameTranslation, Squareness, Coefficient };
-
-struct Param {
-  Kind kind;
-  int index;  // frame component 0..2, squareness 0..2, or function 0..17
-  int order;  // Legendre order (coefficients only)
-};
+// Parameter layout (Param, Kind: volumetric_model.hpp)
 
 struct Layout {
   std::vector<Param> params;
@@ -80,28 +74,8 @@ struct Layout {
   }
 };
 
-std::string param_name(const Param& p) {
-  static const char* const kFrame[2][3] = {{"frame rx", "frame ry", "frame rz"},
-                                           {"frame tx", "frame ty", "frame tz"}};
-  switch (p.kind) {
-    case Kind::FrameRotation: return kFrame[0][p.index];
-    case Kind::FrameTranslation: return kFrame[1][p.index];
-    case Kind::Squareness:
-      return std::string(volumetric::function_name(volumetric::kSquarenessEC0XY + p.index));
-    case Kind::Coefficient:
-      return std::string(volumetric::function_name(p.index)) + " P" + std::to_string(p.order);
-  }
-  return "";
-}
-
 // ----------------------------------------------------------------------------------------------
 // Small rotations
-
-Matrix3d skew(const Vector3d& v) {
-  Matrix3d k;
-  k << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return k;
-}
 
 // Left Jacobian of the rotation vector: d(R(v) u)/dv = -[R(v) u]x J_l(v).
 Matrix3d left_jacobian(const Vector3d& v) {
@@ -355,62 +329,14 @@ Solved run(const Pipeline& in) {
   const MatrixXd H = normal_matrix(J0);
   const VectorXd g = J0.transpose() * r0;
 
-  // Identifiability: incremental Cholesky of the column-normalised normal matrix, columns in
-  // layout (priority) order.
-  std::vector<int> accepted;
-  std::vector<bool> rejected(static_cast<std::size_t>(n), false);
-  MatrixXd L = MatrixXd::Zero(n, n);
-  VectorXd scale(n);
-  for (int j = 0; j < n; ++j) {
-    const double hjj = H(j, j);
-    if (!(hjj > 0)) {
-      rejected[static_cast<std::size_t>(j)] = true;
-      continue;
-    }
-    scale(j) = 1.0 / std::sqrt(hjj);
-    const int m = static_cast<int>(accepted.size());
-    VectorXd b(m);
-    for (int k = 0; k < m; ++k) b(k) = H(accepted[static_cast<std::size_t>(k)], j) * scale(accepted[static_cast<std::size_t>(k)]) * scale(j);
-    VectorXd l = b;
-    if (m > 0) L.topLeftCorner(m, m).triangularView<Eigen::Lower>().solveInPlace(l);
-    const double d = 1.0 - l.squaredNorm();
-    if (d > in.options.rank_tolerance) {
-      L.block(m, 0, 1, m) = l.transpose();
-      L(m, m) = std::sqrt(d);
-      accepted.push_back(j);
-    } else {
-      rejected[static_cast<std::size_t>(j)] = true;
-    }
-  }
+  // Identifiability, columns in layout (priority) order.
+  const detail::Identifiability identifiable = detail::identifiable_columns(H, in.options.rank_tolerance);
+  const std::vector<int>& accepted = identifiable.accepted;
+  detail::refuse_undetermined_frame(C.params, identifiable.rejected, "volumetric identification: the data");
+  detail::RejectedTerms rejected = detail::rejected_terms(C.params, identifiable.rejected);
   Solved out;
-  for (int j = 0; j < n; ++j) {
-    const Param& p = C.params[static_cast<std::size_t>(j)];
-    if (rejected[static_cast<std::size_t>(j)] &&
-        (p.kind == Kind::FrameRotation || p.kind == Kind::FrameTranslation)) {
-      throw std::invalid_argument(
-          "volumetric identification: the data cannot determine the instrument frame (" +
-          param_name(p) + "): the commanded positions (and tool offsets) do not span space");
-    }
-  }
-  for (int f = 0; f < kFunctionCount; ++f) {
-    const auto& terms = C.terms[static_cast<std::size_t>(f)];
-    const bool all = !terms.empty() && std::all_of(terms.begin(), terms.end(), [&](const auto& t) {
-      return rejected[static_cast<std::size_t>(t.first)];
-    });
-    if (all) {
-      out.unidentifiable.emplace_back(volumetric::function_name(f));
-      continue;
-    }
-    for (const auto& t : terms) {
-      if (rejected[static_cast<std::size_t>(t.first)]) out.fixed_terms.push_back(param_name(C.params[static_cast<std::size_t>(t.first)]));
-    }
-  }
-  for (int s = 0; s < 3; ++s) {
-    const int j = C.squareness[static_cast<std::size_t>(s)];
-    if (j >= 0 && rejected[static_cast<std::size_t>(j)]) {
-      out.unidentifiable.emplace_back(volumetric::function_name(volumetric::kSquarenessEC0XY + s));
-    }
-  }
+  out.unidentifiable = std::move(rejected.unidentifiable);
+  out.fixed_terms = std::move(rejected.fixed_terms);
 
   // Full linear solution over the accepted columns and its covariance.
   const int na = static_cast<int>(accepted.size());
@@ -423,8 +349,6 @@ Solved run(const Pipeline& in) {
   const Eigen::LDLT<MatrixXd> full(Ha);
   const VectorXd beta = -full.solve(ga);
   const MatrixXd cov_full = full.solve(MatrixXd::Identity(na, na));
-  std::vector<int> position(static_cast<std::size_t>(n), -1);  // candidate index -> accepted index
-  for (int a = 0; a < na; ++a) position[static_cast<std::size_t>(accepted[static_cast<std::size_t>(a)])] = a;
 
   // Orders by BIC, backward elimination: among the highest remaining order of every function,
   // drop the term whose removal raises chi^2 least (b_j^2 / C_jj, exact for the current model),
@@ -434,12 +358,8 @@ Solved run(const Pipeline& in) {
   std::vector<bool> active(static_cast<std::size_t>(na), true);
   VectorXd b_cur = beta;
   MatrixXd c_cur = cov_full;
-  std::array<std::vector<int>, kFunctionCount> stack;  // accepted indices by increasing order
-  for (int f = 0; f < kFunctionCount; ++f) {
-    for (const auto& t : C.terms[static_cast<std::size_t>(f)]) {
-      if (position[static_cast<std::size_t>(t.first)] >= 0) stack[static_cast<std::size_t>(f)].push_back(position[static_cast<std::size_t>(t.first)]);
-    }
-  }
+  // Accepted indices by increasing order.
+  std::array<std::vector<int>, kFunctionCount> stack = detail::order_stacks(C.params, accepted);
   for (;;) {
     int best_f = -1;
     double best_rise = penalty;
@@ -572,95 +492,21 @@ void check_options(const IdentificationOptions& o) {
   }
 }
 
-int distinct_positions(std::vector<double> q) {
-  std::sort(q.begin(), q.end());
-  int n = 0;
-  for (std::size_t i = 0; i < q.size(); ++i) {
-    if (i == 0 || q[i] - q[i - 1] > kDistinctMm) ++n;
-  }
-  return n;
+// The axis gauge of the commanded positions, refusing an axis with fewer than 3 distinct positions.
+detail::AxisGauge axis_gauge(const std::vector<Vector3d>& commanded, const IdentificationOptions& o,
+                             const std::string& field) {
+  return detail::axis_gauge(commanded, o.max_degree, o.axis_range_mm, [&](char axis, int distinct) {
+    return field + ": commanded " + std::string(1, axis) + " has " + std::to_string(distinct) +
+           " distinct position(s); at least 3 are needed per axis";
+  });
 }
 
-// Axis ranges and highest orders; refuses an axis with fewer than 3 distinct positions.
-void set_axes(Layout& L, std::array<int, 3>& cap, const std::vector<Vector3d>& commanded,
-              const IdentificationOptions& o, const std::string& field) {
-  for (int a = 0; a < 3; ++a) {
-    std::vector<double> q;
-    q.reserve(commanded.size());
-    for (const auto& c : commanded) q.push_back(c[a]);
-    const int distinct = distinct_positions(q);
-    if (distinct < 3) {
-      throw std::invalid_argument(field + ": commanded " + std::string(1, "XYZ"[a]) + " has " +
-                                  std::to_string(distinct) +
-                                  " distinct position(s); at least 3 are needed per axis");
-    }
-    const auto [mn, mx] = std::minmax_element(q.begin(), q.end());
-    const auto ua = static_cast<std::size_t>(a);
-    if (o.axis_range_mm) {
-      L.lo[ua] = (*o.axis_range_mm)[ua][0];
-      L.hi[ua] = (*o.axis_range_mm)[ua][1];
-    } else {
-      L.lo[ua] = *mn;
-      L.hi[ua] = *mx;
-    }
-    cap[ua] = std::min(o.max_degree, distinct - 1);
-  }
-}
-
-// Candidate layout in priority order: frame, squareness, translational terms, angular terms.
-void add_candidate_terms(Layout& L, const std::array<int, 3>& cap, bool with_angular) {
-  for (int s = 0; s < 3; ++s) L.params.push_back({Kind::Squareness, s, -1});
-  for (int axis = 0; axis < 3; ++axis) {
-    const int top = cap[static_cast<std::size_t>(axis)];
-    for (int comp = 0; comp < 3; ++comp) {
-      const int f = axis * 6 + comp;
-      const int first = (comp == axis) ? 1 : 2;  // positioning from P1, straightness from P2
-      for (int k = first; k <= top; ++k) L.params.push_back({Kind::Coefficient, f, k});
-    }
-  }
-  if (with_angular) {
-    for (int axis = 0; axis < 3; ++axis) {
-      const int top = cap[static_cast<std::size_t>(axis)];
-      for (int comp = 3; comp < 6; ++comp) {
-        const int f = axis * 6 + comp;
-        const int first = (axis == volumetric::kAxisZ) ? 0 : 1;  // Z keeps its constant (header)
-        for (int k = first; k <= top; ++k) L.params.push_back({Kind::Coefficient, f, k});
-      }
-    }
-  }
+// The candidate layout: the gauge's axis ranges, the candidate parameters in priority order.
+void set_candidates(Layout& L, const detail::AxisGauge& gauge, detail::CandidateSet set) {
+  L.lo = gauge.lo;
+  L.hi = gauge.hi;
+  L.params = detail::candidate_parameters(gauge.cap, set);
   L.index();
-}
-
-// Weighted rigid best fit: to ~ R from + T.
-Eigen::Isometry3d rigid_fit(const std::vector<Vector3d>& from, const std::vector<Vector3d>& to,
-                            const std::vector<double>& w) {
-  double sw = 0;
-  Vector3d mf = Vector3d::Zero(), mt = Vector3d::Zero();
-  for (std::size_t i = 0; i < from.size(); ++i) {
-    sw += w[i];
-    mf += w[i] * from[i];
-    mt += w[i] * to[i];
-  }
-  mf /= sw;
-  mt /= sw;
-  Matrix3d S = Matrix3d::Zero();
-  for (std::size_t i = 0; i < from.size(); ++i) S += w[i] * (from[i] - mf) * (to[i] - mt).transpose();
-  const Eigen::JacobiSVD<Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Matrix3d D = Matrix3d::Identity();
-  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
-  Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
-  f.linear() = svd.matrixV() * D * svd.matrixU().transpose();
-  f.translation() = mt - f.linear() * mf;
-  return f;
-}
-
-void refuse_too_few(const std::string& what, int observations, int unknowns, const IdentificationOptions& o) {
-  if (observations < unknowns) {
-    throw std::invalid_argument(what + " give " + std::to_string(observations) +
-                                " observations, fewer than the " + std::to_string(unknowns) +
-                                " unknowns of the candidate model (max_degree = " +
-                                std::to_string(o.max_degree) + ")");
-  }
 }
 
 // Fills everything but the residual summaries from a solved pipeline.
@@ -760,8 +606,6 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
                                             const IdentificationOptions& options) {
   check_options(options);
   if (points.empty()) throw std::invalid_argument("points: empty; a grid of tracker points is needed");
-  std::vector<std::tuple<long long, long long, long long, long long, long long, long long, std::size_t>> keys;
-  keys.reserve(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const VolumetricPoint& p = points[i];
     const std::string where = "points[" + std::to_string(i) + "] ('" + p.label + "')";
@@ -773,42 +617,31 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
       os << where << ".sigma_mm = " << p.sigma_mm << ": expected a finite value > 0";
       throw std::invalid_argument(os.str());
     }
-    const auto key = [](double v) { return std::llround(v / kDuplicateMm); };
-    keys.emplace_back(key(p.commanded_mm.x()), key(p.commanded_mm.y()), key(p.commanded_mm.z()),
-                      key(p.tool_offset_mm.x()), key(p.tool_offset_mm.y()), key(p.tool_offset_mm.z()), i);
   }
-  std::sort(keys.begin(), keys.end());
-  for (std::size_t i = 1; i < keys.size(); ++i) {
-    const auto& a = keys[i - 1];
-    const auto& b = keys[i];
-    if (std::make_tuple(std::get<0>(a), std::get<1>(a), std::get<2>(a), std::get<3>(a), std::get<4>(a), std::get<5>(a)) ==
-        std::make_tuple(std::get<0>(b), std::get<1>(b), std::get<2>(b), std::get<3>(b), std::get<4>(b), std::get<5>(b))) {
-      const std::size_t i1 = std::min(std::get<6>(a), std::get<6>(b)), i2 = std::max(std::get<6>(a), std::get<6>(b));
-      throw std::invalid_argument("points[" + std::to_string(i2) + "] ('" + points[i2].label +
-                                  "'): duplicate (commanded_mm, tool_offset_mm) = (" +
-                                  detail::format_vector(points[i2].commanded_mm) + ", " + detail::format_vector(points[i2].tool_offset_mm) +
-                                  ") of points[" + std::to_string(i1) + "] ('" + points[i1].label + "')");
-    }
-  }
-
-  std::vector<Vector3d> commanded, nominal, measured;
+  std::vector<Vector3d> commanded, tool_offset, nominal, measured;
   std::vector<double> weight;
   for (const auto& p : points) {
     commanded.push_back(p.commanded_mm);
+    tool_offset.push_back(p.tool_offset_mm);
     nominal.push_back(p.commanded_mm + p.tool_offset_mm);
     measured.push_back(p.measured_mm);
     weight.push_back(1.0 / (p.sigma_mm * p.sigma_mm));
   }
-  Model candidate;
-  std::array<int, 3> cap{};
-  set_axes(candidate.layout, cap, commanded, options, "points");
-  for (int i = 0; i < 3; ++i) candidate.layout.params.push_back({Kind::FrameTranslation, i, -1});
-  for (int i = 0; i < 3; ++i) candidate.layout.params.push_back({Kind::FrameRotation, i, -1});
-  add_candidate_terms(candidate.layout, cap, true);
-  const int observations = 3 * static_cast<int>(points.size());
-  refuse_too_few("points: " + std::to_string(points.size()) + " points", observations, candidate.layout.size(), options);
+  if (const auto duplicate = detail::first_duplicate(commanded, tool_offset)) {
+    const auto [i1, i2] = *duplicate;
+    throw std::invalid_argument("points[" + std::to_string(i2) + "] ('" + points[i2].label +
+                                "'): duplicate (commanded_mm, tool_offset_mm) = (" +
+                                detail::format_vector(points[i2].commanded_mm) + ", " + detail::format_vector(points[i2].tool_offset_mm) +
+                                ") of points[" + std::to_string(i1) + "] ('" + points[i1].label + "')");
+  }
 
-  const Eigen::Isometry3d rigid = rigid_fit(nominal, measured, weight);
+  Model candidate;
+  set_candidates(candidate.layout, axis_gauge(commanded, options, "points"), detail::CandidateSet::TrackerPoints);
+  const int observations = 3 * static_cast<int>(points.size());
+  detail::refuse_too_few("points: " + std::to_string(points.size()) + " points", observations,
+                         candidate.layout.size(), options.max_degree);
+
+  const Eigen::Isometry3d rigid = detail::rigid_fit(detail::as_columns(nominal), detail::as_columns(measured), &weight);
   const Eigen::Isometry3d start = options.initial_instrument_from_machine.value_or(rigid);
   candidate.r0 = start.linear();
   candidate.t0 = start.translation();
@@ -863,7 +696,7 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
       os << where << ".sigma_mm = " << r.sigma_mm << ": expected a finite value > 0";
       throw std::invalid_argument(os.str());
     }
-    const auto key = [](double v) { return std::llround(v / kDuplicateMm); };
+    const auto key = [](double v) { return std::llround(v / detail::kDuplicateMm); };
     auto& s = seen[r.diagonal];
     const auto k = std::make_tuple(key(r.commanded_mm.x()), key(r.commanded_mm.y()), key(r.commanded_mm.z()), i);
     for (const auto& o : s) {
@@ -899,13 +732,10 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
   }
 
   Model candidate;
-  std::array<int, 3> cap{};
-  set_axes(candidate.layout, cap, commanded, options, "readings");
-  for (int i = 0; i < 3; ++i) candidate.layout.params.push_back({Kind::FrameRotation, i, -1});
-  add_candidate_terms(candidate.layout, cap, false);
+  set_candidates(candidate.layout, axis_gauge(commanded, options, "readings"), detail::CandidateSet::DiagonalDisplacements);
   const int observations = static_cast<int>(moved.size());
-  refuse_too_few("readings: " + std::to_string(moved.size()) + " moved readings", observations,
-                 candidate.layout.size(), options);
+  detail::refuse_too_few("readings: " + std::to_string(moved.size()) + " moved readings", observations,
+                         candidate.layout.size(), options.max_degree);
   if (options.initial_instrument_from_machine) candidate.r0 = options.initial_instrument_from_machine->linear();
 
   const DiagonalObservations obs(moved);
