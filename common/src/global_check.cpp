@@ -4,6 +4,7 @@
 #include "ncqual/units.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 namespace ncqual {
@@ -161,6 +162,227 @@ void append_circle(const CircleTestConfig& c, int u, int v, std::vector<TrackerM
   for (int i = c.points - 1; i >= 0; --i) moves.push_back({indexed("cw:", i), at(i * step), 0});
 }
 
+
+// ---- global_check.uncertainty ------------------------------------------------------------------
+
+// How a number of the uncertainty mapping is read: a plain number, or a quantity whose bare
+// number is in the unit its key names (the string may carry its own unit).
+enum class Quantity { Number, LengthMm, AngleUrad, AngleDeg };
+
+// One scalar `v`, named `key` (the full path) in errors; refuses non-finite values.
+double read_quantity(const YAML::Node& v, Quantity q, const std::string& key,
+                     const std::string& where) {
+  if (!v.IsScalar()) fail(where, key, v, "expected a number");
+  double d = 0;
+  if (q == Quantity::Number) {
+    try {
+      std::size_t used = 0;
+      d = std::stod(v.Scalar(), &used);
+      if (used != v.Scalar().size()) fail(where, key, v, "expected a number");
+    } catch (const std::logic_error&) {
+      fail(where, key, v, "expected a number");
+    }
+  } else {
+    const units::Dimension dim =
+        q == Quantity::LengthMm ? units::Dimension::Length : units::Dimension::Angle;
+    const char* unit = q == Quantity::LengthMm ? "mm" : q == Quantity::AngleUrad ? "urad" : "deg";
+    try {
+      d = units::parse_quantity(dim, v.Scalar(), unit);
+    } catch (const std::invalid_argument& e) {
+      fail(where, key, v, e.what());
+    }
+  }
+  if (!std::isfinite(d)) fail(where, key, v, "must be finite");
+  return d;
+}
+
+// `node[key]` (path + key in errors), or `fallback` when absent.
+double quantity_or(const YAML::Node& node, const std::string& key, Quantity q, double fallback,
+                   const std::string& path, const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  return read_quantity(v, q, path + key, where);
+}
+
+// A sigma: as quantity_or, and >= 0.
+double sigma_or(const YAML::Node& node, const std::string& key, Quantity q, double fallback,
+                const std::string& path, const std::string& where) {
+  const double s = quantity_or(node, key, q, fallback, path, where);
+  if (s < 0) fail(where, path + key, node[key], "a sigma must be >= 0");
+  return s;
+}
+
+// A list of `n` quantities under `key`, or `fallback` when absent.
+Eigen::VectorXd quantities_or(const YAML::Node& node, const std::string& key, int n, Quantity q,
+                              const Eigen::VectorXd& fallback, const std::string& path,
+                              const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  if (!v.IsSequence() || static_cast<int>(v.size()) != n) {
+    fail(where, path + key, v, "expected a list of " + std::to_string(n) + " numbers");
+  }
+  Eigen::VectorXd out(n);
+  for (int i = 0; i < n; ++i) {
+    out[i] = read_quantity(v[static_cast<std::size_t>(i)], q, path + key + "[" + std::to_string(i) + "]",
+                           where);
+  }
+  return out;
+}
+
+// Per machine axis X, Y, Z.
+Eigen::Vector3d per_axis_or(const YAML::Node& node, const std::string& key, Quantity q,
+                            const Eigen::Vector3d& fallback, const std::string& path,
+                            const std::string& where) {
+  return quantities_or(node, key, 3, q, fallback, path, where);
+}
+
+// Per-axis sigmas: each >= 0.
+Eigen::Vector3d per_axis_sigmas_or(const YAML::Node& node, const std::string& key, Quantity q,
+                                   const Eigen::Vector3d& fallback, const std::string& path,
+                                   const std::string& where) {
+  const Eigen::Vector3d s = per_axis_or(node, key, q, fallback, path, where);
+  for (int i = 0; i < 3; ++i) {
+    if (s[i] < 0) {
+      fail(where, path + key + "[" + std::to_string(i) + "]", node[key][static_cast<std::size_t>(i)],
+           "a sigma must be >= 0");
+    }
+  }
+  return s;
+}
+
+// An integer from `lo` to `hi`.
+int count_or(const YAML::Node& node, const std::string& key, int fallback, int lo, int hi,
+             const std::string& path, const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  const double n = read_quantity(v, Quantity::Number, path + key, where);
+  if (n < lo || n > hi || n != std::floor(n)) {
+    fail(where, path + key, v,
+         "must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+  }
+  return static_cast<int>(n);
+}
+
+std::uint64_t seed_or(const YAML::Node& node, const std::string& key, std::uint64_t fallback,
+                      const std::string& path, const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return fallback;
+  const std::string text = v.IsScalar() ? v.Scalar() : std::string();
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  try {
+    if (digits) return std::stoull(text);
+  } catch (const std::logic_error&) {
+  }
+  fail(where, path + key, v, "expected an integer from 0 to 18446744073709551615");
+}
+
+PlannedTrackerConfig parse_planned_tracker(const YAML::Node& t, const std::string& p,
+                                           const std::string& where) {
+  yaml::refuse_unknown_keys(t, {"position_mm", "ypr_deg", "angular_sigma_urad", "radial_sigma_mm",
+                                "radial_sigma_mm_per_m", "samples_per_point", "position_sigma_mm",
+                                "orientation_sigma_urad"},
+                            p, where);
+  PlannedTrackerConfig c;
+  if (!t["position_mm"]) fail(where, p + "position_mm", t["position_mm"], "required");
+  c.position_mm = per_axis_or(t, "position_mm", Quantity::LengthMm, c.position_mm, p, where);
+  c.ypr_rad = per_axis_or(t, "ypr_deg", Quantity::AngleDeg, c.ypr_rad, p, where);
+  c.angular_sigma_rad =
+      sigma_or(t, "angular_sigma_urad", Quantity::AngleUrad, c.angular_sigma_rad, p, where);
+  c.radial_sigma_mm = sigma_or(t, "radial_sigma_mm", Quantity::LengthMm, c.radial_sigma_mm, p, where);
+  c.radial_sigma_mm_per_m =
+      sigma_or(t, "radial_sigma_mm_per_m", Quantity::LengthMm, c.radial_sigma_mm_per_m, p, where);
+  c.samples_per_point = count_or(t, "samples_per_point", c.samples_per_point, 1, 1000000, p, where);
+  c.position_sigma_mm =
+      sigma_or(t, "position_sigma_mm", Quantity::LengthMm, c.position_sigma_mm, p, where);
+  c.orientation_sigma_rad =
+      sigma_or(t, "orientation_sigma_urad", Quantity::AngleUrad, c.orientation_sigma_rad, p, where);
+  return c;
+}
+
+UncertaintySourcesConfig parse_uncertainty_sources(const YAML::Node& s, const std::string& p,
+                                                   const std::string& where) {
+  yaml::refuse_unknown_keys(s, {"repeatability_sigma_mm", "expansion_per_K",
+                                "expansion_sigma_per_K", "temperature_deviation_K",
+                                "temperature_sigma_K"},
+                            p, where);
+  UncertaintySourcesConfig c;
+  c.repeatability_sigma_mm = per_axis_sigmas_or(s, "repeatability_sigma_mm", Quantity::LengthMm,
+                                                c.repeatability_sigma_mm, p, where);
+  c.expansion_per_K = per_axis_or(s, "expansion_per_K", Quantity::Number, c.expansion_per_K, p, where);
+  c.expansion_sigma_per_K = per_axis_sigmas_or(s, "expansion_sigma_per_K", Quantity::Number,
+                                               c.expansion_sigma_per_K, p, where);
+  c.temperature_deviation_K = per_axis_or(s, "temperature_deviation_K", Quantity::Number,
+                                          c.temperature_deviation_K, p, where);
+  c.temperature_sigma_K = per_axis_sigmas_or(s, "temperature_sigma_K", Quantity::Number,
+                                             c.temperature_sigma_K, p, where);
+  return c;
+}
+
+TrackerSearchConfig parse_tracker_search(const YAML::Node& s, const std::string& p,
+                                         const std::string& where) {
+  yaml::refuse_unknown_keys(s, {"x_mm", "y_mm", "z_mm", "step_mm", "envelope_clearance_mm",
+                                "min_range_mm", "max_range_mm"},
+                            p, where);
+  TrackerSearchConfig c;
+  const char* axes[] = {"x_mm", "y_mm", "z_mm"};
+  for (int k = 0; k < 3; ++k) {
+    if (!s[axes[k]]) fail(where, p + axes[k], s[axes[k]], "required: [min, max]");
+    const Eigen::VectorXd range =
+        quantities_or(s, axes[k], 2, Quantity::LengthMm, Eigen::VectorXd::Zero(2), p, where);
+    if (range[0] > range[1]) fail(where, p + axes[k] + "[1]", s[axes[k]][1], "max must be >= min");
+    c.lo_mm[k] = range[0];
+    c.hi_mm[k] = range[1];
+  }
+  if (!s["step_mm"]) fail(where, p + "step_mm", s["step_mm"], "required");
+  c.step_mm = quantity_or(s, "step_mm", Quantity::LengthMm, 0, p, where);
+  if (!(c.step_mm > 0)) fail(where, p + "step_mm", s["step_mm"], "must be positive");
+  double candidates = 1;
+  for (int k = 0; k < 3; ++k) {
+    // Neighbours at most step_mm apart (a hair of rounding does not add a step).
+    const double intervals = std::ceil((c.hi_mm[k] - c.lo_mm[k]) / c.step_mm - 1e-9);
+    candidates *= std::max(intervals, 0.0) + 1;
+    if (candidates > 1e6) {
+      fail(where, p + "step_mm", s["step_mm"],
+           "gives more than 1e6 candidate positions in the box; take a larger step");
+    }
+    c.steps[k] = static_cast<int>(std::max(intervals, 0.0)) + 1;
+  }
+  c.envelope_clearance_mm = quantity_or(s, "envelope_clearance_mm", Quantity::LengthMm,
+                                        c.envelope_clearance_mm, p, where);
+  if (c.envelope_clearance_mm < 0) {
+    fail(where, p + "envelope_clearance_mm", s["envelope_clearance_mm"], "must be >= 0");
+  }
+  c.min_range_mm = quantity_or(s, "min_range_mm", Quantity::LengthMm, c.min_range_mm, p, where);
+  if (c.min_range_mm < 0) fail(where, p + "min_range_mm", s["min_range_mm"], "must be >= 0");
+  c.max_range_mm = quantity_or(s, "max_range_mm", Quantity::LengthMm, c.max_range_mm, p, where);
+  if (!(c.max_range_mm > c.min_range_mm)) {
+    fail(where, p + "max_range_mm", s["max_range_mm"],
+         "must exceed min_range_mm (" + std::to_string(c.min_range_mm) + ")");
+  }
+  return c;
+}
+
+VerificationUncertaintyConfig parse_verification_uncertainty(const YAML::Node& node,
+                                                             const std::string& p,
+                                                             const std::string& where) {
+  if (!node.IsMap()) fail(where, "global_check.uncertainty", node, "expected a mapping");
+  yaml::refuse_unknown_keys(node, {"tracker", "sources", "trials", "seed", "search"}, p, where);
+  VerificationUncertaintyConfig c;
+  c.tracker = parse_planned_tracker(required_map(node, "tracker", p + "tracker", where),
+                                    p + "tracker.", where);
+  if (const YAML::Node s = node["sources"]) {
+    if (!s.IsMap()) fail(where, p + "sources", s, "expected a mapping");
+    c.sources = parse_uncertainty_sources(s, p + "sources.", where);
+  }
+  c.trials = count_or(node, "trials", c.trials, 1, 1000000, p, where);
+  c.seed = seed_or(node, "seed", c.seed, p, where);
+  if (const YAML::Node s = node["search"]) {
+    if (!s.IsMap()) fail(where, p + "search", s, "expected a mapping");
+    c.search = parse_tracker_search(s, p + "search.", where);
+  }
+  return c;
+}
+
 }  // namespace
 
 bool is_tracker_check(CheckKind kind) {
@@ -184,7 +406,7 @@ GlobalCheckConfig parse_global_check_config(const YAML::Node& node, const std::s
   const std::string p = "global_check.";
   if (!node.IsMap()) fail(where, "global_check", node, "expected a mapping");
   yaml::refuse_unknown_keys(node, {"targets", "master_frame", "grid", "rotary", "circles",
-                                   "linear_run"},
+                                   "linear_run", "uncertainty"},
                             p, where);
   GlobalCheckConfig c;
 
@@ -277,6 +499,10 @@ GlobalCheckConfig parse_global_check_config(const YAML::Node& node, const std::s
   c.linear_run.overrun_mm = yaml::length_mm_or(lr, "overrun_mm", c.linear_run.overrun_mm, where);
   if (!(c.linear_run.overrun_mm > 0)) {
     fail(where, p + "linear_run.overrun_mm", lr["overrun_mm"], "must be positive");
+  }
+
+  if (const YAML::Node u = node["uncertainty"]; u && !u.IsNull()) {
+    c.uncertainty = parse_verification_uncertainty(u, p + "uncertainty.", where);
   }
   return c;
 }

@@ -13,12 +13,16 @@
 //   ncqual analyze grid --x-run F --y-run F --grid F [--json]
 //   ncqual import  iso230-2|circle FILE | grid --x-run F --y-run F --grid F  --machine M
 //                                                                          (import_command.hpp)
+//   ncqual uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]
+//                  [--json]
+//                                                                          (uncertainty_command.hpp)
 //
 // Exit codes: 0 success (for `check --wait`: PASS), 1 error, 2 usage, 3 FAIL, 4 INVALID,
 // 5 timed out.
 #include "analyze_command.hpp"
 #include "budget_command.hpp"
 #include "import_command.hpp"
+#include "uncertainty_command.hpp"
 #include "ncqual/args.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/config.hpp"
@@ -67,6 +71,10 @@ const char* kUsage =
     "         --machine M\n"
     "      publish an instrument export as a MeasurementSet of the machine: the solver judges\n"
     "      it, the historian stores it; prints its request id\n"
+    "  uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]\n"
+    "              [--json]\n"
+    "      Monte Carlo uncertainty of the machine's monthly tracker verification (GUM S1)\n"
+    "      and, with --search, the tracker location that minimises it\n"
     "The plant config comes from --plant or NCQUAL_PLANT; the domain from --domain,\n"
     "NCQUAL_DOMAIN or the plant config.\n"
     "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out.\n";
@@ -330,6 +338,9 @@ int main(int argc, char** argv) {
     }
     if (command == "import") {
       return run_import(rest);
+    }
+    if (command == "uncertainty") {
+      return run_uncertainty(rest);
     }
     if (command == "budget") {
       return run_budget_command(Args(rest, kBudgetFlagsWithValue, kBudgetSwitches));

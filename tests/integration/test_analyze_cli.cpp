@@ -1,17 +1,14 @@
 // `ncqual analyze` end to end: instrument files written here, the built `ncqual` binary run on
 // them, its --json document checked against figures worked by hand (independent of the
 // solver), and the exit codes and file:line:column messages of bad files and bad usage.
+#include "cli_runner.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <random>
-#include <sstream>
 #include <string>
 
 namespace {
@@ -25,48 +22,17 @@ struct Vec3 {
   double v[3];
 };
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;  // stdout
-  std::string err;  // stderr
-};
+using ncqual::testing_cli::CliRun;
 
 class AnalyzeCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::random_device rd;
-    dir_ = fs::temp_directory_path() /
-           ("ncqual-analyze-cli-" + std::to_string(getpid()) + "-" + std::to_string(rd() % 100000));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    if (!std::getenv("NCQUAL_KEEP_TEST_DIRS")) fs::remove_all(dir_, ec);
-  }
-
   std::string write(const std::string& name, const std::string& text) {
-    const auto path = dir_ / name;
-    std::ofstream(path) << text;
-    return path.string();
+    return tmp_.write(name, text);
   }
 
   // Runs `ncqual <args>` (args already shell-safe: our paths have no spaces or quotes).
   CliRun run(const std::string& args) {
-    CliRun r;
-    const std::string err_path = (dir_ / "stderr.txt").string();
-    const std::string command = std::string(NCQUAL_CLI_EXE) + " " + args + " 2>" + err_path;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return r;
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
-    const int status = pclose(pipe);
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    std::ifstream err(err_path);
-    std::stringstream text;
-    text << err.rdbuf();
-    r.err = text.str();
-    return r;
+    return ncqual::testing_cli::run_cli(args, ncqual::testing_cli::Capture::Separate);
   }
 
   json run_json(const std::string& args) {
@@ -80,7 +46,8 @@ class AnalyzeCli : public ::testing::Test {
     }
   }
 
-  fs::path dir_;
+  ncqual::testing_cli::TempDir tmp_{"ncqual-analyze-cli"};
+  const fs::path dir_ = tmp_.path();
 };
 
 // 3 targets x 3 cycles, deviations (µm):

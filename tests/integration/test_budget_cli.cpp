@@ -1,20 +1,18 @@
 // `ncqual budget` end to end without DDS: a plant config with a machine budget, a historian
 // written with storage::Database holding known metric values, the built `ncqual` binary run with
 // --json, and its document checked against the budget library and hand computations.
+#include "cli_runner.hpp"
+
 #include "ncqual/solver/error_budget.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/units.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -23,46 +21,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;  // stdout and stderr together
-};
-
-// Runs the ncqual binary with `args` (each already shell-safe) and collects what it printed:
-// stdout and stderr together, or stdout alone (for --json).
-CliRun run_cli(const std::string& args, bool with_stderr = true) {
-  CliRun r;
-  const std::string command =
-      std::string(NCQUAL_CLI_EXE) + " " + args + (with_stderr ? " 2>&1" : " 2>/dev/null");
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return r;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-CliRun run_cli_stdout(const std::string& args) { return run_cli(args, false); }
+using testing_cli::CliRun;
+using testing_cli::run_cli;
+using testing_cli::run_cli_stdout;
 
 class BudgetCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::random_device rd;
-    dir_ = fs::temp_directory_path() /
-           ("ncqual-budget-cli-" + std::to_string(getpid()) + "-" + std::to_string(rd() % 100000));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    if (!std::getenv("NCQUAL_KEEP_TEST_DIRS")) fs::remove_all(dir_, ec);
-  }
-
   std::string write(const std::string& name, const std::string& text) {
-    const auto path = dir_ / name;
-    std::ofstream(path) << text;
-    return path.string();
+    return tmp_.write(name, text);
   }
 
   std::string db_path() const { return (dir_ / "historian.db").string(); }
@@ -74,7 +40,8 @@ class BudgetCli : public ::testing::Test {
     return write("plant.yaml", text);
   }
 
-  fs::path dir_;
+  testing_cli::TempDir tmp_{"ncqual-budget-cli"};
+  const fs::path dir_ = tmp_.path();
 };
 
 const char* kMachineBase = R"(probe: {tool_length_mm: 350.0, ball_radius_mm: 3.0}

@@ -1,28 +1,24 @@
 // `ncqual import`: a real instrument's export published as a MeasurementSet goes through the
 // real solver and historian processes over DDS (domain 206) and is stored with its result, the
 // figures those of the file worked by hand.
+#include "cli_runner.hpp"
 #include "harness.hpp"
 
 #include "ncqual/storage.hpp"
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <sys/wait.h>
 #include <fstream>
+#include <string>
+#include <utility>
 
 namespace ncqual::testing {
 namespace {
 
-// Runs the CLI with `args`; returns its exit code and stdout.
+// Runs the CLI with `args`; returns its exit code and what it printed (stdout and stderr).
 std::pair<int, std::string> cli(const std::string& args) {
-  std::string out;
-  FILE* pipe = popen((std::string(NCQUAL_CLI_EXE) + " " + args + " 2>&1").c_str(), "r");
-  if (!pipe) return {-1, out};
-  char buffer[4096];
-  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  const testing_cli::CliRun r = testing_cli::run_cli(args);
+  return {r.exit_code, r.out};
 }
 
 TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {

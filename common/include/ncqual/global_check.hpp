@@ -32,6 +32,7 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,86 @@ struct LinearRunConfig {
   double overrun_mm = 5;                      // past the last target before reversing
 };
 
+// ---- The verification's uncertainty (`global_check.uncertainty:`) ------------------------------
+// What `ncqual uncertainty` needs to simulate the monthly grid verification of a real plant, where
+// no simulator knows the tracker: the planned tracker setup, the machine's uncertainty sources and
+// the Monte Carlo settings (the math: solver::evaluate_verification_uncertainty and
+// solver::best_tracker_location, ncqual/solver/verification_uncertainty.hpp; these structs are
+// their inputs as configured, the solver cannot be a dependency of common). Defaults are those of
+// the solver's structs.
+//
+//   uncertainty:
+//     tracker:                          # required
+//       position_mm: [x, y, z]          # required: its origin in the machine frame
+//       ypr_deg: [yaw, pitch, roll]     # tracker axes = Rz(yaw) Ry(pitch) Rx(roll) machine axes
+//       angular_sigma_urad: 20          # per encoder angle, one reading
+//       radial_sigma_mm: 0.004          # range noise of one reading: radial_sigma_mm
+//       radial_sigma_mm_per_m: 0.0008   #   + radial_sigma_mm_per_m * range / 1000 mm
+//       samples_per_point: 1            # readings averaged per point (integer >= 1)
+//       position_sigma_mm: 0            # placement: 1 sigma of its position per machine axis
+//       orientation_sigma_urad: 0       #   and of a small rotation about each machine axis
+//     sources:                          # optional; lists per machine axis X, Y, Z
+//       repeatability_sigma_mm: [0, 0, 0]
+//       expansion_per_K: [11.5e-6, 11.5e-6, 11.5e-6]      # alpha (1/K)
+//       expansion_sigma_per_K: [5.77e-7, ...]             # u(alpha); default 2e-6 / (2 sqrt 3)
+//       temperature_deviation_K: [0, 0, 0]                # measured T - 20 C (either sign)
+//       temperature_sigma_K: [0, 0, 0]                    # its 1 sigma
+//     trials: 1000                      # Monte Carlo trials (integer >= 1)
+//     seed: 1                           # integer >= 0
+//     search:                           # optional: where the tracker may stand
+//       x_mm: [min, max]                # the box of candidate positions (min <= max)
+//       y_mm: [min, max]
+//       z_mm: [min, max]
+//       step_mm: 400                    # required, > 0: candidates at most this far apart
+//       envelope_clearance_mm: 200      # keep-out around the working envelope (>= 0)
+//       min_range_mm: 500               # the tracker's range to every grid target (>= 0)
+//       max_range_mm: 15000             #   (> min_range_mm)
+// Lengths may carry their unit ("4 um"), angles too ("0.3 deg" under _urad); bare numbers are in
+// the unit the key names. Sigmas must be finite and >= 0, every number finite.
+
+// The tracker as planned for the monthly check (solver::TrackerUncertaintyModel).
+struct PlannedTrackerConfig {
+  Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // its origin in the machine frame
+  Eigen::Vector3d ypr_rad = Eigen::Vector3d::Zero();      // yaw, pitch, roll (YAML ypr_deg)
+  double angular_sigma_rad = 20e-6;       // per encoder angle, one reading (YAML _urad)
+  double radial_sigma_mm = 0.004;         // range noise of one reading: radial_sigma_mm
+  double radial_sigma_mm_per_m = 0.0008;  //   + radial_sigma_mm_per_m * r / 1000
+  int samples_per_point = 1;              // a point averages this many readings
+  double position_sigma_mm = 0;           // placement: 1 sigma per machine axis
+  double orientation_sigma_rad = 0;       // placement: 1 sigma about each machine axis (YAML _urad)
+};
+
+// The machine's uncertainty sources (solver::UncertaintySources without the systematic errors),
+// per machine axis X, Y, Z.
+struct UncertaintySourcesConfig {
+  Eigen::Vector3d repeatability_sigma_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d expansion_per_K = Eigen::Vector3d::Constant(11.5e-6);  // alpha (1/K)
+  // u(alpha) (1/K): the rule of ISO/TR 230-9 for 11.5e-6, a 2e-6 wide rectangle: 5.77e-7.
+  Eigen::Vector3d expansion_sigma_per_K = Eigen::Vector3d::Constant(2e-6 / (2 * 1.7320508075688772));
+  Eigen::Vector3d temperature_deviation_K = Eigen::Vector3d::Zero();  // measured T - 20 C
+  Eigen::Vector3d temperature_sigma_K = Eigen::Vector3d::Zero();      // its 1 sigma
+};
+
+// Where the tracker may stand (solver::TrackerRegion): a grid over the box [lo_mm, hi_mm] with
+// `steps` candidates per axis, steps = ceil((max - min) / step_mm) + 1 (neighbours at most step_mm
+// apart; 1 when min = max: that coordinate). At most 1e6 candidates.
+struct TrackerSearchConfig {
+  Eigen::Vector3d lo_mm = Eigen::Vector3d::Zero(), hi_mm = Eigen::Vector3d::Zero();
+  double step_mm = 0;
+  Eigen::Vector3i steps = Eigen::Vector3i::Ones();  // derived from step_mm
+  double envelope_clearance_mm = 200;
+  double min_range_mm = 500;
+  double max_range_mm = 15000;
+};
+
+struct VerificationUncertaintyConfig {
+  PlannedTrackerConfig tracker;
+  UncertaintySourcesConfig sources;
+  int trials = 1000;            // Monte Carlo trials (1 .. 1e6)
+  std::uint64_t seed = 1;
+  std::optional<TrackerSearchConfig> search;  // the `search:` mapping, if any
+};
+
 struct GlobalCheckConfig {
   // Reflectors in the spindle; [0] is the target of every check, the others are measured on the
   // grid too, for the identification of the angular errors (different lever arms).
@@ -73,10 +154,18 @@ struct GlobalCheckConfig {
   std::vector<double> w_check_w_mm;    // W steps at A = C = 0
   CircleTestConfig circle;             // the same circle in each plane
   LinearRunConfig linear_run;
+  // The `uncertainty:` mapping (see above), if any: what `ncqual uncertainty` simulates.
+  std::optional<VerificationUncertaintyConfig> uncertainty;
 };
 
 // Reads the `global_check:` section. Throws ConfigError naming file, key and value. Unknown keys
 // are refused.
+// Its optional `uncertainty:` mapping goes to GlobalCheckConfig::uncertainty; refused there
+// (ConfigError naming the key, e.g. global_check.uncertainty.tracker.angular_sigma_urad, and the
+// value): a missing tracker or tracker.position_mm, negative or non-finite sigmas, non-finite
+// numbers, samples_per_point or trials not an integer from 1 to 1e6, a seed not an integer >= 0,
+// a search box with min > max, step_mm <= 0, more than 1e6 candidates, negative clearance or
+// min_range_mm, max_range_mm <= min_range_mm, unknown keys.
 GlobalCheckConfig parse_global_check_config(const YAML::Node& node, const std::string& where);
 
 // One move of a monthly program: the machine goes to `commanded`; when `label` is non-empty the

@@ -180,5 +180,136 @@ TEST(GlobalCheckProgram, LinearRunApproachesEveryTargetFromBothSidesWithOverrun)
   EXPECT_EQ(measured, 3 * 2 * 4);
 }
 
+
+// ---- global_check.uncertainty ------------------------------------------------------------------
+
+const std::string kUncertainty = R"(
+  uncertainty:
+    tracker:
+      position_mm: [2200, -1200, 900]
+      ypr_deg: [90, 0.3, -0.2]
+      angular_sigma_urad: 20
+      radial_sigma_mm: "4 um"
+      radial_sigma_mm_per_m: 0.0008
+      samples_per_point: 16
+      position_sigma_mm: 0.5
+      orientation_sigma_urad: "0.01 deg"
+    sources:
+      repeatability_sigma_mm: [0.001, 0.002, 0.0015]
+      expansion_per_K: [11.5e-6, 12e-6, 10e-6]
+      temperature_deviation_K: [0.4, -0.3, 0.6]
+      temperature_sigma_K: [0.1, 0.1, 0.2]
+    trials: 500
+    seed: 18446744073709551615
+    search:
+      x_mm: [0, 4400]
+      y_mm: [-3500, -400]
+      z_mm: [900, 900]
+      step_mm: 400
+      envelope_clearance_mm: 150
+      max_range_mm: 9000
+)";
+
+TEST(GlobalCheckUncertainty, ParsesUnitsDefaultsAndTheSearchGrid) {
+  const GlobalCheckConfig g = *parse(kGlobal + kUncertainty).global_check;
+  ASSERT_TRUE(g.uncertainty);
+  const VerificationUncertaintyConfig& u = *g.uncertainty;
+  EXPECT_EQ(u.tracker.position_mm, Eigen::Vector3d(2200, -1200, 900));
+  EXPECT_NEAR(u.tracker.ypr_rad[0], units::kPi / 2, 1e-15);
+  EXPECT_NEAR(u.tracker.ypr_rad[1], 0.3 * units::kPi / 180, 1e-15);
+  EXPECT_NEAR(u.tracker.ypr_rad[2], -0.2 * units::kPi / 180, 1e-15);
+  EXPECT_NEAR(u.tracker.angular_sigma_rad, 20e-6, 1e-18);
+  EXPECT_NEAR(u.tracker.radial_sigma_mm, 0.004, 1e-15);
+  EXPECT_DOUBLE_EQ(u.tracker.radial_sigma_mm_per_m, 0.0008);
+  EXPECT_EQ(u.tracker.samples_per_point, 16);
+  EXPECT_DOUBLE_EQ(u.tracker.position_sigma_mm, 0.5);
+  EXPECT_NEAR(u.tracker.orientation_sigma_rad, 0.01 * units::kPi / 180, 1e-15);
+  EXPECT_EQ(u.sources.repeatability_sigma_mm, Eigen::Vector3d(0.001, 0.002, 0.0015));
+  EXPECT_EQ(u.sources.expansion_per_K, Eigen::Vector3d(11.5e-6, 12e-6, 10e-6));
+  // Not given: the rule's value for a 2e-6 1/K wide rectangle, 2e-6 / (2 sqrt 3).
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(u.sources.expansion_sigma_per_K[k], 5.7735e-7, 1e-11);
+  EXPECT_EQ(u.sources.temperature_deviation_K, Eigen::Vector3d(0.4, -0.3, 0.6));
+  EXPECT_EQ(u.sources.temperature_sigma_K, Eigen::Vector3d(0.1, 0.1, 0.2));
+  EXPECT_EQ(u.trials, 500);
+  EXPECT_EQ(u.seed, 18446744073709551615ull);
+  ASSERT_TRUE(u.search);
+  EXPECT_EQ(u.search->lo_mm, Eigen::Vector3d(0, -3500, 900));
+  EXPECT_EQ(u.search->hi_mm, Eigen::Vector3d(4400, -400, 900));
+  // 4400 / 400 = 11 steps exactly: 12 positions; 3100 / 400 = 7.75: 8 steps of 387.5 mm, 9
+  // positions; an empty Z range: its one value.
+  EXPECT_EQ(u.search->steps, Eigen::Vector3i(12, 9, 1));
+  EXPECT_DOUBLE_EQ(u.search->envelope_clearance_mm, 150);
+  EXPECT_DOUBLE_EQ(u.search->min_range_mm, 500);  // default
+  EXPECT_DOUBLE_EQ(u.search->max_range_mm, 9000);
+}
+
+TEST(GlobalCheckUncertainty, MinimalBlockTakesTheSolversDefaults) {
+  const GlobalCheckConfig g = *parse(kGlobal + R"(
+  uncertainty:
+    tracker: {position_mm: [0, -2000, 500]}
+)").global_check;
+  ASSERT_TRUE(g.uncertainty);
+  const VerificationUncertaintyConfig& u = *g.uncertainty;
+  EXPECT_EQ(u.tracker.ypr_rad, Eigen::Vector3d::Zero());
+  EXPECT_DOUBLE_EQ(u.tracker.angular_sigma_rad, 20e-6);
+  EXPECT_DOUBLE_EQ(u.tracker.radial_sigma_mm, 0.004);
+  EXPECT_DOUBLE_EQ(u.tracker.radial_sigma_mm_per_m, 0.0008);
+  EXPECT_EQ(u.tracker.samples_per_point, 1);
+  EXPECT_EQ(u.tracker.position_sigma_mm, 0);
+  EXPECT_EQ(u.tracker.orientation_sigma_rad, 0);
+  EXPECT_EQ(u.sources.repeatability_sigma_mm, Eigen::Vector3d::Zero());
+  EXPECT_EQ(u.sources.expansion_per_K, Eigen::Vector3d::Constant(11.5e-6));
+  EXPECT_EQ(u.sources.temperature_sigma_K, Eigen::Vector3d::Zero());
+  EXPECT_EQ(u.trials, 1000);
+  EXPECT_EQ(u.seed, 1u);
+  EXPECT_FALSE(u.search);
+  // And a global_check without the block has none.
+  EXPECT_FALSE(parse(kGlobal).global_check->uncertainty);
+}
+
+TEST(GlobalCheckUncertainty, RefusesBadValuesNamingFileKeyAndValue) {
+  const std::string base = kGlobal + kUncertainty;
+  auto refused = [&](const std::string& from, const std::string& to, const std::string& message) {
+    std::string text = base;
+    const auto at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    try {
+      parse(text);
+    } catch (const ConfigError& e) {
+      // "<file>: <key> = '<value>': <why>", like every config error.
+      EXPECT_EQ(std::string(e.what()).rfind("t1.yaml: " + message, 0), 0u) << e.what();
+      return;
+    }
+    ADD_FAILURE() << "accepted: " << to;
+  };
+  const std::string p = "global_check.uncertainty.";
+  refused("angular_sigma_urad: 20", "angular_sigma_urad: -20",
+          p + "tracker.angular_sigma_urad = '-20': a sigma must be >= 0");
+  refused("position_sigma_mm: 0.5", "position_sigma_mm: nan",
+          p + "tracker.position_sigma_mm = 'nan': ");
+  refused("temperature_deviation_K: [0.4, -0.3, 0.6]", "temperature_deviation_K: [0.4, inf, 0.6]",
+          p + "sources.temperature_deviation_K[1] = 'inf': must be finite");
+  refused("temperature_sigma_K: [0.1, 0.1, 0.2]", "temperature_sigma_K: [0.1, -0.1, 0.2]",
+          p + "sources.temperature_sigma_K[1] = '-0.1': a sigma must be >= 0");
+  refused("repeatability_sigma_mm: [0.001, 0.002, 0.0015]", "repeatability_sigma_mm: [0.001, 0.002]",
+          p + "sources.repeatability_sigma_mm = (not a single value): expected a list of 3");
+  refused("trials: 500", "trials: 0", p + "trials = '0': must be an integer from 1 to 1000000");
+  refused("trials: 500", "trials: 2.5", p + "trials = '2.5': must be an integer");
+  refused("samples_per_point: 16", "samples_per_point: 0",
+          p + "tracker.samples_per_point = '0': must be an integer from 1");
+  refused("seed: 18446744073709551615", "seed: -1", p + "seed = '-1': expected an integer");
+  refused("x_mm: [0, 4400]", "x_mm: [4400, 0]", p + "search.x_mm[1] = '0': max must be >= min");
+  refused("step_mm: 400", "step_mm: 0", p + "search.step_mm = '0': must be positive");
+  refused("step_mm: 400", "step_mm: 0.1", p + "search.step_mm = '0.1': gives more than 1e6");
+  refused("max_range_mm: 9000", "max_range_mm: 400",
+          p + "search.max_range_mm = '400': must exceed min_range_mm");
+  refused("ypr_deg: [90, 0.3, -0.2]", "ypr_deg: [90, 0.3, \"1 furlong\"]", p + "tracker.ypr_deg[2] = ");
+  refused("      position_mm: [2200, -1200, 900]\n", "", p + "tracker.position_mm = (missing): required");
+  refused("    trials: 500", "    trails: 500", p + "trails = '500': unknown key");
+  refused("      samples_per_point: 16", "      samples: 16", p + "tracker.samples = '16': unknown key");
+  refused("    tracker:\n", "    tracer: {}\n    tracker:\n", p + "tracer");
+}
+
 }  // namespace
 }  // namespace ncqual
