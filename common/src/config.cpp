@@ -1,5 +1,6 @@
 #include "ncqual/config.hpp"
 
+#include "ncqual/clock.hpp"
 #include "ncqual/units.hpp"
 
 #include <cstdlib>
@@ -368,7 +369,19 @@ PlantConfig load_plant_config(const std::string& path) {
   const YAML::Node hist = root["historian"];
   p.historian_database =
       resolve(path, hist ? yaml::string_or(hist, "database", "historian.db", path) : "historian.db");
+  p.scheduler_state_database =
+      (fs::path(p.historian_database).parent_path() / "scheduler.db").string();
   if (const YAML::Node sched = root["scheduler"]) {
+    if (!sched.IsMap()) fail(path, "scheduler", sched, "expected a mapping");
+    yaml::refuse_unknown_keys(sched, {"startup_checks", "calendar", "state_database"}, "scheduler.",
+                              path);
+    if (const YAML::Node cal = sched["calendar"]; cal && !cal.IsNull()) {
+      p.calendar = parse_calendar_config(cal, path);
+    }
+    if (sched["state_database"]) {
+      p.scheduler_state_database =
+          resolve(path, yaml::string_or(sched, "state_database", "", path));
+    }
     if (const YAML::Node checks = sched["startup_checks"]) {
       if (!checks.IsSequence()) fail(path, "scheduler.startup_checks", checks, "expected a list of check kinds");
       p.startup_checks.clear();
@@ -380,6 +393,23 @@ PlantConfig load_plant_config(const std::string& path) {
         }
         p.startup_checks.push_back(*kind);
       }
+    }
+  }
+  if (const YAML::Node clock = root["clock"]) {
+    if (!clock.IsMap()) fail(path, "clock", clock, "expected {mode: wall | simulated, start}");
+    yaml::refuse_unknown_keys(clock, {"mode", "start"}, "clock.", path);
+    const std::string mode = yaml::string_or(clock, "mode", "wall", path);
+    if (mode != "wall" && mode != "simulated") {
+      fail(path, "clock.mode", clock["mode"], "expected wall or simulated");
+    }
+    p.simulated_clock = mode == "simulated";
+    if (p.simulated_clock) {
+      if (!clock["start"]) fail(path, "clock.start", clock, "missing: the simulated clock's start (ISO 8601 UTC)");
+      const auto start = parse_iso8601(yaml::string_or(clock, "start", "", path));
+      if (!start) {
+        fail(path, "clock.start", clock["start"], "expected an ISO 8601 UTC time, e.g. 2026-01-05T00:00:00Z");
+      }
+      p.simulated_start_ns = *start;
     }
   }
   const YAML::Node machines = root["machines"];

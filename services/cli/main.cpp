@@ -13,6 +13,8 @@
 //   ncqual analyze grid --x-run F --y-run F --grid F [--json]
 //   ncqual import  iso230-2|circle FILE | grid --x-run F --y-run F --grid F  --machine M
 //                                                                          (import_command.hpp)
+//   ncqual status  [--plant F] [--db F] [--machine M] [--json]             (status_command.hpp)
+//   ncqual intervene --machine M --check KIND --note TEXT [--operator NAME]  (status_command.hpp)
 //   ncqual uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]
 //                  [--json]
 //                                                                          (uncertainty_command.hpp)
@@ -22,6 +24,7 @@
 #include "analyze_command.hpp"
 #include "budget_command.hpp"
 #include "import_command.hpp"
+#include "status_command.hpp"
 #include "uncertainty_command.hpp"
 #include "ncqual/args.hpp"
 #include "ncqual/clock.hpp"
@@ -71,6 +74,10 @@ const char* kUsage =
     "         --machine M\n"
     "      publish an instrument export as a MeasurementSet of the machine: the solver judges\n"
     "      it, the historian stores it; prints its request id\n"
+    "  status [--plant F] [--db F] [--machine M] [--json]\n"
+    "      every machine's state, and per period its last pass and when it falls due next\n"
+    "  intervene --machine M --check KIND --note TEXT [--operator NAME]\n"
+    "      record a physical intervention: re-arms the machine's held check\n"
     "  uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]\n"
     "              [--json]\n"
     "      Monte Carlo uncertainty of the machine's monthly tracker verification (GUM S1)\n"
@@ -338,6 +345,12 @@ int main(int argc, char** argv) {
     }
     if (command == "import") {
       return run_import(rest);
+    }
+    if (command == "status") {
+      return run_status(rest);
+    }
+    if (command == "intervene") {
+      return run_intervene(rest);
     }
     if (command == "uncertainty") {
       return run_uncertainty(rest);

@@ -1,6 +1,13 @@
-// ncqual-scheduler: runs the qualification process. On start it issues the configured cycle of
-// checks for every machine; on an operator's CheckCommand it issues that check; on each result
-// it publishes the machine's status.
+// ncqual-scheduler: runs the qualification process (scheduler.hpp) for every machine of the
+// plant. Reads CheckResults, CheckCommands and Interventions; writes CheckRequests and
+// MachineStatus. Its durable state is the plant's scheduler.state_database.
+//
+// Wall clock: decisions are taken as results arrive and once a second (shift starts, timeouts).
+// Simulated clock (plant clock.mode: simulated): the clock starts at clock.start (or where the
+// state file left it) and, whenever no check is waiting for a result, jumps to the next thing
+// due; --days N (or --until T) ends the run once nothing is due before that time. A check that
+// gets no answer for --stall-s of wall time lets the clock run on to its timeout (so a dead
+// acquisition is retried and reported as it would be in a plant).
 #include "scheduler.hpp"
 
 #include "ncqual/args.hpp"
@@ -11,49 +18,91 @@
 
 #include <iostream>
 
+namespace {
+
+using namespace ncqual;
+
+std::vector<CheckKind> parse_cycle(const std::string& text) {
+  std::vector<CheckKind> cycle;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const auto comma = text.find(',', start);
+    const std::string name =
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    const auto kind = parse_check_kind(name);
+    if (!kind) throw ArgError("--cycle: '" + name + "' is not a check kind");
+    cycle.push_back(*kind);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return cycle;
+}
+
+constexpr std::int64_t kNsPerDay = 86'400'000'000'000LL;
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  using namespace ncqual;
   try {
     const Args args(std::vector<std::string>(argv + 1, argv + argc),
-                    {"plant", "domain", "log-level", "cycle"}, {"help"});
+                    {"plant", "domain", "log-level", "cycle", "state", "days", "until", "stall-s"},
+                    {"help"});
     if (args.has("help")) {
-      std::cout << "usage: ncqual-scheduler --plant FILE [--domain N] [--cycle kind,kind,...]\n"
-                   "                        [--log-level info]\n"
-                   "--cycle overrides the plant's scheduler.startup_checks ('' for none).\n";
+      std::cout
+          << "usage: ncqual-scheduler --plant FILE [--domain N] [--cycle kind,kind,...]\n"
+             "                        [--state FILE] [--days N | --until ISO-TIME] [--stall-s 30]\n"
+             "                        [--log-level info]\n"
+             "--cycle    checks to run once at start, in order (default without a calendar:\n"
+             "           the plant's scheduler.startup_checks; '' for none)\n"
+             "--state    the durable state file (default: the plant's scheduler.state_database)\n"
+             "--days/--until  simulated clock only: stop once nothing is due before that time\n";
       return 0;
     }
     init_logging("scheduler", args.get_or("log-level", "info"));
     const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
-    std::vector<CheckKind> cycle = plant.startup_checks;
-    if (auto text = args.get("cycle")) {
-      cycle.clear();
-      std::size_t start = 0;
-      while (start < text->size()) {
-        const auto comma = text->find(',', start);
-        const std::string name = text->substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-        const auto kind = parse_check_kind(name);
-        if (!kind) throw ArgError("--cycle: '" + name + "' is not a check kind");
-        cycle.push_back(*kind);
-        if (comma == std::string::npos) break;
-        start = comma + 1;
+    std::vector<CheckKind> cycle = plant.calendar ? std::vector<CheckKind>{} : plant.startup_checks;
+    if (auto text = args.get("cycle")) cycle = parse_cycle(*text);
+
+    storage::StateFile state = storage::StateFile::open(args.get_or("state", plant.scheduler_state_database));
+    SimulatedClock simulated(plant.simulated_start_ns);
+    WallClock wall;
+    std::optional<std::int64_t> until;
+    if (plant.simulated_clock) {
+      if (const auto saved = scheduler::saved_clock_ns(state)) simulated.set_ns(*saved);
+      if (auto text = args.get("until")) {
+        until = parse_iso8601(*text);
+        if (!until) throw ArgError("--until: '" + *text + "' is not an ISO 8601 UTC time");
+      } else if (args.has("days")) {
+        const double days = args.get_double("days", 0);
+        if (!(days > 0)) throw ArgError("--days: must be > 0");
+        until = plant.simulated_start_ns + static_cast<std::int64_t>(days * kNsPerDay);
       }
+    } else if (args.has("days") || args.has("until")) {
+      throw ArgError("--days/--until need the plant's clock.mode: simulated");
     }
+    const Clock& clock = plant.simulated_clock ? static_cast<const Clock&>(simulated) : wall;
+    const double stall_s = args.get_double("stall-s", 30);
+    if (!(stall_s > 0)) throw ArgError("--stall-s: must be > 0");
 
     ncqual::dds::Service service({"scheduler", "",
-                          ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
-                          plant.qos_profiles_file});
+                                  ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                                  plant.qos_profiles_file});
     auto& p = service.participant();
     ncqual::dds::Writer<ncqual::dds::CheckRequestTopic> requests(p);
     ncqual::dds::Writer<ncqual::dds::MachineStatusTopic> statuses(p);
     ncqual::dds::Reader<ncqual::dds::CheckResultTopic> results(p);
     ncqual::dds::Reader<ncqual::dds::CheckCommandTopic> commands(p);
+    ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
 
-    scheduler::Scheduler sched(plant, service.clock(),
+    scheduler::Scheduler sched(plant, clock,
                                {[&](const CheckRequest& r) {
                                   if (!requests.write(r)) spdlog::error("{}: request not queued", r.request_id);
                                 },
-                                [&](const MachineStatus& s) { statuses.write(s); }});
+                                [&](const MachineStatus& s) { statuses.write(s); }},
+                               &state);
+    bool progress = false;
     service.dispatcher().on(results, [&](ncqual::dds::Received<CheckResult> in) {
+      progress = true;
       if (!in.error.empty()) {
         spdlog::error("result {} of '{}' ignored: {}", in.value.request_id, in.value.machine_id, in.error);
         return;
@@ -61,11 +110,68 @@ int main(int argc, char** argv) {
       sched.result(in.value);
     });
     service.dispatcher().on(commands, [&](ncqual::dds::Received<CheckCommand> in) {
+      progress = true;
       const std::string refused = in.error.empty() ? sched.command(in.value) : in.error;
       if (!refused.empty()) spdlog::error("check command {} refused: {}", in.value.request_id, refused);
     });
-    sched.start_cycle(cycle);
-    return service.run();
+    service.dispatcher().on(interventions, [&](ncqual::dds::Received<Intervention> in) {
+      progress = true;
+      const std::string refused = in.error.empty() ? sched.intervention(in.value) : in.error;
+      if (!refused.empty()) spdlog::warn("intervention {}: {}", in.value.intervention_id, refused);
+    });
+    sched.start(cycle);
+
+    if (!plant.simulated_clock) {
+      service.dispatcher().every(std::chrono::seconds(1), [&] { sched.tick(); });
+      return service.run();
+    }
+
+    // Simulated time: run the calendar as fast as the checks come back.
+    auto& d = service.dispatcher();
+    const auto stall = std::chrono::milliseconds(static_cast<std::int64_t>(stall_s * 1000));
+    int spins = 0;
+    while (!d.stopping()) {
+      sched.tick();
+      if (sched.idle()) {
+        const auto next = sched.next_event_ns();
+        if (until && (!next || *next > *until)) {
+          char buffer[32];
+          spdlog::info("simulated run complete at {}: nothing due before --until",
+                       format_iso8601(simulated.now_ns(), buffer));
+          sched.persist_clock();
+          break;
+        }
+        if (next && *next > simulated.now_ns()) {
+          simulated.set_ns(*next);
+          sched.persist_clock();
+          spins = 0;
+          continue;
+        }
+        // Nothing to jump to (no calendar) or a decision due now that took none: wait for the
+        // operator (commands, interventions) without spinning.
+        if (++spins > 2) {
+          progress = false;
+          d.run_until([&] { return progress; }, std::chrono::milliseconds(500));
+        }
+        continue;
+      }
+      spins = 0;
+      progress = false;
+      if (!d.run_until([&] { return progress; }, stall) && !d.stopping()) {
+        // No answer for a while: let simulated time run on to the next deadline (a timeout).
+        const auto next = sched.next_event_ns();
+        if (next && *next > simulated.now_ns()) {
+          spdlog::warn("no answer for {} s of wall time: simulated clock runs on to the next deadline",
+                       stall_s);
+          simulated.set_ns(*next);
+          sched.persist_clock();
+        }
+      }
+    }
+    return 0;
+  } catch (const ArgError& e) {
+    std::cerr << "ncqual-scheduler: " << e.what() << "\n";
+    return 2;
   } catch (const std::exception& e) {
     std::cerr << "ncqual-scheduler: " << e.what() << "\n";
     return 2;

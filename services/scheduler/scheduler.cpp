@@ -1,36 +1,362 @@
 #include "scheduler.hpp"
 
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include <chrono>
+#include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace ncqual::scheduler {
 
-Scheduler::Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outputs)
-    : plant_(plant), clock_(clock), out_(std::move(outputs)) {
-  for (const auto& m : plant_.machines) machines_[m.machine_id];
+namespace {
+
+constexpr std::size_t kRememberedInterventions = 64;
+constexpr std::int64_t kNsPerMinute = 60'000'000'000LL;
+
+std::string kind_list(const std::vector<CheckKind>& kinds) {
+  std::string out;
+  for (CheckKind k : kinds) out += (out.empty() ? "" : ", ") + std::string(to_string(k));
+  return out;
 }
 
-std::string Scheduler::next_request_id(const std::string& machine_id, CheckKind kind) {
-  // Unique across scheduler restarts: the clock's nanoseconds plus a per-process sequence.
-  return "sched-" + machine_id + "-" + std::string(to_string(kind)) + "-" +
-         std::to_string(clock_.now_ns()) + "-" + std::to_string(++sequence_);
+bool contains(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
 }
 
-void Scheduler::start_cycle(const std::vector<CheckKind>& kinds) {
-  for (auto& [id, run] : machines_) {
-    run.queue.assign(kinds.begin(), kinds.end());
-    if (run.queue.empty()) continue;
-    const CheckKind first = run.queue.front();
-    run.queue.pop_front();
-    issue(id, first, next_request_id(id, first), "scheduler");
+// "20260105T060000Z": the UTC time of issue inside request ids.
+std::string compact_time(std::int64_t t_ns) {
+  char buffer[32];
+  const std::string_view iso = format_iso8601(t_ns, buffer);
+  std::string out;
+  for (char c : iso.substr(0, 19)) {
+    if (c != '-' && c != ':') out += c;
+  }
+  return out + "Z";
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------------
+// State documents
+
+namespace {
+
+nlohmann::json values_json(const std::vector<NamedValue>& values) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& v : values) a.push_back({{"name", v.name}, {"value", v.value}, {"unit", v.unit}});
+  return a;
+}
+
+std::vector<NamedValue> values_from(const nlohmann::json& a) {
+  std::vector<NamedValue> out;
+  for (const auto& v : a) {
+    out.push_back({v.at("name").get<std::string>(), v.at("value").get<double>(),
+                   v.at("unit").get<std::string>()});
+  }
+  return out;
+}
+
+CheckKind kind_from(const nlohmann::json& j) {
+  const auto kind = parse_check_kind(j.get<std::string>());
+  if (!kind) throw std::invalid_argument("scheduler state: unknown check kind '" + j.get<std::string>() + "'");
+  return *kind;
+}
+
+}  // namespace
+
+std::string to_json(const MachineRun& run) {
+  nlohmann::json j;
+  nlohmann::json last = nlohmann::json::object();
+  for (const auto& [kind, t] : run.last_pass_ns) last[std::string(to_string(kind))] = t;
+  j["last_pass_ns"] = last;
+  nlohmann::json queue = nlohmann::json::array();
+  for (CheckKind k : run.queue) queue.push_back(std::string(to_string(k)));
+  j["queue"] = queue;
+  nlohmann::json pending = nlohmann::json::array();
+  for (const auto& p : run.pending) {
+    pending.push_back({{"request_ids", p.request_ids},
+                       {"kind", std::string(to_string(p.kind))},
+                       {"requested_by", p.requested_by},
+                       {"issued_ns", p.issued_ns},
+                       {"parameters", values_json(p.parameters)},
+                       {"verifies_correction_of", p.verifies_correction_of},
+                       {"in_sequence", p.in_sequence},
+                       {"rearmed", p.rearmed}});
+  }
+  j["pending"] = pending;
+  if (run.hold) {
+    j["hold"] = {{"kind", std::string(to_string(run.hold->kind))},
+                 {"request_id", run.hold->request_id},
+                 {"detail", run.hold->detail},
+                 {"rerun", std::string(to_string(run.hold->rerun))},
+                 {"parameters", values_json(run.hold->parameters)},
+                 {"in_sequence", run.hold->in_sequence}};
+  }
+  if (run.planned_shift_ns) j["planned_shift_ns"] = *run.planned_shift_ns;
+  if (run.next_part_ns) j["next_part_ns"] = *run.next_part_ns;
+  j["part_step"] = run.part_step;
+  j["local_time_ns"] = run.local_time_ns;
+  j["sequence"] = run.sequence;
+  j["interventions"] = run.interventions;
+  j["state"] = std::string(to_string(run.state));
+  j["detail"] = run.detail;
+  return j.dump();
+}
+
+MachineRun machine_run_from_json(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text);
+  MachineRun run;
+  for (const auto& [name, t] : j.at("last_pass_ns").items()) {
+    run.last_pass_ns[kind_from(nlohmann::json(name))] = t.get<std::int64_t>();
+  }
+  for (const auto& k : j.at("queue")) run.queue.push_back(kind_from(k));
+  for (const auto& p : j.at("pending")) {
+    PendingCheck c;
+    c.request_ids = p.at("request_ids").get<std::vector<std::string>>();
+    if (c.request_ids.empty()) throw std::invalid_argument("scheduler state: a pending check without request id");
+    c.kind = kind_from(p.at("kind"));
+    c.requested_by = p.at("requested_by").get<std::string>();
+    c.issued_ns = p.at("issued_ns").get<std::int64_t>();
+    c.parameters = values_from(p.at("parameters"));
+    c.verifies_correction_of = p.at("verifies_correction_of").get<std::string>();
+    c.in_sequence = p.at("in_sequence").get<bool>();
+    c.rearmed = p.at("rearmed").get<bool>();
+    run.pending.push_back(std::move(c));
+  }
+  if (j.contains("hold")) {
+    const auto& h = j.at("hold");
+    run.hold = Hold{kind_from(h.at("kind")), h.at("request_id").get<std::string>(),
+                    h.at("detail").get<std::string>(), kind_from(h.at("rerun")),
+                    values_from(h.at("parameters")), h.at("in_sequence").get<bool>()};
+  }
+  if (j.contains("planned_shift_ns")) run.planned_shift_ns = j.at("planned_shift_ns").get<std::int64_t>();
+  if (j.contains("next_part_ns")) run.next_part_ns = j.at("next_part_ns").get<std::int64_t>();
+  run.part_step = j.at("part_step").get<std::size_t>();
+  run.local_time_ns = j.at("local_time_ns").get<std::int64_t>();
+  run.sequence = j.at("sequence").get<std::uint64_t>();
+  run.interventions = j.at("interventions").get<std::vector<std::string>>();
+  const auto state = parse_machine_state(j.at("state").get<std::string>());
+  run.state = state.value_or(MachineState::Unknown);
+  run.detail = j.at("detail").get<std::string>();
+  return run;
+}
+
+std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file) {
+  const auto docs = file.load();
+  const auto it = docs.find("clock");
+  if (it == docs.end()) return std::nullopt;
+  return nlohmann::json::parse(it->second).at("now_ns").get<std::int64_t>();
+}
+
+// ------------------------------------------------------------------------------------------------
+
+Scheduler::Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outputs,
+                     storage::StateFile* state)
+    : plant_(plant), clock_(clock), out_(std::move(outputs)), state_file_(state) {
+  if (plant_.calendar) calendar_.emplace(*plant_.calendar);
+  for (const auto& m : plant_.machines) machines_[m.machine_id].config = &m;
+  if (!state_file_) return;
+  for (const auto& [key, doc] : state_file_->load()) {
+    try {
+      if (key.rfind("machine/", 0) == 0) {
+        auto it = machines_.find(key.substr(8));
+        if (it != machines_.end()) it->second.run = machine_run_from_json(doc);
+      } else if (key.rfind("fixture/", 0) == 0) {
+        rotation_[key.substr(8)] = nlohmann::json::parse(doc).at("next_configuration").get<int>();
+      }
+    } catch (const std::exception& e) {
+      // A document this version cannot read: say so and start that part afresh, never stop.
+      spdlog::error("scheduler state '{}' in {} ignored: {}", key, state_file_->path(), e.what());
+    }
   }
 }
 
-int Scheduler::fixture_configuration_for(std::int64_t time_ns) {
-  constexpr std::int64_t kWeekNs = std::chrono::nanoseconds(std::chrono::hours(24 * 7)).count();
-  const std::int64_t week = time_ns >= 0 ? time_ns / kWeekNs : (time_ns + 1) / kWeekNs - 1;
-  return static_cast<int>(((week % 10) + 10) % 10);
+std::int64_t Scheduler::now(const Machine& m) const {
+  const std::int64_t t = clock_.now_ns();
+  return plant_.simulated_clock ? std::max(t, m.run.local_time_ns) : t;
+}
+
+bool Scheduler::can_run(const Machine& m, CheckKind kind) const {
+  if (is_tracker_check(kind)) return m.config->global_check.has_value();
+  if (kind == CheckKind::FixturePreCalibration || kind == CheckKind::FixturePostCalibration) {
+    return m.config->fixture.has_value();
+  }
+  return true;
+}
+
+std::string Scheduler::request_id_for(Machine& m, CheckKind kind) {
+  return m.config->machine_id + "-" + std::string(to_string(kind)) + "-" + compact_time(now(m)) +
+         "-" + std::to_string(++m.run.sequence);
+}
+
+void Scheduler::start(const std::vector<CheckKind>& cycle) {
+  for (auto& [id, m] : machines_) {
+    // Whatever was pending when the last run stopped goes out again under the same id: an
+    // acquisition that already measured it ignores it, one that never got it measures now.
+    for (const auto& p : m.run.pending) {
+      outbox_requests_.push_back(CheckRequest{id, p.request_ids.back(), p.kind, p.requested_by,
+                                              p.issued_ns, static_cast<std::int32_t>(p.request_ids.size()),
+                                              p.parameters, p.verifies_correction_of});
+    }
+    if (!cycle.empty() && !m.run.hold) {
+      for (CheckKind k : cycle) {
+        if (std::find(m.run.queue.begin(), m.run.queue.end(), k) == m.run.queue.end()) m.run.queue.push_back(k);
+      }
+    }
+    // The state as stored, published again: a restarted scheduler tells everyone where it is.
+    outbox_statuses_.push_back(MachineStatus{id, "", m.run.state, std::nullopt, std::nullopt,
+                                             m.run.detail, now(m)});
+    advance(m);
+    update_state(m, "", std::nullopt, std::nullopt);
+    commit(m);
+  }
+}
+
+void Scheduler::tick() {
+  const CalendarConfig limits = calendar_ ? calendar_->config() : default_calendar_config();
+  const auto timeout = static_cast<std::int64_t>(std::llround(limits.check_timeout_min * kNsPerMinute));
+  for (auto& [id, m] : machines_) {
+    bool changed = false;
+    for (std::size_t i = 0; i < m.run.pending.size();) {
+      PendingCheck& p = m.run.pending[i];
+      if (now(m) >= p.issued_ns + timeout) {
+        const std::size_t before = m.run.pending.size();
+        retry_or_hold(m, p);
+        changed = true;
+        if (m.run.pending.size() < before) continue;  // removed: same index holds the next one
+      }
+      ++i;
+    }
+    const auto before = std::make_pair(m.run.pending.size(), m.run.planned_shift_ns);
+    advance(m);
+    update_state(m, "", std::nullopt, std::nullopt);
+    if (changed || before != std::make_pair(m.run.pending.size(), m.run.planned_shift_ns) ||
+        !outbox_statuses_.empty() || !outbox_requests_.empty()) {
+      commit(m);
+    }
+  }
+}
+
+void Scheduler::advance(Machine& m) {
+  MachineRun& run = m.run;
+  if (run.hold) return;
+  if (std::any_of(run.pending.begin(), run.pending.end(), [](const PendingCheck& p) { return p.in_sequence; })) {
+    return;
+  }
+  const std::int64_t t = now(m);
+  std::optional<ShiftSlot> shift;
+  if (calendar_) {
+    shift = calendar_->shift_at(t);
+    if (shift && run.planned_shift_ns != shift->start_ns) {
+      // A new shift: every period's due checks, in the configured order.
+      run.planned_shift_ns = shift->start_ns;
+      std::vector<CheckKind> planned;
+      for (const auto& period : calendar_->config().periods) {
+        for (CheckKind k : period.checks) {
+          const auto last = run.last_pass_ns.find(k);
+          const std::optional<std::int64_t> last_pass =
+              last == run.last_pass_ns.end() ? std::nullopt : std::optional(last->second);
+          if (can_run(m, k) && calendar_->due(period, last_pass, t) &&
+              std::find(run.queue.begin(), run.queue.end(), k) == run.queue.end()) {
+            run.queue.push_back(k);
+            planned.push_back(k);
+          }
+        }
+      }
+      run.part_step = 0;
+      run.next_part_ns.reset();
+      if (calendar_->config().parts.cycle_min > 0 && !calendar_->config().parts.checks.empty()) {
+        run.next_part_ns = t;
+      }
+      spdlog::info("{}: shift '{}' from {} planned: {}", m.config->machine_id, shift->name,
+                   calendar_->local_text(shift->start_ns),
+                   planned.empty() ? "no period check due" : kind_list(planned));
+    }
+  }
+  if (!run.queue.empty()) {
+    const CheckKind next = run.queue.front();
+    run.queue.pop_front();
+    issue(m, next, "scheduler", {}, "", true);
+    return;
+  }
+  if (shift && run.next_part_ns && *run.next_part_ns <= t && t < shift->end_ns) {
+    const auto& parts = calendar_->config().parts.checks;
+    const CheckKind next = parts[std::min(run.part_step, parts.size() - 1)];
+    issue(m, next, "scheduler: part", {}, "", true);
+  }
+}
+
+void Scheduler::add_fixture_configuration(Machine& m, CheckKind kind,
+                                          std::vector<NamedValue>& parameters) {
+  if (kind != CheckKind::FixturePreCalibration || !m.config->fixture ||
+      find_value(parameters, "fixture_configuration")) {
+    return;
+  }
+  // This week's configuration: the fixture's next in its rotation.
+  const FixtureConfig& f = *m.config->fixture;
+  const int count = std::max(1, f.precalibration_configuration_count());
+  int& next = rotation_[f.fixture_id];
+  const int k = ((next % count) + count) % count;
+  parameters.push_back({"fixture_configuration", static_cast<double>(k), ""});
+  next = (k + 1) % count;
+}
+
+void Scheduler::issue(Machine& m, CheckKind kind, const std::string& requested_by,
+                      std::vector<NamedValue> parameters, std::string verifies_correction_of,
+                      bool in_sequence, bool rearmed) {
+  const std::int64_t t = now(m);
+  add_fixture_configuration(m, kind, parameters);
+  const std::string id = request_id_for(m, kind);
+  PendingCheck p{{id}, kind, requested_by, t, parameters, verifies_correction_of, in_sequence, rearmed};
+  m.run.pending.push_back(p);
+  outbox_requests_.push_back(CheckRequest{m.config->machine_id, id, kind, requested_by, t, 1,
+                                          std::move(parameters), std::move(verifies_correction_of)});
+  spdlog::info("{}: requesting {} ({})", m.config->machine_id, to_string(kind), id);
+  update_state(m, id, kind, std::nullopt, std::string(to_string(kind)) + " requested by " + requested_by);
+}
+
+void Scheduler::retry_or_hold(Machine& m, PendingCheck& p) {
+  const CalendarConfig limits = calendar_ ? calendar_->config() : default_calendar_config();
+  const int attempts = static_cast<int>(p.request_ids.size());
+  const std::string late = p.request_ids.back();
+  if (attempts <= limits.retries) {
+    const std::string id = p.request_ids.front() + "-r" + std::to_string(attempts + 1);
+    p.request_ids.push_back(id);
+    p.issued_ns = now(m);
+    outbox_requests_.push_back(CheckRequest{m.config->machine_id, id, p.kind, p.requested_by,
+                                            p.issued_ns, attempts + 1, p.parameters,
+                                            p.verifies_correction_of});
+    spdlog::warn("{}: no result for {} ({}) after {} min; attempt {} as {}", m.config->machine_id,
+                 to_string(p.kind), late, limits.check_timeout_min, attempts + 1, id);
+    update_state(m, id, p.kind, std::nullopt,
+                 std::string(to_string(p.kind)) + ": no result for " + late + " after " +
+                     std::to_string(static_cast<int>(limits.check_timeout_min)) + " min; attempt " +
+                     std::to_string(attempts + 1) + " of " + std::to_string(limits.retries + 1));
+    return;
+  }
+  const PendingCheck lost = p;
+  m.run.pending.erase(std::find_if(m.run.pending.begin(), m.run.pending.end(),
+                                   [&](const PendingCheck& q) { return q.request_ids == lost.request_ids; }));
+  std::string ids;
+  for (const auto& id : lost.request_ids) ids += (ids.empty() ? "" : ", ") + id;
+  spdlog::error("{}: {} got no result after {} attempts ({})", m.config->machine_id,
+                to_string(lost.kind), attempts, ids);
+  hold(m, Hold{lost.kind, lost.request_ids.back(),
+               std::string(to_string(lost.kind)) + " MISSED: no measurement or result after " +
+                   std::to_string(attempts) + " attempts (" + ids +
+                   "); first likely cause: the acquisition service or the instrument of " +
+                   m.config->machine_id + " is down; next: restore it, then ncqual intervene --machine " +
+                   m.config->machine_id + " --check " + std::string(to_string(lost.kind)) +
+                   " --note \"...\"",
+               lost.kind, lost.parameters, lost.in_sequence});
+}
+
+void Scheduler::hold(Machine& m, Hold h) {
+  const std::string id = h.request_id;
+  const CheckKind kind = h.kind;
+  m.run.hold = std::move(h);
+  update_state(m, id, kind, Verdict::Fail);
 }
 
 std::string Scheduler::command(const CheckCommand& cmd) {
@@ -40,88 +366,241 @@ std::string Scheduler::command(const CheckCommand& cmd) {
            plant_.plant + "'";
   }
   if (cmd.request_id.empty()) return "CheckCommand.request_id is empty";
-  if (it->second.pending.count(cmd.request_id)) return "";  // a resent order: already issued
-  issue(cmd.machine_id, cmd.kind, cmd.request_id,
-        cmd.requested_by.empty() ? "operator" : cmd.requested_by, cmd.parameters);
-  return "";
-}
-
-void Scheduler::issue(const std::string& machine_id, CheckKind kind, const std::string& request_id,
-                      const std::string& requested_by, std::vector<NamedValue> parameters,
-                      std::string verifies_correction_of) {
-  auto& run = machines_[machine_id];
-  const std::int64_t now = clock_.now_ns();
-  if (kind == CheckKind::FixturePreCalibration &&
-      !find_value(parameters, "fixture_configuration")) {
-    parameters.push_back(
-        {"fixture_configuration", static_cast<double>(fixture_configuration_for(now)), ""});
+  Machine& m = it->second;
+  for (const auto& p : m.run.pending) {
+    if (contains(p.request_ids, cmd.request_id)) return "";  // a resent order: already issued
   }
-  CheckRequest req{machine_id, request_id, kind, requested_by, now, 1, std::move(parameters),
-                   std::move(verifies_correction_of)};
-  run.pending[request_id] = req;
-  spdlog::info("{}: requesting {} ({})", machine_id, to_string(kind), request_id);
-  out_.request(req);
-  publish(machine_id, request_id, MachineState::Checking, kind, std::nullopt,
-          std::string(to_string(kind)) + " requested by " + requested_by);
+  const std::int64_t t = now(m);
+  const std::string by = cmd.requested_by.empty() ? "operator" : cmd.requested_by;
+  PendingCheck p{{cmd.request_id}, cmd.kind, by, t, cmd.parameters, "", false, false};
+  add_fixture_configuration(m, cmd.kind, p.parameters);
+  m.run.pending.push_back(p);
+  outbox_requests_.push_back(
+      CheckRequest{cmd.machine_id, cmd.request_id, cmd.kind, by, t, 1, p.parameters, ""});
+  spdlog::info("{}: requesting {} ({}) for {}", cmd.machine_id, to_string(cmd.kind), cmd.request_id, by);
+  update_state(m, cmd.request_id, cmd.kind, std::nullopt,
+               std::string(to_string(cmd.kind)) + " requested by " + by);
+  commit(m);
+  return "";
 }
 
 void Scheduler::result(const CheckResult& res) {
   auto it = machines_.find(res.machine_id);
   if (it == machines_.end()) return;
-  auto& run = it->second;
-  auto p = run.pending.find(res.request_id);
-  if (p == run.pending.end()) return;  // not ours, or already handled
-  const CheckRequest issued = p->second;
-  run.pending.erase(p);
+  Machine& m = it->second;
+  auto p = std::find_if(m.run.pending.begin(), m.run.pending.end(),
+                        [&](const PendingCheck& q) { return contains(q.request_ids, res.request_id); });
+  if (p == m.run.pending.end()) return;  // not ours, or already handled
+  const PendingCheck done = *p;
+  m.run.pending.erase(p);
+  if (plant_.simulated_clock) m.run.local_time_ns = std::max(m.run.local_time_ns, res.time_ns);
+  const std::int64_t t = now(m);
   if (res.verdict == Verdict::Pass) {
-    issue_next(res.machine_id, res);
+    const std::int64_t when = res.time_ns > 0 ? res.time_ns : t;
+    m.run.last_pass_ns[res.kind] = when;
+    if (res.kind == CheckKind::FixturePostCalibration) {
+      // The loop ended in a pass: the week's fixture check is done.
+      m.run.last_pass_ns[CheckKind::FixturePreCalibration] = when;
+    }
+    if (calendar_ && done.in_sequence) {
+      const auto& parts = calendar_->config().parts.checks;
+      if (std::find(parts.begin(), parts.end(), res.kind) != parts.end() && m.run.next_part_ns) {
+        if (++m.run.part_step >= parts.size()) {
+          m.run.part_step = 0;
+          m.run.next_part_ns =
+              t + static_cast<std::int64_t>(std::llround(calendar_->config().parts.cycle_min * kNsPerMinute));
+        }
+      }
+    }
+    update_state(m, res.request_id, res.kind, res.verdict,
+                 std::string(to_string(res.kind)) + " passed");
+    advance(m);
+    commit(m);
     return;
   }
   // The fixture loop: a pre-calibration out of tolerance issues zero offsets (the solver
-  // publishes them as a Compensation for the fixture's control unit); a post-calibration over
-  // several configurations then decides whether software correction was enough.
-  if (res.kind == CheckKind::FixturePreCalibration && res.verdict == Verdict::Fail &&
-      res.correction) {
-    const CheckKind post = CheckKind::FixturePostCalibration;
+  // publishes them as a Compensation for the fixture's control unit); a post-calibration of the
+  // same configuration then decides whether software correction was enough.
+  if (res.kind == CheckKind::FixturePreCalibration && res.verdict == Verdict::Fail && res.correction) {
     spdlog::info("{}: {} issued zero offsets for {}; verifying them", res.machine_id,
                  res.request_id, res.correction->target);
-    // The post-calibration probes the rows of the pre-calibration's configuration.
-    issue(res.machine_id, post, next_request_id(res.machine_id, post), "scheduler",
-          issued.parameters, res.request_id);
+    issue(m, CheckKind::FixturePostCalibration, "scheduler", done.parameters, res.request_id,
+          done.in_sequence);
+    commit(m);
     return;
   }
   // A failed or invalid check stops the checks after it and holds the machine.
-  run.queue.clear();
   std::string detail = std::string(to_string(res.kind)) + " " + std::string(to_string(res.verdict));
   if (!res.likely_causes.empty()) detail += "; first likely cause: " + res.likely_causes.front();
   if (!res.reason.empty()) detail += "; " + res.reason;
-  publish(res.machine_id, res.request_id, MachineState::NeedsIntervention, res.kind, res.verdict,
-          detail);
+  const bool postcal = res.kind == CheckKind::FixturePostCalibration;
+  detail += "; next: " +
+            std::string(res.likely_causes.empty() ? "investigate" : "investigate the causes in order") +
+            ", then ncqual intervene --machine " + res.machine_id + " --check " +
+            std::string(to_string(res.kind)) + " --note \"...\"" +
+            (postcal ? " (re-runs the fixture pre-calibration)" : " (re-runs the check)");
+  std::vector<NamedValue> parameters = done.parameters;
+  hold(m, Hold{res.kind, res.request_id, detail,
+               postcal ? CheckKind::FixturePreCalibration : res.kind, parameters, done.in_sequence});
+  commit(m);
 }
 
-void Scheduler::issue_next(const std::string& machine_id, const CheckResult& passed) {
-  auto& run = machines_[machine_id];
-  if (!run.queue.empty()) {
-    const CheckKind next = run.queue.front();
-    run.queue.pop_front();
-    issue(machine_id, next, next_request_id(machine_id, next), "scheduler");
-    return;
+std::string Scheduler::intervention(const Intervention& iv) {
+  auto it = machines_.find(iv.machine_id);
+  if (it == machines_.end()) {
+    return "Intervention.machine_id '" + iv.machine_id + "' is not configured in plant '" + plant_.plant + "'";
   }
-  publish(machine_id, passed.request_id, MachineState::Qualified, passed.kind, passed.verdict,
-          std::string(to_string(passed.kind)) + " passed");
+  Machine& m = it->second;
+  if (iv.intervention_id.empty()) return "Intervention.intervention_id is empty";
+  if (contains(m.run.interventions, iv.intervention_id)) return "";  // redelivered
+  if (!m.run.hold) {
+    return "Intervention.kind '" + std::string(to_string(iv.kind)) + "': machine '" + iv.machine_id +
+           "' is not held; nothing to re-arm (the intervention is recorded by the historian)";
+  }
+  const Hold h = *m.run.hold;
+  const bool matches = iv.kind == h.kind || (h.kind == CheckKind::FixturePostCalibration &&
+                                             iv.kind == CheckKind::FixturePreCalibration);
+  if (!matches) {
+    return "Intervention.kind '" + std::string(to_string(iv.kind)) + "' does not match the held check '" +
+           std::string(to_string(h.kind)) + "' of machine '" + iv.machine_id + "'";
+  }
+  m.run.interventions.push_back(iv.intervention_id);
+  if (m.run.interventions.size() > kRememberedInterventions) m.run.interventions.erase(m.run.interventions.begin());
+  m.run.hold.reset();
+  spdlog::info("{}: intervention {} re-arms {}: {}", iv.machine_id, iv.intervention_id,
+               to_string(h.rerun), iv.note);
+  issue(m, h.rerun, "intervention:" + iv.intervention_id, h.parameters, "", h.in_sequence, true);
+  commit(m);
+  return "";
 }
 
-void Scheduler::publish(const std::string& machine_id, const std::string& request_id,
-                        MachineState state, std::optional<CheckKind> kind,
-                        std::optional<Verdict> verdict, std::string detail) {
-  machines_[machine_id].state = state;
-  out_.status(MachineStatus{machine_id, request_id, state, kind, verdict, std::move(detail),
-                            clock_.now_ns()});
+void Scheduler::update_state(Machine& m, const std::string& request_id, std::optional<CheckKind> kind,
+                             std::optional<Verdict> verdict, std::string detail_if_changed) {
+  MachineRun& run = m.run;
+  MachineState state = MachineState::Qualified;
+  std::string detail;
+  const std::int64_t t = now(m);
+  if (run.hold) {
+    state = MachineState::NeedsIntervention;
+    detail = run.hold->detail;
+  } else if (!run.pending.empty()) {
+    state = MachineState::Checking;
+    detail = detail_if_changed.empty() ? run.detail : detail_if_changed;
+  } else if (calendar_) {
+    std::vector<CheckKind> overdue, never;
+    for (const auto& period : calendar_->config().periods) {
+      for (CheckKind k : period.checks) {
+        if (!can_run(m, k)) continue;
+        const auto last = run.last_pass_ns.find(k);
+        const std::optional<std::int64_t> last_pass =
+            last == run.last_pass_ns.end() ? std::nullopt : std::optional(last->second);
+        if (calendar_->overdue(period, last_pass, t)) {
+          overdue.push_back(k);
+        } else if (!last_pass) {
+          never.push_back(k);
+        }
+      }
+    }
+    if (!overdue.empty()) {
+      state = MachineState::Overdue;
+      detail = "overdue: " + kind_list(overdue);
+    } else if (!never.empty()) {
+      state = MachineState::Unknown;
+      detail = "not yet checked: " + kind_list(never);
+    } else {
+      detail = "every period's checks current";
+    }
+  } else if (run.last_pass_ns.empty()) {
+    state = MachineState::Unknown;
+    detail = "no check yet";
+  } else {
+    detail = detail_if_changed.empty() ? run.detail : detail_if_changed;
+  }
+  if (state == run.state && detail == run.detail) return;
+  run.state = state;
+  run.detail = detail;
+  outbox_statuses_.push_back(MachineStatus{m.config->machine_id, request_id, state, kind, verdict, detail, t});
+}
+
+void Scheduler::commit(Machine& m) {
+  if (state_file_) {
+    std::map<std::string, std::string> docs;
+    docs["machine/" + m.config->machine_id] = to_json(m.run);
+    for (const auto& [fixture, next] : rotation_) {
+      docs["fixture/" + fixture] = nlohmann::json{{"next_configuration", next}}.dump();
+    }
+    if (plant_.simulated_clock) docs["clock"] = nlohmann::json{{"now_ns", clock_.now_ns()}}.dump();
+    try {
+      state_file_->save(docs);
+    } catch (const std::exception& e) {
+      // The plant keeps running; a restart would then redo this decision.
+      spdlog::error("{}: scheduler state not saved to {}: {}", m.config->machine_id,
+                    state_file_->path(), e.what());
+    }
+  }
+  auto requests = std::move(outbox_requests_);
+  auto statuses = std::move(outbox_statuses_);
+  outbox_requests_.clear();
+  outbox_statuses_.clear();
+  for (const auto& r : requests) out_.request(r);
+  for (const auto& s : statuses) out_.status(s);
+}
+
+void Scheduler::persist_clock() {
+  if (!state_file_ || !plant_.simulated_clock) return;
+  try {
+    state_file_->save({{"clock", nlohmann::json{{"now_ns", clock_.now_ns()}}.dump()}});
+  } catch (const std::exception& e) {
+    spdlog::error("scheduler clock not saved to {}: {}", state_file_->path(), e.what());
+  }
+}
+
+bool Scheduler::idle() const {
+  return std::all_of(machines_.begin(), machines_.end(),
+                     [](const auto& kv) { return kv.second.run.pending.empty(); });
+}
+
+std::optional<std::int64_t> Scheduler::next_event_ns() const {
+  const CalendarConfig limits = calendar_ ? calendar_->config() : default_calendar_config();
+  const auto timeout = static_cast<std::int64_t>(std::llround(limits.check_timeout_min * kNsPerMinute));
+  std::optional<std::int64_t> best;
+  const auto consider = [&](std::int64_t t) {
+    if (!best || t < *best) best = t;
+  };
+  for (const auto& [id, m] : machines_) {
+    const MachineRun& run = m.run;
+    for (const auto& p : run.pending) consider(p.issued_ns + timeout);
+    if (run.hold) continue;
+    if (std::any_of(run.pending.begin(), run.pending.end(), [](const PendingCheck& p) { return p.in_sequence; })) {
+      continue;
+    }
+    const std::int64_t t = now(m);
+    if (!run.queue.empty()) {
+      consider(t);
+      continue;
+    }
+    if (!calendar_) continue;
+    const auto shift = calendar_->shift_at(t);
+    if (shift && run.planned_shift_ns != shift->start_ns) {
+      consider(t);
+      continue;
+    }
+    if (shift && run.next_part_ns && *run.next_part_ns < shift->end_ns) {
+      consider(std::max(t, *run.next_part_ns));
+    }
+    if (const auto next = calendar_->next_shift_after(t)) consider(next->start_ns);
+  }
+  return best;
 }
 
 MachineState Scheduler::state(const std::string& machine_id) const {
   auto it = machines_.find(machine_id);
-  return it == machines_.end() ? MachineState::Unknown : it->second.state;
+  return it == machines_.end() ? MachineState::Unknown : it->second.run.state;
+}
+
+const MachineRun* Scheduler::run(const std::string& machine_id) const {
+  auto it = machines_.find(machine_id);
+  return it == machines_.end() ? nullptr : &it->second.run;
 }
 
 }  // namespace ncqual::scheduler

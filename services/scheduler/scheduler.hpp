@@ -1,20 +1,96 @@
-// The scheduler's decisions, apart from DDS: which CheckRequest to issue next for each
-// machine, and what a result means for the machine's status. For now: a sequence of checks per
-// machine at start-up (a failure stops the checks after it), operator orders, and the fixture
-// loop (a pre-calibration that fails with zero offsets is followed by a post-calibration that
-// verifies them). The full calendar (shifts, periods, interventions) builds on this.
+// The scheduler's decisions, apart from DDS: the qualification flowchart per machine.
+//
+// With a calendar (plant config scheduler.calendar), per machine:
+//   - at the start of each shift: the checks of every period that is due (calendar.hpp), period
+//     by period in the configured order (default: monthly, weekly, daily), each period's checks in
+//     order; then, when calendar.parts.cycle_min > 0, per part its checks (the set points), the
+//     next part cycle_min after the part's checks passed, until the end of the shift;
+//   - gating: a FAIL or INVALID holds the machine (NEEDS_INTERVENTION, with the failed check, its
+//     first likely cause and what to do next) and stops the checks after it; an Intervention for
+//     the held check re-arms it: it runs again at once and the sequence resumes from there;
+//   - the fixture loop: a pre-calibration that fails with zero offsets is followed by a
+//     post-calibration of the same configuration that verifies them; its PASS satisfies the
+//     weekly check, its FAIL holds the machine (an intervention re-arms the loop from the
+//     pre-calibration: the physical fix is checked like a new week);
+//   - the weekly configuration rotation: each fixture's next configuration (0..2n-1) is kept
+//     in the durable state and advances when a pre-calibration is first issued, not on re-arms;
+//   - timeouts: a check with no result after calendar.check_timeout_min is issued again under a
+//     new request id (<id>-r2, -r3, ...) at most calendar.retries times, then it holds the
+//     machine ("no result ..."): reported in the status (and so in the historian), never dropped.
+//     A late result of an earlier attempt still completes the check;
+//   - status: NEEDS_INTERVENTION when held, CHECKING while a check runs, OVERDUE when a period's
+//     check is overdue (calendar.hpp), UNKNOWN before every period has passed once, else
+//     QUALIFIED.
+// Without a calendar: start() runs the given checks once per machine, in order (the first
+// failure holds the machine, interventions re-arm it), then the machine is QUALIFIED.
+// Operator orders (CheckCommand) run at once beside the sequence; their verdicts count like any.
+//
+// Durable state: every decision is written to the state file (storage::StateFile) before any
+// request or status leaves, so a kill at any point either loses the decision (it is taken again
+// after the restart) or keeps it (its requests are sent again: the acquisition ignores a request
+// id it has already performed). Request ids are <machine>-<kind>-<UTC time of issue>-<n> with n
+// counted per machine in the state, so a restarted scheduler issues the same ids as one that was
+// never stopped.
+//
+// Time: with the wall clock, now is the clock's. With a simulated clock (PlantConfig::
+// simulated_clock) each machine has its own time: the later of the shared clock and the time of
+// its newest result (the instrument's work takes simulated time), so one machine's sequence does
+// not depend on when another machine's results arrive; the service moves the shared clock to
+// next_event_ns() whenever idle().
 #pragma once
 
+#include "ncqual/calendar.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/model.hpp"
+#include "ncqual/state_file.hpp"
 
 #include <deque>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
+#include <vector>
 
 namespace ncqual::scheduler {
+
+// A check that was issued and has no result yet.
+struct PendingCheck {
+  std::vector<std::string> request_ids;  // every attempt's id; back() is the current attempt
+  CheckKind kind = CheckKind::MonumentPositioning;
+  std::string requested_by;
+  std::int64_t issued_ns = 0;  // of the current attempt
+  std::vector<NamedValue> parameters;
+  std::string verifies_correction_of;
+  bool in_sequence = true;     // false for an operator's order
+  bool rearmed = false;        // issued again after an intervention
+};
+
+// What holds a machine out of production until an intervention.
+struct Hold {
+  CheckKind kind = CheckKind::MonumentPositioning;  // the check an intervention must name
+  std::string request_id;
+  std::string detail;  // the failed check, its verdict, first likely cause, next step
+  CheckKind rerun = CheckKind::MonumentPositioning;  // what runs when it is re-armed
+  std::vector<NamedValue> parameters;                // with these parameters
+  bool in_sequence = true;
+};
+
+// Everything the scheduler knows about one machine; persisted as one document.
+struct MachineRun {
+  std::map<CheckKind, std::int64_t> last_pass_ns;  // newest PASS of each kind (result time)
+  std::deque<CheckKind> queue;                      // the rest of this shift's period checks
+  std::vector<PendingCheck> pending;
+  std::optional<Hold> hold;
+  std::optional<std::int64_t> planned_shift_ns;     // start of the shift already planned
+  std::optional<std::int64_t> next_part_ns;         // when the next part's checks start
+  std::size_t part_step = 0;                        // next of calendar.parts.checks in a part
+  std::int64_t local_time_ns = 0;                   // simulated clock: newest result time
+  std::uint64_t sequence = 0;                       // request ids issued
+  std::vector<std::string> interventions;           // ids applied (newest 64)
+  MachineState state = MachineState::Unknown;
+  std::string detail;
+};
 
 class Scheduler {
  public:
@@ -23,41 +99,77 @@ class Scheduler {
     std::function<void(const MachineStatus&)> status;
   };
 
-  Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outputs);
+  // Loads the machines' state from `state` when given (nullptr: in memory only). Machines in the
+  // state file that the plant no longer configures are kept in the file, not scheduled.
+  Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outputs,
+            storage::StateFile* state = nullptr);
 
-  // Queues `kinds` for every configured machine, in order, and issues the first of each.
-  void start_cycle(const std::vector<CheckKind>& kinds);
+  // Sends again what the state says is pending, publishes every machine's status, queues
+  // `cycle` (without a calendar; with one, only when not empty: an explicit extra sequence) and
+  // takes the first decisions.
+  void start(const std::vector<CheckKind>& cycle);
+  // Takes the decisions the time calls for: shift starts, parts, timeouts and retries.
+  void tick();
+
   // An operator's order. Returns an empty string, or why it was refused (naming the field).
   std::string command(const CheckCommand& cmd);
   // A result from the solver. Results of requests this scheduler did not issue are ignored.
   void result(const CheckResult& res);
+  // A recorded intervention: re-arms the machine's held check when it names it. Returns an
+  // empty string, or why it changed nothing (naming the field).
+  std::string intervention(const Intervention& iv);
+
+  // True when no check of any machine is waiting for a result.
+  bool idle() const;
+  // The earliest time a decision falls due (a shift start, a part, a timeout); nothing when
+  // nothing ever will (no calendar, nothing pending).
+  std::optional<std::int64_t> next_event_ns() const;
+  // The simulated clock's value to keep (the shared clock, persisted with every decision).
+  void persist_clock();
 
   MachineState state(const std::string& machine_id) const;
-
-  // Which of the ten weekly fixture configurations a pre-calibration at `time_ns` probes: the
-  // week number since the Unix epoch, modulo 10. (Until the scheduler keeps durable state, the
-  // rotation follows the calendar, so a restart does not repeat a configuration.)
-  static int fixture_configuration_for(std::int64_t time_ns);
+  const MachineRun* run(const std::string& machine_id) const;
+  // Each fixture's next pre-calibration configuration (by fixture_id).
+  const std::map<std::string, int>& fixture_rotation() const { return rotation_; }
 
  private:
-  struct MachineRun {
-    std::deque<CheckKind> queue;        // checks still to run in this cycle
-    std::map<std::string, CheckRequest> pending;  // request id -> the request issued
-    MachineState state = MachineState::Unknown;
+  struct Machine {
+    const MachineConfig* config = nullptr;
+    MachineRun run;
   };
-  void issue(const std::string& machine_id, CheckKind kind, const std::string& request_id,
-             const std::string& requested_by, std::vector<NamedValue> parameters = {},
-             std::string verifies_correction_of = "");
-  void issue_next(const std::string& machine_id, const CheckResult& passed);
-  void publish(const std::string& machine_id, const std::string& request_id, MachineState state,
-               std::optional<CheckKind> kind, std::optional<Verdict> verdict, std::string detail);
-  std::string next_request_id(const std::string& machine_id, CheckKind kind);
+
+  std::int64_t now(const Machine& m) const;
+  void advance(Machine& m);
+  void issue(Machine& m, CheckKind kind, const std::string& requested_by,
+             std::vector<NamedValue> parameters, std::string verifies_correction_of,
+             bool in_sequence, bool rearmed = false);
+  // A pre-calibration without an explicit configuration takes its fixture's next one.
+  void add_fixture_configuration(Machine& m, CheckKind kind, std::vector<NamedValue>& parameters);
+  void retry_or_hold(Machine& m, PendingCheck& p);
+  void hold(Machine& m, Hold h);
+  void update_state(Machine& m, const std::string& request_id, std::optional<CheckKind> kind,
+                    std::optional<Verdict> verdict, std::string detail_if_changed = "");
+  bool can_run(const Machine& m, CheckKind kind) const;
+  std::string request_id_for(Machine& m, CheckKind kind);
+  // Writes the state, then sends what the decision produced.
+  void commit(Machine& m);
 
   const PlantConfig& plant_;
   const Clock& clock_;
   Outputs out_;
-  std::map<std::string, MachineRun> machines_;
-  std::uint64_t sequence_ = 0;
+  storage::StateFile* state_file_;
+  std::optional<Calendar> calendar_;
+  std::map<std::string, Machine> machines_;
+  std::map<std::string, int> rotation_;
+  std::vector<CheckRequest> outbox_requests_;
+  std::vector<MachineStatus> outbox_statuses_;
 };
+
+// The simulated clock a previous run kept in the state file, if any.
+std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file);
+
+// The state documents, for the state file and for tests (round trip).
+std::string to_json(const MachineRun& run);
+MachineRun machine_run_from_json(const std::string& json);
 
 }  // namespace ncqual::scheduler

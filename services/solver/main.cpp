@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
         spdlog::debug("{} {}: already solved, ignored", set.machine_id, set.request_id);
         return;
       }
+      // On a simulated clock a result is stamped with its measurement's time (judging takes no
+      // simulated time); on the wall clock, now.
+      const std::int64_t now = plant.simulated_clock ? set.time_ns : service.clock().now_ns();
       CheckResult result;
       if (!in.error.empty()) {
         // A malformed sample still gets an answer, so the scheduler is never left waiting.
@@ -70,9 +73,9 @@ int main(int argc, char** argv) {
         result.kind = set.kind;
         result.verdict = Verdict::Invalid;
         result.reason = in.error;
-        result.time_ns = service.clock().now_ns();
+        result.time_ns = now;
       } else {
-        result = solver::solve(set, plant, service.clock().now_ns());
+        result = solver::solve(set, plant, now);
       }
       spdlog::info("{} {} {}: {}{}", result.machine_id, result.request_id, to_string(result.kind),
                    to_string(result.verdict), result.reason.empty() ? "" : " (" + result.reason + ")");

@@ -172,6 +172,9 @@ constexpr Sql kSelectResultOffsets{
 constexpr Sql kCountResults{"count results", "SELECT count(*) FROM results"};
 constexpr Sql kCountResultsOfMachine{"count results of machine",
                                      "SELECT count(*) FROM results WHERE machine_id = ?1"};
+constexpr Sql kLastPass{"last pass",
+                        "SELECT max(time_ns) FROM results "
+                        "WHERE machine_id = ?1 AND kind = ?2 AND verdict = 'PASS'"};
 constexpr Sql kSelectMachines{"select machines",
                               "SELECT machine_id FROM machines ORDER BY machine_id"};
 constexpr Sql kSelectMachine{
@@ -807,6 +810,13 @@ std::optional<MachineRecord> Database::machine(const std::string& machine_id) {
   q.bind(machine_id);
   if (!q.step()) return std::nullopt;
   return MachineRecord{machine_id, q.int64(0), q.int64(1)};
+}
+
+std::optional<std::int64_t> Database::last_pass_ns(const std::string& machine_id, CheckKind kind) {
+  Query q(impl_->statements, kLastPass);
+  q.bind(machine_id, static_cast<std::int64_t>(kind));
+  if (!q.step() || q.is_null(0)) return std::nullopt;
+  return q.int64(0);
 }
 
 std::optional<MachineStatus> Database::latest_status(const std::string& machine_id) {

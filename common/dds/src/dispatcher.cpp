@@ -73,6 +73,8 @@ bool Dispatcher::run_until(const std::function<bool()>& done, std::chrono::milli
 
 void Dispatcher::stop() { stop_.set_trigger_value(true); }
 
+bool Dispatcher::stopping() const { return stop_.get_trigger_value(); }
+
 void handle_termination_signals(std::function<void(int)> on_signal) {
   sigset_t set;
   sigemptyset(&set);

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 namespace ncqual {
@@ -34,5 +35,9 @@ class SimulatedClock final : public Clock {
 
 // ISO 8601 UTC text of a time, e.g. "2026-11-22T18:16:22.123Z".
 std::string_view format_iso8601(std::int64_t time_ns, char (&buffer)[32]);
+
+// The time of an ISO 8601 UTC text "YYYY-MM-DDTHH:MM[:SS[.fff]]Z" (also with a space for the T);
+// nothing when the text is not such a time.
+std::optional<std::int64_t> parse_iso8601(std::string_view text);
 
 }  // namespace ncqual

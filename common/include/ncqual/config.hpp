@@ -5,6 +5,7 @@
 // mm and rad. Errors name the file, the key and the value.
 #pragma once
 
+#include "ncqual/calendar.hpp"
 #include "ncqual/fixture.hpp"
 #include "ncqual/global_check.hpp"
 #include "ncqual/kinematics.hpp"
@@ -84,8 +85,22 @@ struct PlantConfig {
   std::string qos_profiles_file;   // absolute, or empty for the built-in default search
   std::string historian_database;  // absolute
   std::vector<MachineConfig> machines;
-  // Checks the scheduler runs for every machine when it starts, in order (scheduler.startup_checks).
+  // Without a calendar: the checks the scheduler runs for every machine when it starts, in order
+  // (scheduler.startup_checks), once.
   std::vector<CheckKind> startup_checks{CheckKind::MonumentPositioning};
+  // With one (scheduler.calendar): the plant's shifts and periods; the scheduler runs them.
+  std::optional<CalendarConfig> calendar;
+  // The scheduler's durable state (scheduler.state_database, absolute): what passed when, what is
+  // pending, which check holds a machine, each fixture's next configuration. Default: beside the
+  // historian's database, "scheduler.db".
+  std::string scheduler_state_database;
+  // clock.mode: wall (services run on the wall clock) or simulated: the scheduler owns a simulated
+  // clock that starts at clock.start (an ISO 8601 UTC time, the first time; it is then kept in the
+  // state database) and jumps to the next thing due whenever nothing is pending; the acquisition
+  // and the solver stamp their samples with the time of the request they answer. The demo and
+  // the tests run weeks of shifts this way in seconds.
+  bool simulated_clock = false;
+  std::int64_t simulated_start_ns = 0;
 
   const MachineConfig* find_machine(const std::string& machine_id) const;
 };

@@ -129,6 +129,8 @@ class Database {
   // The measurement set with every touch and tracker point, exactly as stored.
   std::optional<MeasurementSet> load_measurement_set(const std::string& request_id);
   std::int64_t count_results(std::optional<std::string> machine_id = {});
+  // Result time of the machine's newest PASS of `kind`, if any.
+  std::optional<std::int64_t> last_pass_ns(const std::string& machine_id, CheckKind kind);
   // Every machine ever seen, sorted by id.
   std::vector<std::string> machines();
   std::optional<MachineRecord> machine(const std::string& machine_id);

@@ -23,6 +23,13 @@ PlantConfig two_machines() {
   return p;
 }
 
+FixtureConfig fixture(const std::string& id) {
+  FixtureConfig f;
+  f.fixture_id = id;
+  f.z_planes_mm = {0, 152.4, 304.8, 457.2, 609.6};  // five planes: ten configurations
+  return f;
+}
+
 CheckResult result_of(const CheckRequest& r, Verdict v, std::vector<std::string> causes = {}) {
   CheckResult res;
   res.machine_id = r.machine_id;
@@ -38,7 +45,7 @@ TEST(Scheduler, RunsTheCycleInOrderAndAFailureStopsTheRest) {
   SimulatedClock clock(1'000'000'000);
   Recorder rec;
   Scheduler s(plant, clock, rec.outputs());
-  s.start_cycle({CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
+  s.start({CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
                  CheckKind::MonumentPositioning});
   ASSERT_EQ(rec.requests.size(), 2u);  // the first check of each machine, nothing more yet
   EXPECT_EQ(rec.requests[0].kind, CheckKind::MonumentCAlignment);
@@ -88,17 +95,17 @@ TEST(Scheduler, OperatorCommandsAreValidated) {
 TEST(Scheduler, FixturePreCalibrationFailureWithZeroOffsetsIsVerifiedByAPostCalibration) {
   PlantConfig plant = two_machines();
   plant.machines.resize(1);
-  const std::int64_t week = 7LL * 24 * 3600 * 1'000'000'000;
-  SimulatedClock clock(2923 * week + 5);  // week 2923: configuration 3
+  plant.machines[0].fixture = fixture("UHF1");
+  SimulatedClock clock(5);
   Recorder rec;
   Scheduler s(plant, clock, rec.outputs());
-  s.start_cycle({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
+  s.start({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
   ASSERT_EQ(rec.requests.size(), 1u);
   const CheckRequest pre = rec.requests[0];
   EXPECT_EQ(pre.kind, CheckKind::FixturePreCalibration);
   const NamedValue* cfg = find_value(pre.parameters, "fixture_configuration");
   ASSERT_NE(cfg, nullptr);
-  EXPECT_EQ(cfg->value, 3);
+  EXPECT_EQ(cfg->value, 0);  // a fixture never checked starts its rotation at 0
 
   CheckResult failed = result_of(pre, Verdict::Fail, {"fixture zero positions drifted"});
   failed.correction = Correction{"fixture:UHF1", {{"C1R1.dx_mm", 0.03, "mm"}}};
@@ -108,7 +115,7 @@ TEST(Scheduler, FixturePreCalibrationFailureWithZeroOffsetsIsVerifiedByAPostCali
   EXPECT_EQ(post.kind, CheckKind::FixturePostCalibration);
   EXPECT_EQ(post.verifies_correction_of, pre.request_id);
   ASSERT_NE(find_value(post.parameters, "fixture_configuration"), nullptr);
-  EXPECT_EQ(find_value(post.parameters, "fixture_configuration")->value, 3);
+  EXPECT_EQ(find_value(post.parameters, "fixture_configuration")->value, 0);
   EXPECT_NE(s.state("m1"), MachineState::NeedsIntervention);
 
   // The correction held: the cycle goes on with the daily checks.
@@ -123,7 +130,7 @@ TEST(Scheduler, FailedPostCalibrationOrPreCalibrationWithoutOffsetsHoldsTheMachi
   SimulatedClock clock(1'000);
   Recorder rec;
   Scheduler s(plant, clock, rec.outputs());
-  s.start_cycle({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
+  s.start({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
   CheckResult failed = result_of(rec.requests[0], Verdict::Fail);
   failed.correction = Correction{"fixture:UHF1", {}};
   s.result(failed);
@@ -139,18 +146,10 @@ TEST(Scheduler, FailedPostCalibrationOrPreCalibrationWithoutOffsetsHoldsTheMachi
   // An INVALID pre-calibration (no offsets) is no correction loop: it holds the machine.
   Recorder rec2;
   Scheduler s2(plant, clock, rec2.outputs());
-  s2.start_cycle({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
+  s2.start({CheckKind::FixturePreCalibration, CheckKind::MonumentCAlignment});
   s2.result(result_of(rec2.requests[0], Verdict::Invalid));
   EXPECT_EQ(rec2.requests.size(), 1u);
   EXPECT_EQ(s2.state("m1"), MachineState::NeedsIntervention);
-}
-
-TEST(Scheduler, FixtureConfigurationRotatesWeeklyThroughTen) {
-  const std::int64_t week = 7LL * 24 * 3600 * 1'000'000'000;
-  for (int w = 0; w < 25; ++w) {
-    EXPECT_EQ(Scheduler::fixture_configuration_for(w * week + week / 2), w % 10);
-  }
-  EXPECT_EQ(Scheduler::fixture_configuration_for(-1), 9);
 }
 
 }  // namespace

@@ -37,6 +37,8 @@ class Dispatcher {
   bool run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout);
   // Thread-safe; wakes run() and makes it return.
   void stop();
+  // True once stop() was called (a signal, or the service's own decision).
+  bool stopping() const;
 
  private:
   struct Entry {

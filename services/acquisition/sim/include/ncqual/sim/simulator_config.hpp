@@ -175,4 +175,9 @@ struct SimulatorConfig {
 // `fixture:` needs the machine's own `fixture:` section, and its pogo labels must name pogos of it.
 SimulatorConfig parse_simulator_config(const MachineConfig& machine);
 
+// How long the simulated instruments take for one check of `kind`, in minutes: on a simulated
+// clock the measurement is stamped this long after its request (touch-probe checks minutes, a
+// tracker grid an hour and a half). Typical of the patent's process, not of any one machine.
+double check_duration_min(CheckKind kind);
+
 }  // namespace ncqual::sim
