@@ -8,9 +8,14 @@
 # offsets (patent: the fixture check "is performed only after all of the monument checks have
 # been successfully completed").
 #
-# Usage: deploy/demo.sh [--scenario MACHINE.yaml] [--domain N] [--keep-logs]
+# Usage: deploy/demo.sh [--scenario MACHINE.yaml] [--weeks N] [--domain N]
 #   --scenario  a machine config whose simulator section injects errors
 #               (examples in deploy/scenarios/; default deploy/machines/pm1.yaml)
+#   --weeks     instead of one cycle, run N weeks of the plant calendar on a simulated clock
+#               (from Monday 5 January 2026, two shifts a day Monday to Friday, Europe/Berlin):
+#               the monthly, daily and weekly checks at each shift start and a part every ~4 h,
+#               as fast as the services answer; then every machine's status and the trend of
+#               the daily checks. Try it with --scenario deploy/scenarios/drift.yaml.
 #   --domain    DDS domain id (default: NCQUAL_DOMAIN, else a random private one in 100..199)
 # Data goes to $NCQUAL_VAR (default var/ at the repository root): the historian database
 # var/historian.db, the logs var/log/, the plant config the demo writes var/demo-plant.yaml.
@@ -19,15 +24,20 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 scenario="$root/deploy/machines/pm1.yaml"
 domain="${NCQUAL_DOMAIN:-$((100 + RANDOM % 100))}"
+weeks=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) scenario="$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"; shift 2 ;;
     --domain) domain="$2"; shift 2 ;;
-    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
+    --weeks) weeks="$2"; shift 2 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 [ -f "$scenario" ] || { echo "demo.sh: scenario file '$scenario' not found" >&2; exit 2; }
+if [ -n "$weeks" ] && ! [[ "$weeks" =~ ^[1-9][0-9]?$ ]]; then
+  echo "demo.sh: --weeks '$weeks': expected a whole number of weeks from 1 to 99" >&2; exit 2
+fi
 
 "$root/deploy/install-deps.sh"
 echo "== building (Release)"
@@ -41,6 +51,44 @@ plant="$var/demo-plant.yaml"
 db="$var/historian.db"
 machine_id="$(sed -n 's/^machine_id:[[:space:]]*\([^[:space:]#]*\).*/\1/p' "$scenario" | head -n1)"
 [ -n "$machine_id" ] || { echo "demo.sh: no machine_id in $scenario" >&2; exit 2; }
+if [ -n "$weeks" ]; then
+  # A fresh plant history for the simulated weeks, beside the one-cycle demo's.
+  var="$var/weeks"
+  mkdir -p "$var/log"
+  plant="$var/demo-plant.yaml"
+  db="$var/historian.db"
+  rm -f "$db" "$db-wal" "$db-shm" "$var/scheduler.db" "$var/scheduler.db-wal" "$var/scheduler.db-shm"
+  cat > "$plant" <<YAML
+# Written by deploy/demo.sh --weeks $weeks
+plant: demo
+domain_id: $domain
+qos_profiles: $root/deploy/qos/ncqual-qos.xml
+historian:
+  database: $db
+clock: {mode: simulated, start: "2026-01-05T00:00:00Z"}
+scheduler:
+  state_database: $var/scheduler.db
+  calendar:
+    time_zone: Europe/Berlin
+    shifts:
+      - {name: early, start: "06:00", end: "14:00", days: mon-fri}
+      - {name: late, start: "14:00", end: "22:00", days: mon-fri}
+    # The patent's order: the probe is qualified on the monument before it measures the fixture,
+    # so a bent stylus is never "corrected" into the fixture's zero offsets.
+    periods:
+      - {name: monthly, every: month, checks: [global_master_frame, global_grid, rotary_c,
+                                               rotary_a, rotary_w, circle_xy, circle_yz,
+                                               circle_xz, linear_axis_run]}
+      - {name: daily, every: day, checks: [monument_c_alignment, monument_tool_length,
+                                           monument_positioning, monument_c_rotation]}
+      - {name: weekly, every: week, checks: [fixture_precal]}
+    parts: {checks: [part_setpoints], cycle_min: 220}
+machines:
+  - $scenario
+YAML
+else
+  # The one-cycle demo starts the scheduler afresh: no hold or pending check of an earlier run.
+  rm -f "$var/scheduler.db" "$var/scheduler.db-wal" "$var/scheduler.db-shm"
 cat > "$plant" <<YAML
 # Written by deploy/demo.sh
 plant: demo
@@ -56,6 +104,7 @@ scheduler:
 machines:
   - $scenario
 YAML
+fi
 export NCQUAL_PLANT="$plant"
 export NCQUAL_DOMAIN="$domain"
 
@@ -78,6 +127,24 @@ echo "== starting the services on DDS domain $domain (logs in $var/log)"
 start historian
 start solver
 start acquisition --machine "$machine_id"
+if [ -n "$weeks" ]; then
+  echo "== $weeks simulated weeks of shifts for $machine_id (scenario $(basename "$scenario"))"
+  started="$(date +%s)"
+  "$bin/scheduler/ncqual-scheduler" --days "$((weeks * 7))" > "$var/log/scheduler.log" 2>&1 \
+    || { echo "demo.sh: the scheduler failed; see $var/log/scheduler.log" >&2; exit 1; }
+  "$bin/cli/ncqual" wait --settled --machine "$machine_id" --timeout 120 > /dev/null \
+    || { echo "demo.sh: the historian did not settle; see $var/log" >&2; exit 1; }
+  elapsed="$(( $(date +%s) - started ))"
+  stop_all
+  echo "   $("$bin/cli/ncqual" count --machine "$machine_id") checks stored in ${elapsed} s of wall time"
+  echo
+  echo "== status (historian $db)"
+  "$bin/cli/ncqual" status
+  echo
+  echo "== the daily checks and the fixture, week by week"
+  "$bin/cli/ncqual" trend --machine "$machine_id" --every week
+  exit 0
+fi
 start scheduler
 
 echo "== qualification cycle of $machine_id (scenario $(basename "$scenario"))"

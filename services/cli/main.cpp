@@ -15,6 +15,7 @@
 //                                                                          (import_command.hpp)
 //   ncqual status  [--plant F] [--db F] [--machine M] [--json]             (status_command.hpp)
 //   ncqual intervene --machine M --check KIND --note TEXT [--operator NAME]  (status_command.hpp)
+//   ncqual trend   --machine M [--kind K] [--every day|week|month] [--metrics N]
 //   ncqual uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]
 //                  [--json]
 //                                                                          (uncertainty_command.hpp)
@@ -78,6 +79,8 @@ const char* kUsage =
     "      every machine's state, and per period its last pass and when it falls due next\n"
     "  intervene --machine M --check KIND --note TEXT [--operator NAME]\n"
     "      record a physical intervention: re-arms the machine's held check\n"
+    "  trend --machine M [--kind K] [--every day|week|month] [--metrics N]\n"
+    "      per period: checks passed/failed and the values nearest their tolerances\n"
     "  uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]\n"
     "              [--json]\n"
     "      Monte Carlo uncertainty of the machine's monthly tracker verification (GUM S1)\n"
@@ -283,11 +286,12 @@ int cmd_wait(const Args& args) {
             return 0;
           }
         } else if (settled) {
-          // The machine's cycle is over when its newest status says QUALIFIED or
+          // The machine's cycle is over when its newest status says QUALIFIED, OVERDUE or
           // NEEDS_INTERVENTION and the check that decided it is stored whole.
           const auto status = db.latest_status(*machine);
           if (status && status->time_ns >= since_ns &&
               (status->state == MachineState::Qualified ||
+               status->state == MachineState::Overdue ||
                status->state == MachineState::NeedsIntervention) &&
               (status->request_id.empty() || complete(db.find_check(status->request_id)))) {
             std::cout << to_string(status->state) << "\n";
@@ -351,6 +355,9 @@ int main(int argc, char** argv) {
     }
     if (command == "intervene") {
       return run_intervene(rest);
+    }
+    if (command == "trend") {
+      return run_trend(rest);
     }
     if (command == "uncertainty") {
       return run_uncertainty(rest);

@@ -16,6 +16,10 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <map>
+#include <sstream>
+#include <algorithm>
+#include <cmath>
 
 namespace ncqual {
 
@@ -53,13 +57,12 @@ int run_status(const std::vector<std::string>& words) {
   std::int64_t plant_now = WallClock().now_ns();
   for (const auto& m : plant.machines) {
     if (machine_filter && m.machine_id != *machine_filter) continue;
-    std::int64_t now = plant_now;
-    if (plant.simulated_clock) {
-      const auto rec = db.machine(m.machine_id);
-      now = rec ? rec->last_seen_ns : plant.simulated_start_ns;
-    }
-    nlohmann::json jm{{"machine_id", m.machine_id}};
     const auto status = db.latest_status(m.machine_id);
+    // On a simulated clock "now" is the scheduler's newest word on the machine (heartbeats carry
+    // wall time, so the machine's last-seen time would not do).
+    const std::int64_t now =
+        plant.simulated_clock ? (status ? status->time_ns : plant.simulated_start_ns) : plant_now;
+    nlohmann::json jm{{"machine_id", m.machine_id}};
     jm["state"] = status ? std::string(to_string(status->state)) : std::string(to_string(MachineState::Unknown));
     jm["detail"] = status ? status->detail : "no status stored yet";
     jm["status_time_ns"] = status ? nlohmann::json(status->time_ns) : nlohmann::json(nullptr);
@@ -158,6 +161,107 @@ int run_intervene(const std::vector<std::string>& words) {
   }
   std::cerr << "recorded intervention on " << machine << " for " << kind_name << " by " << who << "\n";
   std::cout << iv.intervention_id << "\n";
+  return 0;
+}
+
+namespace {
+
+// How much of its tolerance band a value uses: |v - centre| / half-width (> 1: out of tolerance).
+double band_use(const Metric& m) {
+  const double half = 0.5 * (m.upper - m.lower);
+  if (!(half > 0)) return 0;
+  return std::abs(m.value - 0.5 * (m.upper + m.lower)) / half;
+}
+
+struct Bucket {
+  int pass = 0, fail = 0, invalid = 0;
+  std::map<std::string, Metric> worst;  // per metric: the value using most of its band
+};
+
+}  // namespace
+
+int run_trend(const std::vector<std::string>& words) {
+  const Args args(words, {"plant", "db", "machine", "kind", "every", "metrics"}, {});
+  const PlantConfig plant = plant_from(args);
+  const std::string machine = args.require("machine");
+  if (!plant.find_machine(machine)) {
+    throw ArgError("--machine '" + machine + "' is not configured in " + plant.source_path);
+  }
+  std::optional<CheckKind> only;
+  if (auto k = args.get("kind")) {
+    only = parse_check_kind(*k);
+    if (!only) throw ArgError("--kind '" + *k + "' is not a check kind");
+  }
+  const std::string every = args.get_or("every", "week");
+  PeriodConfig bucket_period;
+  if (every == "day") {
+    bucket_period.unit = PeriodUnit::Day;
+  } else if (every == "week") {
+    bucket_period.unit = PeriodUnit::Week;
+  } else if (every == "month") {
+    bucket_period.unit = PeriodUnit::Month;
+  } else {
+    throw ArgError("--every '" + every + "': expected day, week or month");
+  }
+  const int shown = args.get_int("metrics", 3);
+  if (shown < 0 || shown > 20) throw ArgError("--metrics: expected 0 to 20");
+  const std::string db_path = args.get_or("db", plant.historian_database);
+  if (!std::filesystem::exists(db_path)) {
+    std::cerr << "ncqual trend: no historian database at " << db_path << "\n";
+    return kExitError;
+  }
+  auto db = storage::Database::open_readonly(db_path);
+  const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
+  storage::HistoryQuery q;
+  q.machine_id = machine;
+  q.kind = only;
+  q.limit = 0;
+  // kind -> bucket start -> counts and worst values; per kind the metrics nearest their limits.
+  std::map<CheckKind, std::map<std::int64_t, Bucket>> table;
+  std::map<CheckKind, std::map<std::string, double>> peak_use;
+  for (const auto& rec : db.history(q)) {
+    if (!rec.result) continue;
+    const CheckResult& r = *rec.result;
+    Bucket& b = table[r.kind][calendar.period_start(bucket_period, r.time_ns)];
+    (r.verdict == Verdict::Pass ? b.pass : r.verdict == Verdict::Fail ? b.fail : b.invalid)++;
+    for (const auto& m : r.metrics) {
+      auto it = b.worst.find(m.name);
+      if (it == b.worst.end() || band_use(m) > band_use(it->second)) b.worst[m.name] = m;
+      double& peak = peak_use[r.kind][m.name];
+      peak = std::max(peak, band_use(m));
+    }
+  }
+  if (table.empty()) {
+    std::cout << "no stored results for " << machine << (only ? " of " + std::string(to_string(*only)) : "") << "\n";
+    return 0;
+  }
+  for (const auto& [kind, buckets] : table) {
+    // The metrics that came nearest their tolerance over the whole history.
+    std::vector<std::pair<double, std::string>> ranked;
+    for (const auto& [name, use] : peak_use[kind]) ranked.emplace_back(-use, name);
+    std::sort(ranked.begin(), ranked.end());
+    if (static_cast<int>(ranked.size()) > shown) ranked.resize(static_cast<std::size_t>(shown));
+    std::cout << "\n" << to_string(kind) << "  (per " << every << ": runs, and the value nearest its "
+              << "tolerance; (!) out of tolerance)\n";
+    std::cout << "  " << std::left << std::setw(18) << (every + " from") << std::setw(14) << "pass/fail/inv";
+    for (const auto& [use, name] : ranked) std::cout << std::setw(26) << name;
+    std::cout << "\n";
+    for (const auto& [start, b] : buckets) {
+      const std::string when = calendar.local_text(start).substr(0, 10);
+      std::cout << "  " << std::setw(18) << when << std::setw(14)
+                << (std::to_string(b.pass) + "/" + std::to_string(b.fail) + "/" + std::to_string(b.invalid));
+      for (const auto& [use, name] : ranked) {
+        auto it = b.worst.find(name);
+        std::ostringstream cell;
+        if (it != b.worst.end()) {
+          cell << std::setprecision(4) << it->second.value << " " << it->second.unit
+               << (band_use(it->second) > 1 ? " (!)" : "");
+        }
+        std::cout << std::setw(26) << cell.str();
+      }
+      std::cout << "\n";
+    }
+  }
   return 0;
 }
 

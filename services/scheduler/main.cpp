@@ -121,9 +121,19 @@ int main(int argc, char** argv) {
     });
     sched.start(cycle);
 
+    // Before the writers go: every reader (acquisition, historian) must have what was written,
+    // or the last requests and statuses of a run would be lost with the process.
+    const auto flush = [&] {
+      if (!requests.wait_for_acknowledgments(std::chrono::seconds(10)) ||
+          !statuses.wait_for_acknowledgments(std::chrono::seconds(10))) {
+        spdlog::warn("not every reader acknowledged the last requests and statuses");
+      }
+    };
     if (!plant.simulated_clock) {
       service.dispatcher().every(std::chrono::seconds(1), [&] { sched.tick(); });
-      return service.run();
+      const int code = service.run();
+      flush();
+      return code;
     }
 
     // Simulated time: run the calendar as fast as the checks come back.
@@ -168,6 +178,7 @@ int main(int argc, char** argv) {
         }
       }
     }
+    flush();
     return 0;
   } catch (const ArgError& e) {
     std::cerr << "ncqual-scheduler: " << e.what() << "\n";

@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
 namespace ncqual::scheduler {
 
 namespace {
 
 constexpr std::size_t kRememberedInterventions = 64;
+constexpr std::size_t kRememberedRequests = 16;
 constexpr std::int64_t kNsPerMinute = 60'000'000'000LL;
 
 std::string kind_list(const std::vector<CheckKind>& kinds) {
@@ -99,6 +101,17 @@ std::string to_json(const MachineRun& run) {
   j["local_time_ns"] = run.local_time_ns;
   j["sequence"] = run.sequence;
   j["interventions"] = run.interventions;
+  nlohmann::json recent = nlohmann::json::array();
+  for (const auto& r : run.recent) {
+    recent.push_back({{"request_id", r.request_id},
+                      {"kind", std::string(to_string(r.kind))},
+                      {"requested_by", r.requested_by},
+                      {"time_ns", r.time_ns},
+                      {"attempt", r.attempt},
+                      {"parameters", values_json(r.parameters)},
+                      {"verifies_correction_of", r.verifies_correction_of}});
+  }
+  j["recent"] = recent;
   j["state"] = std::string(to_string(run.state));
   j["detail"] = run.detail;
   return j.dump();
@@ -136,6 +149,19 @@ MachineRun machine_run_from_json(const std::string& text) {
   run.local_time_ns = j.at("local_time_ns").get<std::int64_t>();
   run.sequence = j.at("sequence").get<std::uint64_t>();
   run.interventions = j.at("interventions").get<std::vector<std::string>>();
+  if (j.contains("recent")) {
+    for (const auto& r : j.at("recent")) {
+      CheckRequest req;
+      req.request_id = r.at("request_id").get<std::string>();
+      req.kind = kind_from(r.at("kind"));
+      req.requested_by = r.at("requested_by").get<std::string>();
+      req.time_ns = r.at("time_ns").get<std::int64_t>();
+      req.attempt = r.at("attempt").get<std::int32_t>();
+      req.parameters = values_from(r.at("parameters"));
+      req.verifies_correction_of = r.at("verifies_correction_of").get<std::string>();
+      run.recent.push_back(std::move(req));
+    }
+  }
   const auto state = parse_machine_state(j.at("state").get<std::string>());
   run.state = state.value_or(MachineState::Unknown);
   run.detail = j.at("detail").get<std::string>();
@@ -194,7 +220,15 @@ void Scheduler::start(const std::vector<CheckKind>& cycle) {
   for (auto& [id, m] : machines_) {
     // Whatever was pending when the last run stopped goes out again under the same id: an
     // acquisition that already measured it ignores it, one that never got it measures now.
+    // So do the newest requests already answered: the historian may not have them yet.
+    std::set<std::string> resent;
+    for (CheckRequest r : m.run.recent) {
+      r.machine_id = id;
+      resent.insert(r.request_id);
+      outbox_requests_.push_back(std::move(r));
+    }
     for (const auto& p : m.run.pending) {
+      if (resent.count(p.request_ids.back())) continue;
       outbox_requests_.push_back(CheckRequest{id, p.request_ids.back(), p.kind, p.requested_by,
                                               p.issued_ns, static_cast<std::int32_t>(p.request_ids.size()),
                                               p.parameters, p.verifies_correction_of});
@@ -205,8 +239,10 @@ void Scheduler::start(const std::vector<CheckKind>& cycle) {
       }
     }
     // The state as stored, published again: a restarted scheduler tells everyone where it is.
-    outbox_statuses_.push_back(MachineStatus{id, "", m.run.state, std::nullopt, std::nullopt,
-                                             m.run.detail, now(m)});
+    if (!m.run.detail.empty()) {
+      outbox_statuses_.push_back(MachineStatus{id, "", m.run.state, std::nullopt, std::nullopt,
+                                               m.run.detail, now(m)});
+    }
     advance(m);
     update_state(m, "", std::nullopt, std::nullopt);
     commit(m);
@@ -287,6 +323,12 @@ void Scheduler::advance(Machine& m) {
   }
 }
 
+void Scheduler::send(Machine& m, CheckRequest request) {
+  m.run.recent.push_back(request);
+  while (m.run.recent.size() > kRememberedRequests) m.run.recent.pop_front();
+  outbox_requests_.push_back(std::move(request));
+}
+
 void Scheduler::add_fixture_configuration(Machine& m, CheckKind kind,
                                           std::vector<NamedValue>& parameters) {
   if (kind != CheckKind::FixturePreCalibration || !m.config->fixture ||
@@ -310,7 +352,7 @@ void Scheduler::issue(Machine& m, CheckKind kind, const std::string& requested_b
   const std::string id = request_id_for(m, kind);
   PendingCheck p{{id}, kind, requested_by, t, parameters, verifies_correction_of, in_sequence, rearmed};
   m.run.pending.push_back(p);
-  outbox_requests_.push_back(CheckRequest{m.config->machine_id, id, kind, requested_by, t, 1,
+  send(m, CheckRequest{m.config->machine_id, id, kind, requested_by, t, 1,
                                           std::move(parameters), std::move(verifies_correction_of)});
   spdlog::info("{}: requesting {} ({})", m.config->machine_id, to_string(kind), id);
   update_state(m, id, kind, std::nullopt, std::string(to_string(kind)) + " requested by " + requested_by);
@@ -324,7 +366,7 @@ void Scheduler::retry_or_hold(Machine& m, PendingCheck& p) {
     const std::string id = p.request_ids.front() + "-r" + std::to_string(attempts + 1);
     p.request_ids.push_back(id);
     p.issued_ns = now(m);
-    outbox_requests_.push_back(CheckRequest{m.config->machine_id, id, p.kind, p.requested_by,
+    send(m, CheckRequest{m.config->machine_id, id, p.kind, p.requested_by,
                                             p.issued_ns, attempts + 1, p.parameters,
                                             p.verifies_correction_of});
     spdlog::warn("{}: no result for {} ({}) after {} min; attempt {} as {}", m.config->machine_id,
@@ -375,7 +417,7 @@ std::string Scheduler::command(const CheckCommand& cmd) {
   PendingCheck p{{cmd.request_id}, cmd.kind, by, t, cmd.parameters, "", false, false};
   add_fixture_configuration(m, cmd.kind, p.parameters);
   m.run.pending.push_back(p);
-  outbox_requests_.push_back(
+  send(m, 
       CheckRequest{cmd.machine_id, cmd.request_id, cmd.kind, by, t, 1, p.parameters, ""});
   spdlog::info("{}: requesting {} ({}) for {}", cmd.machine_id, to_string(cmd.kind), cmd.request_id, by);
   update_state(m, cmd.request_id, cmd.kind, std::nullopt,

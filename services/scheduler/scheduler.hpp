@@ -88,6 +88,9 @@ struct MachineRun {
   std::int64_t local_time_ns = 0;                   // simulated clock: newest result time
   std::uint64_t sequence = 0;                       // request ids issued
   std::vector<std::string> interventions;           // ids applied (newest 64)
+  // The newest requests issued (16), sent again at start: a killed scheduler's last requests may
+  // have reached the acquisition but not yet the historian (its writer died with it).
+  std::deque<CheckRequest> recent;
   MachineState state = MachineState::Unknown;
   std::string detail;
 };
@@ -145,6 +148,8 @@ class Scheduler {
              bool in_sequence, bool rearmed = false);
   // A pre-calibration without an explicit configuration takes its fixture's next one.
   void add_fixture_configuration(Machine& m, CheckKind kind, std::vector<NamedValue>& parameters);
+  // Queues a request for sending and remembers it among the machine's recent ones.
+  void send(Machine& m, CheckRequest request);
   void retry_or_hold(Machine& m, PendingCheck& p);
   void hold(Machine& m, Hold h);
   void update_state(Machine& m, const std::string& request_id, std::optional<CheckKind> kind,

@@ -130,6 +130,22 @@ class Plant {
     return plant_file_;
   }
 
+  // A plant on the simulated clock with a calendar: `scheduler_yaml` is the body of the
+  // scheduler: section (indented two spaces), the clock starts at `start` (ISO 8601 UTC).
+  std::string write_calendar_plant(const std::string& scheduler_yaml, const std::string& start) {
+    const auto path = dir_ / "plant.yaml";
+    std::ofstream out(path);
+    out << "plant: test-plant\n"
+        << "domain_id: " << domain_ << "\n"
+        << "qos_profiles: " << NCQUAL_SOURCE_DIR << "/deploy/qos/ncqual-qos.xml\n"
+        << "historian:\n  database: " << db_path() << "\n"
+        << "clock: {mode: simulated, start: \"" << start << "\"}\n"
+        << "scheduler:\n" << scheduler_yaml << "machines:\n";
+    for (const auto& m : machines_) out << "  - " << m << "\n";
+    plant_file_ = path.string();
+    return plant_file_;
+  }
+
   Process& start(const std::string& service, const std::vector<std::string>& extra = {}) {
     std::vector<std::string> args{"--plant", plant_file_, "--log-level", "debug"};
     args.insert(args.end(), extra.begin(), extra.end());

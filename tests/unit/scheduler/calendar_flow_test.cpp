@@ -65,7 +65,10 @@ struct Answer {
 // Plays acquisition + solver against a Scheduler and drives the simulated clock.
 struct Driver {
   SimulatedClock clock;
-  std::vector<CheckRequest> requests;  // every request the scheduler sent, in order
+  std::vector<CheckRequest> requests;  // every request the scheduler issued, in order (a request
+                                       // sent again after a restart counts once)
+  int resent = 0;                      // requests sent again under an id already issued
+  std::set<std::string> issued_ids;
   std::vector<MachineStatus> statuses;
   std::deque<CheckRequest> inbox;
   std::set<std::string> performed;      // request ids already answered (the acquisition dedupes)
@@ -76,7 +79,11 @@ struct Driver {
 
   Scheduler::Outputs outputs() {
     return {[this](const CheckRequest& r) {
-              requests.push_back(r);
+              if (issued_ids.insert(r.request_id).second) {
+                requests.push_back(r);
+              } else {
+                ++resent;
+              }
               inbox.push_back(r);
             },
             [this](const MachineStatus& s) { statuses.push_back(s); }};
