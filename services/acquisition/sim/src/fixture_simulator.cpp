@@ -167,8 +167,15 @@ std::optional<Touch> execute_on_block(const MachineSimulator& machine, const Fix
 
 // ---- FixtureSimulator -------------------------------------------------------------------------
 
-FixtureSimulator::FixtureSimulator(FixtureConfig fixture, FixtureErrors errors)
-    : fixture_(std::move(fixture)), errors_(std::move(errors)) {}
+FixtureSimulator::FixtureSimulator(FixtureConfig fixture, FixtureErrors errors,
+                                   std::optional<SimulatorDrift> drift)
+    : fixture_(std::move(fixture)), errors_(std::move(errors)), drift_(std::move(drift)) {}
+
+FixtureSimulator FixtureSimulator::at(std::int64_t now_ns) const {
+  FixtureSimulator frozen(fixture_, fixture_errors_at(errors_, drift_, now_ns));
+  frozen.zero_offsets_ = zero_offsets_;
+  return frozen;
+}
 
 FixtureSimulator FixtureSimulator::for_machine(const MachineConfig& machine,
                                                const SimulatorConfig& config) {
@@ -176,7 +183,7 @@ FixtureSimulator FixtureSimulator::for_machine(const MachineConfig& machine,
     throw ConfigError(machine.source_path + ": machine '" + machine.machine_id +
                       "' has no `fixture:` section to simulate");
   }
-  return FixtureSimulator(*machine.fixture, config.fixture);
+  return FixtureSimulator(*machine.fixture, config.fixture, config.drift);
 }
 
 void FixtureSimulator::apply_zero_offsets(const Correction& correction) {
@@ -242,6 +249,10 @@ Eigen::Vector3d FixtureSimulator::true_delta_mm(const PogoPlacement& placement) 
 
 MeasurementSet perform_fixture_check(const MachineSimulator& machine, const FixtureSimulator& fixture,
                                      const CheckRequest& request, std::int64_t time_ns) {
+  // A drifting truth: measure on both frozen at the measurement time (no drift there).
+  if (machine.config().drift || fixture.drift()) {
+    return perform_fixture_check(machine.at(time_ns), fixture.at(time_ns), request, time_ns);
+  }
   MeasurementSet set;
   set.machine_id = request.machine_id;
   set.request_id = request.request_id;

@@ -54,6 +54,10 @@ MachineSimulator::MachineSimulator(MachineConfig machine, SimulatorConfig config
       true_probe_(make_true_probe(machine_.probe, config_.errors)),
       true_monument_(make_true_monument(machine_.monument, config_)) {}
 
+MachineSimulator MachineSimulator::at(std::int64_t now_ns) const {
+  return MachineSimulator(machine_, config_at(config_, now_ns));
+}
+
 AxisPosition MachineSimulator::true_axes(const AxisPosition& readouts) const {
   AxisPosition t = moved(readouts, config_.errors.machine_shift_mm);
   t.a_rad += config_.errors.a_home_error_rad;
@@ -150,6 +154,8 @@ std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double n
 }
 
 MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64_t time_ns) const {
+  // A drifting truth: measure on the simulator frozen at the measurement time (no drift there).
+  if (config_.drift) return at(time_ns).perform(request, time_ns);
   MeasurementSet set;
   set.machine_id = request.machine_id;
   set.request_id = request.request_id;

@@ -1,10 +1,17 @@
 #include "ncqual/sim/simulator_config.hpp"
 
+#include "ncqual/clock.hpp"
+#include "ncqual/units.hpp"
+
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace ncqual::sim {
@@ -287,6 +294,94 @@ VolumetricTruth parse_volumetric(const YAML::Node& node, const std::string& wher
   return v;
 }
 
+// A rate per day whose key names its unit (e.g. c_angle_error_arcsec_per_day: a bare number is
+// in arcsec per day; "2 urad" is 2 urad per day), in mm or rad per day.
+double rate_per_day(const YAML::Node& node, const std::string& key, units::Dimension dim,
+                    std::string_view default_unit, const std::string& where) {
+  const YAML::Node v = node[key];
+  if (!v) return 0.0;
+  if (!v.IsScalar()) fail(where, key, v, "expected a number (per day)");
+  try {
+    return units::parse_quantity(dim, v.Scalar(), default_unit);
+  } catch (const std::invalid_argument& e) {
+    fail(where, key, v, e.what());
+  }
+}
+
+// An angle rate under one of <stem>_arcsec_per_day, _rad_per_day, _deg_per_day, _urad_per_day;
+// at most one may be present.
+double angle_rate_under_any_unit_key(const YAML::Node& node, const std::string& stem,
+                                     const std::string& where) {
+  std::string found;
+  double value = 0;
+  for (const auto& suffix : kAngleSuffixes) {
+    const std::string key = stem + suffix + "_per_day";
+    if (!node[key]) continue;
+    if (!found.empty()) fail(where, key, node[key], "also given as " + found + "; give one");
+    found = key;
+    value = rate_per_day(node, key, units::Dimension::Angle, suffix.substr(1), where);
+  }
+  return value;
+}
+
+// `since`: "YYYY-MM-DDTHH:MM[:SS[.fff]]Z". The year is checked first: ns since 1970 in 64 bits
+// reach only to 2262.
+std::int64_t parse_since(const YAML::Node& node, const std::string& where) {
+  const YAML::Node v = node["since"];
+  const char* expected = "expected an ISO 8601 UTC time, e.g. \"2026-01-05T00:00:00Z\"";
+  if (!v) fail(where, "since", v, "required: the time the drift starts from");
+  if (!v.IsScalar()) fail(where, "since", v, expected);
+  const std::string& text = v.Scalar();
+  if (text.size() < 4 || !std::all_of(text.begin(), text.begin() + 4,
+                                      [](char c) { return c >= '0' && c <= '9'; })) {
+    fail(where, "since", v, expected);
+  }
+  const int year = std::stoi(text.substr(0, 4));
+  if (year < 1900 || year > 2200) fail(where, "since", v, "the year must be from 1900 to 2200");
+  const auto since = parse_iso8601(text);
+  if (!since) fail(where, "since", v, expected);
+  return *since;
+}
+
+SimulatorDrift parse_drift(const YAML::Node& node, const MachineConfig& machine,
+                           const std::string& where) {
+  std::set<std::string> known = {"since",
+                                 "machine_shift_mm_per_day",
+                                 "monument_shift_mm_per_day",
+                                 "tool_length_error_mm_per_day",
+                                 "fixture_column_x_offset_mm_per_day",
+                                 "fixture_pogo_y_offset_mm_per_day",
+                                 "fixture_pogo_z_offset_mm_per_day"};
+  for (const auto& suffix : kAngleSuffixes) {
+    known.insert("c_angle_error" + suffix + "_per_day");
+    known.insert("a_home_error" + suffix + "_per_day");
+    known.insert("squareness_ec0xy" + suffix + "_per_day");
+  }
+  yaml::refuse_unknown_keys(node, known, "", where);
+  SimulatorDrift d;
+  d.since_ns = parse_since(node, where);
+  d.machine_shift_mm_per_day = yaml::lengths_mm_or(node, "machine_shift_mm_per_day", 3,
+                                                   Eigen::VectorXd::Zero(3), where);
+  d.monument_shift_mm_per_day = yaml::lengths_mm_or(node, "monument_shift_mm_per_day", 3,
+                                                    Eigen::VectorXd::Zero(3), where);
+  d.tool_length_error_mm_per_day = rate_per_day(node, "tool_length_error_mm_per_day",
+                                                units::Dimension::Length, "mm", where);
+  d.c_angle_error_rad_per_day = angle_rate_under_any_unit_key(node, "c_angle_error", where);
+  d.a_home_error_rad_per_day = angle_rate_under_any_unit_key(node, "a_home_error", where);
+  d.squareness_ec0xy_rad_per_day = angle_rate_under_any_unit_key(node, "squareness_ec0xy", where);
+  const std::pair<const char*, double*> fixture_rates[] = {
+      {"fixture_column_x_offset_mm_per_day", &d.fixture_column_x_offset_mm_per_day},
+      {"fixture_pogo_y_offset_mm_per_day", &d.fixture_pogo_y_offset_mm_per_day},
+      {"fixture_pogo_z_offset_mm_per_day", &d.fixture_pogo_z_offset_mm_per_day}};
+  for (const auto& [key, rate] : fixture_rates) {
+    *rate = rate_per_day(node, key, units::Dimension::Length, "mm", where);
+    if (node[key] && !machine.fixture) {
+      fail(where, key, node[key], "the machine has no `fixture:` section to drift");
+    }
+  }
+  return d;
+}
+
 std::uint64_t parse_seed(const YAML::Node& node, const std::string& where) {
   const double seed = yaml::number_or(node, "seed", 1, where);
   // Integers up to 2^53 are exact in a double.
@@ -326,7 +421,7 @@ SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
   const std::string where = file + " [simulator]";
   yaml::refuse_unknown_keys(node,
                             {"seed", "trigger_noise_sigma_mm", "plate_thickness_mm", "errors",
-                             "fixture", "part_seating_sigma_mm", "tracker", "volumetric"},
+                             "fixture", "part_seating_sigma_mm", "tracker", "volumetric", "drift"},
                             "", where);
   config.seed = parse_seed(node, where);
   config.trigger_noise_sigma_mm =
@@ -350,7 +445,68 @@ SimulatorConfig parse_simulator_config(const MachineConfig& machine) {
   config.tracker = parse_tracker(optional_map(node, "tracker", where), file + " [simulator.tracker]");
   config.volumetric =
       parse_volumetric(optional_map(node, "volumetric", where), file + " [simulator.volumetric]");
+  if (const YAML::Node drift = optional_map(node, "drift", where); drift && !drift.IsNull()) {
+    config.drift = parse_drift(drift, machine, file + " [simulator.drift]");
+  }
   return config;
+}
+
+double drift_days(const SimulatorDrift& drift, std::int64_t now_ns) {
+  if (now_ns <= drift.since_ns) return 0.0;
+  // The difference is positive and below 2^64: exact in unsigned arithmetic, whatever the signs.
+  const std::uint64_t elapsed_ns =
+      static_cast<std::uint64_t>(now_ns) - static_cast<std::uint64_t>(drift.since_ns);
+  return static_cast<double>(elapsed_ns) / kNsPerDay;
+}
+
+SimulatorErrors errors_at(const SimulatorErrors& base, const std::optional<SimulatorDrift>& drift,
+                          std::int64_t now_ns) {
+  if (!drift) return base;
+  const double days = drift_days(*drift, now_ns);
+  if (days <= 0) return base;
+  SimulatorErrors e = base;
+  e.machine_shift_mm += drift->machine_shift_mm_per_day * days;
+  e.monument_shift_mm += drift->monument_shift_mm_per_day * days;
+  e.tool_length_error_mm += drift->tool_length_error_mm_per_day * days;
+  e.c_angle_error_rad += drift->c_angle_error_rad_per_day * days;
+  e.a_home_error_rad += drift->a_home_error_rad_per_day * days;
+  return e;
+}
+
+SimulatorErrors errors_at(const SimulatorConfig& config, std::int64_t now_ns) {
+  return errors_at(config.errors, config.drift, now_ns);
+}
+
+FixtureErrors fixture_errors_at(const FixtureErrors& base,
+                                const std::optional<SimulatorDrift>& drift, std::int64_t now_ns) {
+  if (!drift) return base;
+  const double days = drift_days(*drift, now_ns);
+  if (days <= 0) return base;
+  FixtureErrors e = base;
+  e.column_x.offset_mm += drift->fixture_column_x_offset_mm_per_day * days;
+  e.pogo_y.offset_mm += drift->fixture_pogo_y_offset_mm_per_day * days;
+  e.pogo_z.offset_mm += drift->fixture_pogo_z_offset_mm_per_day * days;
+  return e;
+}
+
+VolumetricTruth volumetric_at(const VolumetricTruth& base,
+                              const std::optional<SimulatorDrift>& drift, std::int64_t now_ns) {
+  if (!drift) return base;
+  const double days = drift_days(*drift, now_ns);
+  if (days <= 0) return base;
+  VolumetricTruth v = base;
+  v.rigid_body.ec0xy_rad += drift->squareness_ec0xy_rad_per_day * days;
+  return v;
+}
+
+SimulatorConfig config_at(const SimulatorConfig& config, std::int64_t now_ns) {
+  SimulatorConfig c = config;
+  if (!config.drift) return c;
+  c.errors = errors_at(config.errors, config.drift, now_ns);
+  c.fixture = fixture_errors_at(config.fixture, config.drift, now_ns);
+  c.volumetric = volumetric_at(config.volumetric, config.drift, now_ns);
+  c.drift.reset();
+  return c;
 }
 
 double check_duration_min(CheckKind kind) {

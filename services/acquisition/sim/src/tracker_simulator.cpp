@@ -26,6 +26,10 @@ TrackerSimulator::TrackerSimulator(MachineConfig machine, SimulatorConfig config
   }
 }
 
+TrackerSimulator TrackerSimulator::at(std::int64_t now_ns) const {
+  return TrackerSimulator(machine_, config_at(config_, now_ns));
+}
+
 Eigen::Vector3d TrackerSimulator::true_target(const AxisPosition& axes, const ProbeGeometry& target,
                                               const Eigen::Vector3i& direction) const {
   const VolumetricTruth& v = config_.volumetric;
@@ -61,6 +65,8 @@ Eigen::Vector3d TrackerSimulator::true_target(const AxisPosition& axes, const Pr
 }
 
 MeasurementSet TrackerSimulator::perform(const CheckRequest& request, std::int64_t time_ns) const {
+  // A drifting truth: measure on the simulator frozen at the measurement time (no drift there).
+  if (config_.drift) return at(time_ns).perform(request, time_ns);
   MeasurementSet set;
   set.machine_id = request.machine_id;
   set.request_id = request.request_id;

@@ -46,19 +46,31 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace ncqual::sim {
 
 class FixtureSimulator {
  public:
-  FixtureSimulator(FixtureConfig fixture, FixtureErrors errors);
-  // The machine's `fixture:` section with the simulator's fixture errors; throws ConfigError
-  // naming the machine when it has no fixture.
+  // `errors` are the base truth; with `drift` they drift as fixture_errors_at(errors, drift, t).
+  FixtureSimulator(FixtureConfig fixture, FixtureErrors errors,
+                   std::optional<SimulatorDrift> drift = std::nullopt);
+  // The machine's `fixture:` section with the simulator's fixture errors and drift; throws
+  // ConfigError naming the machine when it has no fixture.
   static FixtureSimulator for_machine(const MachineConfig& machine, const SimulatorConfig& config);
 
   const FixtureConfig& fixture() const { return fixture_; }
+  // The base errors: the truth without drift, or at and before drift.since.
   const FixtureErrors& ground_truth() const { return errors_; }
+  // The errors at `now_ns` (ns since the Unix epoch, UTC): fixture_errors_at(errors, drift, now).
+  FixtureErrors ground_truth_at(std::int64_t now_ns) const {
+    return fixture_errors_at(errors_, drift_, now_ns);
+  }
+  const std::optional<SimulatorDrift>& drift() const { return drift_; }
+  // The fixture frozen at `now_ns`: its errors at that time, drift cleared, the zero offsets held
+  // by the control unit kept. Without drift, an identical copy.
+  FixtureSimulator at(std::int64_t now_ns) const;
 
   // ---- The control unit's zero offsets ----
   // Adds the offsets of a Correction issued by the fixture pre-calibration (target
@@ -75,7 +87,8 @@ class FixtureSimulator {
   // Actuator commands for a placement: a = c - o (fixture frame).
   Eigen::Vector3d actuator_command_mm(const PogoPlacement& placement) const;
   // True top-face centre of the pogo's reference block in the machine frame, without the wear
-  // scatter: origin + sum_j (a_j + e_j(a_j)) d_j + pogo_offset.
+  // scatter: origin + sum_j (a_j + e_j(a_j)) d_j + pogo_offset, with the base errors (for the
+  // truth at a time ask at(now_ns)).
   Eigen::Vector3d true_reference_point_mm(const PogoPlacement& placement) const;
   // What a perfect probe would measure against the command: true point - (origin + c).
   Eigen::Vector3d true_delta_mm(const PogoPlacement& placement) const;
@@ -83,17 +96,19 @@ class FixtureSimulator {
  private:
   FixtureConfig fixture_;
   FixtureErrors errors_;
+  std::optional<SimulatorDrift> drift_;
   std::map<std::string, Eigen::Vector3d> zero_offsets_;
 };
 
 // Performs the fixture check `request` asks for (kinds FixturePreCalibration and
-// FixturePostCalibration) on the fixture's current state with the true machine and probe of
-// `machine`, returning the touches as MachineSimulator::perform does for the monument: latched
-// axis readouts, approach unit vectors, trigger noise N(0, sigma^2) along the approach from
-// NormalSource(request_seed(seed, request_id)) (one deviate per move, drawn whether or not it
-// triggers), the request's parameters echoed, instrument "touch_probe", frame "machine". The wear
-// scatter comes from a second generator, request_seed(seed, request_id + "/fixture_wear"), three
-// deviates per placement. A move that meets nothing is left out and named in `error` ("probe
+// FixturePostCalibration), measured at `time_ns` (ns since the Unix epoch, UTC), on the fixture's
+// current state (its zero offsets) with the true machine and probe of `machine`, both with their
+// truth at that time (machine.at(time_ns), fixture.at(time_ns)), returning the touches as
+// MachineSimulator::perform does for the monument: latched axis readouts, approach unit vectors,
+// trigger noise N(0, sigma^2) along the approach from NormalSource(request_seed(seed,
+// request_id)) (one deviate per move, drawn whether or not it triggers), the request's parameters
+// echoed, instrument "touch_probe", frame "machine". The wear scatter comes from a second
+// generator, request_seed(seed, request_id + "/fixture_wear"), three deviates per placement. A move that meets nothing is left out and named in `error` ("probe
 // alarm: move <i> ('<feature>'): ..."); a bad request yields no touches and an `error` saying why.
 MeasurementSet perform_fixture_check(const MachineSimulator& machine, const FixtureSimulator& fixture,
                                      const CheckRequest& request, std::int64_t time_ns);

@@ -23,17 +23,27 @@ class MachineSimulator {
  public:
   MachineSimulator(MachineConfig machine, SimulatorConfig config);
 
-  // Performs the check `request` asks for. The touches are reproducible: the noise comes from a
-  // generator seeded by (config seed, request_id) alone. A touch whose move meets no surface is
-  // left out and `error` says so; a kind the simulator cannot perform yields no touches and
-  // error "the simulator cannot perform check kind '<name>' yet".
+  // Performs the check `request` asks for, measured at `time_ns` (ns since the Unix epoch, UTC):
+  // on the truth at that time (at(time_ns); without a drift section the truth is the same at
+  // every time). The touches are reproducible: the noise comes from a generator seeded by
+  // (config seed, request_id) alone. A touch whose move meets no surface is left out and `error`
+  // says so; a kind the simulator cannot perform yields no touches and error "the simulator
+  // cannot perform check kind '<name>' yet".
   MeasurementSet perform(const CheckRequest& request, std::int64_t time_ns) const;
 
+  // The configured (base) errors: the truth without drift, or at and before drift.since.
   const SimulatorErrors& ground_truth() const { return config_.errors; }
+  // The errors at `now_ns`: errors_at(config(), now_ns).
+  SimulatorErrors ground_truth_at(std::int64_t now_ns) const { return errors_at(config_, now_ns); }
   const MachineConfig& machine() const { return machine_; }
   const SimulatorConfig& config() const { return config_; }
 
+  // The simulator frozen at `now_ns`: the same machine, seed and noise with the truth of that
+  // time (config_at(config(), now_ns), drift cleared). Without drift, an identical copy.
+  MachineSimulator at(std::int64_t now_ns) const;
+
   // ---- The true world (for tests and demonstrations) ----
+  // These hold the base truth (ground_truth()); for the truth at a time ask at(now_ns).
   // True axes: pivot = readout + machine_shift, A = a + a_home_error, C = c + c_angle_error.
   AxisPosition true_axes(const AxisPosition& readouts) const;
   // True probe: L = nominal + tool_length_error, offset = nominal + stylus_offset error.

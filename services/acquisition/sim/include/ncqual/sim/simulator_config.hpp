@@ -58,6 +58,18 @@
 //       a_periodic_arcsec: 0
 //       w_scale_ppm: 0                   # W travel scale error
 //       w_misalignment_urad: [0, 0]      # W travel tilted from the tool axis (body X, Y)
+//     drift:                             # optional: the truth grows linearly with time (below)
+//       since: "2026-01-05T00:00:00Z"    # ISO 8601 UTC; required in the section
+//       machine_shift_mm_per_day: [0, 0, 0]
+//       monument_shift_mm_per_day: [0, 0, 0]
+//       tool_length_error_mm_per_day: 0
+//       c_angle_error_arcsec_per_day: 0  # (or _rad_per_day, _deg_per_day, _urad_per_day)
+//       a_home_error_arcsec_per_day: 0   # (likewise)
+//       fixture_column_x_offset_mm_per_day: 0   # the fixture's zero drifting: offset_mm of
+//       fixture_pogo_y_offset_mm_per_day: 0     #   column_x, pogo_y, pogo_z
+//       fixture_pogo_z_offset_mm_per_day: 0
+//       squareness_ec0xy_urad_per_day: 0 # volumetric EC(0X)Y (or _rad, _deg, _arcsec _per_day)
+//   A length rate may carry its own unit ("0.7 um" is 0.7 um per day), an angle rate likewise.
 #pragma once
 
 #include "ncqual/config.hpp"
@@ -67,6 +79,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace ncqual::sim {
@@ -155,6 +168,28 @@ struct VolumetricTruth {
   Eigen::Vector2d w_misalignment_rad = Eigen::Vector2d::Zero();
 };
 
+// Time-dependent drift of the ground truth (simulator.drift). Before and at `since_ns` the truth
+// is the base of the sections above (errors, fixture, volumetric); at a time t after it every
+// drifting quantity grows linearly:
+//   value(t) = base + rate * days,  days = (t - since) / 86400 s  (0 when t <= since)
+// Rates are per day in mm and rad. Quantities without a rate here never drift.
+struct SimulatorDrift {
+  std::int64_t since_ns = 0;  // ns since the Unix epoch, UTC
+  // SimulatorErrors
+  Eigen::Vector3d machine_shift_mm_per_day = Eigen::Vector3d::Zero();
+  Eigen::Vector3d monument_shift_mm_per_day = Eigen::Vector3d::Zero();
+  double tool_length_error_mm_per_day = 0;
+  double c_angle_error_rad_per_day = 0;
+  double a_home_error_rad_per_day = 0;
+  // FixtureErrors: the offset_mm of each fixture axis, the fixture's zero drifting. A pure offset
+  // error, so the weekly pre-calibration's zero offsets cancel what has drifted so far.
+  double fixture_column_x_offset_mm_per_day = 0;
+  double fixture_pogo_y_offset_mm_per_day = 0;
+  double fixture_pogo_z_offset_mm_per_day = 0;
+  // VolumetricTruth: the squareness EC(0X)Y of the machine's Y axis to X (rigid_body.ec0xy_rad).
+  double squareness_ec0xy_rad_per_day = 0;
+};
+
 struct SimulatorConfig {
   std::uint64_t seed = 1;
   double trigger_noise_sigma_mm = 0.001;
@@ -168,12 +203,45 @@ struct SimulatorConfig {
   double part_seating_sigma_mm = 0;
   TrackerModel tracker;
   VolumetricTruth volumetric;
+  // The `drift:` key of the section; none: the truth above holds at every time.
+  std::optional<SimulatorDrift> drift;
 };
 
 // Reads machine.simulator (absent or null: the defaults above). Unknown keys are refused so a
 // misspelt error never silently becomes zero. Throws ConfigError naming file, key and value.
 // `fixture:` needs the machine's own `fixture:` section, and its pogo labels must name pogos of it.
+// `drift:` (absent or null: no drift) needs `since`, an ISO 8601 UTC time of the years 1900 to
+// 2200; its rates must be numbers (lists of 3 for the shifts) and the fixture rates need the
+// machine's `fixture:` section.
 SimulatorConfig parse_simulator_config(const MachineConfig& machine);
+
+// ---- The truth at a time (pure functions of the config and the time) ----
+inline constexpr double kNsPerDay = 86400e9;
+
+// Days the truth has drifted at `now_ns` (ns since the Unix epoch, UTC):
+// (now - since) / 86400 s, exact to the nanosecond before the division; 0 when now <= since.
+double drift_days(const SimulatorDrift& drift, std::int64_t now_ns);
+
+// The touch-probe errors at `now_ns`: base + rate * drift_days for machine_shift, monument_shift,
+// tool_length_error, c_angle_error and a_home_error; stylus_offset and setpoint_shift as the base.
+// Without drift, or at or before `since`, exactly `base` (the same bits).
+SimulatorErrors errors_at(const SimulatorErrors& base, const std::optional<SimulatorDrift>& drift,
+                          std::int64_t now_ns);
+SimulatorErrors errors_at(const SimulatorConfig& config, std::int64_t now_ns);
+
+// The fixture's errors at `now_ns`: the offset_mm of column_x, pogo_y and pogo_z grow by their
+// rates; everything else as the base. Without drift, or at or before `since`, exactly `base`.
+FixtureErrors fixture_errors_at(const FixtureErrors& base,
+                                const std::optional<SimulatorDrift>& drift, std::int64_t now_ns);
+
+// The volumetric truth at `now_ns`: rigid_body.ec0xy_rad grows by its rate; everything else as
+// the base. Without drift, or at or before `since`, exactly `base`.
+VolumetricTruth volumetric_at(const VolumetricTruth& base,
+                              const std::optional<SimulatorDrift>& drift, std::int64_t now_ns);
+
+// The whole config frozen at `now_ns`: errors, fixture and volumetric at that time, drift
+// cleared (so the result holds at every time). Without drift, a copy of `config`.
+SimulatorConfig config_at(const SimulatorConfig& config, std::int64_t now_ns);
 
 // How long the simulated instruments take for one check of `kind`, in minutes: on a simulated
 // clock the measurement is stamped this long after its request (touch-probe checks minutes, a

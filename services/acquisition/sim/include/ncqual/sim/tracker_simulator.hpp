@@ -20,12 +20,18 @@ class TrackerSimulator {
   // Throws std::invalid_argument when the machine has no `global_check:` section.
   TrackerSimulator(MachineConfig machine, SimulatorConfig config);
 
-  // Runs the program of `request.kind` and returns the tracker's readings (frame "tracker").
+  // Runs the program of `request.kind` and returns the tracker's readings (frame "tracker"),
+  // measured at `time_ns` (ns since the Unix epoch, UTC) on the truth of that time (at(time_ns)).
   // Reproducible: the noise comes from (config seed, request_id). A kind that is not a tracker
   // check yields an empty set with `error` saying so.
   MeasurementSet perform(const CheckRequest& request, std::int64_t time_ns) const;
 
+  // The simulator frozen at `now_ns`: the truth of that time (config_at(config(), now_ns), drift
+  // cleared), same tracker, seed and noise. Without drift, an identical copy.
+  TrackerSimulator at(std::int64_t now_ns) const;
+
   // ---- The true world (for tests) ----
+  // With the base truth of config(); for the truth at a time ask at(now_ns).
   // Where the target really is (machine frame) for readouts `axes`, reflector `target`, with the
   // linear axes arriving from `direction` (+1/-1 per axis, for the reversal) and no random error.
   Eigen::Vector3d true_target(const AxisPosition& axes, const ProbeGeometry& target,
