@@ -117,33 +117,14 @@ class Plant {
   }
 
   std::string write_plant(const std::string& startup_checks = "[monument_positioning]") {
-    const auto path = dir_ / "plant.yaml";
-    std::ofstream out(path);
-    out << "plant: test-plant\n"
-        << "domain_id: " << domain_ << "\n"
-        << "qos_profiles: " << NCQUAL_SOURCE_DIR << "/deploy/qos/ncqual-qos.xml\n"
-        << "historian:\n  database: " << db_path() << "\n"
-        << "scheduler:\n  startup_checks: " << startup_checks << "\n"
-        << "machines:\n";
-    for (const auto& m : machines_) out << "  - " << m << "\n";
-    plant_file_ = path.string();
-    return plant_file_;
+    return write_plant_file("scheduler:\n  startup_checks: " + startup_checks + "\n");
   }
 
   // A plant on the simulated clock with a calendar: `scheduler_yaml` is the body of the
   // scheduler: section (indented two spaces), the clock starts at `start` (ISO 8601 UTC).
   std::string write_calendar_plant(const std::string& scheduler_yaml, const std::string& start) {
-    const auto path = dir_ / "plant.yaml";
-    std::ofstream out(path);
-    out << "plant: test-plant\n"
-        << "domain_id: " << domain_ << "\n"
-        << "qos_profiles: " << NCQUAL_SOURCE_DIR << "/deploy/qos/ncqual-qos.xml\n"
-        << "historian:\n  database: " << db_path() << "\n"
-        << "clock: {mode: simulated, start: \"" << start << "\"}\n"
-        << "scheduler:\n" << scheduler_yaml << "machines:\n";
-    for (const auto& m : machines_) out << "  - " << m << "\n";
-    plant_file_ = path.string();
-    return plant_file_;
+    return write_plant_file("clock: {mode: simulated, start: \"" + start + "\"}\nscheduler:\n" +
+                            scheduler_yaml);
   }
 
   Process& start(const std::string& service, const std::vector<std::string>& extra = {}) {
@@ -193,6 +174,20 @@ class Plant {
   }
 
  private:
+  // plant.yaml: the plant's name, domain, QoS and historian, `sections`, then the machines.
+  std::string write_plant_file(const std::string& sections) {
+    const auto path = dir_ / "plant.yaml";
+    std::ofstream out(path);
+    out << "plant: test-plant\n"
+        << "domain_id: " << domain_ << "\n"
+        << "qos_profiles: " << NCQUAL_SOURCE_DIR << "/deploy/qos/ncqual-qos.xml\n"
+        << "historian:\n  database: " << db_path() << "\n"
+        << sections << "machines:\n";
+    for (const auto& m : machines_) out << "  - " << m << "\n";
+    plant_file_ = path.string();
+    return plant_file_;
+  }
+
   fs::path dir_;
   int domain_ = 0;
   std::string plant_file_;
