@@ -354,6 +354,14 @@ MachineConfig load_machine_config(const std::string& path) {
   return parse_machine_config(load_machine_yaml(path, seen), path);
 }
 
+bool has_sections_for(const MachineConfig& machine, CheckKind kind) {
+  if (is_tracker_check(kind)) return machine.global_check.has_value();
+  if (kind == CheckKind::FixturePreCalibration || kind == CheckKind::FixturePostCalibration) {
+    return machine.fixture.has_value();
+  }
+  return true;
+}
+
 PlantConfig load_plant_config(const std::string& path) {
   const YAML::Node root = load_yaml(path);
   if (!root.IsMap()) throw ConfigError(path + ": expected a mapping at the top level");

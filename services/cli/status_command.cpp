@@ -73,8 +73,7 @@ int run_status(const std::vector<std::string>& words) {
       std::optional<std::int64_t> oldest;
       bool all = true, any = false;
       for (CheckKind k : period.checks) {
-        if (is_tracker_check(k) && !m.global_check) continue;
-        if ((k == CheckKind::FixturePreCalibration) && !m.fixture) continue;
+        if (!has_sections_for(m, k)) continue;
         any = true;
         std::optional<std::int64_t> last = db.last_pass_ns(m.machine_id, k);
         if (k == CheckKind::FixturePreCalibration) {

@@ -27,6 +27,11 @@ bool contains(const std::vector<std::string>& v, const std::string& s) {
 }
 
 // "20260105T060000Z": the UTC time of issue inside request ids.
+std::optional<std::int64_t> last_pass(const MachineRun& run, CheckKind kind) {
+  const auto it = run.last_pass_ns.find(kind);
+  return it == run.last_pass_ns.end() ? std::nullopt : std::optional(it->second);
+}
+
 std::string compact_time(std::int64_t t_ns) {
   char buffer[32];
   const std::string_view iso = format_iso8601(t_ns, buffer);
@@ -181,6 +186,10 @@ Scheduler::Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outpu
                      storage::StateFile* state)
     : plant_(plant), clock_(clock), out_(std::move(outputs)), state_file_(state) {
   if (plant_.calendar) calendar_.emplace(*plant_.calendar);
+  const CalendarConfig& limits = calendar_ ? calendar_->config() : default_calendar_config();
+  check_timeout_min_ = limits.check_timeout_min;
+  check_timeout_ns_ = static_cast<std::int64_t>(std::llround(limits.check_timeout_min * kNsPerMinute));
+  retries_ = limits.retries;
   for (const auto& m : plant_.machines) machines_[m.machine_id].config = &m;
   if (!state_file_) return;
   for (const auto& [key, doc] : state_file_->load()) {
@@ -201,14 +210,6 @@ Scheduler::Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outpu
 std::int64_t Scheduler::now(const Machine& m) const {
   const std::int64_t t = clock_.now_ns();
   return plant_.simulated_clock ? std::max(t, m.run.local_time_ns) : t;
-}
-
-bool Scheduler::can_run(const Machine& m, CheckKind kind) const {
-  if (is_tracker_check(kind)) return m.config->global_check.has_value();
-  if (kind == CheckKind::FixturePreCalibration || kind == CheckKind::FixturePostCalibration) {
-    return m.config->fixture.has_value();
-  }
-  return true;
 }
 
 std::string Scheduler::request_id_for(Machine& m, CheckKind kind) {
@@ -250,13 +251,11 @@ void Scheduler::start(const std::vector<CheckKind>& cycle) {
 }
 
 void Scheduler::tick() {
-  const CalendarConfig limits = calendar_ ? calendar_->config() : default_calendar_config();
-  const auto timeout = static_cast<std::int64_t>(std::llround(limits.check_timeout_min * kNsPerMinute));
   for (auto& [id, m] : machines_) {
     bool changed = false;
     for (std::size_t i = 0; i < m.run.pending.size();) {
       PendingCheck& p = m.run.pending[i];
-      if (now(m) >= p.issued_ns + timeout) {
+      if (now(m) >= p.issued_ns + check_timeout_ns_) {
         const std::size_t before = m.run.pending.size();
         retry_or_hold(m, p);
         changed = true;
@@ -290,10 +289,7 @@ void Scheduler::advance(Machine& m) {
       std::vector<CheckKind> planned;
       for (const auto& period : calendar_->config().periods) {
         for (CheckKind k : period.checks) {
-          const auto last = run.last_pass_ns.find(k);
-          const std::optional<std::int64_t> last_pass =
-              last == run.last_pass_ns.end() ? std::nullopt : std::optional(last->second);
-          if (can_run(m, k) && calendar_->due(period, last_pass, t) &&
+          if (has_sections_for(*m.config, k) && calendar_->due(period, last_pass(run, k), t) &&
               std::find(run.queue.begin(), run.queue.end(), k) == run.queue.end()) {
             run.queue.push_back(k);
             planned.push_back(k);
@@ -346,35 +342,33 @@ void Scheduler::add_fixture_configuration(Machine& m, CheckKind kind,
 
 void Scheduler::issue(Machine& m, CheckKind kind, const std::string& requested_by,
                       std::vector<NamedValue> parameters, std::string verifies_correction_of,
-                      bool in_sequence, bool rearmed) {
+                      bool in_sequence, bool rearmed, std::string request_id) {
   const std::int64_t t = now(m);
   add_fixture_configuration(m, kind, parameters);
-  const std::string id = request_id_for(m, kind);
+  const std::string id = request_id.empty() ? request_id_for(m, kind) : std::move(request_id);
   PendingCheck p{{id}, kind, requested_by, t, parameters, verifies_correction_of, in_sequence, rearmed};
   m.run.pending.push_back(p);
-  send(m, CheckRequest{m.config->machine_id, id, kind, requested_by, t, 1,
-                                          std::move(parameters), std::move(verifies_correction_of)});
-  spdlog::info("{}: requesting {} ({})", m.config->machine_id, to_string(kind), id);
+  send(m, CheckRequest{m.config->machine_id, id, kind, requested_by, t, 1, std::move(parameters),
+                       std::move(verifies_correction_of)});
+  spdlog::info("{}: requesting {} ({}) for {}", m.config->machine_id, to_string(kind), id, requested_by);
   update_state(m, id, kind, std::nullopt, std::string(to_string(kind)) + " requested by " + requested_by);
 }
 
 void Scheduler::retry_or_hold(Machine& m, PendingCheck& p) {
-  const CalendarConfig limits = calendar_ ? calendar_->config() : default_calendar_config();
   const int attempts = static_cast<int>(p.request_ids.size());
   const std::string late = p.request_ids.back();
-  if (attempts <= limits.retries) {
+  if (attempts <= retries_) {
     const std::string id = p.request_ids.front() + "-r" + std::to_string(attempts + 1);
     p.request_ids.push_back(id);
     p.issued_ns = now(m);
-    send(m, CheckRequest{m.config->machine_id, id, p.kind, p.requested_by,
-                                            p.issued_ns, attempts + 1, p.parameters,
-                                            p.verifies_correction_of});
+    send(m, CheckRequest{m.config->machine_id, id, p.kind, p.requested_by, p.issued_ns, attempts + 1,
+                         p.parameters, p.verifies_correction_of});
     spdlog::warn("{}: no result for {} ({}) after {} min; attempt {} as {}", m.config->machine_id,
-                 to_string(p.kind), late, limits.check_timeout_min, attempts + 1, id);
+                 to_string(p.kind), late, check_timeout_min_, attempts + 1, id);
     update_state(m, id, p.kind, std::nullopt,
                  std::string(to_string(p.kind)) + ": no result for " + late + " after " +
-                     std::to_string(static_cast<int>(limits.check_timeout_min)) + " min; attempt " +
-                     std::to_string(attempts + 1) + " of " + std::to_string(limits.retries + 1));
+                     std::to_string(static_cast<int>(check_timeout_min_)) + " min; attempt " +
+                     std::to_string(attempts + 1) + " of " + std::to_string(retries_ + 1));
     return;
   }
   const PendingCheck lost = p;
@@ -412,16 +406,9 @@ std::string Scheduler::command(const CheckCommand& cmd) {
   for (const auto& p : m.run.pending) {
     if (contains(p.request_ids, cmd.request_id)) return "";  // a resent order: already issued
   }
-  const std::int64_t t = now(m);
-  const std::string by = cmd.requested_by.empty() ? "operator" : cmd.requested_by;
-  PendingCheck p{{cmd.request_id}, cmd.kind, by, t, cmd.parameters, "", false, false};
-  add_fixture_configuration(m, cmd.kind, p.parameters);
-  m.run.pending.push_back(p);
-  send(m, 
-      CheckRequest{cmd.machine_id, cmd.request_id, cmd.kind, by, t, 1, p.parameters, ""});
-  spdlog::info("{}: requesting {} ({}) for {}", cmd.machine_id, to_string(cmd.kind), cmd.request_id, by);
-  update_state(m, cmd.request_id, cmd.kind, std::nullopt,
-               std::string(to_string(cmd.kind)) + " requested by " + by);
+  // Beside the sequence: an operator's order neither waits for it nor holds it up.
+  issue(m, cmd.kind, cmd.requested_by.empty() ? "operator" : cmd.requested_by, cmd.parameters, "",
+        false, false, cmd.request_id);
   commit(m);
   return "";
 }
@@ -532,10 +519,8 @@ void Scheduler::update_state(Machine& m, const std::string& request_id, std::opt
     std::vector<CheckKind> overdue, never;
     for (const auto& period : calendar_->config().periods) {
       for (CheckKind k : period.checks) {
-        if (!can_run(m, k)) continue;
-        const auto last = run.last_pass_ns.find(k);
-        const std::optional<std::int64_t> last_pass =
-            last == run.last_pass_ns.end() ? std::nullopt : std::optional(last->second);
+        if (!has_sections_for(*m.config, k)) continue;
+        const std::optional<std::int64_t> last_pass = scheduler::last_pass(run, k);
         if (calendar_->overdue(period, last_pass, t)) {
           overdue.push_back(k);
         } else if (!last_pass) {
@@ -603,15 +588,13 @@ bool Scheduler::idle() const {
 }
 
 std::optional<std::int64_t> Scheduler::next_event_ns() const {
-  const CalendarConfig limits = calendar_ ? calendar_->config() : default_calendar_config();
-  const auto timeout = static_cast<std::int64_t>(std::llround(limits.check_timeout_min * kNsPerMinute));
   std::optional<std::int64_t> best;
   const auto consider = [&](std::int64_t t) {
     if (!best || t < *best) best = t;
   };
   for (const auto& [id, m] : machines_) {
     const MachineRun& run = m.run;
-    for (const auto& p : run.pending) consider(p.issued_ns + timeout);
+    for (const auto& p : run.pending) consider(p.issued_ns + check_timeout_ns_);
     if (run.hold) continue;
     if (std::any_of(run.pending.begin(), run.pending.end(), [](const PendingCheck& p) { return p.in_sequence; })) {
       continue;

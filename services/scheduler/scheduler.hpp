@@ -145,7 +145,7 @@ class Scheduler {
   void advance(Machine& m);
   void issue(Machine& m, CheckKind kind, const std::string& requested_by,
              std::vector<NamedValue> parameters, std::string verifies_correction_of,
-             bool in_sequence, bool rearmed = false);
+             bool in_sequence, bool rearmed = false, std::string request_id = "");
   // A pre-calibration without an explicit configuration takes its fixture's next one.
   void add_fixture_configuration(Machine& m, CheckKind kind, std::vector<NamedValue>& parameters);
   // Queues a request for sending and remembers it among the machine's recent ones.
@@ -154,7 +154,6 @@ class Scheduler {
   void hold(Machine& m, Hold h);
   void update_state(Machine& m, const std::string& request_id, std::optional<CheckKind> kind,
                     std::optional<Verdict> verdict, std::string detail_if_changed = "");
-  bool can_run(const Machine& m, CheckKind kind) const;
   std::string request_id_for(Machine& m, CheckKind kind);
   // Writes the state, then sends what the decision produced.
   void commit(Machine& m);
@@ -168,6 +167,10 @@ class Scheduler {
   std::map<std::string, int> rotation_;
   std::vector<CheckRequest> outbox_requests_;
   std::vector<MachineStatus> outbox_statuses_;
+  // The calendar's (or the default's) timeout and retries.
+  double check_timeout_min_ = 0;
+  std::int64_t check_timeout_ns_ = 0;
+  int retries_ = 0;
 };
 
 // The simulated clock a previous run kept in the state file, if any.

@@ -105,6 +105,11 @@ struct PlantConfig {
   const MachineConfig* find_machine(const std::string& machine_id) const;
 };
 
+// True when the machine config has what a check of `kind` needs: the global_check: section for the
+// tracker checks, the fixture: section for the fixture checks (every machine has a monument and
+// set points). The scheduler plans only such checks; `ncqual status` shows only those.
+bool has_sections_for(const MachineConfig& machine, CheckKind kind);
+
 // The plant config file to use: `flag_value` (--plant) when given, else NCQUAL_PLANT, else "".
 std::string plant_config_path(const std::string& flag_value);
 
