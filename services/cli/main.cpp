@@ -25,6 +25,7 @@
 #include "analyze_command.hpp"
 #include "budget_command.hpp"
 #include "import_command.hpp"
+#include "plant_args.hpp"
 #include "status_command.hpp"
 #include "uncertainty_command.hpp"
 #include "ncqual/args.hpp"
@@ -191,13 +192,8 @@ int exit_code_of(Verdict v) {
 }
 
 int cmd_check(const Args& args) {
-  const std::string plant_file = plant_config_path(args.get_or("plant", ""));
-  if (plant_file.empty()) throw ArgError("pass --plant FILE (or set NCQUAL_PLANT)");
-  const PlantConfig plant = load_plant_config(plant_file);
-  const std::string machine = args.require("machine");
-  if (!plant.find_machine(machine)) {
-    throw ArgError("--machine '" + machine + "' is not configured in " + plant.source_path);
-  }
+  const PlantConfig plant = plant_from_args(args);
+  const std::string machine = configured_machine(plant, args.require("machine")).machine_id;
   const std::string kind_name = args.require("kind");
   const auto kind = parse_check_kind(kind_name);
   if (!kind) throw ArgError("--kind '" + kind_name + "' is not a check kind");

@@ -1,5 +1,7 @@
 #include "status_command.hpp"
 
+#include "plant_args.hpp"
+
 #include "ncqual/args.hpp"
 #include "ncqual/calendar.hpp"
 #include "ncqual/clock.hpp"
@@ -27,12 +29,6 @@ namespace {
 
 constexpr int kExitError = 1;
 
-PlantConfig plant_from(const Args& args) {
-  const std::string file = plant_config_path(args.get_or("plant", ""));
-  if (file.empty()) throw ArgError("pass --plant FILE (or set NCQUAL_PLANT)");
-  return load_plant_config(file);
-}
-
 nlohmann::json time_or_null(std::optional<std::int64_t> t) {
   return t ? nlohmann::json(*t) : nlohmann::json(nullptr);
 }
@@ -41,7 +37,7 @@ nlohmann::json time_or_null(std::optional<std::int64_t> t) {
 
 int run_status(const std::vector<std::string>& words) {
   const Args args(words, {"plant", "db", "machine"}, {"json"});
-  const PlantConfig plant = plant_from(args);
+  const PlantConfig plant = plant_from_args(args);
   const std::string db_path = args.get_or("db", plant.historian_database);
   if (!std::filesystem::exists(db_path)) {
     std::cerr << "ncqual status: no historian database at " << db_path << "\n";
@@ -50,9 +46,7 @@ int run_status(const std::vector<std::string>& words) {
   auto db = storage::Database::open_readonly(db_path);
   const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
   const auto machine_filter = args.get("machine");
-  if (machine_filter && !plant.find_machine(*machine_filter)) {
-    throw ArgError("--machine '" + *machine_filter + "' is not configured in " + plant.source_path);
-  }
+  if (machine_filter) (void)configured_machine(plant, *machine_filter);
   nlohmann::json out{{"plant", plant.plant}, {"machines", nlohmann::json::array()}};
   std::int64_t plant_now = WallClock().now_ns();
   for (const auto& m : plant.machines) {
@@ -126,11 +120,8 @@ int run_status(const std::vector<std::string>& words) {
 
 int run_intervene(const std::vector<std::string>& words) {
   const Args args(words, {"plant", "machine", "check", "note", "operator", "domain"}, {});
-  const PlantConfig plant = plant_from(args);
-  const std::string machine = args.require("machine");
-  if (!plant.find_machine(machine)) {
-    throw ArgError("--machine '" + machine + "' is not configured in " + plant.source_path);
-  }
+  const PlantConfig plant = plant_from_args(args);
+  const std::string machine = configured_machine(plant, args.require("machine")).machine_id;
   const std::string kind_name = args.require("check");
   const auto kind = parse_check_kind(kind_name);
   if (!kind) throw ArgError("--check '" + kind_name + "' is not a check kind");
@@ -181,11 +172,8 @@ struct Bucket {
 
 int run_trend(const std::vector<std::string>& words) {
   const Args args(words, {"plant", "db", "machine", "kind", "every", "metrics"}, {});
-  const PlantConfig plant = plant_from(args);
-  const std::string machine = args.require("machine");
-  if (!plant.find_machine(machine)) {
-    throw ArgError("--machine '" + machine + "' is not configured in " + plant.source_path);
-  }
+  const PlantConfig plant = plant_from_args(args);
+  const std::string machine = configured_machine(plant, args.require("machine")).machine_id;
   std::optional<CheckKind> only;
   if (auto k = args.get("kind")) {
     only = parse_check_kind(*k);
