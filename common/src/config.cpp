@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 
 namespace ncqual {
 namespace fs = std::filesystem;
@@ -237,6 +238,24 @@ const MachineConfig* PlantConfig::find_machine(const std::string& machine_id) co
     if (m.machine_id == machine_id) return &m;
   }
   return nullptr;
+}
+
+std::vector<MachineConfig> PlantConfig::machines_named(const std::string& list,
+                                                      const std::string& what) const {
+  std::vector<MachineConfig> out;
+  std::set<std::string> seen;
+  std::size_t from = 0;
+  while (from <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', from), list.size());
+    const std::string id = list.substr(from, comma - from);
+    from = comma + 1;
+    if (id.empty()) throw ConfigError(what + " '" + list + "': an empty machine id");
+    const MachineConfig* m = find_machine(id);
+    if (!m) throw ConfigError(what + " '" + id + "' is not configured in " + source_path);
+    if (!seen.insert(id).second) throw ConfigError(what + " '" + id + "' is named twice");
+    out.push_back(*m);
+  }
+  return out;
 }
 
 MachineConfig parse_machine_config(const YAML::Node& root, const std::string& where) {

@@ -103,6 +103,10 @@ struct PlantConfig {
   std::int64_t simulated_start_ns = 0;
 
   const MachineConfig* find_machine(const std::string& machine_id) const;
+  // The machines named in `list` (ids separated by commas), in that order, for a service that
+  // serves some of the plant's machines. Refuses an empty entry, an id the plant does not
+  // configure and an id named twice, naming `what` (the flag, e.g. "--machine") and the entry.
+  std::vector<MachineConfig> machines_named(const std::string& list, const std::string& what) const;
 };
 
 // True when the machine config has what a check of `kind` needs: the global_check: section for the

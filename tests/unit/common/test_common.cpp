@@ -157,6 +157,34 @@ TEST_F(ConfigFile, BadValuesAreNamedWithFileKeyAndValue) {
   }
 }
 
+TEST(PlantMachines, AListNamesMachinesInOrderAndRefusesBadEntriesByName) {
+  PlantConfig plant;
+  plant.source_path = "/etc/ncqual/plant.yaml";
+  for (const char* id : {"pm1", "pm2", "pm3"}) {
+    MachineConfig m;
+    m.machine_id = id;
+    plant.machines.push_back(m);
+  }
+  const auto named = plant.machines_named("pm3,pm1", "--machine");
+  ASSERT_EQ(named.size(), 2u);
+  EXPECT_EQ(named[0].machine_id, "pm3");
+  EXPECT_EQ(named[1].machine_id, "pm1");
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"pm1,pm9", "--machine 'pm9' is not configured in /etc/ncqual/plant.yaml"},
+      {"pm1,", "--machine 'pm1,': an empty machine id"},
+      {"", "--machine '': an empty machine id"},
+      {"pm2,pm2", "--machine 'pm2' is named twice"},
+  };
+  for (const auto& [list, message] : bad) {
+    try {
+      plant.machines_named(list, "--machine");
+      ADD_FAILURE() << "accepted '" << list << "'";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(std::string(e.what()), message);
+    }
+  }
+}
+
 TEST(Args, UnknownFlagsAndBadNumbersAreNamed) {
   const Args ok({"--plant", "p.yaml", "--json", "--limit=5", "pos"}, {"plant", "limit"}, {"json"});
   EXPECT_EQ(ok.require("plant"), "p.yaml");
