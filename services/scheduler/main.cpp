@@ -16,7 +16,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <iostream>
+#include <set>
 
 namespace {
 
@@ -45,21 +48,39 @@ constexpr std::int64_t kNsPerDay = 86'400'000'000'000LL;
 int main(int argc, char** argv) {
   try {
     const Args args(std::vector<std::string>(argv + 1, argv + argc),
-                    {"plant", "domain", "log-level", "cycle", "state", "days", "until", "stall-s"},
+                    {"plant", "machine", "domain", "log-level", "cycle", "state", "days", "until", "stall-s"},
                     {"help"});
     if (args.has("help")) {
       std::cout
-          << "usage: ncqual-scheduler --plant FILE [--domain N] [--cycle kind,kind,...]\n"
+          << "usage: ncqual-scheduler --plant FILE [--machine ID[,ID...]] [--domain N] [--cycle kind,kind,...]\n"
              "                        [--state FILE] [--days N | --until ISO-TIME] [--stall-s 30]\n"
              "                        [--log-level info]\n"
              "--cycle    checks to run once at start, in order (default without a calendar:\n"
              "           the plant's scheduler.startup_checks; '' for none)\n"
-             "--state    the durable state file (default: the plant's scheduler.state_database)\n"
+             "--machine  serve only these machines (one scheduler per machine or group; default: all)\n"
+             "--state    the durable state file (default: the plant's scheduler.state_database;\n"
+             "           with --machine, scheduler-<ids>.db beside it)\n"
              "--days/--until  simulated clock only: stop once nothing is due before that time\n";
       return 0;
     }
     init_logging("scheduler", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
+    PlantConfig loaded = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
+    // --machine: this scheduler serves only those machines (one scheduler per machine, or per
+    // group); the others' commands and interventions are another scheduler's, not errors. Its
+    // default state file is its own, so two schedulers never share one.
+    std::set<std::string> others;
+    if (auto list = args.get("machine")) {
+      std::vector<MachineConfig> served = loaded.machines_named(*list, "--machine");
+      for (const auto& m : loaded.machines) others.insert(m.machine_id);
+      for (const auto& m : served) others.erase(m.machine_id);
+      loaded.machines = std::move(served);
+      std::string ids = *list;
+      std::replace(ids.begin(), ids.end(), ',', '+');
+      loaded.scheduler_state_database =
+          (std::filesystem::path(loaded.scheduler_state_database).parent_path() /
+           ("scheduler-" + ids + ".db")).string();
+    }
+    const PlantConfig plant = std::move(loaded);
     std::vector<CheckKind> cycle = plant.calendar ? std::vector<CheckKind>{} : plant.startup_checks;
     if (auto text = args.get("cycle")) cycle = parse_cycle(*text);
 
@@ -110,11 +131,13 @@ int main(int argc, char** argv) {
       sched.result(in.value);
     });
     service.dispatcher().on(commands, [&](ncqual::dds::Received<CheckCommand> in) {
+      if (others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.command(in.value) : in.error;
       if (!refused.empty()) spdlog::error("check command {} refused: {}", in.value.request_id, refused);
     });
     service.dispatcher().on(interventions, [&](ncqual::dds::Received<Intervention> in) {
+      if (others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.intervention(in.value) : in.error;
       if (!refused.empty()) spdlog::warn("intervention {}: {}", in.value.intervention_id, refused);
