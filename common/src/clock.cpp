@@ -60,6 +60,8 @@ std::optional<std::int64_t> parse_iso8601(std::string_view text) {
     }
   }
   if (i + 1 != s.size() || s[i] != 'Z' || h > 23 || mi > 59) return std::nullopt;
+  // Nanoseconds in int64 reach from September 1677 to April 2262: refuse what would overflow.
+  if (y < 1678 || y > 2261) return std::nullopt;
   const date::year_month_day ymd{date::year(y), date::month(static_cast<unsigned>(mo)),
                                  date::day(static_cast<unsigned>(d))};
   if (!ymd.ok()) return std::nullopt;

@@ -37,7 +37,7 @@ class SimulatedClock final : public Clock {
 std::string_view format_iso8601(std::int64_t time_ns, char (&buffer)[32]);
 
 // The time of an ISO 8601 UTC text "YYYY-MM-DDTHH:MM[:SS[.fff]]Z" (also with a space for the T);
-// nothing when the text is not such a time.
+// nothing when the text is not such a time, or lies outside the years 1678-2261 (int64 ns).
 std::optional<std::int64_t> parse_iso8601(std::string_view text);
 
 }  // namespace ncqual

@@ -50,8 +50,10 @@ TEST(Iso8601, ParsesWhatFormatWritesAndRefusesTheRest) {
   EXPECT_EQ(format_iso8601(t, buffer), "2026-03-29T01:30:15.250Z");
   EXPECT_EQ(utc("2026-03-29 01:30Z"), t - 15'250'000'000LL);
   EXPECT_EQ(utc("1970-01-01T00:00:00Z"), 0);
+  EXPECT_EQ(utc("2261-12-31T23:59:59Z"), 9'214'646'399'000'000'000LL);
   for (const char* bad : {"2026-02-30T00:00Z", "2026-03-29T24:00Z", "2026-03-29T01:30", "yesterday",
-                          "2026-03-29T01:30:61Z", "2026-3-29T01:30Z", "2026-03-29T01:30Zx"}) {
+                          "2026-03-29T01:30:61Z", "2026-3-29T01:30Z", "2026-03-29T01:30Zx",
+                          "2262-06-01T00:00Z", "1600-01-01T00:00Z"}) {
     EXPECT_FALSE(parse_iso8601(bad).has_value()) << bad;
   }
 }
