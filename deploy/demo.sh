@@ -57,7 +57,10 @@ if [ -n "$weeks" ]; then
   mkdir -p "$var/log"
   plant="$var/demo-plant.yaml"
   db="$var/historian.db"
-  rm -f "$db" "$db-wal" "$db-shm" "$var/scheduler.db" "$var/scheduler.db-wal" "$var/scheduler.db-shm"
+  # The simulated weeks start at the same instant each run, so their request ids repeat: the
+  # scheduler's and the acquisition's state of an earlier run must go with its history.
+  rm -f "$db" "$db-wal" "$db-shm" "$var/scheduler.db" "$var/scheduler.db-wal" "$var/scheduler.db-shm" \
+    "$var"/acquisition-*.db "$var"/acquisition-*.db-wal "$var"/acquisition-*.db-shm
   cat > "$plant" <<YAML
 # Written by deploy/demo.sh --weeks $weeks
 plant: demo

@@ -16,9 +16,14 @@
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 #include "ncqual/sim/tracker_simulator.hpp"
+#include "ncqual/state_file.hpp"
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cinttypes>
+#include <deque>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <map>
@@ -29,12 +34,17 @@ namespace {
 
 using namespace ncqual;
 
+// How many performed request ids each machine remembers in the state file: more than the durable
+// CheckRequest history a restarted acquisition can be replayed (500 per machine, deploy/qos).
+constexpr std::size_t kRememberedPerformed = 1000;
+
 // One machine tool served by this process.
 class Station {
  public:
   Station(const MachineConfig& machine, ncqual::dds::Service& service,
           ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic>& sets, bool simulated,
-          std::int64_t max_age_ns)
+          std::int64_t max_age_ns, storage::StateFile& state,
+          const std::map<std::string, std::string>& documents)
       : machine_(machine),
         sim_config_(sim::parse_simulator_config(machine_)),
         simulator_(machine_, sim_config_),
@@ -42,8 +52,10 @@ class Station {
         sets_(sets),
         simulated_(simulated),
         max_age_ns_(max_age_ns),
+        state_(state),
         requests_(service.participant(), machine_.machine_id),
         compensations_(service.participant(), machine_.machine_id) {
+    load_performed(documents);
     if (machine_.fixture) fixture_ = sim::FixtureSimulator::for_machine(machine_, sim_config_);
     if (machine_.global_check) tracker_.emplace(machine_, sim_config_);
     service.dispatcher().on(compensations_, [this](ncqual::dds::Received<Compensation> in) {
@@ -89,7 +101,53 @@ class Station {
     spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
                  to_string(set.kind), set.touches.size(), set.tracker_points.size(),
                  set.error.empty() ? "" : " (" + set.error + ")");
-    if (!sets_.write(set)) spdlog::error("{}: measurement set could not be queued", set.request_id);
+    if (!sets_.write(set)) {
+      spdlog::error("{}: measurement set could not be queued", set.request_id);
+      return;
+    }
+    remember_performed(req.request_id);
+  }
+
+  // The requests this machine already measured, from the state file: a restarted acquisition
+  // is replayed the durable request history and must not move the machine for them again.
+  void load_performed(const std::map<std::string, std::string>& documents) {
+    const std::string prefix = "performed/" + id() + "/";
+    std::vector<std::pair<std::int64_t, std::string>> found;
+    for (auto it = documents.lower_bound(prefix);
+         it != documents.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++it) {
+      std::int64_t seq = 0;
+      if (std::sscanf(it->second.c_str(), "{\"seq\":%" SCNd64 "}", &seq) != 1) {
+        spdlog::warn("{}: state file {} entry '{}' is not readable; ignored", id(), state_.path(), it->first);
+        continue;
+      }
+      found.emplace_back(seq, it->first.substr(prefix.size()));
+    }
+    std::sort(found.begin(), found.end());
+    for (const auto& [seq, request_id] : found) {
+      performed_.insert(request_id);
+      performed_order_.push_back(request_id);
+      next_seq_ = std::max(next_seq_, seq + 1);
+    }
+    if (!found.empty()) {
+      spdlog::info("{}: {} performed requests remembered from {}", id(), found.size(), state_.path());
+    }
+  }
+
+  // Records a measured request; forgets the oldest beyond kRememberedPerformed. A failure to
+  // write is logged, not fatal: the worst outcome is one repeated measurement after a restart.
+  void remember_performed(const std::string& request_id) {
+    const std::string prefix = "performed/" + id() + "/";
+    performed_order_.push_back(request_id);
+    std::vector<std::string> erase;
+    while (performed_order_.size() > kRememberedPerformed) {
+      erase.push_back(prefix + performed_order_.front());
+      performed_order_.pop_front();
+    }
+    try {
+      state_.save({{prefix + request_id, "{\"seq\":" + std::to_string(next_seq_++) + "}"}}, erase);
+    } catch (const std::exception& e) {
+      spdlog::error("{}: could not record {} as performed: {}", id(), request_id, e.what());
+    }
   }
 
   void on_compensation(const ncqual::dds::Received<Compensation>& in) {
@@ -120,7 +178,10 @@ class Station {
   void on_request(const ncqual::dds::Received<CheckRequest>& in) {
     const CheckRequest& req = in.value;
     if (req.machine_id != id()) return;  // the filter should have done this
-    if (!performed_.insert(req.request_id).second) return;
+    if (!performed_.insert(req.request_id).second) {
+      spdlog::debug("{} {}: already performed, not measured again", req.machine_id, req.request_id);
+      return;
+    }
     const std::int64_t now = service_.clock().now_ns();
     // Requests older than this are history, not work: a restarted acquisition must not move the
     // machine for checks long since answered.
@@ -148,9 +209,12 @@ class Station {
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic>& sets_;
   const bool simulated_;
   const std::int64_t max_age_ns_;
+  storage::StateFile& state_;
   ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests_;
   ncqual::dds::Reader<ncqual::dds::CompensationTopic> compensations_;
-  std::set<std::string> performed_;
+  std::set<std::string> performed_;            // requests taken (measured, waiting or refused)
+  std::deque<std::string> performed_order_;    // measured ones in the state file, oldest first
+  std::int64_t next_seq_ = 0;
   std::set<std::string> applied_;                             // compensations by request id
   std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
 };
@@ -181,11 +245,13 @@ int main(int argc, char** argv) {
   using namespace ncqual;
   try {
     const Args args(std::vector<std::string>(argv + 1, argv + argc),
-                    {"plant", "machine", "machine-config", "domain", "log-level", "max-request-age-s"},
+                    {"plant", "machine", "machine-config", "domain", "log-level", "max-request-age-s", "state"},
                     {"help", "all"});
     if (args.has("help")) {
       std::cout << "usage: ncqual-acquisition --plant FILE (--machine ID[,ID...] | --all | --machine-config FILE)\n"
-                   "                          [--domain N] [--max-request-age-s 600] [--log-level info]\n"
+                   "                          [--state FILE] [--domain N] [--max-request-age-s 600] [--log-level info]\n"
+                   "--state  the requests already measured, so that a restart does not measure them again\n"
+                   "         (default: acquisition-<ids>.db, or acquisition-all.db, beside the historian's database)\n"
                    "Simulates the machines' instruments from each machine config's simulator section.\n"
                    "One process serves every machine named; each keeps its own state.\n";
       return 0;
@@ -203,9 +269,16 @@ int main(int argc, char** argv) {
                                   ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
                                   plant.qos_profiles_file});
     ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
+    std::string file_ids = args.has("all") ? "all" : served;
+    std::replace(file_ids.begin(), file_ids.end(), ',', '+');
+    storage::StateFile state = storage::StateFile::open(args.get_or(
+        "state", (std::filesystem::path(plant.historian_database).parent_path() /
+                  ("acquisition-" + file_ids + ".db")).string()));
+    const auto documents = state.load();
     std::vector<std::unique_ptr<Station>> stations;
     for (const auto& m : machines) {
-      stations.push_back(std::make_unique<Station>(m, service, sets, plant.simulated_clock, max_age_ns));
+      stations.push_back(std::make_unique<Station>(m, service, sets, plant.simulated_clock,
+                                                   max_age_ns, state, documents));
     }
     spdlog::info("serving {} machine(s): {}", stations.size(), served);
     return service.run();
