@@ -8,7 +8,7 @@
 # offsets (patent: the fixture check "is performed only after all of the monument checks have
 # been successfully completed").
 #
-# Usage: deploy/demo.sh [--scenario MACHINE.yaml] [--weeks N] [--domain N]
+# Usage: deploy/demo.sh [--scenario MACHINE.yaml] [--weeks N [--machines K]] [--domain N]
 #   --scenario  a machine config whose simulator section injects errors
 #               (examples in deploy/scenarios/; default deploy/machines/pm1.yaml)
 #   --weeks     instead of one cycle, run N weeks of the plant calendar on a simulated clock
@@ -16,6 +16,9 @@
 #               the monthly, daily and weekly checks at each shift start and a part every ~4 h,
 #               as fast as the services answer; then every machine's status and the trend of
 #               the daily checks. Try it with --scenario deploy/scenarios/drift.yaml.
+#   --machines  with --weeks: a plant of K machines (default 1), the scenario's and K-1 nominal
+#               copies of pm1 (pm2, pm3, ...; each its own fixture and seed), all against one
+#               scheduler, solver and historian, their instruments in one acquisition process
 #   --domain    DDS domain id (default: NCQUAL_DOMAIN, else a random private one in 100..199)
 # Data goes to $NCQUAL_VAR (default var/ at the repository root): the historian database
 # var/historian.db, the logs var/log/, the plant config the demo writes var/demo-plant.yaml.
@@ -25,18 +28,26 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 scenario="$root/deploy/machines/pm1.yaml"
 domain="${NCQUAL_DOMAIN:-$((100 + RANDOM % 100))}"
 weeks=""
+machines=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) scenario="$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"; shift 2 ;;
     --domain) domain="$2"; shift 2 ;;
     --weeks) weeks="$2"; shift 2 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    --machines) machines="$2"; shift 2 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
 [ -f "$scenario" ] || { echo "demo.sh: scenario file '$scenario' not found" >&2; exit 2; }
 if [ -n "$weeks" ] && ! [[ "$weeks" =~ ^[1-9][0-9]?$ ]]; then
   echo "demo.sh: --weeks '$weeks': expected a whole number of weeks from 1 to 99" >&2; exit 2
+fi
+if ! [[ "$machines" =~ ^[1-9][0-9]?$ ]]; then
+  echo "demo.sh: --machines '$machines': expected a whole number of machines from 1 to 99" >&2; exit 2
+fi
+if [ "$machines" -gt 1 ] && [ -z "$weeks" ]; then
+  echo "demo.sh: --machines needs --weeks (the one-cycle demo qualifies one machine)" >&2; exit 2
 fi
 
 "$root/deploy/install-deps.sh"
@@ -61,6 +72,19 @@ if [ -n "$weeks" ]; then
   # scheduler's and the acquisition's state of an earlier run must go with its history.
   rm -f "$db" "$db-wal" "$db-shm" "$var/scheduler.db" "$var/scheduler.db-wal" "$var/scheduler.db-shm" \
     "$var"/acquisition-*.db "$var"/acquisition-*.db-wal "$var"/acquisition-*.db-shm
+  # The other machines of the plant: nominal pm1s, each with its own fixture and noise.
+  rm -rf "$var/machines"
+  mkdir -p "$var/machines"
+  machine_files=("$scenario")
+  for i in $(seq 2 "$machines"); do
+    cat > "$var/machines/pm$i.yaml" <<YAML
+extends: $root/deploy/machines/pm1.yaml
+machine_id: pm$i
+fixture: {fixture_id: UHF$i}
+simulator: {seed: $((42 + i))}
+YAML
+    machine_files+=("$var/machines/pm$i.yaml")
+  done
   cat > "$plant" <<YAML
 # Written by deploy/demo.sh --weeks $weeks
 plant: demo
@@ -87,7 +111,7 @@ scheduler:
       - {name: weekly, every: week, checks: [fixture_precal]}
     parts: {checks: [part_setpoints], cycle_min: 220}
 machines:
-  - $scenario
+$(printf '  - %s\n' "${machine_files[@]}")
 YAML
 else
   # The one-cycle demo starts the scheduler afresh: no hold or pending check of an earlier run.
@@ -129,17 +153,23 @@ since_ns="$(date +%s%N)"
 echo "== starting the services on DDS domain $domain (logs in $var/log)"
 start historian
 start solver
-start acquisition --machine "$machine_id"
 if [ -n "$weeks" ]; then
-  echo "== $weeks simulated weeks of shifts for $machine_id (scenario $(basename "$scenario"))"
+  start acquisition --all
+  if [ "$machines" -gt 1 ]; then
+    echo "== $weeks simulated weeks of shifts for $machine_id (scenario $(basename "$scenario")) and pm2..pm$machines"
+  else
+    echo "== $weeks simulated weeks of shifts for $machine_id (scenario $(basename "$scenario"))"
+  fi
   started="$(date +%s)"
   "$bin/scheduler/ncqual-scheduler" --days "$((weeks * 7))" > "$var/log/scheduler.log" 2>&1 \
     || { echo "demo.sh: the scheduler failed; see $var/log/scheduler.log" >&2; exit 1; }
-  "$bin/cli/ncqual" wait --settled --machine "$machine_id" --timeout 120 > /dev/null \
-    || { echo "demo.sh: the historian did not settle; see $var/log" >&2; exit 1; }
+  for id in "$machine_id" $(seq -f 'pm%g' 2 "$machines"); do
+    "$bin/cli/ncqual" wait --settled --machine "$id" --timeout 120 > /dev/null \
+      || { echo "demo.sh: the historian did not settle for $id; see $var/log" >&2; exit 1; }
+  done
   elapsed="$(( $(date +%s) - started ))"
   stop_all
-  echo "   $("$bin/cli/ncqual" count --machine "$machine_id") checks stored in ${elapsed} s of wall time"
+  echo "   $("$bin/cli/ncqual" count) checks of $machines machine(s) stored in ${elapsed} s of wall time"
   echo
   echo "== status (historian $db)"
   "$bin/cli/ncqual" status
@@ -148,6 +178,7 @@ if [ -n "$weeks" ]; then
   "$bin/cli/ncqual" trend --machine "$machine_id" --every week
   exit 0
 fi
+start acquisition --machine "$machine_id"
 start scheduler
 
 echo "== qualification cycle of $machine_id (scenario $(basename "$scenario"))"
