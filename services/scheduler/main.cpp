@@ -142,6 +142,34 @@ int main(int argc, char** argv) {
       const std::string refused = in.error.empty() ? sched.intervention(in.value) : in.error;
       if (!refused.empty()) spdlog::warn("intervention {}: {}", in.value.intervention_id, refused);
     });
+    // A restarted scheduler sends nothing until its writers have matched the readers the last
+    // run had (historian, acquisitions), or 10 s passed. Otherwise a request could reach the
+    // acquisition, which discovered the new writer first, and be lost to the historian if this
+    // process were killed again before the historian matched it.
+    scheduler::ReaderCounts known = scheduler::saved_reader_counts(state);
+    if (known.requests > 0 || known.statuses > 0) {
+      const bool matched = requests.wait_for_readers(known.requests, std::chrono::seconds(10)) &&
+                           statuses.wait_for_readers(known.statuses, std::chrono::seconds(10));
+      const scheduler::ReaderCounts now{requests.matched_readers(), statuses.matched_readers()};
+      if (!matched) {
+        spdlog::warn("after 10 s {} of {} request readers and {} of {} status readers are matched; "
+                     "going on without the others",
+                     now.requests, known.requests, now.statuses, known.statuses);
+        known = now;  // the plant has changed: learn its readers afresh
+        scheduler::save_reader_counts(state, known);
+      } else {
+        spdlog::info("{} request and {} status readers matched", now.requests, now.statuses);
+      }
+    }
+    // Remembers more readers as they appear (services started after the scheduler).
+    const auto learn_readers = [&] {
+      const scheduler::ReaderCounts now{std::max(known.requests, requests.matched_readers()),
+                                        std::max(known.statuses, statuses.matched_readers())};
+      if (!(now == known)) {
+        known = now;
+        scheduler::save_reader_counts(state, known);
+      }
+    };
     sched.start(cycle);
 
     // Before the writers go: every reader (acquisition, historian) must have what was written,
@@ -153,7 +181,10 @@ int main(int argc, char** argv) {
       }
     };
     if (!plant.simulated_clock) {
-      service.dispatcher().every(std::chrono::seconds(1), [&] { sched.tick(); });
+      service.dispatcher().every(std::chrono::seconds(1), [&] {
+        sched.tick();
+        learn_readers();
+      });
       const int code = service.run();
       flush();
       return code;
@@ -165,6 +196,7 @@ int main(int argc, char** argv) {
     int spins = 0;
     while (!d.stopping()) {
       sched.tick();
+      learn_readers();
       if (sched.idle()) {
         const auto next = sched.next_event_ns();
         if (until && (!next || *next > *until)) {

@@ -180,6 +180,27 @@ std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file) {
   return nlohmann::json::parse(it->second).at("now_ns").get<std::int64_t>();
 }
 
+ReaderCounts saved_reader_counts(storage::StateFile& file) {
+  const auto docs = file.load();
+  const auto it = docs.find("readers");
+  if (it == docs.end()) return {};
+  try {
+    const auto j = nlohmann::json::parse(it->second);
+    return {j.at("requests").get<int>(), j.at("statuses").get<int>()};
+  } catch (const std::exception& e) {
+    spdlog::error("scheduler state 'readers' in {} ignored: {}", file.path(), e.what());
+    return {};
+  }
+}
+
+void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts) {
+  try {
+    file.save({{"readers", nlohmann::json{{"requests", counts.requests}, {"statuses", counts.statuses}}.dump()}});
+  } catch (const std::exception& e) {
+    spdlog::error("reader counts not saved to {}: {}", file.path(), e.what());
+  }
+}
+
 // ------------------------------------------------------------------------------------------------
 
 Scheduler::Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outputs,

@@ -176,6 +176,17 @@ class Scheduler {
 // The simulated clock a previous run kept in the state file, if any.
 std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file);
 
+// How many readers the CheckRequest and MachineStatus writers had matched (state document
+// "readers"): the historian's and each acquisition's. A restarted scheduler waits for as many
+// before it sends, so that nothing it sends reaches the acquisition but not the historian.
+struct ReaderCounts {
+  int requests = 0;
+  int statuses = 0;
+  bool operator==(const ReaderCounts& o) const { return requests == o.requests && statuses == o.statuses; }
+};
+ReaderCounts saved_reader_counts(storage::StateFile& file);
+void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts);
+
 // The state documents, for the state file and for tests (round trip).
 std::string to_json(const MachineRun& run);
 MachineRun machine_run_from_json(const std::string& json);
