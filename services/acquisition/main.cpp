@@ -46,7 +46,7 @@ class Station {
           std::int64_t max_age_ns, storage::StateFile& state,
           const std::map<std::string, std::string>& documents)
       : machine_(machine),
-        sim_config_(sim::parse_simulator_config(machine_)),
+        sim_config_(machine_.simulator),
         simulator_(machine_, sim_config_),
         service_(service),
         sets_(sets),

@@ -330,12 +330,12 @@ int run_budget_command(const Args& args) {
               << plant.source_path << "\n";
     return kExitError;
   }
-  if (!machine->budget || machine->budget.IsNull()) {
+  if (!machine->budget) {
     std::cerr << "ncqual budget: machine '" << machine_id << "' (" << machine->source_path
               << ") has no budget: section\n";
     return kExitError;
   }
-  const ErrorBudgetConfig budget = solver::parse_error_budget(machine->budget, machine->source_path);
+  const ErrorBudgetConfig& budget = *machine->budget;
 
   // The historian, read only. Without a file (a plant that has not run yet) the budget still
   // stands on the default capabilities; a --db that does not exist is a mistake.

@@ -81,7 +81,7 @@ int run() {
   const double rss_start = rss_mb();
   const std::string path = std::string(NCQUAL_SOURCE_DIR) + "/deploy/machines/pm1.yaml";
   const ncqual::MachineConfig machine = ncqual::load_machine_config(path);
-  const ncqual::sim::SimulatorConfig sim_config = ncqual::sim::parse_simulator_config(machine);
+  const ncqual::sim::SimulatorConfig sim_config = machine.simulator;
   const ncqual::sim::TrackerSimulator simulator(machine, sim_config);
 
   const auto grid_set = [&](int i) {

@@ -45,7 +45,7 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
   const double bound = 3 * 0.001;  // 3 sigma of the 1 um trigger noise
   for (const auto& path : {good, shifted}) {
     const MachineConfig machine = load_machine_config(path);
-    const auto truth = sim::parse_simulator_config(machine).errors;
+    const auto truth = machine.simulator.errors;
     storage::HistoryQuery q;
     q.machine_id = machine.machine_id;
     const auto records = db.history(q);

@@ -24,8 +24,6 @@
 
 #include "ncqual/model.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -82,11 +80,11 @@ struct CalendarConfig {
 // checks 1 -> 4, in that order; two shifts Monday to Friday, 06:00-14:00 and 14:00-22:00, UTC.
 CalendarConfig default_calendar_config();
 
-// Reads `scheduler.calendar:` (keys: time_zone, week_start, shifts [{name, start "HH:MM", end,
-// days: [mon, ...] or "mon-fri"}], periods [{name, every: shift|day|week|month, count, checks}],
-// parts {checks, cycle_min}, check_timeout_min, retries). Omitted keys take the defaults above.
-// Throws ConfigError naming the file, the key and the value (also for an unknown time zone).
-CalendarConfig parse_calendar_config(const YAML::Node& node, const std::string& where);
+// The plant config's `scheduler.calendar:` (read by the configuration layer,
+// common/src/config/calendar_section.cpp): time_zone, week_start, shifts [{name, start "HH:MM",
+// end, days: [mon, ...] or "mon-fri"}], periods [{name, every: shift|day|week|month, count,
+// checks}], parts {checks, cycle_min}, check_timeout_min, retries. Omitted keys take the defaults
+// above; an unknown time zone is refused with the rest.
 
 struct ShiftSlot {
   std::string name;

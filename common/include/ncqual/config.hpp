@@ -1,16 +1,21 @@
-// Plant and machine configuration (YAML, read with yaml-cpp).
+// Plant and machine configuration: the typed result of reading the YAML files.
+//
+// The configuration layer (common/src/config/) is the only code that reads YAML: every section
+// of a plant and its machines is read at load into the structs below (and those of fixture.hpp,
+// global_check.hpp, calendar.hpp, config/simulator.hpp, config/budget.hpp), every key name is
+// written once there, and unknown keys are refused everywhere.
 //
 // Lengths and angles may be written as a bare number in the unit the key names (`_mm`, `_rad`)
 // or as a string with a unit: "0.5 in", "30 arcsec", "12 um". Everything is stored internally in
-// mm and rad. Errors name the file, the key and the value.
+// mm and rad. Every problem names the file, the key and the value; a load reports all of them.
 #pragma once
 
 #include "ncqual/calendar.hpp"
+#include "ncqual/config/budget.hpp"
+#include "ncqual/config/simulator.hpp"
 #include "ncqual/fixture.hpp"
 #include "ncqual/global_check.hpp"
 #include "ncqual/kinematics.hpp"
-
-#include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
 
@@ -23,10 +28,27 @@
 
 namespace ncqual {
 
-// Thrown for any problem in a config file; what() names file, key and value.
+// Thrown for problems in config files: what() has every problem, one per line, each
+// "<file>: <key> = <value>: <why>"; problems() has them one by one.
 class ConfigError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit ConfigError(const std::string& problem)
+      : std::runtime_error(problem), problems_{problem} {}
+  explicit ConfigError(std::vector<std::string> problems);
+  const std::vector<std::string>& problems() const { return problems_; }
+
+ private:
+  std::vector<std::string> problems_;
+};
+
+// A value as the loader resolved it, for `ncqual config check --print`: in mm and rad with what
+// was written when that was another unit ("0.762 mm (written 0.03 in)"); `defaulted` when the
+// key was absent and the default was taken.
+struct ResolvedValue {
+  std::string file;
+  std::string key;
+  std::string value;
+  bool defaulted = false;
 };
 
 struct Tolerance {
@@ -68,8 +90,8 @@ struct MachineConfig {
   ProbeGeometry probe;         // nominal
   MonumentConfig monument;     // nominal, as taught
   std::map<std::string, Tolerance> tolerances;  // by metric name
-  YAML::Node simulator;        // the `simulator:` section, for the acquisition service only
-  YAML::Node budget;           // the `budget:` section (error budget), read by solver::parse_error_budget
+  sim::SimulatorConfig simulator;  // the `simulator:` section (ground truth; acquisition only)
+  std::optional<solver::ErrorBudgetConfig> budget;  // the `budget:` section, if any
   std::optional<FixtureConfig> fixture;  // the `fixture:` section (ncqual/fixture.hpp), if any
   PartSetPointsConfig setpoints;         // the `setpoints:` section
   std::optional<GlobalCheckConfig> global_check;  // the `global_check:` section (monthly, tracker)
@@ -117,32 +139,28 @@ bool has_sections_for(const MachineConfig& machine, CheckKind kind);
 // The plant config file to use: `flag_value` (--plant) when given, else NCQUAL_PLANT, else "".
 std::string plant_config_path(const std::string& flag_value);
 
+// Loaders: throw ConfigError with every problem found in the files.
 MachineConfig load_machine_config(const std::string& path);
-MachineConfig parse_machine_config(const YAML::Node& root, const std::string& source);
 PlantConfig load_plant_config(const std::string& path);
+// A machine config from YAML text, as if read from the file `source` (`extends:` is resolved
+// relative to it).
+MachineConfig parse_machine_config(std::string_view yaml_text, const std::string& source);
 
-// Helpers for reading quantities out of YAML with units, used by the config loaders and by the
-// simulator's section. `where` names the file for error messages.
-namespace yaml {
-// Throws ConfigError "<where>: <key> = '<value>': <why>", the one shape of every config error.
-[[noreturn]] void fail(const std::string& where, const std::string& key, const YAML::Node& value,
-                       const std::string& why);
-// Refuses any key of the mapping `section` not in `known`, so a misspelt key never silently
-// takes its default: ConfigError "<where>: <prefix><key> = ...: unknown key; expected one of: ...".
-void refuse_unknown_keys(const YAML::Node& section, const std::set<std::string>& known,
-                         const std::string& prefix, const std::string& where);
-double length_mm(const YAML::Node& node, const std::string& key, const std::string& where);
-double length_mm_or(const YAML::Node& node, const std::string& key, double fallback,
-                    const std::string& where);
-double angle_rad_or(const YAML::Node& node, const std::string& key, double fallback,
-                    const std::string& where);
-// A 2- or 3-element list of lengths, e.g. [0.01, -0.02, 0] or ["0.001 in", 0, 0].
-Eigen::VectorXd lengths_mm_or(const YAML::Node& node, const std::string& key, int size,
-                              const Eigen::VectorXd& fallback, const std::string& where);
-double number_or(const YAML::Node& node, const std::string& key, double fallback,
-                 const std::string& where);
-std::string string_or(const YAML::Node& node, const std::string& key, const std::string& fallback,
-                      const std::string& where);
-}  // namespace yaml
+// One section from YAML text (the section's own mapping), as the loader reads it under its key
+// in the file `source`: for tests and tools that hold a section alone.
+CalendarConfig parse_calendar_config(std::string_view yaml_text, const std::string& source);
+solver::ErrorBudgetConfig parse_error_budget(std::string_view yaml_text, const std::string& source);
+// The `simulator:` key of a machine-file fragment (YAML text whose top level holds `simulator:`),
+// read against `machine`'s other sections (its set points and fixture), as the loader reads it.
+sim::SimulatorConfig parse_simulator_config(std::string_view machine_yaml_text,
+                                            const MachineConfig& machine);
+
+// Everything a load finds, without throwing: for `ncqual config check`.
+struct ConfigReport {
+  std::vector<std::string> problems;  // all of them, in file order
+  std::vector<ResolvedValue> values;  // every value read or defaulted, in file order
+  std::optional<PlantConfig> plant;   // when there is no problem
+};
+ConfigReport check_plant_config(const std::string& path);
 
 }  // namespace ncqual

@@ -32,8 +32,6 @@
 // Units: mm inside; the config may write inches ("24 in", or keys ending in _in).
 #pragma once
 
-#include <yaml-cpp/yaml.h>
-
 #include <Eigen/Core>
 
 #include <optional>
@@ -148,8 +146,7 @@ struct ZeroOffsetName {
 };
 std::optional<ZeroOffsetName> parse_zero_offset_name(std::string_view name);
 
-// Reads the `fixture:` section of a machine config (see deploy/machines/pm1.yaml for every key).
-// Unknown keys and bad values throw ConfigError "<where>: fixture.<key> = '<value>': <why>".
-FixtureConfig parse_fixture_config(const YAML::Node& node, const std::string& where);
+// The `fixture:` section of a machine config (see deploy/machines/pm1.yaml for every key) is read
+// into FixtureConfig by the configuration layer (common/src/config/fixture_section.cpp).
 
 }  // namespace ncqual

@@ -28,8 +28,6 @@
 #include "ncqual/kinematics.hpp"
 #include "ncqual/model.hpp"
 
-#include <yaml-cpp/yaml.h>
-
 #include <Eigen/Core>
 
 #include <cstdint>
@@ -158,15 +156,14 @@ struct GlobalCheckConfig {
   std::optional<VerificationUncertaintyConfig> uncertainty;
 };
 
-// Reads the `global_check:` section. Throws ConfigError naming file, key and value. Unknown keys
-// are refused.
+// The `global_check:` section is read by the configuration layer
+// (common/src/config/global_check_section.cpp); unknown keys are refused.
 // Its optional `uncertainty:` mapping goes to GlobalCheckConfig::uncertainty; refused there
 // (ConfigError naming the key, e.g. global_check.uncertainty.tracker.angular_sigma_urad, and the
 // value): a missing tracker or tracker.position_mm, negative or non-finite sigmas, non-finite
 // numbers, samples_per_point or trials not an integer from 1 to 1e6, a seed not an integer >= 0,
 // a search box with min > max, step_mm <= 0, more than 1e6 candidates, negative clearance or
 // min_range_mm, max_range_mm <= min_range_mm, unknown keys.
-GlobalCheckConfig parse_global_check_config(const YAML::Node& node, const std::string& where);
 
 // One move of a monthly program: the machine goes to `commanded`; when `label` is non-empty the
 // tracker measures target `target` there. Moves without a label are approach moves (e.g. an

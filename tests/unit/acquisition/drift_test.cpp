@@ -39,12 +39,12 @@ constexpr std::int64_t kDayNs = 86400LL * 1000000000;
 
 // `m` with its simulator section replaced by the `simulator:` of `yaml`.
 MachineConfig with_simulator(MachineConfig m, const std::string& yaml) {
-  m.simulator = YAML::Load(yaml)["simulator"];
+  m.simulator = parse_simulator_config(yaml, m);
   return m;
 }
 
 SimulatorConfig parse(const MachineConfig& m, const std::string& yaml) {
-  return parse_simulator_config(with_simulator(m, yaml));
+  return with_simulator(m, yaml).simulator;
 }
 
 void expect_same_axes(const AxisPosition& a, const AxisPosition& b, const std::string& what) {
@@ -166,7 +166,7 @@ TEST(DriftConfig, AbsentOrNullSectionMeansNoDrift) {
     EXPECT_FALSE(parse(pm1_like_machine(), yaml).drift.has_value()) << yaml;
   }
   const MachineConfig pm1 = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
-  EXPECT_FALSE(parse_simulator_config(pm1).drift.has_value());
+  EXPECT_FALSE(pm1.simulator.drift.has_value());
 }
 
 TEST(DriftConfig, ReadsEveryRateInItsKeysUnit) {
@@ -224,8 +224,8 @@ struct BadDrift {
 
 TEST(DriftConfig, RefusesBadValuesNamingFileKeyAndValue) {
   const BadDrift cases[] = {
-      {"drift: 3", {"test:pm1", "[simulator]", "drift", "'3'", "mapping"}},
-      {"drift: {}", {"[simulator.drift]", "since", "required"}},
+      {"drift: 3", {"test:pm1", "simulator.drift", "'3'", "mapping"}},
+      {"drift: {}", {"simulator.drift.since", "required"}},
       {"drift: {tool_length_error_mm_per_day: 0.001}", {"since", "required"}},
       {"drift: {since: yesterday}", {"since", "'yesterday'", "ISO 8601"}},
       {"drift: {since: '2026-02-30T00:00:00Z'}", {"since", "'2026-02-30T00:00:00Z'", "ISO 8601"}},
@@ -240,7 +240,7 @@ TEST(DriftConfig, RefusesBadValuesNamingFileKeyAndValue) {
       {"drift: {since: '2026-01-05T00:00Z', tool_length_error_mm_per_day: [1]}",
        {"tool_length_error_mm_per_day", "number"}},
       {"drift: {since: '2026-01-05T00:00Z', machine_shift_mm_per_day: [0.001, 0]}",
-       {"[simulator.drift]", "machine_shift_mm_per_day", "list of 3"}},
+       {"simulator.drift.machine_shift_mm_per_day", "list of 3"}},
       {"drift: {since: '2026-01-05T00:00Z', monument_shift_mm_per_day: [0, x, 0]}",
        {"monument_shift_mm_per_day[1]", "'x'"}},
       {"drift: {since: '2026-01-05T00:00Z', c_angle_error_arcsec_per_day: 1 mm}",
@@ -500,7 +500,7 @@ TEST(DriftTouchProbe, NoDriftSectionGivesTheSameSetsAsToday) {
   // Without drift (and with a drift section before its `since`) every measurement is the one the
   // simulator gave before drift existed: the same touches, to the bit, at any time.
   const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
-  SimulatorConfig c = parse_simulator_config(m);
+  SimulatorConfig c = m.simulator;
   c.errors.tool_length_error_mm = 0.01;
   c.errors.machine_shift_mm = Eigen::Vector3d(0.004, -0.003, 0.002);
   ASSERT_FALSE(c.drift.has_value());
@@ -588,7 +588,7 @@ TEST(DriftFixture, PreCalibrationSeesTheZeroDriftAndZeroOffsetsCancelItUntilThen
 
 TEST(DriftTracker, SquarenessGrowsAndTheGridMeasuresTheTruthOfItsTime) {
   const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
-  SimulatorConfig c = parse_simulator_config(m);
+  SimulatorConfig c = m.simulator;
   c.volumetric = VolumetricTruth{};  // a perfect machine but for the squareness
   c.volumetric.rigid_body.ec0xy_rad = 12e-6;
   c.drift = SimulatorDrift{};
@@ -619,7 +619,7 @@ TEST(DriftTracker, SquarenessGrowsAndTheGridMeasuresTheTruthOfItsTime) {
 
 TEST(DriftScenario, CheckThreeStartsFailingAfterFourToSixWeeksAndTheFixtureIsCorrectedBefore) {
   const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/scenarios/drift.yaml");
-  const SimulatorConfig c = parse_simulator_config(m);
+  const SimulatorConfig c = m.simulator;
   ASSERT_TRUE(c.drift.has_value());
   EXPECT_EQ(c.drift->since_ns, kSinceNs);
   const double tol = m.tolerances.at("center_dy_mm").upper;

@@ -514,11 +514,11 @@ fixture:
   reference_block: {size_mm: 80, height_mm: 30}
   probe_depth_mm: 8
 )" + tail;
-  return parse_machine_config(YAML::Load(text), "t1.yaml");
+  return parse_machine_config(text, "t1.yaml");
 }
 
 TEST(SimulatorConfigFixture, ReadsEveryFixtureErrorWithItsUnits) {
-  const SimulatorConfig c = parse_simulator_config(machine_yaml(R"(
+  const SimulatorConfig c = machine_yaml(R"(
 simulator:
   fixture:
     column_x: {offset_mm: "0.001 in", scale_ppm: 12, misalignment_y_urad: 40, misalignment_z_arcsec: 3}
@@ -526,7 +526,7 @@ simulator:
     pogo_z: {misalignment_x_rad: 0.0002, misalignment_y_deg: 0.01}
     pogo_offsets_mm: {C3R4: [0.01, "-2 um", 0], C1R1: [0, 0, 0.02]}
     wear_sigma_mm: "3 um"
-)"));
+)").simulator;
   const FixtureErrors& e = c.fixture;
   EXPECT_DOUBLE_EQ(e.column_x.offset_mm, 0.0254);
   EXPECT_DOUBLE_EQ(e.column_x.scale_ppm, 12);
@@ -549,7 +549,7 @@ simulator:
 }
 
 TEST(SimulatorConfigFixture, AbsentMeansAPerfectFixture) {
-  const SimulatorConfig c = parse_simulator_config(machine_yaml("simulator: {seed: 3}\n"));
+  const SimulatorConfig c = machine_yaml("simulator: {seed: 3}\n").simulator;
   EXPECT_EQ(c.fixture.column_x.offset_mm, 0);
   EXPECT_EQ(c.fixture.pogo_z.misalignment_rad, Eigen::Vector3d::Zero());
   EXPECT_TRUE(c.fixture.pogo_offsets_mm.empty());
@@ -564,7 +564,7 @@ TEST(SimulatorConfigFixture, RefusesUnknownKeysAndBadValuesNamingThem) {
   } cases[] = {
       {"simulator:\n  fixture:\n    colum_x: {offset_mm: 1}\n", "colum_x = (not a single value): unknown key"},
       {"simulator:\n  fixture:\n    column_x: {misalignment_x_urad: 1}\n",
-       "[simulator.fixture] column_x: misalignment_x_urad = '1': unknown key"},
+       "simulator.fixture.column_x.misalignment_x_urad = '1': unknown key"},
       {"simulator:\n  fixture:\n    pogo_z: {scale_ppm: lots}\n", "scale_ppm = 'lots': expected a number"},
       {"simulator:\n  fixture:\n    pogo_y: {sine_amplitude_mm: 0.01}\n",
        "sine_period_mm = (missing): must be positive when sine_amplitude_mm is not zero"},
@@ -578,7 +578,7 @@ TEST(SimulatorConfigFixture, RefusesUnknownKeysAndBadValuesNamingThem) {
   };
   for (const auto& c : cases) {
     try {
-      parse_simulator_config(machine_yaml(c.yaml));
+      machine_yaml(c.yaml).simulator;
       FAIL() << "accepted " << c.yaml;
     } catch (const ConfigError& e) {
       EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
@@ -586,10 +586,10 @@ TEST(SimulatorConfigFixture, RefusesUnknownKeysAndBadValuesNamingThem) {
     }
   }
   // A simulated fixture needs the machine's fixture.
-  MachineConfig no_fixture = machine_yaml("simulator:\n  fixture:\n    wear_sigma_mm: 0\n");
+  MachineConfig no_fixture = machine_yaml("");
   no_fixture.fixture.reset();
   try {
-    parse_simulator_config(no_fixture);
+    parse_simulator_config("simulator:\n  fixture:\n    wear_sigma_mm: 0\n", no_fixture);
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("the machine has no `fixture:` section"), std::string::npos)
@@ -601,7 +601,7 @@ TEST(SimulatorConfigFixture, RefusesUnknownKeysAndBadValuesNamingThem) {
 TEST(SimulatorConfigFixture, TheExampleMachineHasAPerfectFixture) {
   const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
   ASSERT_TRUE(m.fixture);
-  const SimulatorConfig c = parse_simulator_config(m);
+  const SimulatorConfig c = m.simulator;
   const FixtureSimulator fixture = FixtureSimulator::for_machine(m, c);
   EXPECT_EQ(fixture.fixture().fixture_id, "UHF1");
   const MachineSimulator machine(m, c);

@@ -17,12 +17,12 @@ machine_id: t1
 probe: {tool_length_mm: 300, ball_radius_mm: 2}
 monument: {hole_center_mm: [10, 20], hole_diameter_mm: 40, face_z_mm: 100}
 )" + simulator_yaml;
-  return parse_machine_config(YAML::Load(text), "t1.yaml");
+  return parse_machine_config(text, "t1.yaml");
 }
 
 TEST(SimulatorConfig, DefaultsWhenSectionAbsentOrEmpty) {
   for (const std::string section : {"", "simulator:\n", "simulator: {}\n"}) {
-    const SimulatorConfig c = parse_simulator_config(machine_with_simulator(section));
+    const SimulatorConfig c = machine_with_simulator(section).simulator;
     EXPECT_EQ(c.seed, 1u) << section;
     EXPECT_DOUBLE_EQ(c.trigger_noise_sigma_mm, 0.001) << section;
     EXPECT_TRUE(c.errors.machine_shift_mm.isZero()) << section;
@@ -36,7 +36,7 @@ TEST(SimulatorConfig, DefaultsWhenSectionAbsentOrEmpty) {
 
 TEST(SimulatorConfig, ReadsTheExampleMachine) {
   const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
-  const SimulatorConfig c = parse_simulator_config(m);
+  const SimulatorConfig c = m.simulator;
   EXPECT_EQ(c.seed, 42u);
   EXPECT_DOUBLE_EQ(c.trigger_noise_sigma_mm, 0.001);
   EXPECT_TRUE(c.errors.machine_shift_mm.isZero());
@@ -44,7 +44,7 @@ TEST(SimulatorConfig, ReadsTheExampleMachine) {
 }
 
 TEST(SimulatorConfig, ReadsEveryErrorWithItsUnits) {
-  const SimulatorConfig c = parse_simulator_config(machine_with_simulator(R"(
+  const SimulatorConfig c = machine_with_simulator(R"(
 simulator:
   seed: 1234
   trigger_noise_sigma_mm: "2 um"
@@ -56,7 +56,7 @@ simulator:
     tool_length_error_mm: "0.0005 in"
     c_angle_error_arcsec: 30
     a_home_error_deg: 0.01
-)"));
+)").simulator;
   EXPECT_EQ(c.seed, 1234u);
   EXPECT_NEAR(c.trigger_noise_sigma_mm, 0.002, 1e-15);
   EXPECT_DOUBLE_EQ(c.plate_thickness_mm, 12.5);
@@ -70,12 +70,12 @@ simulator:
 }
 
 TEST(SimulatorConfig, AnglesUnderRadKeysAndUnitStrings) {
-  const SimulatorConfig c = parse_simulator_config(machine_with_simulator(R"(
+  const SimulatorConfig c = machine_with_simulator(R"(
 simulator:
   errors:
     c_angle_error_rad: 0.0001
     a_home_error_arcsec: "0.5 deg"
-)"));
+)").simulator;
   EXPECT_DOUBLE_EQ(c.errors.c_angle_error_rad, 0.0001);
   EXPECT_DOUBLE_EQ(c.errors.a_home_error_rad, units::deg_to_rad(0.5));
 }
@@ -111,7 +111,7 @@ TEST(SimulatorConfig, RefusesBadValuesNamingFileKeyAndValue) {
   };
   for (const auto& bad : cases) {
     try {
-      parse_simulator_config(machine_with_simulator(bad.yaml));
+      machine_with_simulator(bad.yaml).simulator;
       ADD_FAILURE() << "accepted: " << bad.yaml;
     } catch (const ConfigError& e) {
       const std::string what = e.what();

@@ -17,7 +17,7 @@ namespace {
 MachineConfig pm1() { return load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml"); }
 
 SimulatorConfig quiet(const MachineConfig& m) {
-  SimulatorConfig c = parse_simulator_config(m);
+  SimulatorConfig c = m.simulator;
   c.volumetric.repeatability_sigma_mm = 0;
   c.tracker.angular_sigma_rad = 0;
   c.tracker.radial_sigma_mm = 0;
@@ -128,7 +128,7 @@ TEST(TrackerSimulator, NoiseHasTheConfiguredSigmaInRangeAndAngles) {
 
 TEST(TrackerSimulator, IsReproduciblePerRequestAndRefusesProbeChecks) {
   const MachineConfig m = pm1();
-  const TrackerSimulator t(m, parse_simulator_config(m));
+  const TrackerSimulator t(m, m.simulator);
   const auto a = t.perform(request(CheckKind::CircleXY, "same"), 0);
   const auto b = t.perform(request(CheckKind::CircleXY, "same"), 0);
   const auto c = t.perform(request(CheckKind::CircleXY, "other"), 0);
@@ -140,24 +140,23 @@ TEST(TrackerSimulator, IsReproduciblePerRequestAndRefusesProbeChecks) {
   EXPECT_NE(probe.error.find("cannot perform check kind 'monument_positioning'"), std::string::npos);
   MachineConfig none = m;
   none.global_check.reset();
-  EXPECT_THROW(TrackerSimulator(none, parse_simulator_config(m)), std::invalid_argument);
+  EXPECT_THROW(TrackerSimulator(none, m.simulator), std::invalid_argument);
 }
 
 TEST(TrackerSimulator, ConfigRefusesUnknownVolumetricKeysAndMissingRanges) {
-  MachineConfig m = pm1();
-  m.simulator["volumetric"]["EXX_mm"] = YAML::Load("[0, 1]");
-  EXPECT_THROW(parse_simulator_config(m), ConfigError);
-  m = pm1();
-  m.simulator["volumetric"].remove("range_mm");
+  // pm1 with one thing of its simulator section changed (the file extends pm1).
+  auto pm1_with = [](const std::string& simulator) {
+    return parse_machine_config("extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\n"
+                                "simulator:\n" + simulator, "t1.yaml");
+  };
+  EXPECT_THROW(pm1_with("  volumetric: {EXX_mm: [0, 1]}\n"), ConfigError);
   try {
-    parse_simulator_config(m);
+    pm1_with("  volumetric: {range_mm: ~}\n");
     ADD_FAILURE() << "accepted error functions without range_mm";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("range_mm"), std::string::npos) << e.what();
   }
-  m = pm1();
-  m.simulator["tracker"]["samples_per_point"] = 0;
-  EXPECT_THROW(parse_simulator_config(m), ConfigError);
+  EXPECT_THROW(pm1_with("  tracker: {samples_per_point: 0}\n"), ConfigError);
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ fixture:
 )";
 
 MachineConfig parse(const std::string& fixture_yaml) {
-  return parse_machine_config(YAML::Load(kHead + fixture_yaml), "t1.yaml");
+  return parse_machine_config(kHead + fixture_yaml, "t1.yaml");
 }
 
 // Replaces the first occurrence of `from` in kFixture.

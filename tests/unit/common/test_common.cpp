@@ -118,8 +118,8 @@ TEST_F(ConfigFile, AMachineFileExtendsAnotherAndOverridesNestedKeys) {
   EXPECT_EQ(m.machine_id, "pm1");
   EXPECT_EQ(m.description, "too long");
   EXPECT_NEAR(m.tolerance("center_dx_mm").upper, 0.0254, 1e-12);
-  EXPECT_EQ(m.simulator["seed"].as<int>(), 3);  // kept from the base
-  EXPECT_EQ(m.simulator["errors"]["tool_length_error_mm"].as<double>(), 0.04);
+  EXPECT_EQ(m.simulator.seed, 3u);  // kept from the base
+  EXPECT_EQ(m.simulator.errors.tool_length_error_mm, 0.04);
 
   std::ofstream(dir / "a.yaml") << "extends: b.yaml\n";
   std::ofstream(dir / "b.yaml") << "extends: a.yaml\n";

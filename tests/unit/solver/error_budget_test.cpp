@@ -503,7 +503,8 @@ TEST(ErrorBudgetReport, CapabilityTodayAndToleranceFromHistory) {
 
 TEST(ErrorBudgetConfig, ReadsTheExampleMachine) {
   const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
-  const ErrorBudgetConfig c = parse_error_budget(m.budget, m.source_path);
+  ASSERT_TRUE(m.budget);
+  const ErrorBudgetConfig& c = *m.budget;
   EXPECT_NEAR(c.allowable_total_mm, inch_to_mm(0.03), 1e-12);
   EXPECT_NEAR(c.panel_radius_mm, inch_to_mm(74), 1e-9);
   EXPECT_NEAR(c.theta_max_rad, deg_to_rad(25), 1e-15);
@@ -538,7 +539,7 @@ TEST(ErrorBudgetConfig, ReadsTheExampleMachine) {
 }
 
 TEST(ErrorBudgetConfig, ReadsEveryKey) {
-  const ErrorBudgetConfig c = parse_error_budget(YAML::Load(R"(
+  const ErrorBudgetConfig c = parse_error_budget(R"(
 allowable_total: 0.5
 part: {panel_radius: "2 m", theta_min: "-10 deg", theta_max: 0.3}
 statistics: {method: monte_carlo, coverage: 0.95, samples: 5000, seed: 9}
@@ -558,7 +559,7 @@ sources:
     allowance: 0.1
     distribution: weibull
     weibull_shape: 1.5
-)"),
+)",
                                                  "t.yaml");
   EXPECT_DOUBLE_EQ(c.allowable_total_mm, 0.5);
   EXPECT_DOUBLE_EQ(c.panel_radius_mm, 2000);
@@ -678,7 +679,7 @@ TEST(ErrorBudgetConfig, RefusesBadValuesNamingFileKeyAndValue) {
   };
   for (const auto& bad : cases) {
     try {
-      parse_error_budget(YAML::Load(bad.yaml), "m.yaml");
+      parse_error_budget(bad.yaml, "m.yaml");
       ADD_FAILURE() << "accepted: " << bad.yaml;
     } catch (const ConfigError& e) {
       const std::string what = e.what();

@@ -24,7 +24,7 @@ MachineConfig pm1() {
 
 // A perfect machine (no volumetric, rotary or thermal error) seen by a tracker of the given noise.
 sim::SimulatorConfig perfect(const MachineConfig& m, double angular_sigma_rad, double radial_sigma_mm) {
-  sim::SimulatorConfig c = sim::parse_simulator_config(m);
+  sim::SimulatorConfig c = m.simulator;
   c.volumetric = sim::VolumetricTruth{};
   c.volumetric.temperature_C = Eigen::Vector3d::Constant(20);
   c.errors = sim::SimulatorErrors{};
@@ -143,7 +143,7 @@ TEST(GlobalChecks, LinearRunSeesTheReversalAndFailsWithBacklashFirst) {
 
 TEST(GlobalChecks, TheExampleMachinePassesEveryTrackerCheckItImplements) {
   const MachineConfig m = pm1();
-  const sim::SimulatorConfig c = sim::parse_simulator_config(m);
+  const sim::SimulatorConfig c = m.simulator;
   for (CheckKind kind : all_check_kinds()) {
     if (!is_tracker_check(kind)) continue;
     for (int seed = 0; seed < 3; ++seed) {

@@ -1,0 +1,322 @@
+#include "node.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+namespace ncqual::config {
+namespace fs = std::filesystem;
+
+namespace {
+
+bool ends_with(std::string_view s, std::string_view suffix) {
+  return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// A bare decimal number (what std::stod reads, all of it); nullopt otherwise.
+std::optional<double> plain_number(const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double d = std::stod(text, &used);
+    if (used == text.size()) return d;
+  } catch (const std::logic_error&) {
+  }
+  return std::nullopt;
+}
+
+std::string join(const std::set<std::string>& keys) {
+  std::string list;
+  for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+  return list;
+}
+
+}  // namespace
+
+std::string format_number(double v) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.10g", v);
+  return buffer;
+}
+
+// ---- Diagnostics ---------------------------------------------------------------------------------
+
+void Diagnostics::problem(const std::string& file, const std::string& path,
+                          const std::string& value, const std::string& why) {
+  if (!seen_.insert({file, path}).second) return;
+  problems_.push_back(path.empty() ? file + ": " + why
+                                   : file + ": " + path + " = " + value + ": " + why);
+}
+
+void Diagnostics::file_problem(const std::string& file, const std::string& why) {
+  if (!seen_.insert({file, ""}).second) return;
+  problems_.push_back(file + ": " + why);
+}
+
+void Diagnostics::resolved(const std::string& file, const std::string& path,
+                           const std::string& value, bool defaulted) {
+  values_.push_back({file, path, value, defaulted});
+}
+
+void Diagnostics::throw_if_any() const {
+  if (problems_.empty()) return;
+  throw ConfigError(problems_);
+}
+
+// ---- Node ----------------------------------------------------------------------------------------
+
+Node::Node(YAML::Node yaml, std::string file, Diagnostics& diagnostics, std::string path,
+           std::string unit_key)
+    : yaml_(std::make_shared<const YAML::Node>(std::move(yaml))),
+      file_(std::move(file)),
+      diagnostics_(&diagnostics),
+      path_(std::move(path)),
+      unit_key_(std::move(unit_key)) {}
+
+std::string Node::describe() const {
+  if (!present()) return "(missing)";
+  if (yaml_->IsScalar()) return "'" + yaml_->Scalar() + "'";
+  return "(not a single value)";
+}
+
+std::string Node::child_path(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
+
+// Children are constructed, never assigned: yaml-cpp's assignment copies content and throws for
+// the invalid node a missing key gives.
+Node Node::operator[](const std::string& key) const {
+  return Node(present() && yaml_->IsMap() ? (*yaml_)[key] : YAML::Node(), file_, *diagnostics_,
+              child_path(key), key);
+}
+
+Node Node::operator[](std::size_t index) const {
+  return Node(present() && yaml_->IsSequence() && index < yaml_->size() ? (*yaml_)[index] : YAML::Node(),
+              file_, *diagnostics_, path_ + "[" + std::to_string(index) + "]", unit_key_);
+}
+
+bool Node::present() const { return yaml_->IsDefined() && !yaml_->IsNull(); }
+
+std::vector<Node> Node::items() const {
+  std::vector<Node> out;
+  for (std::size_t i = 0; i < size(); ++i) out.push_back((*this)[i]);
+  return out;
+}
+
+std::vector<std::pair<std::string, Node>> Node::entries() const {
+  std::vector<std::pair<std::string, Node>> out;
+  if (!is_map()) return out;
+  for (const auto& kv : *yaml_) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("?");
+    out.emplace_back(key, Node(kv.second, file_, *diagnostics_, child_path(key), key));
+  }
+  return out;
+}
+
+bool Node::problem(const std::string& why) const {
+  diagnostics_->problem(file_, path_, describe(), why);
+  return false;
+}
+
+bool Node::map_of(const std::set<std::string>& keys) const {
+  if (!present()) return false;
+  if (!yaml_->IsMap()) return problem("expected a mapping");
+  for (const auto& [key, child] : entries()) {
+    if (!keys.count(key)) child.problem("unknown key; expected one of: " + join(keys));
+  }
+  return true;
+}
+
+bool Node::required_map_of(const std::set<std::string>& keys) const {
+  if (!present()) return problem("required section");
+  return map_of(keys);
+}
+
+bool Node::require() const { return present() || problem("required"); }
+
+std::string_view Node::length_unit() const {
+  if (ends_with(unit_key_, "_in")) return "in";
+  if (ends_with(unit_key_, "_um")) return "um";
+  return "mm";
+}
+
+std::string_view Node::angle_unit() const {
+  if (ends_with(unit_key_, "_deg")) return "deg";
+  if (ends_with(unit_key_, "_arcsec")) return "arcsec";
+  if (ends_with(unit_key_, "_urad")) return "urad";
+  return "rad";
+}
+
+void Node::log(const std::string& value) const { diagnostics_->resolved(file_, path_, value, false); }
+void Node::log_default(const std::string& value) const {
+  diagnostics_->resolved(file_, path_, value, true);
+}
+
+std::optional<double> Node::quantity(units::Dimension dim, std::string_view default_unit) const {
+  if (!present()) return std::nullopt;
+  if (!yaml_->IsScalar()) {
+    problem("expected a number");
+    return std::nullopt;
+  }
+  double value = 0;
+  try {
+    value = units::parse_quantity(dim, yaml_->Scalar(), default_unit);
+  } catch (const std::invalid_argument& e) {
+    problem(e.what());
+    return std::nullopt;
+  }
+  if (!std::isfinite(value)) {
+    problem("must be finite");
+    return std::nullopt;
+  }
+  // Shown in the internal unit, and as written when that was another unit.
+  const std::string_view internal = dim == units::Dimension::Length ? "mm" : "rad";
+  const bool bare = plain_number(yaml_->Scalar()).has_value();
+  std::string shown = format_number(value) + " " + std::string(internal);
+  if (!bare) shown += " (written " + yaml_->Scalar() + ")";
+  if (bare && default_unit != internal) {
+    shown += " (written " + yaml_->Scalar() + " " + std::string(default_unit) + ")";
+  }
+  log(shown);
+  return value;
+}
+
+std::optional<double> Node::length() const {
+  return quantity(units::Dimension::Length, length_unit());
+}
+
+std::optional<double> Node::angle() const { return quantity(units::Dimension::Angle, angle_unit()); }
+
+std::optional<double> Node::number() const {
+  if (!present()) return std::nullopt;
+  const auto d = yaml_->IsScalar() ? plain_number(yaml_->Scalar()) : std::nullopt;
+  if (!d) {
+    problem("expected a number");
+    return std::nullopt;
+  }
+  if (!std::isfinite(*d)) {
+    problem("must be finite");
+    return std::nullopt;
+  }
+  log(format_number(*d));
+  return d;
+}
+
+std::optional<int> Node::integer(int lo, int hi) const {
+  if (!present()) return std::nullopt;
+  const auto d = yaml_->IsScalar() ? plain_number(yaml_->Scalar()) : std::nullopt;
+  if (!d || !(*d >= lo && *d <= hi) || *d != std::floor(*d)) {
+    problem("must be an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+    return std::nullopt;
+  }
+  log(std::to_string(static_cast<int>(*d)));
+  return static_cast<int>(*d);
+}
+
+std::optional<std::string> Node::text() const {
+  if (!present()) return std::nullopt;
+  if (!yaml_->IsScalar()) {
+    problem("expected a string");
+    return std::nullopt;
+  }
+  log("\"" + yaml_->Scalar() + "\"");
+  return yaml_->Scalar();
+}
+
+std::optional<bool> Node::flag() const {
+  if (!present()) return std::nullopt;
+  const std::string s = scalar();
+  if (s != "true" && s != "false") {
+    problem("expected true or false");
+    return std::nullopt;
+  }
+  log(s);
+  return s == "true";
+}
+
+std::optional<Eigen::VectorXd> Node::lengths(int n) const {
+  if (!present()) return std::nullopt;
+  if (!yaml_->IsSequence() || static_cast<int>(yaml_->size()) != n) {
+    problem("expected a list of " + std::to_string(n) + " lengths");
+    return std::nullopt;
+  }
+  Eigen::VectorXd out(n);
+  bool ok = true;
+  for (int i = 0; i < n; ++i) {
+    const auto v = (*this)[static_cast<std::size_t>(i)].length();
+    if (v) out[i] = *v;
+    ok = ok && v.has_value();
+  }
+  if (!ok) return std::nullopt;
+  return out;
+}
+
+double Node::length(double fallback) const {
+  if (!present()) log_default(format_number(fallback) + " mm");
+  return length().value_or(fallback);
+}
+
+double Node::angle(double fallback) const {
+  if (!present()) log_default(format_number(fallback) + " rad");
+  return angle().value_or(fallback);
+}
+
+double Node::number(double fallback) const {
+  if (!present()) log_default(format_number(fallback));
+  return number().value_or(fallback);
+}
+
+int Node::integer(int lo, int hi, int fallback) const {
+  if (!present()) log_default(std::to_string(fallback));
+  return integer(lo, hi).value_or(fallback);
+}
+
+std::string Node::text(const std::string& fallback) const {
+  if (!present()) log_default("\"" + fallback + "\"");
+  return text().value_or(fallback);
+}
+
+Eigen::VectorXd Node::lengths(int n, const Eigen::VectorXd& fallback) const {
+  if (!present()) {
+    std::string shown = "[";
+    for (int i = 0; i < fallback.size(); ++i) shown += (i ? ", " : "") + format_number(fallback[i]);
+    log_default(shown + "] mm");
+  }
+  return lengths(n).value_or(fallback);
+}
+
+std::optional<double> Node::required_length() const {
+  if (!require()) return std::nullopt;
+  return length();
+}
+
+std::optional<std::string> Node::required_text() const {
+  if (!require()) return std::nullopt;
+  return text();
+}
+
+// ---- Files ---------------------------------------------------------------------------------------
+
+Node load_file(const std::string& path, Diagnostics& diagnostics) {
+  if (!fs::exists(path)) {
+    diagnostics.file_problem(path, "file not found");
+    return Node(YAML::Node(), path, diagnostics);
+  }
+  try {
+    return Node(YAML::LoadFile(path), path, diagnostics);
+  } catch (const YAML::Exception& e) {
+    diagnostics.file_problem(path, std::string("not valid YAML: ") + e.what());
+    return Node(YAML::Node(), path, diagnostics);
+  }
+}
+
+Node parse_text(std::string_view text, const std::string& file, Diagnostics& diagnostics) {
+  try {
+    return Node(YAML::Load(std::string(text)), file, diagnostics);
+  } catch (const YAML::Exception& e) {
+    diagnostics.file_problem(file, std::string("not valid YAML: ") + e.what());
+    return Node(YAML::Node(), file, diagnostics);
+  }
+}
+
+}  // namespace ncqual::config
