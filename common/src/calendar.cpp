@@ -1,5 +1,6 @@
 #include "ncqual/calendar.hpp"
 
+#include "ncqual/check_kinds.hpp"
 #include "ncqual/config.hpp"
 
 #include <date/tz.h>
@@ -48,16 +49,17 @@ CalendarConfig default_calendar_config() {
   ShiftConfig early{"early", 6 * 60, 14 * 60, {true, true, true, true, true, false, false}};
   ShiftConfig late{"late", 14 * 60, 22 * 60, {true, true, true, true, true, false, false}};
   c.shifts = {early, late};
-  c.periods = {
-      {"monthly", PeriodUnit::Month, 1,
-       {CheckKind::GlobalMasterFrame, CheckKind::GlobalGrid, CheckKind::RotaryW, CheckKind::RotaryA,
-        CheckKind::RotaryC, CheckKind::CircleXY, CheckKind::CircleYZ, CheckKind::CircleXZ,
-        CheckKind::LinearAxisRun}},
-      {"weekly", PeriodUnit::Week, 1, {CheckKind::FixturePreCalibration}},
-      {"daily", PeriodUnit::Day, 1,
-       {CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
-        CheckKind::MonumentPositioning, CheckKind::MonumentCRotation}},
-  };
+  // Each period takes the kinds of its cadence from the table, in the table's order.
+  c.periods = {{"monthly", PeriodUnit::Month, 1, {}},
+               {"weekly", PeriodUnit::Week, 1, {}},
+               {"daily", PeriodUnit::Day, 1, {}}};
+  for (const auto& row : check_kinds()) {
+    const int period = row.cadence == Cadence::Monthly  ? 0
+                       : row.cadence == Cadence::Weekly ? 1
+                       : row.cadence == Cadence::Daily  ? 2
+                                                        : -1;
+    if (period >= 0) c.periods[static_cast<std::size_t>(period)].checks.push_back(row.kind);
+  }
   return c;
 }
 

@@ -48,25 +48,7 @@ void append_circle(const CircleTestConfig& c, int u, int v, std::vector<TrackerM
   for (int i = c.points - 1; i >= 0; --i) moves.push_back({indexed("cw:", i), at(i * step), 0});
 }
 
-
 }  // namespace
-
-bool is_tracker_check(CheckKind kind) {
-  switch (kind) {
-    case CheckKind::GlobalMasterFrame:
-    case CheckKind::GlobalGrid:
-    case CheckKind::RotaryW:
-    case CheckKind::RotaryA:
-    case CheckKind::RotaryC:
-    case CheckKind::CircleXY:
-    case CheckKind::CircleYZ:
-    case CheckKind::CircleXZ:
-    case CheckKind::LinearAxisRun:
-      return true;
-    default:
-      return false;
-  }
-}
 
 std::vector<TrackerMove> global_check_program(CheckKind kind, const GlobalCheckConfig& c) {
   if (!is_tracker_check(kind)) {

@@ -1,18 +1,12 @@
 #include "ncqual/model.hpp"
 
+#include "ncqual/check_kinds.hpp"
+
 #include <array>
 
 namespace ncqual {
 namespace {
 
-constexpr std::array<std::string_view, kCheckKindCount> kKindNames = {
-    "monument_c_alignment", "monument_tool_length", "monument_positioning",
-    "monument_c_rotation",  "fixture_precal",       "fixture_postcal",
-    "part_setpoints",       "global_master_frame",  "global_grid",
-    "rotary_w",             "rotary_a",             "rotary_c",
-    "circle_xy",            "circle_yz",            "circle_xz",
-    "linear_axis_run",
-};
 constexpr std::array<std::string_view, 3> kVerdictNames = {"PASS", "FAIL", "INVALID"};
 constexpr std::array<std::string_view, 6> kStateNames = {
     "UNKNOWN", "QUALIFIED", "CHECKING", "NEEDS_INTERVENTION", "OVERDUE", "OFFLINE"};
@@ -34,9 +28,16 @@ std::string_view name_of(const std::array<std::string_view, N>& names, int value
 
 }  // namespace
 
-std::string_view to_string(CheckKind kind) { return name_of(kKindNames, static_cast<int>(kind)); }
+// Check kinds are named by their row of the table (ncqual/check_kinds.hpp).
+std::string_view to_string(CheckKind kind) {
+  const int k = static_cast<int>(kind);
+  return k >= 0 && k < kCheckKindCount ? check_kind_info(kind).name : "unknown";
+}
 std::optional<CheckKind> parse_check_kind(std::string_view name) {
-  return parse_enum<CheckKind>(kKindNames, name);
+  for (const auto& row : check_kinds()) {
+    if (row.name == name) return row.kind;
+  }
+  return std::nullopt;
 }
 std::vector<CheckKind> all_check_kinds() {
   std::vector<CheckKind> kinds;

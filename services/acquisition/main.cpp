@@ -9,6 +9,7 @@
 // until that correction is applied. The monthly checks are measured by a simulated laser tracker
 // (ncqual/sim/tracker_simulator.hpp) when the machine config has a global_check: section.
 #include "ncqual/args.hpp"
+#include "ncqual/check_kinds.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
@@ -75,11 +76,10 @@ class Station {
   // instrument's time; on the wall clock it is taken now.
   void perform(const CheckRequest& req, const std::string& malformed) {
     const std::int64_t now =
-        simulated_ ? req.time_ns + static_cast<std::int64_t>(sim::check_duration_min(req.kind) * 60e9)
+        simulated_ ? req.time_ns + static_cast<std::int64_t>(check_kind_info(req.kind).duration_min * 60e9)
                    : service_.clock().now_ns();
     MeasurementSet set;
-    const bool fixture_check = req.kind == CheckKind::FixturePreCalibration ||
-                               req.kind == CheckKind::FixturePostCalibration;
+    const bool fixture_check = is_fixture_check(req.kind);
     const bool tracker_check = is_tracker_check(req.kind);
     if (!malformed.empty() || (fixture_check && !fixture_) || (tracker_check && !tracker_)) {
       set.machine_id = req.machine_id;

@@ -448,9 +448,10 @@ void Scheduler::result(const CheckResult& res) {
   if (res.verdict == Verdict::Pass) {
     const std::int64_t when = res.time_ns > 0 ? res.time_ns : t;
     m.run.last_pass_ns[res.kind] = when;
-    if (res.kind == CheckKind::FixturePostCalibration) {
-      // The loop ended in a pass: the week's fixture check is done.
-      m.run.last_pass_ns[CheckKind::FixturePreCalibration] = when;
+    // A pass that also satisfies another kind (a post-calibration ends the week's fixture loop)
+    // counts for it too.
+    if (const auto satisfied = check_kind_info(res.kind).satisfies) {
+      m.run.last_pass_ns[*satisfied] = when;
     }
     if (calendar_ && done.in_sequence) {
       const auto& parts = calendar_->config().parts.checks;
@@ -483,15 +484,15 @@ void Scheduler::result(const CheckResult& res) {
   std::string detail = std::string(to_string(res.kind)) + " " + std::string(to_string(res.verdict));
   if (!res.likely_causes.empty()) detail += "; first likely cause: " + res.likely_causes.front();
   if (!res.reason.empty()) detail += "; " + res.reason;
-  const bool postcal = res.kind == CheckKind::FixturePostCalibration;
+  const CheckKind rerun = rerun_after_intervention(res.kind);
   detail += "; next: " +
             std::string(res.likely_causes.empty() ? "investigate" : "investigate the causes in order") +
             ", then ncqual intervene --machine " + res.machine_id + " --check " +
             std::string(to_string(res.kind)) + " --note \"...\"" +
-            (postcal ? " (re-runs the fixture pre-calibration)" : " (re-runs the check)");
+            (rerun != res.kind ? " (re-runs " + std::string(to_string(rerun)) + ")"
+                               : std::string(" (re-runs the check)"));
   std::vector<NamedValue> parameters = done.parameters;
-  hold(m, Hold{res.kind, res.request_id, detail,
-               postcal ? CheckKind::FixturePreCalibration : res.kind, parameters, done.in_sequence});
+  hold(m, Hold{res.kind, res.request_id, detail, rerun, parameters, done.in_sequence});
   commit(m);
 }
 
@@ -508,9 +509,7 @@ std::string Scheduler::intervention(const Intervention& iv) {
            "' is not held; nothing to re-arm (the intervention is recorded by the historian)";
   }
   const Hold h = *m.run.hold;
-  const bool matches = iv.kind == h.kind || (h.kind == CheckKind::FixturePostCalibration &&
-                                             iv.kind == CheckKind::FixturePreCalibration);
-  if (!matches) {
+  if (!intervention_matches(iv.kind, h.kind)) {
     return "Intervention.kind '" + std::string(to_string(iv.kind)) + "' does not match the held check '" +
            std::string(to_string(h.kind)) + "' of machine '" + iv.machine_id + "'";
   }

@@ -16,7 +16,7 @@
 #include "harness.hpp"
 
 #include "ncqual/clock.hpp"
-#include "ncqual/sim/simulator_config.hpp"
+#include "ncqual/check_kinds.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -71,7 +71,7 @@ const std::vector<std::string> kDaily = {"monument_c_alignment", "monument_tool_
 std::int64_t utc(const std::string& iso) { return parse_iso8601(iso).value(); }
 
 double duration_min(const std::string& kind) {
-  return sim::check_duration_min(parse_check_kind(kind).value());
+  return check_kind_info(parse_check_kind(kind).value()).duration_min;
 }
 
 // One expected request: kind and request time.

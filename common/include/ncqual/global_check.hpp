@@ -25,6 +25,7 @@
 // Units: mm and rad inside; the YAML may write inches and degrees (keys ending _in, _deg).
 #pragma once
 
+#include "ncqual/check_kinds.hpp"
 #include "ncqual/kinematics.hpp"
 #include "ncqual/model.hpp"
 
@@ -182,7 +183,6 @@ struct TrackerMove {
 // tracker check.
 std::vector<TrackerMove> global_check_program(CheckKind kind, const GlobalCheckConfig& config);
 
-// True for the kinds measured with the laser tracker.
-bool is_tracker_check(CheckKind kind);
+
 
 }  // namespace ncqual

@@ -5,6 +5,7 @@
 
 #include "ncqual/clock.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
@@ -96,6 +97,38 @@ std::optional<Tolerance> read_tolerance(const Node& node, const std::string& met
   return t;
 }
 
+// Levenshtein distance, for "did you mean".
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// "; did you mean 'center_dx_mm'?" for a key a few edits away from a known one, else "".
+std::string closest_tolerance_key(const std::string& key) {
+  std::string_view best;
+  std::size_t best_distance = 4;  // more edits than this is another word
+  for (const auto& row : check_kinds()) {
+    for (std::string_view known : row.tolerances) {
+      const std::size_t d = edit_distance(key, known);
+      if (d < best_distance) {
+        best_distance = d;
+        best = known;
+      }
+    }
+  }
+  return best.empty() ? "" : "; did you mean '" + std::string(best) + "'?";
+}
+
 PartSetPointsConfig read_setpoints(const Node& node) {
   PartSetPointsConfig c;
   if (!node.map_of({"probe_depth_mm", "inset_mm", "points"})) return c;
@@ -173,6 +206,11 @@ MachineConfig read_machine(const Node& root) {
   const Node tol = root["tolerances"];
   if (tol.present() && !tol.is_map()) tol.problem("expected a mapping of metric: tolerance");
   for (const auto& [metric, node] : tol.entries()) {
+    if (!is_tolerance_key(metric)) {
+      node.problem("no check reads this tolerance" + closest_tolerance_key(metric) +
+                   " (each check kind's tolerance keys: docs/architecture.md)");
+      continue;
+    }
     if (const auto t = read_tolerance(node, metric)) m.tolerances[metric] = *t;
   }
   if (root["setpoints"].present()) m.setpoints = read_setpoints(root["setpoints"]);
@@ -376,11 +414,13 @@ std::string plant_config_path(const std::string& flag_value) {
 }
 
 bool has_sections_for(const MachineConfig& machine, CheckKind kind) {
-  if (is_tracker_check(kind)) return machine.global_check.has_value();
-  if (kind == CheckKind::FixturePreCalibration || kind == CheckKind::FixturePostCalibration) {
-    return machine.fixture.has_value();
+  switch (check_kind_info(kind).needs) {
+    case Needs::GlobalCheck: return machine.global_check.has_value();
+    case Needs::Fixture: return machine.fixture.has_value();
+    case Needs::Monument:
+    case Needs::SetPoints: break;
   }
-  return true;
+  return true;  // every machine has a monument and set points
 }
 
 MachineConfig load_machine_config(const std::string& path) {

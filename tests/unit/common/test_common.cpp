@@ -72,14 +72,16 @@ TEST_F(ConfigFile, MachineConfigReadsUnitsAtTheEdge) {
 TEST_F(ConfigFile, TolerancesAreInTheUnitTheMetricNameEndsIn) {
   std::string text = kMachine;
   text.replace(text.find("tolerances: {"), 13,
-               "tolerances: {c_angle_error_arcsec: 8, c_rad: '10 arcsec', "
-               "c_deg_arcsec: {lower: '-0.001 deg', upper: 3.6}, ");
+               "tolerances: {c_angle_error_arcsec: 8, master_orthogonality_urad: '10 arcsec', "
+               "c_dA_mean_arcsec: {lower: '-0.001 deg', upper: 3.6}, ");
   const MachineConfig m = load_machine_config(write(text));
   EXPECT_DOUBLE_EQ(m.tolerance("c_angle_error_arcsec").upper, 8.0);
   EXPECT_DOUBLE_EQ(m.tolerance("c_angle_error_arcsec").lower, -8.0);
-  EXPECT_NEAR(m.tolerance("c_rad").upper, 10 * 3.14159265358979323846 / 648000, 1e-15);
-  EXPECT_NEAR(m.tolerance("c_deg_arcsec").lower, -3.6, 1e-9);
-  EXPECT_NEAR(m.tolerance("c_deg_arcsec").upper, 3.6, 1e-12);
+  // 10 arcsec = 10 pi / 648000 rad = 48.48... urad.
+  EXPECT_NEAR(m.tolerance("master_orthogonality_urad").upper,
+              10 * 3.14159265358979323846 / 648000 * 1e6, 1e-9);
+  EXPECT_NEAR(m.tolerance("c_dA_mean_arcsec").lower, -3.6, 1e-9);
+  EXPECT_NEAR(m.tolerance("c_dA_mean_arcsec").upper, 3.6, 1e-12);
 
   // An arcsec metric does not take a length, a length metric not an angle.
   text = kMachine;
@@ -94,13 +96,13 @@ TEST_F(ConfigFile, TolerancesAreInTheUnitTheMetricNameEndsIn) {
         << e.what();
   }
   text = kMachine;
-  text.replace(text.find("tolerances: {"), 13, "tolerances: {x_mm: {lower: 0, uper: 1}, ");
+  text.replace(text.find("tolerances: {"), 13, "tolerances: {center_dx_mm: {lower: 0, uper: 1}, ");
   path = write(text);
   try {
     load_machine_config(path);
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("tolerances.x_mm.uper"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tolerances.center_dx_mm.uper"), std::string::npos) << e.what();
   }
 }
 

@@ -62,26 +62,5 @@ SimulatorConfig config_at(const SimulatorConfig& config, std::int64_t now_ns) {
   return c;
 }
 
-double check_duration_min(CheckKind kind) {
-  switch (kind) {
-    case CheckKind::MonumentCAlignment: return 8;
-    case CheckKind::MonumentToolLength: return 4;
-    case CheckKind::MonumentPositioning: return 6;
-    case CheckKind::MonumentCRotation: return 8;
-    case CheckKind::FixturePreCalibration: return 25;
-    case CheckKind::FixturePostCalibration: return 60;
-    case CheckKind::PartSetPoints: return 5;
-    case CheckKind::GlobalMasterFrame: return 20;
-    case CheckKind::GlobalGrid: return 90;
-    case CheckKind::RotaryW:
-    case CheckKind::RotaryA:
-    case CheckKind::RotaryC: return 20;
-    case CheckKind::CircleXY:
-    case CheckKind::CircleYZ:
-    case CheckKind::CircleXZ: return 15;
-    case CheckKind::LinearAxisRun: return 45;
-  }
-  return 10;
-}
 
 }  // namespace ncqual::sim

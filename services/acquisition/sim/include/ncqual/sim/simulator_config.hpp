@@ -42,9 +42,4 @@ VolumetricTruth volumetric_at(const VolumetricTruth& base,
 // cleared (so the result holds at every time). Without drift, a copy of `config`.
 SimulatorConfig config_at(const SimulatorConfig& config, std::int64_t now_ns);
 
-// How long the simulated instruments take for one check of `kind`, in minutes: on a simulated
-// clock the measurement is stamped this long after its request (touch-probe checks minutes, a
-// tracker grid an hour and a half). Typical of the patent's process, not of any one machine.
-double check_duration_min(CheckKind kind);
-
 }  // namespace ncqual::sim

@@ -1,0 +1,203 @@
+// The configuration layer as a whole: every problem of a plant at once, unknown keys refused at
+// every level, the resolved values with their units; and the table of check kinds against the
+// wire contract.
+#include "ncqual/check_kinds.hpp"
+#include "ncqual/config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace ncqual {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kPm1 = NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml";
+
+class ConfigLayer : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("ncqual-config-layer-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  fs::path dir_;
+};
+
+bool names(const std::vector<std::string>& problems, const std::string& part) {
+  return std::any_of(problems.begin(), problems.end(),
+                     [&](const std::string& p) { return p.find(part) != std::string::npos; });
+}
+
+// The misspellings the issue names, each in its own place, all reported by one load.
+TEST_F(ConfigLayer, EveryProblemOfAPlantIsReportedAtOnceWithFileKeyAndValue) {
+  const std::string machine = write("m1.yaml", "extends: " + kPm1 + R"(
+machine_id: m1
+tolerence: {center_dx_mm: 0.02}
+tolerances:
+  centre_dx_mm: 0.02
+budget:
+  allowable_totl: "0.03 in"
+simulator:
+  errors: {machine_shift: [0, 0, 0]}
+)");
+  const std::string plant = write("plant.yaml", "plant: p\ndomian_id: 7\nqos_profile: qos.xml\n"
+                                                "historian: {database: h.db}\nmachines: [" +
+                                                    machine + "]\n");
+  try {
+    load_plant_config(plant);
+    FAIL() << "loaded a plant full of misspellings";
+  } catch (const ConfigError& e) {
+    const auto& p = e.problems();
+    EXPECT_EQ(p.size(), 6u) << e.what();
+    EXPECT_TRUE(names(p, plant + ": domian_id = '7': unknown key")) << e.what();
+    EXPECT_TRUE(names(p, plant + ": qos_profile = 'qos.xml': unknown key")) << e.what();
+    EXPECT_TRUE(names(p, machine + ": tolerence = (not a single value): unknown key")) << e.what();
+    EXPECT_TRUE(names(p, machine + ": tolerances.centre_dx_mm = '0.02': no check reads this "
+                                   "tolerance; did you mean 'center_dx_mm'?"))
+        << e.what();
+    EXPECT_TRUE(names(p, machine + ": budget.allowable_totl = '0.03 in': unknown key")) << e.what();
+    EXPECT_TRUE(names(p, machine + ": simulator.errors.machine_shift = (not a single value): "
+                                   "unknown key"))
+        << e.what();
+    // what() has them all, one per line.
+    const std::string what = e.what();
+    EXPECT_EQ(std::count(what.begin(), what.end(), '\n'), 5);
+  }
+}
+
+TEST_F(ConfigLayer, CheckReportsProblemsWithoutThrowingAndResolvedValuesWithUnits) {
+  const std::string plant = write("plant.yaml", "plant: p\nmachines: [" + kPm1 + "]\n");
+  const ConfigReport ok = check_plant_config(plant);
+  ASSERT_TRUE(ok.problems.empty()) << ok.problems.front();
+  ASSERT_TRUE(ok.plant);
+  auto value_of = [&](const std::string& key) -> const ResolvedValue* {
+    for (const auto& v : ok.values) {
+      if (v.key == key) return &v;
+    }
+    return nullptr;
+  };
+  // pm1 writes the allowable total in inches: resolved to mm, as written beside it.
+  const ResolvedValue* total = value_of("budget.allowable_total");
+  ASSERT_NE(total, nullptr);
+  EXPECT_EQ(total->value, "0.762 mm (written 0.03 in)");
+  EXPECT_FALSE(total->defaulted);
+  const ResolvedValue* tool = value_of("probe.tool_length_mm");
+  ASSERT_NE(tool, nullptr);
+  EXPECT_EQ(tool->value, "350 mm");
+  // Absent keys show the default taken.
+  const ResolvedValue* domain = value_of("domain_id");
+  ASSERT_NE(domain, nullptr);
+  EXPECT_TRUE(domain->defaulted);
+  EXPECT_EQ(domain->value, "0");
+
+  const std::string bad = write("bad.yaml", "plant: p\ndomain_id: 300\nmachines: [nowhere.yaml]\n");
+  const ConfigReport report = check_plant_config(bad);
+  EXPECT_FALSE(report.plant);
+  ASSERT_EQ(report.problems.size(), 2u);
+  EXPECT_EQ(report.problems[0], bad + ": domain_id = '300': must be an integer from 0 to 232");
+  EXPECT_EQ(report.problems[1], (dir_ / "nowhere.yaml").string() + ": file not found");
+}
+
+// A bad value is reported once, not again by every check that uses it.
+TEST_F(ConfigLayer, ABadValueIsOneProblemNotACascade) {
+  const std::string machine = write("m.yaml", "extends: " + kPm1 + R"(
+monument: {hole_diameter_mm: wide}
+)");
+  try {
+    load_machine_config(machine);
+    FAIL();
+  } catch (const ConfigError& e) {
+    ASSERT_EQ(e.problems().size(), 1u) << e.what();
+    EXPECT_NE(e.problems()[0].find("monument.hole_diameter_mm = 'wide'"), std::string::npos);
+  }
+}
+
+// ---- The table of check kinds --------------------------------------------------------------------
+
+// The IDL's enum CheckKind, in order, as the table's names (MONUMENT_C_ALIGNMENT ->
+// monument_c_alignment).
+std::vector<std::string> idl_check_kinds() {
+  std::ifstream in(NCQUAL_SOURCE_DIR "/idl/ncqual.idl");
+  std::stringstream s;
+  s << in.rdbuf();
+  const std::string idl = s.str();
+  const auto from = idl.find("enum CheckKind {");
+  const auto to = idl.find("};", from);
+  std::vector<std::string> names;
+  std::istringstream body(idl.substr(from + 16, to - from - 16));
+  std::string line;
+  const std::regex enumerator(R"(^\s*([A-Z0-9_]+)\s*,?)");
+  while (std::getline(body, line)) {
+    std::smatch m;
+    if (!std::regex_search(line, m, enumerator)) continue;
+    std::string name = m[1];
+    std::transform(name.begin(), name.end(), name.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    names.push_back(name);
+  }
+  return names;
+}
+
+TEST(CheckKindTable, OneRowPerKindOfTheWireContractInItsOrder) {
+  const std::vector<std::string> idl = idl_check_kinds();
+  ASSERT_EQ(idl.size(), static_cast<std::size_t>(kCheckKindCount));
+  std::set<std::string_view> tolerance_keys;
+  for (int i = 0; i < kCheckKindCount; ++i) {
+    const CheckKindInfo& row = check_kinds()[static_cast<std::size_t>(i)];
+    EXPECT_EQ(static_cast<int>(row.kind), i);
+    EXPECT_EQ(row.name, idl[static_cast<std::size_t>(i)]);
+    EXPECT_EQ(to_string(row.kind), row.name);
+    EXPECT_EQ(parse_check_kind(row.name), row.kind);
+    EXPECT_FALSE(row.title.empty()) << row.name;
+    EXPECT_GT(row.duration_min, 0) << row.name;
+    EXPECT_FALSE(row.tolerances.empty()) << row.name;
+    // A kind re-run after an intervention must be one that can be ordered on its own.
+    EXPECT_NE(check_kind_info(rerun_after_intervention(row.kind)).cadence, Cadence::AfterCorrection);
+    for (auto key : row.tolerances) tolerance_keys.insert(key);
+  }
+  EXPECT_EQ(to_string(static_cast<CheckKind>(kCheckKindCount)), "unknown");
+}
+
+// The example machine configures only tolerance keys of the table, and every key of the table
+// that it configures is read by the kind it belongs to (loading it would fail otherwise).
+TEST(CheckKindTable, TheExampleMachineLoadsAndItsDefaultCalendarFollowsTheCadences) {
+  const MachineConfig m = load_machine_config(kPm1);
+  for (const auto& [key, band] : m.tolerances) EXPECT_TRUE(is_tolerance_key(key)) << key;
+  const CalendarConfig c = default_calendar_config();
+  ASSERT_EQ(c.periods.size(), 3u);
+  std::size_t planned = 0;
+  for (const auto& period : c.periods) {
+    const Cadence cadence = period.unit == PeriodUnit::Month  ? Cadence::Monthly
+                            : period.unit == PeriodUnit::Week ? Cadence::Weekly
+                                                              : Cadence::Daily;
+    for (CheckKind k : period.checks) EXPECT_EQ(check_kind_info(k).cadence, cadence);
+    planned += period.checks.size();
+  }
+  // Every kind but the per-part set points and the post-calibration is in a period.
+  EXPECT_EQ(planned, static_cast<std::size_t>(kCheckKindCount) - 2);
+  EXPECT_EQ(kinds_passing(CheckKind::FixturePreCalibration),
+            (std::vector<CheckKind>{CheckKind::FixturePreCalibration,
+                                    CheckKind::FixturePostCalibration}));
+  EXPECT_TRUE(intervention_matches(CheckKind::FixturePreCalibration,
+                                   CheckKind::FixturePostCalibration));
+  EXPECT_FALSE(intervention_matches(CheckKind::MonumentPositioning,
+                                    CheckKind::MonumentCAlignment));
+}
+
+}  // namespace
+}  // namespace ncqual
