@@ -95,7 +95,7 @@ std::string csv_location(const std::string& file, int line, int column) {
 }
 
 CsvError::CsvError(const std::string& file, int line, int column, const std::string& message)
-    : std::runtime_error(csv_location(file, line, column) + message),
+    : Error(csv_location(file, line, column) + message),
       file_(file),
       line_(line),
       column_(line > 0 ? column : 0),

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "ncqual/calendar.hpp"
+#include "ncqual/error.hpp"
 #include "ncqual/config/budget.hpp"
 #include "ncqual/config/simulator.hpp"
 #include "ncqual/fixture.hpp"
@@ -30,10 +31,10 @@ namespace ncqual {
 
 // Thrown for problems in config files: what() has every problem, one per line, each
 // "<file>: <key> = <value>: <why>"; problems() has them one by one.
-class ConfigError : public std::runtime_error {
+class ConfigError : public Error {
  public:
   explicit ConfigError(const std::string& problem)
-      : std::runtime_error(problem), problems_{problem} {}
+      : Error(problem), problems_{problem} {}
   explicit ConfigError(std::vector<std::string> problems);
   const std::vector<std::string>& problems() const { return problems_; }
 

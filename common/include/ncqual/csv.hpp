@@ -18,6 +18,8 @@
 // line is 0 and left out too: "<file>: <message>".
 #pragma once
 
+#include "ncqual/error.hpp"
+
 #include <cstddef>
 #include <optional>
 #include <stdexcept>
@@ -27,7 +29,7 @@
 
 namespace ncqual {
 
-class CsvError : public std::runtime_error {
+class CsvError : public Error {
  public:
   // line and column 1-based, 0 when they do not apply (see above).
   CsvError(const std::string& file, int line, int column, const std::string& message);

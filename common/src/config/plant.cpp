@@ -24,7 +24,7 @@ std::string join_lines(const std::vector<std::string>& lines) {
 }  // namespace
 
 ConfigError::ConfigError(std::vector<std::string> problems)
-    : std::runtime_error(join_lines(problems)), problems_(std::move(problems)) {}
+    : Error(join_lines(problems)), problems_(std::move(problems)) {}
 
 namespace config {
 namespace {

@@ -8,6 +8,7 @@
 // second row.
 #pragma once
 
+#include "ncqual/error.hpp"
 #include "ncqual/model.hpp"
 
 #include <cstdint>
@@ -23,10 +24,10 @@ namespace ncqual::storage {
 // Everything the storage refuses or fails to do. Input is validated before anything is written,
 // and every store runs in one transaction, so after a StorageError nothing of the sample is in the
 // file.
-class StorageError : public std::runtime_error {
+class StorageError : public Error {
  public:
   explicit StorageError(const std::string& message, int sqlite_code = 0)
-      : std::runtime_error(message), sqlite_code_(sqlite_code) {}
+      : Error(message), sqlite_code_(sqlite_code) {}
 
   // The SQLite extended result code when SQLite failed (SQLITE_BUSY, SQLITE_FULL, ...), 0 when the
   // input itself was refused. Lets the historian tell "drop this sample and log it" from "the

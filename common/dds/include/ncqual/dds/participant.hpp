@@ -12,14 +12,16 @@
 #include <map>
 #include <mutex>
 #include <stdexcept>
+#include "ncqual/error.hpp"
+
 #include <string>
 
 namespace ncqual::dds {
 
 // Thrown when a DDS entity cannot be created; the message names what and why.
-class DdsError : public std::runtime_error {
+class DdsError : public Error {
  public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 struct ParticipantOptions {
