@@ -36,7 +36,12 @@ void report_usage_error(const CLI::App& app, const std::string& message) {
   const CLI::App& command = named_command(app);
   const std::string name =
       &command == &app ? app.get_name() : app.get_name() + " " + command.get_name();
-  std::cerr << name << ": " << message << "\n"
+  // CLI11 says only that a subcommand is required when the word given is not one: name it.
+  const auto extra = command.remaining();
+  const bool unknown = command.get_require_subcommand_min() > 0 &&
+                       command.get_subcommands().empty() && !extra.empty();
+  std::cerr << name << ": " << (unknown ? "'" + extra.front() + "' is not a command" : message)
+            << "\n"
             << command.get_formatter()->make_help(&command, name, CLI::AppFormatMode::Normal);
 }
 

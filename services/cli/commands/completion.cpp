@@ -19,7 +19,8 @@ struct Path {
   std::vector<std::string> subcommands, flags, valued;
 };
 
-// Every command path below `app` ("", "analyze", "analyze circle", ...) with what it takes.
+// Every command path from `app` ("ncqual", "ncqual analyze", "ncqual analyze circle", ...) with
+// what it takes (bash has no empty key).
 void walk(const CLI::App& app, const std::string& path, std::map<std::string, Path>& out) {
   Path& p = out[path];
   for (const CLI::Option* opt : app.get_options()) {
@@ -33,7 +34,7 @@ void walk(const CLI::App& app, const std::string& path, std::map<std::string, Pa
   for (const CLI::App* sub : app.get_subcommands({})) {
     if (sub->get_group().empty()) continue;  // hidden, as this command
     p.subcommands.push_back(sub->get_name());
-    walk(*sub, path.empty() ? sub->get_name() : path + " " + sub->get_name(), out);
+    walk(*sub, path + " " + sub->get_name(), out);
   }
 }
 
@@ -45,7 +46,7 @@ std::string joined(const std::vector<std::string>& words) {
 
 int print_bash(const CLI::App& root) {
   std::map<std::string, Path> paths;
-  walk(root, "", paths);
+  walk(root, root.get_name(), paths);
   std::string kinds;
   for (CheckKind k : all_check_kinds()) kinds += (kinds.empty() ? "" : " ") + std::string(to_string(k));
   std::cout << "# bash completion of " << root.get_name()
@@ -59,7 +60,7 @@ int print_bash(const CLI::App& root) {
   for (const auto& [path, p] : paths) std::cout << " [\"" << path << "\"]=\"" << joined(p.valued) << "\"";
   std::cout << " )\n"
             << "  local kinds=\"" << kinds << "\"\n"
-            << R"(  local cur=${COMP_WORDS[COMP_CWORD]} prev= path= word i
+            << R"(  local cur=${COMP_WORDS[COMP_CWORD]} prev= path=)" << root.get_name() << R"( word i
   ((COMP_CWORD > 0)) && prev=${COMP_WORDS[COMP_CWORD - 1]}
   # The command path: the words before the cursor that name a subcommand where one is expected
   # (the value of a flag never does).
@@ -68,7 +69,7 @@ int print_bash(const CLI::App& root) {
     if [[ " ${valued[$path]} " == *" $word "* ]]; then
       ((i++))
     elif [[ " ${subcommands[$path]} " == *" $word "* ]]; then
-      path=${path:+$path }$word
+      path="$path $word"
     fi
   done
   COMPREPLY=()
