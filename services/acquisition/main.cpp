@@ -18,10 +18,10 @@
 #include "ncqual/sim/tracker_simulator.hpp"
 #include "ncqual/state_file.hpp"
 
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cinttypes>
 #include <deque>
 #include <filesystem>
 #include <iostream>
@@ -33,6 +33,12 @@
 namespace {
 
 using namespace ncqual;
+
+// The state file's document of a measured request: {"seq": N}, its place in the order measured.
+struct PerformedEntry {
+  std::int64_t seq = 0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PerformedEntry, seq)
 
 // How many performed request ids each machine remembers in the state file: more than the durable
 // CheckRequest history a restarted acquisition can be replayed (500 per machine, deploy/qos).
@@ -116,7 +122,9 @@ class Station {
     for (auto it = documents.lower_bound(prefix);
          it != documents.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++it) {
       std::int64_t seq = 0;
-      if (std::sscanf(it->second.c_str(), "{\"seq\":%" SCNd64 "}", &seq) != 1) {
+      try {
+        seq = nlohmann::json::parse(it->second).get<PerformedEntry>().seq;
+      } catch (const nlohmann::json::exception&) {
         spdlog::warn("{}: state file {} entry '{}' is not readable; ignored", id(), state_.path(), it->first);
         continue;
       }
@@ -144,7 +152,7 @@ class Station {
       performed_order_.pop_front();
     }
     try {
-      state_.save({{prefix + request_id, "{\"seq\":" + std::to_string(next_seq_++) + "}"}}, erase);
+      state_.save({{prefix + request_id, nlohmann::json(PerformedEntry{next_seq_++}).dump()}}, erase);
     } catch (const std::exception& e) {
       spdlog::error("{}: could not record {} as performed: {}", id(), request_id, e.what());
     }
