@@ -50,12 +50,9 @@ int run(const Options& o) {
   std::optional<ncqual::dds::Reader<ncqual::dds::CheckResultTopic>> results;
   if (o.wait_s > 0) results.emplace(participant, machine);
 
-  if (!commands.wait_for_readers(1, std::chrono::seconds(10))) {
-    std::cerr << "ncqual check: no scheduler is listening on domain " << domain << "\n";
-    return kExitError;
-  }
-  if (!commands.write(cmd) || !commands.wait_for_acknowledgments(std::chrono::seconds(10))) {
-    std::cerr << "ncqual check: the scheduler did not acknowledge the order\n";
+  if (!publish(commands, cmd, 1, "check",
+               "no scheduler is listening on domain " + std::to_string(domain),
+               "the scheduler did not acknowledge the order")) {
     return kExitError;
   }
   std::cerr << "requested " << kind_name << " on " << machine << " (" << cmd.request_id << ")\n";

@@ -105,13 +105,10 @@ int run(const Options& o) {
   ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-import"});
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   // The solver and the historian both read measurement sets: wait for both.
-  if (!sets.wait_for_readers(2, std::chrono::seconds(10))) {
-    std::cerr << "ncqual import: the solver and the historian are not both listening on domain "
-              << domain << "\n";
-    return kExitError;
-  }
-  if (!sets.write(set) || !sets.wait_for_acknowledgments(std::chrono::seconds(10))) {
-    std::cerr << "ncqual import: the measurement set was not acknowledged\n";
+  if (!publish(sets, set, 2, "import",
+               "the solver and the historian are not both listening on domain " +
+                   std::to_string(domain),
+               "the measurement set was not acknowledged")) {
     return kExitError;
   }
   std::cerr << "imported " << set.tracker_points.size() << " points as "

@@ -40,13 +40,10 @@ int run(const Options& o) {
   ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
   ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
   // The scheduler (to re-arm) and the historian (to record): both must hear it.
-  if (!writer.wait_for_readers(2, std::chrono::seconds(10))) {
-    std::cerr << "ncqual intervene: the scheduler and the historian must both be running on domain "
-              << domain << " (fewer than 2 readers of ncqual/Intervention)\n";
-    return kExitError;
-  }
-  if (!writer.write(iv) || !writer.wait_for_acknowledgments(std::chrono::seconds(10))) {
-    std::cerr << "ncqual intervene: the intervention was not acknowledged\n";
+  if (!publish(writer, iv, 2, "intervene",
+               "the scheduler and the historian must both be running on domain " +
+                   std::to_string(domain) + " (fewer than 2 readers of ncqual/Intervention)",
+               "the intervention was not acknowledged")) {
     return kExitError;
   }
   std::cerr << "recorded intervention on " << machine << " for " << kind_name << " by " << who << "\n";
