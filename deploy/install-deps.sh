@@ -8,7 +8,7 @@ packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libceres-dev libsqlite3-dev sqlite3 libspdlog-dev libfmt-dev
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
-  libhowardhinnant-date-dev tzdata
+  libhowardhinnant-date-dev tzdata libcli11-dev
 )
 
 missing=()

@@ -8,8 +8,8 @@
 // the durable topic after a restart), and a post-calibration that verifies a correction waits
 // until that correction is applied. The monthly checks are measured by a simulated laser tracker
 // (ncqual/sim/tracker_simulator.hpp) when the machine config has a global_check: section.
-#include "ncqual/args.hpp"
 #include "ncqual/check_kinds.hpp"
+#include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
@@ -19,10 +19,10 @@
 #include "ncqual/sim/tracker_simulator.hpp"
 #include "ncqual/state_file.hpp"
 
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <cinttypes>
 #include <deque>
 #include <filesystem>
 #include <iostream>
@@ -34,6 +34,12 @@
 namespace {
 
 using namespace ncqual;
+
+// The state file's document of a measured request: {"seq": N}, its place in the order measured.
+struct PerformedEntry {
+  std::int64_t seq = 0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PerformedEntry, seq)
 
 // How many performed request ids each machine remembers in the state file: more than the durable
 // CheckRequest history a restarted acquisition can be replayed (500 per machine, deploy/qos).
@@ -116,7 +122,9 @@ class Station {
     for (auto it = documents.lower_bound(prefix);
          it != documents.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++it) {
       std::int64_t seq = 0;
-      if (std::sscanf(it->second.c_str(), "{\"seq\":%" SCNd64 "}", &seq) != 1) {
+      try {
+        seq = nlohmann::json::parse(it->second).get<PerformedEntry>().seq;
+      } catch (const nlohmann::json::exception&) {
         spdlog::warn("{}: state file {} entry '{}' is not readable; ignored", id(), state_.path(), it->first);
         continue;
       }
@@ -144,7 +152,7 @@ class Station {
       performed_order_.pop_front();
     }
     try {
-      state_.save({{prefix + request_id, "{\"seq\":" + std::to_string(next_seq_++) + "}"}}, erase);
+      state_.save({{prefix + request_id, nlohmann::json(PerformedEntry{next_seq_++}).dump()}}, erase);
     } catch (const std::exception& e) {
       spdlog::error("{}: could not record {} as performed: {}", id(), request_id, e.what());
     }
@@ -219,22 +227,27 @@ class Station {
   std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
 };
 
+// What names the machines to serve: --machine (comma-separated ids), --all, or --machine-config.
+struct MachineSelection {
+  std::optional<std::string> machine, machine_config;
+  bool all = false;
+};
+
 // The machines named by --machine (comma-separated ids), --all, or --machine-config.
-std::vector<MachineConfig> served_machines(const Args& args, const PlantConfig& plant) {
+std::vector<MachineConfig> served_machines(const MachineSelection& args, const PlantConfig& plant) {
   std::vector<MachineConfig> out;
-  const int ways = (args.has("all") ? 1 : 0) + (args.get("machine") ? 1 : 0) +
-                   (args.get("machine-config") ? 1 : 0);
+  const int ways = (args.all ? 1 : 0) + (args.machine ? 1 : 0) + (args.machine_config ? 1 : 0);
   if (ways != 1) {
     throw ConfigError("name the machines to serve with exactly one of --machine ID[,ID...], --all "
                       "or --machine-config FILE");
   }
-  if (auto file = args.get("machine-config")) {
-    out.push_back(load_machine_config(*file));
-  } else if (args.has("all")) {
+  if (args.machine_config) {
+    out.push_back(load_machine_config(*args.machine_config));
+  } else if (args.all) {
     out = plant.machines;
     if (out.empty()) throw ConfigError("--all: " + plant.source_path + " configures no machine");
   } else {
-    out = plant.machines_named(*args.get("machine"), "--machine");
+    out = plant.machines_named(*args.machine, "--machine");
   }
   return out;
 }
@@ -243,37 +256,48 @@ std::vector<MachineConfig> served_machines(const Args& args, const PlantConfig& 
 
 int main(int argc, char** argv) {
   using namespace ncqual;
+  CLI::App app("Simulates the machines' instruments from each machine config's simulator section.\n"
+               "One process serves every machine named; each keeps its own state.",
+               "ncqual-acquisition");
+  command_line::configure(app);
+  command_line::ServiceOptions options;
+  command_line::add_service_options(app, options);
+  MachineSelection selection;
+  double max_age_s = 600;
+  std::optional<std::string> state_flag;
+  app.add_option("--machine", selection.machine, "serve these machines of the plant")
+      ->type_name("ID[,ID...]");
+  app.add_flag("--all", selection.all, "serve every machine of the plant");
+  app.add_option("--machine-config", selection.machine_config, "serve the machine of this file")
+      ->type_name("FILE");
+  app.add_option("--state", state_flag,
+                 "the requests already measured, so that a restart does not measure them again\n"
+                 "(default: acquisition-<ids>.db, or acquisition-all.db, beside the historian's "
+                 "database)")
+      ->type_name("FILE");
+  app.add_option("--max-request-age-s", max_age_s,
+                 "on the wall clock, requests older than this are history, not work")
+      ->type_name("S")
+      ->capture_default_str();
+  if (const auto code = command_line::parse(app, argc, argv)) return *code;
   try {
-    const Args args(std::vector<std::string>(argv + 1, argv + argc),
-                    {"plant", "machine", "machine-config", "domain", "log-level", "max-request-age-s", "state"},
-                    {"help", "all"});
-    if (args.has("help")) {
-      std::cout << "usage: ncqual-acquisition --plant FILE (--machine ID[,ID...] | --all | --machine-config FILE)\n"
-                   "                          [--state FILE] [--domain N] [--max-request-age-s 600] [--log-level info]\n"
-                   "--state  the requests already measured, so that a restart does not measure them again\n"
-                   "         (default: acquisition-<ids>.db, or acquisition-all.db, beside the historian's database)\n"
-                   "Simulates the machines' instruments from each machine config's simulator section.\n"
-                   "One process serves every machine named; each keeps its own state.\n";
-      return 0;
-    }
-    init_logging("acquisition", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
-    const std::vector<MachineConfig> machines = served_machines(args, plant);
-    const std::int64_t max_age_ns =
-        static_cast<std::int64_t>(args.get_double("max-request-age-s", 600) * 1e9);
+    init_logging("acquisition", options.log_level);
+    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(options.plant));
+    const std::vector<MachineConfig> machines = served_machines(selection, plant);
+    const std::int64_t max_age_ns = static_cast<std::int64_t>(max_age_s * 1e9);
 
     // The heartbeat names the machines served: one id, or the ids joined by commas.
     std::string served;
     for (const auto& m : machines) served += (served.empty() ? "" : ",") + m.machine_id;
     ncqual::dds::Service service({"acquisition", served,
-                                  ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                                  ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
                                   plant.qos_profiles_file});
     ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
-    std::string file_ids = args.has("all") ? "all" : served;
+    std::string file_ids = selection.all ? "all" : served;
     std::replace(file_ids.begin(), file_ids.end(), ',', '+');
-    storage::StateFile state = storage::StateFile::open(args.get_or(
-        "state", (std::filesystem::path(plant.historian_database).parent_path() /
-                  ("acquisition-" + file_ids + ".db")).string()));
+    storage::StateFile state = storage::StateFile::open(state_flag.value_or(
+        (std::filesystem::path(plant.historian_database).parent_path() /
+         ("acquisition-" + file_ids + ".db")).string()));
     const auto documents = state.load();
     std::vector<std::unique_ptr<Station>> stations;
     for (const auto& m : machines) {

@@ -1,7 +1,7 @@
 // ncqual-historian: one per plant. Stores every request, measurement set, result,
 // compensation, status change, intervention and service heartbeat in SQLite, exactly once
 // (storing is idempotent on each sample's id, so DDS redelivery after a restart is harmless).
-#include "ncqual/args.hpp"
+#include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
@@ -37,21 +37,24 @@ void store(ncqual::storage::Database& db, const char* what, const ncqual::dds::R
 
 int main(int argc, char** argv) {
   using namespace ncqual;
+  CLI::App app("Stores every sample of the plant in the SQLite historian, exactly once.",
+               "ncqual-historian");
+  command_line::configure(app);
+  command_line::ServiceOptions options;
+  command_line::add_service_options(app, options);
+  std::string db_flag;
+  app.add_option("--db", db_flag, "the database (default: the plant's historian.database)")
+      ->type_name("PATH");
+  if (const auto code = command_line::parse(app, argc, argv)) return *code;
   try {
-    const Args args(std::vector<std::string>(argv + 1, argv + argc),
-                    {"plant", "db", "domain", "log-level"}, {"help"});
-    if (args.has("help")) {
-      std::cout << "usage: ncqual-historian --plant FILE [--db PATH] [--domain N] [--log-level info]\n";
-      return 0;
-    }
-    init_logging("historian", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
-    const std::string db_path = args.get_or("db", plant.historian_database);
+    init_logging("historian", options.log_level);
+    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(options.plant));
+    const std::string db_path = db_flag.empty() ? plant.historian_database : db_flag;
     auto db = storage::Database::open(db_path);
     spdlog::info("historian database {}", db_path);
 
     ncqual::dds::Service service({"historian", "",
-                          ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                          ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
                           plant.qos_profiles_file});
     auto& p = service.participant();
     ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(p);

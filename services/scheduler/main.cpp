@@ -10,7 +10,7 @@
 // acquisition is retried and reported as it would be in a plant).
 #include "scheduler.hpp"
 
-#include "ncqual/args.hpp"
+#include "ncqual/command_line.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
 
@@ -33,7 +33,7 @@ std::vector<CheckKind> parse_cycle(const std::string& text) {
     const std::string name =
         text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const auto kind = parse_check_kind(name);
-    if (!kind) throw ArgError("--cycle: '" + name + "' is not a check kind");
+    if (!kind) throw std::invalid_argument("--cycle: '" + name + "' is not a check kind");
     cycle.push_back(*kind);
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -46,30 +46,43 @@ constexpr std::int64_t kNsPerDay = 86'400'000'000'000LL;
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app("Runs the qualification process of every machine of the plant (or of --machine).",
+               "ncqual-scheduler");
+  command_line::configure(app);
+  command_line::ServiceOptions options;
+  command_line::add_service_options(app, options);
+  std::optional<std::string> machine_list, cycle_text, state_flag, until_text;
+  std::optional<double> days;
+  double stall_s = 30;
+  app.add_option("--machine", machine_list,
+                 "serve only these machines (one scheduler per machine or group; default: all)")
+      ->type_name("ID[,ID...]");
+  app.add_option("--cycle", cycle_text,
+                 "checks to run once at start, in order (default without a calendar: the "
+                 "plant's scheduler.startup_checks; '' for none)")
+      ->type_name("KIND,KIND,...");
+  app.add_option("--state", state_flag,
+                 "the durable state file (default: the plant's scheduler.state_database; with "
+                 "--machine, scheduler-<ids>.db beside it)")
+      ->type_name("FILE");
+  app.add_option("--days", days, "simulated clock only: stop once nothing is due before that time")
+      ->type_name("N");
+  app.add_option("--until", until_text, "simulated clock only: as --days, to an ISO 8601 UTC time")
+      ->type_name("ISO-TIME");
+  app.add_option("--stall-s", stall_s,
+                 "simulated clock: wall seconds without an answer before the clock runs on to "
+                 "the check's timeout")
+      ->type_name("S")
+      ->capture_default_str();
+  if (const auto code = command_line::parse(app, argc, argv)) return *code;
   try {
-    const Args args(std::vector<std::string>(argv + 1, argv + argc),
-                    {"plant", "machine", "domain", "log-level", "cycle", "state", "days", "until", "stall-s"},
-                    {"help"});
-    if (args.has("help")) {
-      std::cout
-          << "usage: ncqual-scheduler --plant FILE [--machine ID[,ID...]] [--domain N] [--cycle kind,kind,...]\n"
-             "                        [--state FILE] [--days N | --until ISO-TIME] [--stall-s 30]\n"
-             "                        [--log-level info]\n"
-             "--cycle    checks to run once at start, in order (default without a calendar:\n"
-             "           the plant's scheduler.startup_checks; '' for none)\n"
-             "--machine  serve only these machines (one scheduler per machine or group; default: all)\n"
-             "--state    the durable state file (default: the plant's scheduler.state_database;\n"
-             "           with --machine, scheduler-<ids>.db beside it)\n"
-             "--days/--until  simulated clock only: stop once nothing is due before that time\n";
-      return 0;
-    }
-    init_logging("scheduler", args.get_or("log-level", "info"));
-    PlantConfig loaded = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
+    init_logging("scheduler", options.log_level);
+    PlantConfig loaded = load_plant_config(ncqual::dds::plant_file_from(options.plant));
     // --machine: this scheduler serves only those machines (one scheduler per machine, or per
     // group); the others' commands and interventions are another scheduler's, not errors. Its
     // default state file is its own, so two schedulers never share one.
     std::set<std::string> others;
-    if (auto list = args.get("machine")) {
+    if (const auto& list = machine_list) {
       std::vector<MachineConfig> served = loaded.machines_named(*list, "--machine");
       for (const auto& m : loaded.machines) others.insert(m.machine_id);
       for (const auto& m : served) others.erase(m.machine_id);
@@ -82,31 +95,29 @@ int main(int argc, char** argv) {
     }
     const PlantConfig plant = std::move(loaded);
     std::vector<CheckKind> cycle = plant.calendar ? std::vector<CheckKind>{} : plant.startup_checks;
-    if (auto text = args.get("cycle")) cycle = parse_cycle(*text);
+    if (cycle_text) cycle = parse_cycle(*cycle_text);
 
-    storage::StateFile state = storage::StateFile::open(args.get_or("state", plant.scheduler_state_database));
+    storage::StateFile state = storage::StateFile::open(state_flag.value_or(plant.scheduler_state_database));
     SimulatedClock simulated(plant.simulated_start_ns);
     WallClock wall;
     std::optional<std::int64_t> until;
     if (plant.simulated_clock) {
       if (const auto saved = scheduler::saved_clock_ns(state)) simulated.set_ns(*saved);
-      if (auto text = args.get("until")) {
-        until = parse_iso8601(*text);
-        if (!until) throw ArgError("--until: '" + *text + "' is not an ISO 8601 UTC time");
-      } else if (args.has("days")) {
-        const double days = args.get_double("days", 0);
-        if (!(days > 0)) throw ArgError("--days: must be > 0");
-        until = plant.simulated_start_ns + static_cast<std::int64_t>(days * kNsPerDay);
+      if (until_text) {
+        until = parse_iso8601(*until_text);
+        if (!until) throw std::invalid_argument("--until: '" + *until_text + "' is not an ISO 8601 UTC time");
+      } else if (days) {
+        if (!(*days > 0)) throw std::invalid_argument("--days: must be > 0");
+        until = plant.simulated_start_ns + static_cast<std::int64_t>(*days * kNsPerDay);
       }
-    } else if (args.has("days") || args.has("until")) {
-      throw ArgError("--days/--until need the plant's clock.mode: simulated");
+    } else if (days || until_text) {
+      throw std::invalid_argument("--days/--until need the plant's clock.mode: simulated");
     }
     const Clock& clock = plant.simulated_clock ? static_cast<const Clock&>(simulated) : wall;
-    const double stall_s = args.get_double("stall-s", 30);
-    if (!(stall_s > 0)) throw ArgError("--stall-s: must be > 0");
+    if (!(stall_s > 0)) throw std::invalid_argument("--stall-s: must be > 0");
 
     ncqual::dds::Service service({"scheduler", "",
-                                  ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                                  ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
                                   plant.qos_profiles_file});
     auto& p = service.participant();
     ncqual::dds::Writer<ncqual::dds::CheckRequestTopic> requests(p);
@@ -235,9 +246,6 @@ int main(int argc, char** argv) {
     }
     flush();
     return 0;
-  } catch (const ArgError& e) {
-    std::cerr << "ncqual-scheduler: " << e.what() << "\n";
-    return 2;
   } catch (const std::exception& e) {
     std::cerr << "ncqual-scheduler: " << e.what() << "\n";
     return 2;

@@ -1,6 +1,6 @@
 // ncqual-solver: turns MeasurementSets into CheckResults (and Compensations) with the pure
 // solver library. Thin: arguments, wiring, publishing. No storage, no math here.
-#include "ncqual/args.hpp"
+#include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
@@ -39,17 +39,17 @@ class RecentIds {
 
 int main(int argc, char** argv) {
   using namespace ncqual;
+  CLI::App app("Turns the plant's MeasurementSets into CheckResults (and Compensations).",
+               "ncqual-solver");
+  command_line::configure(app);
+  command_line::ServiceOptions options;
+  command_line::add_service_options(app, options);
+  if (const auto code = command_line::parse(app, argc, argv)) return *code;
   try {
-    const Args args(std::vector<std::string>(argv + 1, argv + argc),
-                    {"plant", "domain", "log-level"}, {"help"});
-    if (args.has("help")) {
-      std::cout << "usage: ncqual-solver --plant FILE [--domain N] [--log-level info]\n";
-      return 0;
-    }
-    init_logging("solver", args.get_or("log-level", "info"));
-    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(args.get_or("plant", "")));
+    init_logging("solver", options.log_level);
+    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(options.plant));
     ncqual::dds::Service service({"solver", "",
-                          ncqual::dds::resolve_domain_id(args.get_int("domain", -1), plant.domain_id),
+                          ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
                           plant.qos_profiles_file});
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(service.participant());
     ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(service.participant());

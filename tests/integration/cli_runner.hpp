@@ -70,11 +70,10 @@ class ScratchFile {
 
 }  // namespace detail
 
-// Runs `ncqual <args>` through the shell and waits for it. `args` must already be shell-safe
-// (the tests' paths have no spaces or quotes).
-inline CliRun run_cli(const std::string& args, Capture capture = Capture::Merged) {
+// Runs `command` through the shell and waits for it. It must already be shell-safe (the
+// tests' paths have no spaces or quotes).
+inline CliRun run_command(std::string command, Capture capture = Capture::Merged) {
   CliRun r;
-  std::string command = std::string(NCQUAL_CLI_EXE) + " " + args;
   std::unique_ptr<detail::ScratchFile> err_file;
   switch (capture) {
     case Capture::Merged:
@@ -97,6 +96,11 @@ inline CliRun run_cli(const std::string& args, Capture capture = Capture::Merged
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   if (err_file) r.err = detail::read_all(err_file->path());
   return r;
+}
+
+// Runs `ncqual <args>` through the shell and waits for it (see run_command).
+inline CliRun run_cli(const std::string& args, Capture capture = Capture::Merged) {
+  return run_command(std::string(NCQUAL_CLI_EXE) + " " + args, capture);
 }
 
 // stdout alone (stderr discarded).

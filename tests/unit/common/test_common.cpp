@@ -1,4 +1,4 @@
-#include "ncqual/args.hpp"
+#include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/convert.hpp"
 #include "ncqual/kinematics.hpp"
@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 namespace ncqual {
 namespace {
@@ -187,21 +188,38 @@ TEST(PlantMachines, AListNamesMachinesInOrderAndRefusesBadEntriesByName) {
   }
 }
 
-TEST(Args, UnknownFlagsAndBadNumbersAreNamed) {
-  const Args ok({"--plant", "p.yaml", "--json", "--limit=5", "pos"}, {"plant", "limit"}, {"json"});
-  EXPECT_EQ(ok.require("plant"), "p.yaml");
-  EXPECT_TRUE(ok.has("json"));
-  EXPECT_EQ(ok.get_int("limit", 0), 5);
-  ASSERT_EQ(ok.positional().size(), 1u);
-  EXPECT_THROW(Args({"--plnt", "x"}, {"plant"}, {}), ArgError);
-  EXPECT_THROW(Args({"--plant"}, {"plant"}, {}), ArgError);
-  const Args bad({"--limit", "five"}, {"limit"}, {});
-  try {
-    bad.get_int("limit", 0);
-    FAIL();
-  } catch (const ArgError& e) {
-    EXPECT_NE(std::string(e.what()).find("'five'"), std::string::npos);
+// The command line every executable shares (ncqual/command_line.hpp): unknown flags, missing
+// and bad values are usage errors (exit 2) that name the flag; --flag=value works.
+TEST(CommandLine, UnknownFlagsMissingAndBadValuesAreUsageErrorsNamingTheFlag) {
+  const auto parse = [](std::vector<std::string> words, std::string* reported = nullptr) {
+    CLI::App app("test", "ncqual-test");
+    command_line::configure(app);
+    command_line::ServiceOptions options;
+    command_line::add_service_options(app, options);
+    int limit = 0;
+    app.add_option("--limit", limit);
+    words.insert(words.begin(), "ncqual-test");
+    std::vector<char*> argv;
+    for (auto& w : words) argv.push_back(w.data());
+    const auto code = command_line::parse(app, static_cast<int>(argv.size()), argv.data(),
+                                          [&](const CLI::App&, const std::string& message) {
+                                            if (reported) *reported = message;
+                                          });
+    return std::make_tuple(code, options, limit);
+  };
+  const auto [ok, options, limit] = parse({"--plant", "p.yaml", "--limit=5", "--domain", "7"});
+  EXPECT_FALSE(ok.has_value());
+  EXPECT_EQ(options.plant, "p.yaml");
+  EXPECT_EQ(options.domain, 7);
+  EXPECT_EQ(options.log_level, "info");
+  EXPECT_EQ(limit, 5);
+  for (const auto& [words, flag] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"--plnt", "x"}, "--plnt"}, {{"--plant"}, "--plant"}, {{"--limit", "five"}, "--limit"}}) {
+    std::string message;
+    EXPECT_EQ(std::get<0>(parse(words, &message)), command_line::kUsageExit) << flag;
+    EXPECT_NE(message.find(flag), std::string::npos) << message;
   }
+  EXPECT_EQ(std::get<0>(parse({"--help"})), 0);
 }
 
 TEST(Model, EnumNamesRoundTrip) {

@@ -1,17 +1,65 @@
-// `ncqual uncertainty`: gathers the machine's planned tracker setup and uncertainty sources from
-// its config, hands them to solver::evaluate_verification_uncertainty (and, with --search, to
-// solver::best_tracker_location), prints the report. See uncertainty_command.hpp.
-#include "uncertainty_command.hpp"
+// `ncqual uncertainty`: the uncertainty of a machine's monthly laser-tracker verification (the
+// grid check and its identification of the 21 rigid-body errors), by Monte Carlo (GUM S1).
+//
+//   ncqual uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]
+//                      [--json]
+//
+// Reads the machine's `global_check:` section from the plant config (--plant or NCQUAL_PLANT)
+// and its `uncertainty:` mapping (ncqual/global_check.hpp: the planned tracker, the uncertainty
+// sources, trials, seed, the search region), builds the grid design of the GlobalGrid program
+// (solver::grid_verification_design) and runs solver::evaluate_verification_uncertainty on it
+// with the machine's systematic errors zero: the machine verified as it is nominally, so what is
+// left after the identification is what the tracker's noise and placement, the repeatability and
+// the thermal correction leave (the figures do not depend on the errors as long as the model
+// represents them). --trials and --seed override the config; --threads (default: the hardware's
+// cores, at most 64) only changes the speed, never a figure. With --search it also runs
+// solver::best_tracker_location over the configured search region (eq. 24, no Monte Carlo) and
+// compares the best candidate with the configured position. This command only gathers and
+// prints; the math is the solver's (ncqual/solver/verification_uncertainty.hpp).
+//
+// --json prints one document; its names are a public interface (append, never rename):
+//   {"machine_id", "config" (machine file), "plant" (plant file),
+//    "machine_errors": "zero", "method": "linearised", "trials", "seed",
+//    "design": {"points", "grid": [nx, ny, nz], "targets", "observations",
+//        "candidate_parameters", "mean_kept_parameters", "unidentifiable": [function names]},
+//    "tracker": {"position_mm": [x, y, z], "ypr_deg": [yaw, pitch, roll], "angular_sigma_urad",
+//        "radial_sigma_um", "radial_sigma_um_per_m", "samples_per_point", "position_sigma_mm",
+//        "orientation_sigma_urad"},
+//    "sources": {"repeatability_sigma_um": [3], "expansion_um_per_m_K": [3],
+//        "expansion_sigma_um_per_m_K": [3], "temperature_deviation_K": [3],
+//        "temperature_sigma_K": [3]},
+//    "trial_max_residual_um", "trial_mean_residual_um": the distribution over the trials of the
+//        largest and of the mean |e| over the grid (e: the residual error the identified model
+//        leaves at a target, solver header), each {"mean_um", "sigma_um", "quantile95_um",
+//        "max_um"},
+//    "max_bound95_um": the largest per-point 95 % bound,
+//    "tracker_alone": {"max_u_p_um", "mean_u_p_um", "worst_point", "worst_target_mm": [3]}:
+//        eq. 24 over the grid, tracker at its configured pose,
+//    "worst_points": [the 5 largest bound95_um first: point],
+//    "points": [every grid point in program order: point],
+//        point = {"label", "commanded_mm": [3], "tool_offset_mm": [3], "target_mm": [3],
+//                 "mean_um": [3], "sigma_um": [3], "rms_um", "bound95_um", "tracker_u_p_um"},
+//    "search": null without --search, else {"x_mm": [min, max], "y_mm", "z_mm", "step_mm",
+//        "steps": [3], "envelope_clearance_mm", "min_range_mm", "max_range_mm", "tried",
+//        "excluded",
+//        "best": {"position_mm": [3], "yaw_deg", "max_u_p_um", "mean_u_p_um", "worst_point"},
+//        "configured": {"position_mm": [3], "yaw_deg", "max_u_p_um", "mean_u_p_um"},
+//        "candidates": [best first, at most 5: {"position_mm", "yaw_deg", "max_u_p_um",
+//            "mean_u_p_um", "worst_point"}]}}
+//
+// Returns 0 when it printed, 1 on an error it reported (unknown machine, no global_check or no
+// global_check.uncertainty, --search without global_check.uncertainty.search, a bad config, a
+// design or setup the solver refuses), 2 on bad usage (the message and the usage on stderr).
+#include "commands.hpp"
 
-#include "ncqual/args.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/solver/verification_uncertainty.hpp"
 #include "ncqual/units.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <cstdio>
 #include <iostream>
 #include <numeric>
 #include <optional>
@@ -19,19 +67,9 @@
 #include <thread>
 #include <vector>
 
-namespace ncqual {
-
-const char* const kUncertaintyUsage =
-    "  uncertainty --machine M [--plant F] [--trials N] [--seed S] [--threads T] [--search]\n"
-    "              [--json]\n"
-    "      Monte Carlo uncertainty (GUM S1) of the machine's monthly tracker grid check as\n"
-    "      configured in global_check.uncertainty (planned tracker, sources); --trials and\n"
-    "      --seed override the config, --threads only the speed; --search: the best tracker\n"
-    "      location in global_check.uncertainty.search beside the configured one\n";
-
+namespace ncqual::cli {
 namespace {
 
-constexpr int kExitError = 1, kExitUsage = 2;
 constexpr int kMaxTrials = 1000000;
 constexpr int kMaxThreads = 64;
 constexpr std::size_t kWorstPoints = 5;
@@ -47,20 +85,15 @@ json vec(const Eigen::Vector3d& v, double scale = 1) {
   return json::array({v.x() * scale, v.y() * scale, v.z() * scale});
 }
 
-std::string fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
+// "(a, b, c)" with `decimals` each.
+std::string triple(int decimals, const Eigen::Vector3d& v) {
+  return fmt::format("({:.{}f}, {:.{}f}, {:.{}f})", v.x(), decimals, v.y(), decimals, v.z(),
+                     decimals);
 }
 
-// "(a, b, c)" with `format` for each.
-std::string triple(const char* format, const Eigen::Vector3d& v) {
-  return "(" + fmt(format, v.x()) + ", " + fmt(format, v.y()) + ", " + fmt(format, v.z()) + ")";
-}
-
-// "a b c" with `format` for each.
-std::string three(const char* format, const Eigen::Vector3d& v) {
-  return fmt(format, v.x()) + " " + fmt(format, v.y()) + " " + fmt(format, v.z());
+// "a b c" with two decimals each.
+std::string three(const Eigen::Vector3d& v) {
+  return fmt::format("{:.2f} {:.2f} {:.2f}", v.x(), v.y(), v.z());
 }
 
 // Everything one run gathers and computes.
@@ -255,117 +288,100 @@ void print_report(const Inputs& in, const solver::VerificationUncertainty& u,
   const GlobalCheckConfig& g = *in.global;
   const solver::TrackerUncertaintyModel& t = in.tracker;
   const solver::UncertaintySources& s = in.sources;
-  std::printf("Verification uncertainty of %s (%s):\n  the monthly tracker grid check, Monte "
-              "Carlo (GUM S1)\n",
-              in.machine->machine_id.c_str(), in.machine->source_path.c_str());
-  std::printf("  design: %zu points (%zu x %zu x %zu grid x %zu targets), %d observations;\n    "
-              "%d candidate parameters, %.1f kept on average by the BIC\n",
-              u.points.size(), g.grid_x_mm.size(), g.grid_y_mm.size(), g.grid_z_mm.size(),
-              g.targets.size(), u.observations, u.candidate_parameters, u.mean_kept_parameters);
+  fmt::print("Verification uncertainty of {} ({}):\n  the monthly tracker grid check, Monte "
+             "Carlo (GUM S1)\n",
+             in.machine->machine_id, in.machine->source_path);
+  fmt::print("  design: {} points ({} x {} x {} grid x {} targets), {} observations;\n    "
+             "{} candidate parameters, {:.1f} kept on average by the BIC\n",
+             u.points.size(), g.grid_x_mm.size(), g.grid_y_mm.size(), g.grid_z_mm.size(),
+             g.targets.size(), u.observations, u.candidate_parameters, u.mean_kept_parameters);
   if (!u.unidentifiable.empty()) {
-    std::string names;
-    for (const auto& n : u.unidentifiable) names += (names.empty() ? "" : ", ") + n;
-    std::printf("  the design cannot determine: %s\n", names.c_str());
+    fmt::print("  the design cannot determine: {}\n", fmt::join(u.unidentifiable, ", "));
   }
-  std::printf("  machine errors: zero (the machine verified as it is nominally: what is left is\n"
-              "  what the tracker, the repeatability and the thermal correction leave)\n");
-  std::printf("  %d trials, seed %llu, %s identification\n", u.trials,
-              static_cast<unsigned long long>(in.options.seed),
-              u.method == solver::IdentificationMethod::Linearised ? "linearised" : "full");
-  std::printf("  tracker at %s mm, yaw %.2f pitch %.2f roll %.2f deg\n    noise %.1f urad per "
-              "angle, range %.2f um + %.2f um/m, %d readings a point\n    placement %.2f mm, "
-              "%.1f urad (1 sigma)\n",
-              triple("%.0f", t.position_mm).c_str(), deg(t.ypr_rad[0]), deg(t.ypr_rad[1]),
-              deg(t.ypr_rad[2]), urad(t.angular_sigma_rad), um(t.radial_sigma_mm),
-              um(t.radial_sigma_mm_per_m), t.samples_per_point, t.position_sigma_mm,
-              urad(t.orientation_sigma_rad));
-  std::printf("  sources (X Y Z): repeatability %s um\n    expansion %s +- %s um/(m K)\n"
-              "    temperature deviation %s +- %s K\n",
-              three("%.2f", s.repeatability_sigma_mm * 1e3).c_str(),
-              three("%.2f", s.expansion_per_K * 1e6).c_str(),
-              three("%.2f", s.expansion_sigma_per_K * 1e6).c_str(),
-              three("%.2f", s.temperature_deviation_K).c_str(),
-              three("%.2f", s.temperature_sigma_K).c_str());
+  fmt::print("  machine errors: zero (the machine verified as it is nominally: what is left is\n"
+             "  what the tracker, the repeatability and the thermal correction leave)\n");
+  fmt::print("  {} trials, seed {}, {} identification\n", u.trials, in.options.seed,
+             u.method == solver::IdentificationMethod::Linearised ? "linearised" : "full");
+  fmt::print("  tracker at {} mm, yaw {:.2f} pitch {:.2f} roll {:.2f} deg\n    noise {:.1f} urad per "
+             "angle, range {:.2f} um + {:.2f} um/m, {} readings a point\n    placement {:.2f} mm, "
+             "{:.1f} urad (1 sigma)\n",
+             triple(0, t.position_mm), deg(t.ypr_rad[0]), deg(t.ypr_rad[1]), deg(t.ypr_rad[2]),
+             urad(t.angular_sigma_rad), um(t.radial_sigma_mm), um(t.radial_sigma_mm_per_m),
+             t.samples_per_point, t.position_sigma_mm, urad(t.orientation_sigma_rad));
+  fmt::print("  sources (X Y Z): repeatability {} um\n    expansion {} +- {} um/(m K)\n"
+             "    temperature deviation {} +- {} K\n",
+             three(s.repeatability_sigma_mm * 1e3), three(s.expansion_per_K * 1e6),
+             three(s.expansion_sigma_per_K * 1e6), three(s.temperature_deviation_K),
+             three(s.temperature_sigma_K));
 
-  std::printf("\nResidual error after the identification, |e| over the grid in each trial (um)\n");
-  std::printf("  %-12s %8s %8s %8s %8s\n", "", "mean", "sigma", "95 %", "largest");
+  fmt::print("\nResidual error after the identification, |e| over the grid in each trial (um)\n");
+  fmt::print("  {:<12} {:>8} {:>8} {:>8} {:>8}\n", "", "mean", "sigma", "95 %", "largest");
   const auto row = [](const char* name, const solver::SampleSummary& v) {
-    std::printf("  %-12s %8.2f %8.2f %8.2f %8.2f\n", name, um(v.mean), um(v.sigma),
-                um(v.quantile95), um(v.max));
+    fmt::print("  {:<12} {:8.2f} {:8.2f} {:8.2f} {:8.2f}\n", name, um(v.mean), um(v.sigma),
+               um(v.quantile95), um(v.max));
   };
   row("max |e|", u.max_residual_mm);
   row("mean |e|", u.mean_residual_mm);
 
-  std::printf("\nWorst points: 95 %% bound of |e| (um), target in mm\n");
-  std::printf("  %-14s %-26s %8s %8s %-22s %8s\n", "point", "target", "bound95", "rms",
-              "sigma x y z", "track.u");
+  fmt::print("\nWorst points: 95 % bound of |e| (um), target in mm\n");
+  fmt::print("  {:<14} {:<26} {:>8} {:>8} {:<22} {:>8}\n", "point", "target", "bound95", "rms",
+             "sigma x y z", "track.u");
   for (std::size_t i : worst_points(u, kWorstPoints)) {
     const auto& p = u.points[i];
-    std::printf("  %-14s %-26s %8.2f %8.2f %-22s %8.2f\n", p.label.c_str(),
-                triple("%.0f", p.commanded_mm + p.tool_offset_mm).c_str(), um(p.bound95_mm),
-                um(p.rms_mm), three("%.2f", p.sigma_mm * 1e3).c_str(), um(p.tracker_u_mm));
+    fmt::print("  {:<14} {:<26} {:8.2f} {:8.2f} {:<22} {:8.2f}\n", p.label,
+               triple(0, p.commanded_mm + p.tool_offset_mm), um(p.bound95_mm), um(p.rms_mm),
+               three(p.sigma_mm * 1e3), um(p.tracker_u_mm));
   }
 
   const std::size_t tw = tracker_worst_point(u);
-  std::printf("\nTracker alone (eq. 24, the configured pose): max u_p %.2f um at %s %s mm,\n"
-              "  mean %.2f um\n",
-              um(u.tracker_max_u_mm), u.points[tw].label.c_str(),
-              triple("%.0f", u.points[tw].commanded_mm + u.points[tw].tool_offset_mm).c_str(),
-              um(u.tracker_mean_u_mm));
+  fmt::print("\nTracker alone (eq. 24, the configured pose): max u_p {:.2f} um at {} {} mm,\n"
+             "  mean {:.2f} um\n",
+             um(u.tracker_max_u_mm), u.points[tw].label,
+             triple(0, u.points[tw].commanded_mm + u.points[tw].tool_offset_mm),
+             um(u.tracker_mean_u_mm));
 
   if (!search) return;
   const TrackerSearchConfig& c = *in.config->search;
   const auto& r = search->result;
-  std::printf("\nTracker location (eq. 24 over the grid, facing the envelope's centre)\n");
-  std::printf("  searched x %.0f..%.0f, y %.0f..%.0f, z %.0f..%.0f mm, %d x %d x %d positions:\n"
-              "    %d tried, %d excluded (envelope + %.0f mm, range %.0f..%.0f mm)\n",
-              c.lo_mm.x(), c.hi_mm.x(), c.lo_mm.y(), c.hi_mm.y(), c.lo_mm.z(), c.hi_mm.z(),
-              c.steps.x(), c.steps.y(), c.steps.z(), r.tried, r.excluded,
-              c.envelope_clearance_mm, c.min_range_mm, c.max_range_mm);
-  std::printf("  best       %s mm, yaw %7.2f deg: max u_p %.2f um, mean %.2f um\n",
-              triple("%.0f", r.best.position_mm).c_str(), deg(r.best.ypr_rad[0]), um(r.max_u_mm),
-              um(r.mean_u_mm));
-  std::printf("  configured %s mm, yaw %7.2f deg: max u_p %.2f um, mean %.2f um\n",
-              triple("%.0f", t.position_mm).c_str(), deg(t.ypr_rad[0]), um(r.given_max_u_mm),
-              um(u.tracker_mean_u_mm));
+  fmt::print("\nTracker location (eq. 24 over the grid, facing the envelope's centre)\n");
+  fmt::print("  searched x {:.0f}..{:.0f}, y {:.0f}..{:.0f}, z {:.0f}..{:.0f} mm, {} x {} x {} "
+             "positions:\n    {} tried, {} excluded (envelope + {:.0f} mm, range {:.0f}..{:.0f} "
+             "mm)\n",
+             c.lo_mm.x(), c.hi_mm.x(), c.lo_mm.y(), c.hi_mm.y(), c.lo_mm.z(), c.hi_mm.z(),
+             c.steps.x(), c.steps.y(), c.steps.z(), r.tried, r.excluded, c.envelope_clearance_mm,
+             c.min_range_mm, c.max_range_mm);
+  fmt::print("  best       {} mm, yaw {:7.2f} deg: max u_p {:.2f} um, mean {:.2f} um\n",
+             triple(0, r.best.position_mm), deg(r.best.ypr_rad[0]), um(r.max_u_mm),
+             um(r.mean_u_mm));
+  fmt::print("  configured {} mm, yaw {:7.2f} deg: max u_p {:.2f} um, mean {:.2f} um\n",
+             triple(0, t.position_mm), deg(t.ypr_rad[0]), um(r.given_max_u_mm),
+             um(u.tracker_mean_u_mm));
   if (r.given_max_u_mm > 0) {
-    std::printf("  the best candidate changes the largest u_p by %+.1f %%\n",
-                100 * (r.max_u_mm / r.given_max_u_mm - 1));
+    fmt::print("  the best candidate changes the largest u_p by {:+.1f} %\n",
+               100 * (r.max_u_mm / r.given_max_u_mm - 1));
   }
 }
 
 // ---- Command ------------------------------------------------------------------------------------
-
-int usage_error(const std::string& message) {
-  std::cerr << "ncqual uncertainty: " << message << "\nusage:\n" << kUncertaintyUsage;
-  return kExitUsage;
-}
 
 int default_threads() {
   const unsigned n = std::thread::hardware_concurrency();
   return static_cast<int>(std::clamp(n, 1u, static_cast<unsigned>(kMaxThreads)));
 }
 
-int run(const Args& args) {
-  if (!args.positional().empty()) {
-    throw ArgError("unexpected argument '" + args.positional().front() + "'");
-  }
+struct Options {
+  std::string plant, machine;
+  std::optional<int> trials;
+  std::optional<std::int64_t> seed;
+  int threads = default_threads();
+  bool search = false, json = false;
+};
+
+int run(const Options& o) {
   Inputs in;
-  in.plant_file = plant_config_path(args.get_or("plant", ""));
-  if (in.plant_file.empty()) throw ArgError("pass --plant FILE (or set NCQUAL_PLANT)");
-  const std::string machine_id = args.require("machine");
-  const int trials = args.get_int("trials", 0);  // 0: the config's
-  if (args.has("trials") && (trials < 1 || trials > kMaxTrials)) {
-    throw ArgError("--trials " + std::to_string(trials) + ": expected 1 to " +
-                   std::to_string(kMaxTrials));
-  }
-  const std::int64_t seed = args.get_int64("seed", 0);
-  if (seed < 0) throw ArgError("--seed " + std::to_string(seed) + ": expected >= 0");
-  const int threads = args.get_int("threads", default_threads());
-  if (threads < 1 || threads > kMaxThreads) {
-    throw ArgError("--threads " + std::to_string(threads) + ": expected 1 to " +
-                   std::to_string(kMaxThreads));
-  }
+  in.plant_file = plant_config_path(o.plant);
+  if (in.plant_file.empty()) throw UsageError("pass --plant FILE (or set NCQUAL_PLANT)");
+  const std::string& machine_id = o.machine;
 
   const PlantConfig plant = load_plant_config(in.plant_file);
   in.machine = plant.find_machine(machine_id);
@@ -387,7 +403,7 @@ int run(const Args& args) {
     return kExitError;
   }
   in.config = &*in.global->uncertainty;
-  if (args.has("search") && !in.config->search) {
+  if (o.search && !in.config->search) {
     std::cerr << "ncqual uncertainty: --search: machine '" << machine_id << "' ("
               << in.machine->source_path
               << ") has no global_check.uncertainty.search: mapping (where the tracker may "
@@ -398,15 +414,15 @@ int run(const Args& args) {
   in.design = solver::grid_verification_design(*in.global);
   in.tracker = tracker_model(in.config->tracker);
   in.sources = sources_of(in.config->sources);
-  in.options.trials = args.has("trials") ? trials : in.config->trials;
-  in.options.seed = args.has("seed") ? static_cast<std::uint64_t>(seed) : in.config->seed;
-  in.options.threads = threads;
+  in.options.trials = o.trials.value_or(in.config->trials);
+  in.options.seed = o.seed ? static_cast<std::uint64_t>(*o.seed) : in.config->seed;
+  in.options.threads = o.threads;
   in.options.method = solver::IdentificationMethod::Linearised;
 
   const solver::VerificationUncertainty u =
       solver::evaluate_verification_uncertainty(in.design, in.tracker, in.sources, in.options);
   std::optional<Search> search;
-  if (args.has("search")) {
+  if (o.search) {
     Search s;
     s.region = region_of(*in.config->search);
     solver::LocationSearchOptions options;
@@ -415,33 +431,41 @@ int run(const Args& args) {
     search = std::move(s);
   }
 
-  if (args.has("json")) {
+  if (o.json) {
     std::cout << to_json(in, u, search).dump(2) << "\n";
   } else {
     print_report(in, u, search);
   }
-  return 0;
+  return kExitOk;
 }
 
 }  // namespace
 
-int run_uncertainty(const std::vector<std::string>& args) {
-  if (std::find(args.begin(), args.end(), "--help") != args.end()) {
-    std::cout << "usage:\n" << kUncertaintyUsage;
-    return 0;
-  }
-  try {
-    const Args parsed(args, {"machine", "plant", "trials", "seed", "threads"}, {"search", "json"});
-    return run(parsed);
-  } catch (const ArgError& e) {
-    return usage_error(e.what());
-  } catch (const ConfigError& e) {
-    std::cerr << "ncqual uncertainty: " << e.what() << "\n";
-    return kExitError;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "ncqual uncertainty: " << e.what() << "\n";
-    return kExitError;
-  }
+void add_uncertainty(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "uncertainty",
+      "Monte Carlo uncertainty (GUM S1) of the machine's monthly tracker grid check as\n"
+      "configured in global_check.uncertainty (planned tracker, sources), and with --search\n"
+      "the tracker location in global_check.uncertainty.search beside the configured one");
+  add_machine_option(cmd, o->machine, "the machine whose global_check: section to assess");
+  add_plant_option(cmd, o->plant);
+  cmd->add_option("--trials", o->trials,
+                  "Monte Carlo trials, 1 to " + std::to_string(kMaxTrials) + " (default: the config's)")
+      ->type_name("N")
+      ->check(CLI::Range(1, kMaxTrials).description(""));
+  cmd->add_option("--seed", o->seed, "the random seed, >= 0 (default: the config's)")
+      ->type_name("S")
+      ->check(CLI::NonNegativeNumber.description(""));
+  cmd->add_option("--threads", o->threads,
+                  "threads, 1 to " + std::to_string(kMaxThreads) +
+                      "; they change only the speed, never a figure")
+      ->type_name("T")
+      ->capture_default_str()
+      ->check(CLI::Range(1, kMaxThreads).description(""));
+  cmd->add_flag("--search", o->search, "also the best tracker location of the search region");
+  add_json_flag(cmd, o->json);
+  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
-}  // namespace ncqual
+}  // namespace ncqual::cli

@@ -1,9 +1,56 @@
-// `ncqual analyze`: reads an instrument file, hands it to the solver's evaluation, prints the
-// figures. See analyze_command.hpp. Each subcommand is one entry of kSubcommands (its options
-// and its runner), so another evaluation (e.g. `grid`) is one more entry.
-#include "analyze_command.hpp"
+// `ncqual analyze`: the evaluations of instrument exports, run by a metrologist on a file, with
+// no service, plant config or historian.
+//
+//   ncqual analyze iso230-2 FILE [--json]
+//       a linear-axis positioning run (laser interferometer), evaluated per ISO 230-2:2014
+//       (ncqual::solver::evaluate_iso230_2; file format: ncqual/solver/instrument_files.hpp)
+//   ncqual analyze circle FILE [--plane XY|YZ|XZ] [--nominal-radius-mm R] [--centre-mm U,V]
+//                              [--json]
+//       a circular test (ballbar, grid encoder, tracker), evaluated per ISO 230-4
+//       (ncqual::solver::evaluate_circular_test). --plane is needed for angle_deg,radius_mm and
+//       u_mm,v_mm files, and must agree with an x_mm,y_mm-like header; --nominal-radius-mm and
+//       --centre-mm (in the plane's u, v) are the reference of the radial deviation F (default:
+//       the least-squares circle).
+//
+//   ncqual analyze grid --x-run F --y-run F --grid F [--json]
+//       the monthly laser-tracker grid: the master frame from the X and Y runs
+//       (ncqual::solver::fit_master_frame), then the grid's deviations, squareness and scale in it
+//       (ncqual::solver::analyze_grid); files: point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas (mm,
+//       commanded in machine axes, measured in the tracker frame).
+//
+// Without --json a table of the figures in mm (4 decimals) is printed. --json prints one
+// document; its names are a public interface (append, never rename); lengths in mm, absent
+// figures null:
+//   iso230-2: {"standard": "ISO 230-2:2014", "file", "unit": "mm", "targets" (m), "cycles"
+//     (largest n), "directions": ["up", "down"] (those measured),
+//     "A", "A_up", "A_down", "E", "E_up", "E_down", "M", "R", "R_up", "R_down", "B", "B_mean",
+//     "per_target": [{"target_mm", "up": {"n", "mean", "s", "R", "min", "max"} | null,
+//                     "down": {...} | null, "B", "R", "mean" (x̄_i)}]}
+//   circle: {"standard": "ISO 230-4", "file", "unit": "mm", "plane", "layout": "polar" |
+//     "coordinates", "points", "lsc_centre_mm": [u, v], "lsc_radius_mm" (all points),
+//     "G_mm" (the larger of the directions), "G_b_mm", "H_mm" (null unless both directions),
+//     "F_max_mm", "F_min_mm", "F_reference": {"centre": "nominal" | "lsc", "radius": "nominal" |
+//     "lsc", "centre_mm": [u, v], "radius_mm"}, "scale_mismatch_um_per_m", "squareness_urad"
+//     (from all points), "harmonics_mm": {"a0", "a1", "b1", "a2", "b2", "residual_rms"},
+//     "directions": {"ccw": {...} | null, "cw": {...} | null} with per direction "points",
+//     "lsc_centre_mm", "lsc_radius_mm", "lsc_rms_mm", "G_mm", "F_max_mm", "F_min_mm",
+//     "F_reference", "max_gap_deg", "scale_mismatch_um_per_m", "squareness_urad",
+//     "harmonics_mm"}
+//   grid: {"unit": "mm", "grid_file", "points", "max_deviation_mm", "max_deviation_point",
+//     "rms_deviation_mm", "max_abs_dx_mm", "max_abs_dy_mm", "max_abs_dz_mm",
+//     "squareness_xy_urad", "squareness_yz_urad", "squareness_zx_urad" (out-of-squareness of
+//     the fitted axis motions, positive when wider than 90 degrees), "scale_x_um_per_m",
+//     "scale_y_um_per_m", "scale_z_um_per_m", "affine_residual_rms_mm", "master_frame":
+//     {"orthogonality_urad", "origin_rms_mm", "x_run" / "y_run": {"file", "points",
+//     "straightness_mm": [2], "max_distance_mm", "scale_um_per_m"}}, "worst_points": [point],
+//     "planes": [{"z_mm", "points", "worst_point", "worst_deviation_mm", "rms_deviation_mm"}],
+//     "per_point": [{"point", "commanded_mm", "master_mm", "deviation_mm", "deviation_norm_mm"}]}
+//
+// Exit codes: 0 printed; 1 the file was refused (the CsvError "<file>:<line>:<column>: message"
+// on stderr, or "<file>: message" for a refusal of the evaluation), or not found; 2 bad usage
+// (the message and the usage of `ncqual analyze` on stderr).
+#include "commands.hpp"
 
-#include "ncqual/args.hpp"
 #include "ncqual/csv.hpp"
 #include "ncqual/units.hpp"
 #include "ncqual/solver/circular_test.hpp"
@@ -11,36 +58,20 @@
 #include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/solver/iso230_2.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <iostream>
 #include <optional>
-#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace ncqual {
-
-const char* const kAnalyzeUsage =
-    "  analyze iso230-2 FILE [--json]\n"
-    "      evaluate a linear-axis positioning run (target_mm,cycle,direction,measured_mm)\n"
-    "      per ISO 230-2:2014: A, E, M, R, B per axis and per target\n"
-    "  analyze circle FILE [--plane XY|YZ|XZ] [--nominal-radius-mm R] [--centre-mm U,V] [--json]\n"
-    "      evaluate a circular test (angle_deg,radius_mm or x_mm,y_mm | y_mm,z_mm | x_mm,z_mm |\n"
-    "      u_mm,v_mm, optional direction ccw/cw) per ISO 230-4: G, G(b), H, F, scale mismatch\n"
-    "      and squareness of the two axes\n"
-    "  analyze grid --x-run F --y-run F --grid F [--json]\n"
-    "      the monthly tracker grid (point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas; commanded in\n"
-    "      machine axes, measured in the tracker frame): master frame from the X and Y runs,\n"
-    "      per-point deviations, squareness and scale of the axes\n";
-
+namespace ncqual::cli {
 namespace {
 
-constexpr int kExitError = 1, kExitUsage = 2;
 using units::kPi;
 
 using nlohmann::json;
@@ -49,26 +80,10 @@ using nlohmann::json;
 
 json or_null(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 
-std::string mm(double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.4f", v);
-  return buf;
-}
+std::string mm(double v) { return fmt::format("{:.4f}", v); }
 std::string mm(const std::optional<double>& v) { return v ? mm(*v) : "-"; }
 
-std::string fixed(double v, int decimals) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
-// Right-aligned in `width`.
-std::string right(const std::string& s, std::size_t width) {
-  return s.size() >= width ? s : std::string(width - s.size(), ' ') + s;
-}
-std::string left(const std::string& s, std::size_t width) {
-  return s.size() >= width ? s : s + std::string(width - s.size(), ' ');
-}
+std::string fixed(double v, int decimals) { return fmt::format("{:.{}f}", v, decimals); }
 
 // ---- iso230-2 -----------------------------------------------------------------------------------
 
@@ -116,15 +131,13 @@ void print_iso230_2(const solver::Iso230_2Result& r, const std::string& file) {
   const std::string dirs = r.has_up && r.has_down ? "both directions"
                            : r.has_up             ? "up (+) only"
                                                   : "down (-) only";
-  std::printf("ISO 230-2:2014 positioning test: %s\n", file.c_str());
-  std::printf("  %zu targets (%s .. %s mm), %d cycles, %s\n\n", r.targets.size(),
-              mm(r.targets.front().target_mm).c_str(), mm(r.targets.back().target_mm).c_str(),
-              r.cycles, dirs.c_str());
-  std::printf("Axis (mm)            bidirectional       up (+)     down (-)\n");
+  fmt::print("ISO 230-2:2014 positioning test: {}\n", file);
+  fmt::print("  {} targets ({} .. {} mm), {} cycles, {}\n\n", r.targets.size(),
+             mm(r.targets.front().target_mm), mm(r.targets.back().target_mm), r.cycles, dirs);
+  fmt::print("Axis (mm)            bidirectional       up (+)     down (-)\n");
   auto axis_row = [](const char* name, const std::optional<double>& both,
                      const std::optional<double>& up, const std::optional<double>& down) {
-    std::printf("  %s%s%s%s\n", left(name, 20).c_str(), right(mm(both), 12).c_str(),
-                right(mm(up), 13).c_str(), right(mm(down), 13).c_str());
+    fmt::print("  {:<20}{:>12}{:>13}{:>13}\n", name, mm(both), mm(up), mm(down));
   };
   axis_row("A  accuracy", r.A_mm, r.A_up_mm, r.A_down_mm);
   axis_row("E  systematic dev.", r.E_mm, r.E_up_mm, r.E_down_mm);
@@ -133,44 +146,48 @@ void print_iso230_2(const solver::Iso230_2Result& r, const std::string& file) {
   axis_row("B  reversal", r.B_mm, std::nullopt, std::nullopt);
   axis_row("B_mean mean reversal", r.B_mean_mm, std::nullopt, std::nullopt);
 
-  std::printf("\nPer target (mm): mean = mean deviation, s = standard uncertainty, R = 4 s;\n"
+  fmt::print("\nPer target (mm): mean = mean deviation, s = standard uncertainty, R = 4 s;\n"
               "  B_i = reversal, R_i = bidirectional repeatability, x_i = mean bidirectional "
-              "deviation\n");
+             "deviation\n");
   const std::vector<std::pair<std::string, std::size_t>> cols{
       {"target", 12}, {"n↑", 4},  {"mean↑", 9}, {"s↑", 8},   {"R↑", 8}, {"n↓", 4},
       {"mean↓", 9},   {"s↓", 8},  {"R↓", 8},    {"B_i", 9},  {"R_i", 8}, {"x_i", 9}};
   std::string header = " ";
-  for (const auto& [name, width] : cols) {
-    // The arrows are 3 bytes and one column wide.
-    std::size_t chars = 0;
-    for (unsigned char ch : name) chars += (ch & 0xC0) != 0x80 ? 1 : 0;
-    header += std::string(width > chars ? width - chars : 0, ' ') + name;
-  }
-  std::printf("%s\n", header.c_str());
+  // The arrows are 3 bytes and one column wide: fmt pads by columns.
+  for (const auto& [name, width] : cols) header += fmt::format("{:>{}}", name, width);
+  fmt::print("{}\n", header);
   for (const auto& t : r.targets) {
-    std::string line = " " + right(mm(t.target_mm), 12);
+    std::string line = fmt::format(" {:>12}", mm(t.target_mm));
     for (const auto* d : {&t.up, &t.down}) {
-      if (*d) {
-        line += right(std::to_string((*d)->cycles), 4) + right(mm((*d)->mean_mm), 9) +
-                right(mm((*d)->s_mm), 8) + right(mm((*d)->R_mm), 8);
-      } else {
-        line += right("-", 4) + right("-", 9) + right("-", 8) + right("-", 8);
-      }
+      line += *d ? fmt::format("{:>4}{:>9}{:>8}{:>8}", (*d)->cycles, mm((*d)->mean_mm),
+                               mm((*d)->s_mm), mm((*d)->R_mm))
+                 : fmt::format("{:>4}{:>9}{:>8}{:>8}", "-", "-", "-", "-");
     }
-    line += right(mm(t.B_mm), 9) + right(mm(t.R_mm), 8) + right(mm(t.mean_mm), 9);
-    std::printf("%s\n", line.c_str());
+    line += fmt::format("{:>9}{:>8}{:>9}", mm(t.B_mm), mm(t.R_mm), mm(t.mean_mm));
+    fmt::print("{}\n", line);
   }
 }
 
-int run_iso230_2(const std::string& file, const Args& args) {
+// What the analyses take on the command line.
+struct Options {
+  std::string file;  // iso230-2 and circle
+  bool json = false;
+  std::optional<std::string> plane;           // circle
+  std::optional<double> nominal_radius_mm;    // circle
+  std::optional<std::string> centre_mm;       // circle
+  std::string x_run, y_run, grid;             // grid
+};
+
+int run_iso230_2(const Options& o) {
+  const std::string& file = o.file;
   const solver::Iso230_2File data = solver::read_iso230_2_csv(read_csv_file(file));
   const solver::Iso230_2Result r = solver::evaluate_iso230_2(data.readings);
-  if (args.has("json")) {
+  if (o.json) {
     std::cout << to_json(r, file).dump(2) << "\n";
   } else {
     print_iso230_2(r, file);
   }
-  return 0;
+  return kExitOk;
 }
 
 // ---- circle -------------------------------------------------------------------------------------
@@ -237,26 +254,22 @@ void print_circle(const solver::CircularTestResult& r, const solver::CircleFile&
                   const std::string& file) {
   const std::string plane(solver::to_string(r.plane));
   const std::string u(1, plane[0]), v(1, plane[1]);
-  std::printf("ISO 230-4 circular test: %s\n", file.c_str());
-  std::printf("  plane %s (u = %s, v = %s), %zu points (%s), directions:%s%s\n", plane.c_str(),
-              u.c_str(), v.c_str(), data.input.points.size(),
-              data.polar ? "angle_deg, radius_mm" : "coordinates", r.ccw ? " ccw" : "",
-              r.cw ? " cw" : "");
-  std::printf("  least-squares circle of all points: centre (%s, %s) = (%s, %s) mm, radius %s "
-              "mm\n",
-              u.c_str(), v.c_str(), mm(r.lsc_centre_mm.x()).c_str(),
-              mm(r.lsc_centre_mm.y()).c_str(), mm(r.lsc_radius_mm).c_str());
-  std::printf("  F measured from the %s\n\n", reference_text(r.F_reference).c_str());
+  fmt::print("ISO 230-4 circular test: {}\n", file);
+  fmt::print("  plane {} (u = {}, v = {}), {} points ({}), directions:{}{}\n", plane, u, v,
+             data.input.points.size(), data.polar ? "angle_deg, radius_mm" : "coordinates",
+             r.ccw ? " ccw" : "", r.cw ? " cw" : "");
+  fmt::print("  least-squares circle of all points: centre ({}, {}) = ({}, {}) mm, radius {} mm\n",
+             u, v, mm(r.lsc_centre_mm.x()), mm(r.lsc_centre_mm.y()), mm(r.lsc_radius_mm));
+  fmt::print("  F measured from the {}\n\n", reference_text(r.F_reference));
 
   auto path_value = [](const std::optional<solver::CircularPathFigures>& p, auto get) {
     return p ? get(*p) : std::string("-");
   };
-  std::printf("%s%s%s%s\n", left("", 34).c_str(), right("ccw", 12).c_str(),
-              right("cw", 12).c_str(), right("both", 12).c_str());
+  fmt::print("{:34}{:>12}{:>12}{:>12}\n", "", "ccw", "cw", "both");
   auto row = [&](const char* name, const std::string& ccw, const std::string& cw,
                  const std::string& both) {
-    std::printf("  %s%s%s%s\n", left(name, 32).c_str(), right(ccw, 12).c_str(),
-                right(cw, 12).c_str(), right(both, 12).c_str());
+    // The names are padded in bytes, as they always were (the degree sign is two).
+    fmt::print("  {:<32}{:>12}{:>12}{:>12}\n", fmt::bytes(name), ccw, cw, both);
   };
   using P = solver::CircularPathFigures;
   row("points", path_value(r.ccw, [](const P& p) { return std::to_string(p.point_count); }),
@@ -284,61 +297,35 @@ void print_circle(const solver::CircularTestResult& r, const solver::CircleFile&
       path_value(r.ccw, [](const P& p) { return fixed(p.max_gap_rad * 180.0 / kPi, 1); }),
       path_value(r.cw, [](const P& p) { return fixed(p.max_gap_rad * 180.0 / kPi, 1); }), "-");
   if (r.ccw && r.cw) {
-    std::printf("\n  The scale mismatch and squareness of one direction include its reversal "
-                "errors;\n  those of both directions together cancel them.\n");
+    fmt::print("\n  The scale mismatch and squareness of one direction include its reversal "
+               "errors;\n  those of both directions together cancel them.\n");
   }
 }
 
-// "U,V" -> (U, V); ArgError naming the flag otherwise.
-Eigen::Vector2d parse_centre(const std::string& text) {
-  const auto comma = text.find(',');
-  auto number = [&](const std::string& part) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(part, &used);
-    } catch (const std::logic_error&) {
-      used = 0;
-    }
-    while (used < part.size() && part[used] == ' ') ++used;
-    if (used == 0 || used != part.size() || !std::isfinite(v)) {
-      throw ArgError("--centre-mm '" + text + "': expected two numbers U,V (mm)");
-    }
-    return v;
-  };
-  if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos) {
-    throw ArgError("--centre-mm '" + text + "': expected two numbers U,V (mm)");
-  }
-  return {number(text.substr(0, comma)), number(text.substr(comma + 1))};
-}
-
-int run_circle(const std::string& file, const Args& args) {
-  std::optional<solver::Plane> plane;
-  if (const auto p = args.get("plane")) {
-    plane = solver::parse_plane(*p);
-    if (!plane) throw ArgError("--plane '" + *p + "': expected XY, YZ or XZ");
-  }
-  std::optional<double> nominal_radius;
-  if (args.has("nominal-radius-mm")) {
-    nominal_radius = args.get_double("nominal-radius-mm", 0);
-    if (!(std::isfinite(*nominal_radius) && *nominal_radius > 0)) {
-      throw ArgError("--nominal-radius-mm " + *args.get("nominal-radius-mm") +
-                     ": expected a radius > 0 (mm)");
-    }
+int run_circle(const Options& o) {
+  const std::string& file = o.file;
+  const std::optional<solver::Plane> plane = plane_option(o.plane);
+  const std::optional<double> nominal_radius = o.nominal_radius_mm;
+  if (nominal_radius && !(std::isfinite(*nominal_radius) && *nominal_radius > 0)) {
+    throw UsageError(fmt::format("--nominal-radius-mm {}: expected a radius > 0 (mm)",
+                                 *nominal_radius));
   }
   std::optional<Eigen::Vector2d> centre;
-  if (const auto c = args.get("centre-mm")) centre = parse_centre(*c);
+  if (o.centre_mm) {
+    const auto [u, v] = centre_option(*o.centre_mm);
+    centre = Eigen::Vector2d(u, v);
+  }
 
   solver::CircleFile data = solver::read_circle_csv(read_csv_file(file), plane);
   data.input.nominal_radius_mm = nominal_radius;
   data.input.nominal_centre_mm = centre;
   const solver::CircularTestResult r = solver::evaluate_circular_test(data.input);
-  if (args.has("json")) {
+  if (o.json) {
     std::cout << to_json(r, data, file).dump(2) << "\n";
   } else {
     print_circle(r, data, file);
   }
-  return 0;
+  return kExitOk;
 }
 
 // ---- grid ---------------------------------------------------------------------------------------
@@ -370,9 +357,8 @@ json run_json(const solver::RunFit& run, const std::string& file) {
           {"scale_um_per_m", run.scale_um_per_m}};
 }
 
-int run_grid(const std::string&, const Args& args) {
-  const std::string x_file = args.require("x-run"), y_file = args.require("y-run"),
-                    g_file = args.require("grid");
+int run_grid(const Options& o) {
+  const std::string &x_file = o.x_run, &y_file = o.y_run, &g_file = o.grid;
   // The fewest points each part can take: a line needs 3 to show straightness, the affine fit
   // of the grid has 12 unknowns (4 points) and needs a fifth to leave a residual.
   const auto x_run = grid_file(x_file, 3, "an X run");
@@ -390,7 +376,7 @@ int run_grid(const std::string&, const Args& args) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(g_file + ": grid: " + e.what());
   }
-  if (args.has("json")) {
+  if (o.json) {
     json points = json::array();
     for (const auto& p : r.points) {
       points.push_back({{"point", p.label},
@@ -435,97 +421,82 @@ int run_grid(const std::string&, const Args& args) {
         {"planes", planes},
         {"per_point", points}};
     std::cout << out.dump(2) << "\n";
-    return 0;
+    return kExitOk;
   }
-  std::printf("grid %s: %zu points in the master frame of %s and %s\n", g_file.c_str(),
-              r.points.size(), x_file.c_str(), y_file.c_str());
-  std::printf("  max deviation   %s mm at %s, rms %s mm\n", mm(r.max_deviation_mm).c_str(),
-              r.max_deviation_label.c_str(), mm(r.rms_deviation_mm).c_str());
-  std::printf("  max |dx| |dy| |dz| %s %s %s mm\n", mm(r.max_abs_dx_mm).c_str(),
-              mm(r.max_abs_dy_mm).c_str(), mm(r.max_abs_dz_mm).c_str());
-  std::printf("  squareness xy %s  yz %s  zx %s urad (positive: wider than 90 deg)\n",
-              fixed(r.affine.squareness_xy_urad, 1).c_str(),
-              fixed(r.affine.squareness_yz_urad, 1).c_str(),
-              fixed(r.affine.squareness_zx_urad, 1).c_str());
-  std::printf("  scale x %s  y %s  z %s um/m\n", fixed(r.affine.scale_x_um_per_m, 1).c_str(),
-              fixed(r.affine.scale_y_um_per_m, 1).c_str(),
-              fixed(r.affine.scale_z_um_per_m, 1).c_str());
-  std::printf("  master frame: X and Y runs %s urad from square\n",
-              fixed(frame.orthogonality_urad, 1).c_str());
+  fmt::print("grid {}: {} points in the master frame of {} and {}\n", g_file, r.points.size(),
+             x_file, y_file);
+  fmt::print("  max deviation   {} mm at {}, rms {} mm\n", mm(r.max_deviation_mm),
+             r.max_deviation_label, mm(r.rms_deviation_mm));
+  fmt::print("  max |dx| |dy| |dz| {} {} {} mm\n", mm(r.max_abs_dx_mm), mm(r.max_abs_dy_mm),
+             mm(r.max_abs_dz_mm));
+  fmt::print("  squareness xy {:.1f}  yz {:.1f}  zx {:.1f} urad (positive: wider than 90 deg)\n",
+             r.affine.squareness_xy_urad, r.affine.squareness_yz_urad, r.affine.squareness_zx_urad);
+  fmt::print("  scale x {:.1f}  y {:.1f}  z {:.1f} um/m\n", r.affine.scale_x_um_per_m,
+             r.affine.scale_y_um_per_m, r.affine.scale_z_um_per_m);
+  fmt::print("  master frame: X and Y runs {:.1f} urad from square\n", frame.orthogonality_urad);
   for (const auto& pl : r.planes) {
-    std::printf("  plane Z %s: worst %s (%s mm), rms %s mm\n", fixed(pl.z_mm, 1).c_str(),
-                pl.worst_label.c_str(), mm(pl.worst_deviation_mm).c_str(),
-                mm(pl.rms_deviation_mm).c_str());
+    fmt::print("  plane Z {:.1f}: worst {} ({} mm), rms {} mm\n", pl.z_mm, pl.worst_label,
+               mm(pl.worst_deviation_mm), mm(pl.rms_deviation_mm));
   }
-  return 0;
+  return kExitOk;
 }
 
-// ---- Dispatch -----------------------------------------------------------------------------------
-
-struct Subcommand {
-  const char* name;
-  std::set<std::string> with_value;
-  std::set<std::string> switches;
-  int (*run)(const std::string& file, const Args& args);
-  bool takes_file = true;  // one positional FILE; else every file is an option
-};
-
-const std::vector<Subcommand>& subcommands() {
-  static const std::vector<Subcommand> all{
-      {"iso230-2", {}, {"json"}, run_iso230_2},
-      {"circle", {"plane", "nominal-radius-mm", "centre-mm"}, {"json"}, run_circle},
-      {"grid", {"x-run", "y-run", "grid"}, {"json"}, run_grid, false},
-  };
-  return all;
-}
-
-int usage_error(const std::string& message) {
-  std::cerr << "ncqual analyze: " << message << "\nusage: ncqual analyze <what> FILE [options]\n"
-            << kAnalyzeUsage;
-  return kExitUsage;
+// An evaluation refused (std::invalid_argument) is reported as "<file>: message", exit 1.
+int refusing(const std::string& file, int (*run)(const Options&), const Options& o) {
+  try {
+    return run(o);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << (file.empty() ? "" : file + ": ") << e.what() << "\n";
+    return kExitError;
+  }
 }
 
 }  // namespace
 
-int run_analyze(const std::vector<std::string>& args) {
-  if (args.empty()) return usage_error("say what to analyze");
-  if (args[0] == "help" || std::find(args.begin(), args.end(), "--help") != args.end()) {
-    std::cout << "usage: ncqual analyze <what> FILE [options]\n" << kAnalyzeUsage;
-    return 0;
-  }
-  const Subcommand* sub = nullptr;
-  for (const auto& s : subcommands()) {
-    if (args[0] == s.name) sub = &s;
-  }
-  if (!sub) return usage_error("unknown analysis '" + args[0] + "'");
+void add_analyze(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<Options>();
+  CLI::App* analyze = app.add_subcommand(
+      "analyze",
+      "evaluate an instrument export (ISO 230-2 positioning run, ISO 230-4 circular test,\n"
+      "tracker grid) on its own, without services");
+  analyze->require_subcommand(1);
 
-  std::string file;
-  try {
-    const Args parsed(std::vector<std::string>(args.begin() + 1, args.end()), sub->with_value,
-                      sub->switches);
-    if (!sub->takes_file) {
-      if (!parsed.positional().empty()) {
-        throw ArgError("takes its files as options, not '" + parsed.positional().front() + "'");
-      }
-      return sub->run("", parsed);
-    }
-    if (parsed.positional().size() != 1) {
-      throw ArgError(parsed.positional().empty()
-                         ? "give the FILE to analyze"
-                         : "one FILE at a time (got " +
-                               std::to_string(parsed.positional().size()) + ")");
-    }
-    file = parsed.positional().front();
-    return sub->run(file, parsed);
-  } catch (const ArgError& e) {
-    return usage_error(std::string(sub->name) + ": " + e.what());
-  } catch (const CsvError& e) {
-    std::cerr << e.what() << "\n";
-    return kExitError;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << file << ": " << e.what() << "\n";
-    return kExitError;
-  }
+  CLI::App* iso = analyze->add_subcommand(
+      "iso230-2",
+      "evaluate a linear-axis positioning run (target_mm,cycle,direction,measured_mm)\n"
+      "per ISO 230-2:2014: A, E, M, R, B per axis and per target");
+  iso->add_option("FILE", o->file, "the run's CSV file")->required();
+  add_json_flag(iso, o->json);
+  commands.push_back({iso, [o] { return refusing(o->file, run_iso230_2, *o); }});
+
+  CLI::App* circle = analyze->add_subcommand(
+      "circle",
+      "evaluate a circular test (angle_deg,radius_mm or x_mm,y_mm | y_mm,z_mm | x_mm,z_mm |\n"
+      "u_mm,v_mm, optional direction ccw/cw) per ISO 230-4: G, G(b), H, F, scale mismatch\n"
+      "and squareness of the two axes");
+  circle->add_option("FILE", o->file, "the test's CSV file")->required();
+  circle->add_option("--plane", o->plane,
+                     "the plane (needed for angle_deg,radius_mm and u_mm,v_mm files)")
+      ->type_name("XY|YZ|XZ");
+  circle->add_option("--nominal-radius-mm", o->nominal_radius_mm,
+                     "F about this radius (default: the least-squares circle's)")
+      ->type_name("R");
+  circle->add_option("--centre-mm", o->centre_mm,
+                     "F about this centre in the plane's u, v (default: the least-squares one)")
+      ->type_name("U,V");
+  add_json_flag(circle, o->json);
+  commands.push_back({circle, [o] { return refusing(o->file, run_circle, *o); }});
+
+  CLI::App* grid = analyze->add_subcommand(
+      "grid",
+      "the monthly tracker grid (point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas; commanded in\n"
+      "machine axes, measured in the tracker frame): master frame from the X and Y runs,\n"
+      "per-point deviations, squareness and scale of the axes");
+  grid->add_option("--x-run", o->x_run, "the X run of the master frame")->type_name("F")->required();
+  grid->add_option("--y-run", o->y_run, "the Y run of the master frame")->type_name("F")->required();
+  grid->add_option("--grid", o->grid, "the grid's points")->type_name("F")->required();
+  add_json_flag(grid, o->json);
+  commands.push_back({grid, [o] { return refusing("", run_grid, *o); }});
 }
 
-}  // namespace ncqual
+}  // namespace ncqual::cli

@@ -1,16 +1,51 @@
-// `ncqual budget`: gathers the machine's budget config and metric history, hands them to
-// solver::evaluate_error_budget, prints the report. See budget_command.hpp.
-#include "budget_command.hpp"
+// `ncqual budget`: the machine's error budget against its history.
+//
+//   ncqual budget --machine M [--plant F] [--db F] [--last N] [--json]
+//
+// Reads the machine's `budget:` section from the plant config (--plant or NCQUAL_PLANT), the
+// newest N (default 30) values of every budget metric from the historian (--db, else the plant's
+// historian database; read only, never written), and prints per source its capability, its
+// allowance and its share of today's budget (largest consumer first), per check metric the
+// derived tolerance beside the configured one, and the RSS and Monte Carlo totals. The math is
+// ncqual::solver::evaluate_error_budget; this command only gathers and prints.
+//
+// --json prints one document; its names are a public interface (append, never rename):
+//   {"machine_id", "config", "database" (null when there is no historian file), "last",
+//    "method": "rss" | "monte_carlo", "coverage",
+//    "allowable_total_mm", "allowable_total_in", "panel_radius_mm", "theta_min_deg",
+//    "theta_max_deg",
+//    "rss_total_mm", "rss_total_in", "rss_theta_deg": today's total (RSS of the newest values),
+//    "within_budget": rss_total_mm <= allowable_total_mm,
+//    "monte_carlo_total_mm", "monte_carlo_theta_deg", "monte_carlo_samples": the Monte Carlo total
+//        of the capabilities at the coverage,
+//    "capability_rss_total_mm", "capability_rss_theta_deg", "allocation_rss_total_mm",
+//    "allocation_monte_carlo_total_mm",
+//    "allocation": {"scale", "theta_deg", "feasible", "why"},
+//    "sources": [largest consumer today first: {"name", "description", "direction", "fixed",
+//        "capability_basis": "default" | "history" | "fixed",
+//        "capability_mm": {"y", "z", "s"}, "allocation_mm": {"y", "z", "s"}  (tool-tip mm),
+//        "capability_contribution_mm", "allocation_contribution_mm"  (ΔS at allocation.theta_deg),
+//        "today_mm": {"y", "z", "s"}, "today_measured", "today_contribution_mm" (ΔS at
+//        rss_theta_deg), "share" (today_contribution² / allowable²),
+//        "metrics": [{"name", "axis", "unit", "sensitivity" (mm of ΔS per unit),
+//            "sensitivity_theta_deg", "samples", "mean", "sigma", "max_abs", "capability",
+//            "capability_basis", "derived_tolerance" (±, metric unit),
+//            "configured_tolerance": {"lower", "upper"} | null (metric unit),
+//            "today_value" | null, "today_time_ns" | null, "today_within_derived_tolerance"}]}]}
+//
+// Returns 0 when it printed, 1 on an error it reported (unknown machine, no budget section, bad
+// config, unreadable historian), 2 on bad usage.
+#include "commands.hpp"
 
 #include "ncqual/config.hpp"
 #include "ncqual/solver/error_budget.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/units.hpp"
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -18,14 +53,12 @@
 #include <string>
 #include <vector>
 
-namespace ncqual {
+namespace ncqual::cli {
 namespace {
 
 using solver::BudgetMetric;
 using solver::ErrorBudgetConfig;
 using solver::ErrorBudgetReport;
-
-constexpr int kExitError = 1;
 
 // What the historian holds for the budget's metrics: values newest first in each metric's
 // configured unit, and the time of the newest.
@@ -182,23 +215,15 @@ nlohmann::json to_json(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
 
 // ---- Table --------------------------------------------------------------------------------------
 
-std::string fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 // "0.2540 mm (0.0100 in)"
-std::string mm_in(double mm) {
-  return fmt("%.4f mm", mm) + fmt(" (%.4f in)", units::mm_to_inch(mm));
-}
+std::string mm_in(double mm) { return fmt::format("{:.4f} mm ({:.4f} in)", mm, units::mm_to_inch(mm)); }
 
 // A value in a metric's unit with sensible decimals: 4 for mm and in, 1 for arcsec, else 4
 // significant.
 std::string in_unit(double v, const std::string& unit) {
-  if (unit == "mm" || unit == "in") return fmt("%.4f ", v) + unit;
-  if (unit == "arcsec" || unit == "um") return fmt("%.1f ", v) + unit;
-  return fmt("%.4g ", v) + unit;
+  if (unit == "mm" || unit == "in") return fmt::format("{:.4f} {}", v, unit);
+  if (unit == "arcsec" || unit == "um") return fmt::format("{:.1f} {}", v, unit);
+  return fmt::format("{:.4g} {}", v, unit);
 }
 
 std::string tolerance_text(const std::optional<Tolerance>& t, const std::string& unit) {
@@ -206,21 +231,16 @@ std::string tolerance_text(const std::optional<Tolerance>& t, const std::string&
   if (std::abs(t->lower + t->upper) <= 1e-12 * std::max(1.0, std::abs(t->upper))) {
     return "±" + in_unit(t->upper, unit);
   }
-  return "[" + fmt("%.4g", t->lower) + ", " + fmt("%.4g", t->upper) + "] " + unit;
+  return fmt::format("[{:.4g}, {:.4g}] {}", t->lower, t->upper, unit);
 }
 
-// Left-aligned in `width` columns, counting UTF-8 characters (ΔS, θ, ±), not bytes.
-std::string pad(const std::string& text, std::size_t width) {
-  std::size_t chars = 0;
-  for (unsigned char ch : text) chars += (ch & 0xC0) != 0x80 ? 1 : 0;
-  return chars >= width ? text : text + std::string(width - chars, ' ');
-}
-
-// One table row: the cells padded to their widths, separated by a space.
+// One table row: the cells left-aligned in their widths (fmt counts the columns of ΔS, θ, ±,
+// not their bytes), separated by a space.
 std::string row(const std::vector<std::pair<std::string, std::size_t>>& cells) {
   std::string out;
   for (std::size_t i = 0; i < cells.size(); ++i) {
-    out += i + 1 < cells.size() ? pad(cells[i].first, cells[i].second) + " " : cells[i].first;
+    out += i + 1 < cells.size() ? fmt::format("{:<{}} ", cells[i].first, cells[i].second)
+                                : cells[i].first;
   }
   while (!out.empty() && out.back() == ' ') out.pop_back();
   return out;
@@ -229,59 +249,54 @@ std::string row(const std::vector<std::pair<std::string, std::size_t>>& cells) {
 void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
                  const MachineConfig& machine, const std::optional<std::string>& database,
                  int last) {
-  std::printf("Error budget of %s (%s)\n", machine.machine_id.c_str(), machine.source_path.c_str());
-  std::printf("  allowable ΔS %s on a panel of R %s, holes at θ %.1f .. %.1f deg\n",
-              mm_in(c.allowable_total_mm).c_str(),
-              (fmt("%.1f mm", c.panel_radius_mm) +
-               fmt(" (%.1f in)", units::mm_to_inch(c.panel_radius_mm)))
-                  .c_str(),
-              deg(c.theta_min_rad), deg(c.theta_max_rad));
+  fmt::print("Error budget of {} ({})\n", machine.machine_id, machine.source_path);
+  fmt::print("  allowable ΔS {} on a panel of R {:.1f} mm ({:.1f} in), holes at θ {:.1f} .. {:.1f} "
+             "deg\n",
+             mm_in(c.allowable_total_mm), c.panel_radius_mm, units::mm_to_inch(c.panel_radius_mm),
+             deg(c.theta_min_rad), deg(c.theta_max_rad));
   const std::string from =
       database ? "the newest " + std::to_string(last) + " values of each metric in " + *database
                : "the configured defaults (no historian file)";
-  std::printf("  method %s, coverage %.2f %%; capabilities: %s\n",
-              std::string(to_string(c.method)).c_str(), 100 * c.coverage, from.c_str());
+  fmt::print("  method {}, coverage {:.2f} %; capabilities: {}\n", to_string(c.method),
+             100 * c.coverage, from);
   if (!r.allocation.feasible) {
-    std::printf("  ALLOCATION IMPOSSIBLE: %s\n", r.allocation.why.c_str());
+    fmt::print("  ALLOCATION IMPOSSIBLE: {}\n", r.allocation.why);
   } else {
-    std::printf("  allowance = %.3f × capability for every measured source (binding at θ = %.1f "
-                "deg)\n",
-                r.allocation.scale, deg(r.allocation.theta_rad));
+    fmt::print("  allowance = {:.3f} × capability for every measured source (binding at θ = {:.1f} "
+               "deg)\n",
+               r.allocation.scale, deg(r.allocation.theta_rad));
   }
 
-  std::printf("\nSources, largest consumer today first (ΔS of capability and allowance at "
-              "θ = %.1f deg, today's at θ = %.1f deg)\n",
-              deg(r.allocation.theta_rad), deg(r.today.theta_rad));
+  fmt::print("\nSources, largest consumer today first (ΔS of capability and allowance at "
+             "θ = {:.1f} deg, today's at θ = {:.1f} deg)\n",
+             deg(r.allocation.theta_rad), deg(r.today.theta_rad));
   const std::vector<std::size_t> sw{3, 20, 3, 8, 11, 11, 22, 7};
-  std::printf("%s\n", row({{"#", sw[0]}, {"source", sw[1]}, {"dir", sw[2]}, {"basis", sw[3]},
+  fmt::print("{}\n", row({{"#", sw[0]}, {"source", sw[1]}, {"dir", sw[2]}, {"basis", sw[3]},
                            {"capab. ΔS", sw[4]}, {"allow. ΔS", sw[5]}, {"today ΔS", sw[6]},
-                           {"share", sw[7]}, {"", 0}})
-                          .c_str());
+                          {"share", sw[7]}, {"", 0}}));
   int rank = 0;
   for (const auto& s : r.sources) {
-    std::printf("%s\n",
-                row({{std::to_string(++rank), sw[0]},
+    fmt::print("{}\n",
+               row({{std::to_string(++rank), sw[0]},
                      {s.name, sw[1]},
                      {std::string(to_string(s.direction)), sw[2]},
                      {std::string(to_string(s.capability_basis)), sw[3]},
-                     {fmt("%.4f mm", s.capability_contribution_mm), sw[4]},
-                     {fmt("%.4f mm", s.allocation_contribution_mm), sw[5]},
+                     {fmt::format("{:.4f} mm", s.capability_contribution_mm), sw[4]},
+                     {fmt::format("{:.4f} mm", s.allocation_contribution_mm), sw[5]},
                      {mm_in(s.today_contribution_mm), sw[6]},
-                     {fmt("%5.1f %%", 100 * s.share), sw[7]},
-                     {s.fixed ? "fixed allowance" : (s.today_measured ? "" : "no value yet"), 0}})
-                    .c_str());
+                     {fmt::format("{:5.1f} %", 100 * s.share), sw[7]},
+                     {s.fixed ? "fixed allowance" : (s.today_measured ? "" : "no value yet"), 0}}));
   }
 
-  std::printf("\nCheck metrics (derived tolerance: the source's allowance in the metric's unit)\n");
+  fmt::print("\nCheck metrics (derived tolerance: the source's allowance in the metric's unit)\n");
   const std::vector<std::size_t> mw{22, 19, 4, 4, 12, 13, 13, 12};
-  std::printf("%s\n", row({{"metric", mw[0]}, {"source", mw[1]}, {"axis", mw[2]}, {"n", mw[3]},
+  fmt::print("{}\n", row({{"metric", mw[0]}, {"source", mw[1]}, {"axis", mw[2]}, {"n", mw[3]},
                            {"capability", mw[4]}, {"derived tol.", mw[5]}, {"configured", mw[6]},
-                           {"today", mw[7]}, {"", 0}})
-                          .c_str());
+                          {"today", mw[7]}, {"", 0}}));
   for (const auto& s : r.sources) {
     for (const auto& m : s.metrics) {
-      std::printf("%s\n",
-                  row({{m.name, mw[0]},
+      fmt::print("{}\n",
+                 row({{m.name, mw[0]},
                        {s.name, mw[1]},
                        {std::string(to_string(m.axis)), mw[2]},
                        {std::to_string(m.capability.samples), mw[3]},
@@ -289,39 +304,42 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
                        {"±" + in_unit(m.derived_tolerance, m.unit), mw[5]},
                        {tolerance_text(configured_tolerance(machine, m), m.unit), mw[6]},
                        {m.today_value ? in_unit(*m.today_value, m.unit) : "-", mw[7]},
-                       {m.today_within_tolerance ? "" : "OVER ITS ALLOWANCE", 0}})
-                      .c_str());
+                       {m.today_within_tolerance ? "" : "OVER ITS ALLOWANCE", 0}}));
     }
   }
 
-  std::printf("\nTotals (ΔS)\n");
+  fmt::print("\nTotals (ΔS)\n");
   auto total = [](const std::string& what, double mm, const std::string& rest) {
-    std::printf("  %s\n", row({{what, 40}, {mm_in(mm), 22}, {rest, 0}}).c_str());
+    fmt::print("  {}\n", row({{what, 40}, {mm_in(mm), 22}, {rest, 0}}));
   };
   total("allowable", c.allowable_total_mm, "");
   total("today (RSS of the newest values)", r.today.rss_total_mm,
-        fmt("at θ = %.1f deg: ", deg(r.today.theta_rad)) +
-            (r.today.within_budget ? "WITHIN BUDGET" : "OVER BUDGET") +
-            fmt(", %.1f %% of the allowable squared",
-                100 * std::pow(r.today.rss_total_mm / c.allowable_total_mm, 2)));
+        fmt::format("at θ = {:.1f} deg: {}, {:.1f} % of the allowable squared",
+                    deg(r.today.theta_rad),
+                    r.today.within_budget ? "WITHIN BUDGET" : "OVER BUDGET",
+                    100 * std::pow(r.today.rss_total_mm / c.allowable_total_mm, 2)));
   total("capability (RSS)", r.capability_rss.total_mm,
-        fmt("at θ = %.1f deg", deg(r.capability_rss.theta_rad)));
+        fmt::format("at θ = {:.1f} deg", deg(r.capability_rss.theta_rad)));
   total("capability (Monte Carlo, " + std::to_string(r.capability_monte_carlo.samples) +
             " draws)",
         r.capability_monte_carlo.total_mm,
-        fmt("at θ = %.1f deg", deg(r.capability_monte_carlo.theta_rad)));
+        fmt::format("at θ = {:.1f} deg", deg(r.capability_monte_carlo.theta_rad)));
   total("allowances (RSS)", r.allocation_rss.total_mm, "");
   total("allowances (Monte Carlo)", r.allocation_monte_carlo.total_mm, "");
 }
 
-}  // namespace
+struct Options {
+  std::string plant, machine;
+  std::optional<std::string> db;
+  int last = 30;
+  bool json = false;
+};
 
-int run_budget_command(const Args& args) {
-  const std::string plant_file = plant_config_path(args.get_or("plant", ""));
-  if (plant_file.empty()) throw ArgError("pass --plant FILE (or set NCQUAL_PLANT)");
-  const std::string machine_id = args.require("machine");
-  const int last = args.get_int("last", 30);
-  if (last < 1) throw ArgError("--last " + std::to_string(last) + ": must be at least 1");
+int run(const Options& o) {
+  const std::string plant_file = plant_config_path(o.plant);
+  if (plant_file.empty()) throw UsageError("pass --plant FILE (or set NCQUAL_PLANT)");
+  const std::string& machine_id = o.machine;
+  const int last = o.last;
 
   const PlantConfig plant = load_plant_config(plant_file);
   const MachineConfig* machine = plant.find_machine(machine_id);
@@ -339,7 +357,7 @@ int run_budget_command(const Args& args) {
 
   // The historian, read only. Without a file (a plant that has not run yet) the budget still
   // stands on the default capabilities; a --db that does not exist is a mistake.
-  const std::optional<std::string> db_flag = args.get("db");
+  const std::optional<std::string>& db_flag = o.db;
   const std::string db_path = db_flag ? *db_flag : plant.historian_database;
   std::optional<std::string> database;
   GatheredHistory history;
@@ -360,12 +378,32 @@ int run_budget_command(const Args& args) {
   }
 
   const ErrorBudgetReport report = solver::evaluate_error_budget(budget, history.values, last);
-  if (args.has("json")) {
+  if (o.json) {
     std::cout << to_json(report, budget, *machine, database, history, last).dump(2) << "\n";
   } else {
     print_table(report, budget, *machine, database, last);
   }
-  return 0;
+  return kExitOk;
 }
 
-}  // namespace ncqual
+}  // namespace
+
+void add_budget(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "budget",
+      "the error budget: capability, allowance and today's share of every error source,\n"
+      "derived tolerances of the check metrics, RSS and Monte Carlo totals");
+  add_machine_option(cmd, o->machine, "the machine whose budget: section to evaluate");
+  add_plant_option(cmd, o->plant);
+  add_db_option(cmd, o->db);
+  cmd->add_option("--last", o->last,
+                  "the newest N (>= 1) values of each metric make its capability")
+      ->type_name("N")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber.description(""));
+  add_json_flag(cmd, o->json);
+  commands.push_back({cmd, [o] { return run(*o); }});
+}
+
+}  // namespace ncqual::cli

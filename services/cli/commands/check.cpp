@@ -1,0 +1,105 @@
+// `ncqual check`: asks the scheduler to run a check now.
+//
+//   ncqual check --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]
+//
+// Publishes a CheckCommand and waits until the scheduler acknowledged it; prints its request id.
+// With --wait, prints the check's result instead (a table row, or --json) and exits with its
+// verdict: 0 PASS, 3 FAIL, 4 INVALID, 5 no result in time; 1 when no scheduler listens.
+#include "commands.hpp"
+
+#include "ncqual/clock.hpp"
+#include "ncqual/dds/dispatcher.hpp"
+#include "ncqual/dds/topics.hpp"
+#include "ncqual/storage.hpp"
+#include "ncqual/storage_json.hpp"
+
+#include <chrono>
+#include <iostream>
+
+namespace ncqual::cli {
+namespace {
+
+struct Options {
+  std::string plant, machine;
+  std::optional<CheckKind> kind;
+  int domain = -1;
+  double wait_s = 0;
+  bool json = false;
+};
+
+int exit_code_of(Verdict v) {
+  switch (v) {
+    case Verdict::Pass: return kExitOk;
+    case Verdict::Fail: return kExitFail;
+    default: return kExitInvalid;
+  }
+}
+
+int run(const Options& o) {
+  const PlantConfig plant = plant_from(o.plant);
+  const std::string machine = configured_machine(plant, o.machine).machine_id;
+  const std::string kind_name(to_string(*o.kind));
+
+  const WallClock clock;
+  const CheckCommand cmd{machine, new_sample_id("op", machine), *o.kind,
+                         "operator:" + operator_name(), clock.now_ns(), {}};
+
+  const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
+  ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
+  ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
+  std::optional<ncqual::dds::Reader<ncqual::dds::CheckResultTopic>> results;
+  if (o.wait_s > 0) results.emplace(participant, machine);
+
+  if (!publish(commands, cmd, 1, "check",
+               "no scheduler is listening on domain " + std::to_string(domain),
+               "the scheduler did not acknowledge the order")) {
+    return kExitError;
+  }
+  std::cerr << "requested " << kind_name << " on " << machine << " (" << cmd.request_id << ")\n";
+  if (!results) {
+    std::cout << cmd.request_id << "\n";
+    return kExitOk;
+  }
+  std::optional<CheckResult> got;
+  ncqual::dds::Dispatcher dispatcher;
+  dispatcher.on(*results, [&](ncqual::dds::Received<CheckResult> in) {
+    if (in.value.request_id == cmd.request_id) got = in.value;
+  });
+  dispatcher.run_until([&] { return got.has_value(); },
+                       std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000)));
+  if (!got) {
+    std::cerr << "ncqual check: no result for " << cmd.request_id << " within " << o.wait_s
+              << " s\n";
+    return kExitTimedOut;
+  }
+  storage::CheckRecord rec;
+  rec.machine_id = got->machine_id;
+  rec.request_id = got->request_id;
+  rec.kind = got->kind;
+  rec.result = *got;
+  if (o.json) {
+    std::cout << storage::to_json(rec).dump(2) << "\n";
+  } else {
+    print_check_records({rec});
+  }
+  return exit_code_of(got->verdict);
+}
+
+}  // namespace
+
+void add_check(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "check", "ask the scheduler to run a check now; with --wait, print its result");
+  add_machine_option(cmd, o->machine, "the machine to check");
+  add_kind_option(cmd, "--kind", o->kind, "the check to run")->required();
+  add_plant_option(cmd, o->plant);
+  add_domain_option(cmd, o->domain);
+  cmd->add_option("--wait", o->wait_s,
+                  "wait this long for the result, print it and exit with its verdict")
+      ->type_name("SECONDS");
+  add_json_flag(cmd, o->json);
+  commands.push_back({cmd, [o] { return run(*o); }});
+}
+
+}  // namespace ncqual::cli

@@ -1,0 +1,123 @@
+// The commands of `ncqual`. Each file in this folder adds one command to the CLI11 app (its
+// options, its help) and registers what runs it; main.cpp only builds the app from them, parses
+// and dispatches. Exit codes: exit_codes.hpp.
+#pragma once
+
+#include "exit_codes.hpp"
+
+#include "ncqual/config.hpp"
+#include "ncqual/model.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <functional>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ncqual::cli {
+
+// Bad usage found once the command line is parsed (a value that makes no sense, no plant
+// config): main prints it with the command's usage and exits kExitUsage.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A (sub)command that runs: its CLI11 app, and what runs it once the command line is parsed.
+struct Command {
+  CLI::App* app;
+  std::function<int()> run;
+};
+using Commands = std::vector<Command>;
+
+// Each adds its command to `app` and its runner(s) to `commands`.
+void add_history(CLI::App& app, Commands& commands);      // history.cpp
+void add_check(CLI::App& app, Commands& commands);        // check.cpp
+void add_wait(CLI::App& app, Commands& commands);         // wait.cpp
+void add_count(CLI::App& app, Commands& commands);        // count.cpp
+void add_budget(CLI::App& app, Commands& commands);       // budget.cpp
+void add_analyze(CLI::App& app, Commands& commands);      // analyze.cpp
+void add_import(CLI::App& app, Commands& commands);       // import.cpp
+void add_status(CLI::App& app, Commands& commands);       // status.cpp
+void add_intervene(CLI::App& app, Commands& commands);    // intervene.cpp
+void add_trend(CLI::App& app, Commands& commands);        // trend.cpp
+void add_uncertainty(CLI::App& app, Commands& commands);  // uncertainty.cpp
+void add_completion(CLI::App& app, Commands& commands);   // completion.cpp (hidden)
+
+// ---- What several commands share (options.cpp) -------------------------------------------------
+
+// --plant FILE (else $NCQUAL_PLANT).
+CLI::Option* add_plant_option(CLI::App* command, std::string& plant);
+// --db FILE: the historian database (read only).
+CLI::Option* add_db_option(CLI::App* command, std::optional<std::string>& db);
+// --machine M.
+CLI::Option* add_machine_option(CLI::App* command, std::optional<std::string>& machine,
+                                const std::string& description);
+CLI::Option* add_machine_option(CLI::App* command, std::string& machine,
+                                const std::string& description);  // required
+// --domain N (else $NCQUAL_DOMAIN, else the plant's domain_id).
+CLI::Option* add_domain_option(CLI::App* command, int& domain);
+// --json: one JSON document instead of the table.
+CLI::Option* add_json_flag(CLI::App* command, bool& json);
+// --<name> KIND: a check kind, refused at parsing when it is not one.
+CLI::Option* add_kind_option(CLI::App* command, const std::string& name,
+                             std::optional<CheckKind>& kind, const std::string& description);
+
+// The plant config of --plant or NCQUAL_PLANT; UsageError when neither names one.
+PlantConfig plant_from(const std::string& plant_flag);
+// The plant's machine `machine_id`; UsageError naming it when the plant has no such machine.
+const MachineConfig& configured_machine(const PlantConfig& plant, const std::string& machine_id);
+
+// The historian database of history, wait and count: --db, else the plant config's (--plant or
+// NCQUAL_PLANT), else the demo's var/historian.db ($NCQUAL_VAR); UsageError when there is none.
+std::string database_path(const std::optional<std::string>& db, const std::string& plant_flag);
+
+// The operator: $USER, else the host name.
+std::string operator_name();
+// "<prefix>-<machine>-<now ns>-<pid>": the id of a sample this process publishes.
+std::string new_sample_id(const std::string& prefix, const std::string& machine_id);
+
+}  // namespace ncqual::cli
+
+namespace ncqual::storage {
+struct CheckRecord;
+}
+namespace ncqual::solver {
+enum class Plane;
+}
+
+namespace ncqual::cli {
+
+// Writes `sample` once `readers` readers listen, and waits until they acknowledged it (10 s each
+// at most). Otherwise says on stderr "ncqual <command>: " and `not_heard` or `not_acknowledged`,
+// and returns false. (check, import, intervene)
+template <typename Writer, typename Sample>
+bool publish(Writer& writer, const Sample& sample, int readers, const std::string& command,
+             const std::string& not_heard, const std::string& not_acknowledged) {
+  if (!writer.wait_for_readers(readers, std::chrono::seconds(10))) {
+    std::cerr << "ncqual " << command << ": " << not_heard << "\n";
+    return false;
+  }
+  if (!writer.write(sample) || !writer.wait_for_acknowledgments(std::chrono::seconds(10))) {
+    std::cerr << "ncqual " << command << ": " << not_acknowledged << "\n";
+    return false;
+  }
+  return true;
+}
+
+// --plane XY|YZ|XZ of the circular tests (analyze, import): nothing when not given; UsageError
+// naming the value when it is not a plane.
+std::optional<solver::Plane> plane_option(const std::optional<std::string>& text);
+// --centre-mm U,V: two numbers (mm); UsageError naming the value otherwise.
+std::pair<double, double> centre_option(const std::string& text);
+
+// Checks as a table (history, check --wait; history.cpp): one row per check, with the reason
+// and the first likely cause of those that did not pass.
+void print_check_records(const std::vector<storage::CheckRecord>& records);
+
+}  // namespace ncqual::cli

@@ -1,0 +1,156 @@
+// `ncqual import`: a real instrument's export published as a MeasurementSet, so it goes through
+// the whole service chain (the solver judges it, the historian stores set and result) like a
+// simulated measurement. The files are those of `ncqual analyze` (analyze_command.hpp); the
+// points are labelled as the monthly programs label them (solver/instrument_files.hpp).
+//
+//   ncqual import iso230-2 FILE --machine M [--axis x|y|z] [--plant F] [--domain N]
+//       kind linear_axis_run; the run along --axis (default the machine's linear_run axis) at
+//       the machine's linear_run position
+//   ncqual import circle FILE --machine M [--plane XY|YZ|XZ] [--nominal-radius-mm R]
+//                         [--centre-mm U,V] [--plant F] [--domain N]
+//       kind circle_xy|yz|xz; F about the given reference, else the least-squares circle
+//   ncqual import grid --x-run F --y-run F --grid F --machine M [--plant F] [--domain N]
+//       kind global_grid with its master-frame runs
+//
+// Prints the request id of the set (`ncqual wait --request ID` waits for its result). Exit
+// codes: 0 published, 1 refused file (file:line:column on stderr) or no solver/historian
+// listening, 2 bad usage (and a machine the plant does not configure).
+#include "commands.hpp"
+
+#include "ncqual/clock.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/csv.hpp"
+#include "ncqual/dds/endpoint.hpp"
+#include "ncqual/dds/participant.hpp"
+#include "ncqual/dds/topics.hpp"
+#include "ncqual/solver/instrument_files.hpp"
+
+#include <chrono>
+#include <iostream>
+
+namespace ncqual::cli {
+namespace {
+
+// What the three imports take on the command line.
+struct Options {
+  std::string what;  // iso230-2, circle, grid
+  std::string file, machine, plant;
+  int domain = -1;
+  std::optional<std::string> axis, plane, centre_mm;
+  std::optional<double> nominal_radius_mm;
+  std::string x_run, y_run, grid;
+};
+
+int run(const Options& o) {
+  const PlantConfig plant = plant_from(o.plant);
+  const std::string& machine_id = o.machine;
+  const MachineConfig* machine = &configured_machine(plant, machine_id);
+  if (!machine->global_check) {
+    throw UsageError("machine '" + machine_id + "' has no global_check: section (" +
+                     machine->source_path + "): its tracker checks cannot be judged");
+  }
+  const GlobalCheckConfig& gc = *machine->global_check;
+  const ProbeGeometry& target = gc.targets.front();
+
+  const WallClock clock;
+  MeasurementSet set;
+  set.machine_id = machine_id;
+  set.request_id = new_sample_id("import", machine_id);
+  set.instrument = "import";
+  set.frame = "tracker";
+  set.time_ns = clock.now_ns();
+  set.parameters.push_back({"imported", 1, ""});
+  if (o.what == "iso230-2") {
+    const std::string& file = o.file;
+    int axis = gc.linear_run.axis;
+    if (const auto& a = o.axis) {
+      if (*a != "x" && *a != "y" && *a != "z") throw UsageError("--axis '" + *a + "': expected x, y or z");
+      axis = (*a)[0] - 'x';
+    }
+    const solver::Iso230_2File run = solver::read_iso230_2_csv(read_csv_file(file));
+    set.kind = CheckKind::LinearAxisRun;
+    set.frame = "machine";
+    set.parameters.push_back({"axis", static_cast<double>(axis), ""});
+    set.tracker_points = solver::tracker_points_for_linear_run(run, axis, gc.linear_run.at_mm, target);
+  } else if (o.what == "circle") {
+    const std::string& file = o.file;
+    const std::optional<solver::Plane> plane = plane_option(o.plane);
+    const solver::CircleFile circle = solver::read_circle_csv(read_csv_file(file), plane);
+    set.kind = circle.input.plane == solver::Plane::XY   ? CheckKind::CircleXY
+               : circle.input.plane == solver::Plane::YZ ? CheckKind::CircleYZ
+                                                         : CheckKind::CircleXZ;
+    set.frame = "machine";
+    if (o.nominal_radius_mm) {
+      set.parameters.push_back({"nominal_radius_mm", *o.nominal_radius_mm, "mm"});
+    }
+    if (o.centre_mm) {
+      const auto [u, v] = centre_option(*o.centre_mm);
+      set.parameters.push_back({"centre_u_mm", u, "mm"});
+      set.parameters.push_back({"centre_v_mm", v, "mm"});
+    }
+    AxisPosition centre;
+    centre.x_mm = gc.circle.centre_mm.x();
+    centre.y_mm = gc.circle.centre_mm.y();
+    centre.z_mm = gc.circle.centre_mm.z();
+    set.tracker_points = solver::tracker_points_for_circle(
+        circle, stylus_ball_centre(centre, target), target);
+  } else {
+    auto read = [](const std::string& f) { return solver::read_grid_csv(read_csv_file(f)); };
+    set.kind = CheckKind::GlobalGrid;
+    set.tracker_points = solver::tracker_points_for_grid(
+        read(o.x_run), read(o.y_run), read(o.grid), target);
+  }
+
+  const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
+  ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-import"});
+  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
+  // The solver and the historian both read measurement sets: wait for both.
+  if (!publish(sets, set, 2, "import",
+               "the solver and the historian are not both listening on domain " +
+                   std::to_string(domain),
+               "the measurement set was not acknowledged")) {
+    return kExitError;
+  }
+  std::cerr << "imported " << set.tracker_points.size() << " points as "
+            << to_string(set.kind) << " of " << machine_id << "\n";
+  std::cout << set.request_id << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_import(CLI::App& app, Commands& commands) {
+  CLI::App* import = app.add_subcommand(
+      "import",
+      "publish an instrument's export as a MeasurementSet of the machine: the solver judges\n"
+      "it and the historian stores it like a measured check; prints its request id");
+  import->require_subcommand(1);
+  // The options of every import; `file`: whether it takes one positional FILE.
+  const auto add = [&](const std::string& what, const std::string& description, bool file) {
+    auto o = std::make_shared<Options>();
+    o->what = what;
+    CLI::App* cmd = import->add_subcommand(what, description);
+    if (file) cmd->add_option("FILE", o->file, "the instrument's export")->required();
+    add_machine_option(cmd, o->machine, "the machine it measured");
+    add_plant_option(cmd, o->plant);
+    add_domain_option(cmd, o->domain);
+    commands.push_back({cmd, [o] { return run(*o); }});
+    return std::make_pair(cmd, o);
+  };
+  const auto [iso, iso_o] = add("iso230-2", "as kind linear_axis_run, along --axis", true);
+  iso->add_option("--axis", iso_o->axis, "the axis of the run (default: the machine's linear_run axis)")
+      ->type_name("x|y|z");
+  const auto [circle, circle_o] = add("circle", "as kind circle_xy|yz|xz", true);
+  circle->add_option("--plane", circle_o->plane, "the plane of the test")->type_name("XY|YZ|XZ");
+  circle->add_option("--nominal-radius-mm", circle_o->nominal_radius_mm,
+                     "F about this radius (default: the least-squares circle's)")
+      ->type_name("R");
+  circle->add_option("--centre-mm", circle_o->centre_mm, "F about this centre (plane's u, v)")
+      ->type_name("U,V");
+  const auto [grid, grid_o] = add("grid", "as kind global_grid with its master-frame runs", false);
+  grid->add_option("--x-run", grid_o->x_run, "the X run of the master frame")->type_name("F")->required();
+  grid->add_option("--y-run", grid_o->y_run, "the Y run of the master frame")->type_name("F")->required();
+  grid->add_option("--grid", grid_o->grid, "the grid's points")->type_name("F")->required();
+}
+
+}  // namespace ncqual::cli

@@ -1,0 +1,71 @@
+// `ncqual intervene`: the record of a physical intervention, which re-arms a held check.
+//
+//   ncqual intervene --machine M --check KIND --note TEXT [--operator NAME] [--plant F]
+//                    [--domain N]
+//     Publishes an Intervention (the scheduler re-arms the held check when KIND names it; the
+//     historian stores it) and waits until both have acknowledged it. Prints its id.
+//
+// Exit codes: 0, 1 when the scheduler and the historian do not both hear it, 2 bad usage.
+#include "commands.hpp"
+
+#include "ncqual/clock.hpp"
+#include "ncqual/dds/endpoint.hpp"
+#include "ncqual/dds/participant.hpp"
+#include "ncqual/dds/topics.hpp"
+
+#include <chrono>
+#include <iostream>
+
+namespace ncqual::cli {
+namespace {
+
+struct Options {
+  std::string plant, machine, note;
+  std::optional<CheckKind> kind;
+  std::optional<std::string> who;
+  int domain = -1;
+};
+
+int run(const Options& o) {
+  const PlantConfig plant = plant_from(o.plant);
+  const std::string machine = configured_machine(plant, o.machine).machine_id;
+  const std::string kind_name(to_string(*o.kind));
+  if (o.note.find_first_not_of(" \t") == std::string::npos) {
+    throw UsageError("--note is empty: say what was done (e.g. \"stylus replaced\")");
+  }
+  const std::string who = o.who.value_or(operator_name());
+  const Intervention iv{machine, new_sample_id("iv", machine), *o.kind, o.note, who,
+                        WallClock().now_ns()};
+  const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
+  ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
+  ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
+  // The scheduler (to re-arm) and the historian (to record): both must hear it.
+  if (!publish(writer, iv, 2, "intervene",
+               "the scheduler and the historian must both be running on domain " +
+                   std::to_string(domain) + " (fewer than 2 readers of ncqual/Intervention)",
+               "the intervention was not acknowledged")) {
+    return kExitError;
+  }
+  std::cerr << "recorded intervention on " << machine << " for " << kind_name << " by " << who << "\n";
+  std::cout << iv.intervention_id << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_intervene(CLI::App& app, Commands& commands) {
+  auto o = std::make_shared<Options>();
+  CLI::App* cmd = app.add_subcommand(
+      "intervene", "record a physical intervention: re-arms the machine's held check");
+  add_machine_option(cmd, o->machine, "the machine worked on");
+  add_kind_option(cmd, "--check", o->kind, "the held check the intervention answers")->required();
+  cmd->add_option("--note", o->note, "what was done (e.g. \"stylus replaced\")")
+      ->type_name("TEXT")
+      ->required();
+  cmd->add_option("--operator", o->who, "who did it (default: $USER)")->type_name("NAME");
+  add_plant_option(cmd, o->plant);
+  add_domain_option(cmd, o->domain);
+  commands.push_back({cmd, [o] { return run(*o); }});
+}
+
+}  // namespace ncqual::cli

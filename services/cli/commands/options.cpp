@@ -1,0 +1,125 @@
+// What several commands share: their common options, the plant and machine they name, and the
+// ids of the samples they publish. See commands.hpp.
+#include "commands.hpp"
+
+#include "ncqual/clock.hpp"
+#include "ncqual/solver/circular_test.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+namespace ncqual::cli {
+
+CLI::Option* add_plant_option(CLI::App* command, std::string& plant) {
+  return command->add_option("--plant", plant, "the plant config (default: $NCQUAL_PLANT)")
+      ->type_name("FILE");
+}
+
+CLI::Option* add_db_option(CLI::App* command, std::optional<std::string>& db) {
+  return command->add_option("--db", db,
+                             "the historian database, read only (default: the plant's)")
+      ->type_name("FILE");
+}
+
+CLI::Option* add_machine_option(CLI::App* command, std::optional<std::string>& machine,
+                                const std::string& description) {
+  return command->add_option("--machine", machine, description)->type_name("M");
+}
+
+CLI::Option* add_machine_option(CLI::App* command, std::string& machine,
+                                const std::string& description) {
+  return command->add_option("--machine", machine, description)->type_name("M")->required();
+}
+
+CLI::Option* add_domain_option(CLI::App* command, int& domain) {
+  return command
+      ->add_option("--domain", domain,
+                   "the DDS domain (default: $NCQUAL_DOMAIN, else the plant's domain_id)")
+      ->type_name("N");
+}
+
+CLI::Option* add_json_flag(CLI::App* command, bool& json) {
+  return command->add_flag("--json", json, "print one JSON document instead of the table");
+}
+
+CLI::Option* add_kind_option(CLI::App* command, const std::string& name,
+                             std::optional<CheckKind>& kind, const std::string& description) {
+  return command
+      ->add_option_function<std::string>(
+          name,
+          [name, &kind](const std::string& text) {
+            kind = parse_check_kind(text);
+            if (!kind) throw CLI::ValidationError(name, "'" + text + "' is not a check kind");
+          },
+          description)
+      ->type_name("KIND");
+}
+
+PlantConfig plant_from(const std::string& plant_flag) {
+  const std::string file = plant_config_path(plant_flag);
+  if (file.empty()) throw UsageError("pass --plant FILE (or set NCQUAL_PLANT)");
+  return load_plant_config(file);
+}
+
+const MachineConfig& configured_machine(const PlantConfig& plant, const std::string& machine_id) {
+  const MachineConfig* m = plant.find_machine(machine_id);
+  if (!m) {
+    throw UsageError("--machine '" + machine_id + "' is not configured in " + plant.source_path);
+  }
+  return *m;
+}
+
+std::string database_path(const std::optional<std::string>& db, const std::string& plant_flag) {
+  if (db) return *db;
+  const std::string plant = plant_config_path(plant_flag);
+  if (!plant.empty()) return load_plant_config(plant).historian_database;
+  const char* var = std::getenv("NCQUAL_VAR");
+  const std::string fallback = std::string(var && *var ? var : "var") + "/historian.db";
+  if (std::filesystem::exists(fallback)) return fallback;
+  throw UsageError("pass --db FILE or --plant FILE (or set NCQUAL_PLANT); no " + fallback + " here");
+}
+
+std::optional<solver::Plane> plane_option(const std::optional<std::string>& text) {
+  if (!text) return std::nullopt;
+  const auto plane = solver::parse_plane(*text);
+  if (!plane) throw UsageError("--plane '" + *text + "': expected XY, YZ or XZ");
+  return plane;
+}
+
+std::pair<double, double> centre_option(const std::string& text) {
+  const auto refuse = [&] {
+    return UsageError("--centre-mm '" + text + "': expected two numbers U,V (mm)");
+  };
+  const auto number = [&](const std::string& part) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(part, &used);
+    } catch (const std::logic_error&) {
+      used = 0;
+    }
+    while (used < part.size() && part[used] == ' ') ++used;
+    if (used == 0 || used != part.size() || !std::isfinite(v)) throw refuse();
+    return v;
+  };
+  const auto comma = text.find(',');
+  if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos) throw refuse();
+  return {number(text.substr(0, comma)), number(text.substr(comma + 1))};
+}
+
+std::string operator_name() {
+  if (const char* user = std::getenv("USER")) return user;
+  char host[128] = {};
+  gethostname(host, sizeof host - 1);
+  return host;
+}
+
+std::string new_sample_id(const std::string& prefix, const std::string& machine_id) {
+  return prefix + "-" + machine_id + "-" + std::to_string(WallClock().now_ns()) + "-" +
+         std::to_string(getpid());
+}
+
+}  // namespace ncqual::cli

@@ -1,0 +1,20 @@
+// The exit codes of `ncqual`, every command's, in one place. Scripts and tests depend on the
+// numbers: append, never renumber. `ncqual --help` prints kExitCodesHelp.
+#pragma once
+
+namespace ncqual::cli {
+
+enum ExitCode : int {
+  kExitOk = 0,        // done; for a verdict (`check --wait`): PASS
+  kExitError = 1,     // an error the command reported (bad file, nobody listening, ...)
+  kExitUsage = 2,     // bad usage: unknown flag, missing or bad value (the message names it)
+  kExitFail = 3,      // the check's verdict is FAIL
+  kExitInvalid = 4,   // the check's verdict is INVALID: the data were refused
+  kExitTimedOut = 5,  // `wait` or `check --wait` gave up
+  kExitNotFound = 6,  // what was asked for is not there (e.g. no historian database)
+};
+
+inline constexpr const char* kExitCodesHelp =
+    "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out, 6 not found.";
+
+}  // namespace ncqual::cli

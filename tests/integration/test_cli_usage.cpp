@@ -1,0 +1,181 @@
+// The command lines of `ncqual` and the services, with no service running: --help of every
+// command and subcommand, --version of every executable, bad usage (exit 2 naming the flag),
+// --flag=value, exit code 6, and the bash completion the build writes.
+#include "cli_runner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <regex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#if !defined(NCQUAL_SOURCE_DIR) || !defined(NCQUAL_VERSION) || !defined(NCQUAL_COMPLETION_FILE)
+#error "NCQUAL_SOURCE_DIR, NCQUAL_VERSION and NCQUAL_COMPLETION_FILE must be defined by the target"
+#endif
+
+namespace ncqual {
+namespace {
+
+using testing_cli::Capture;
+using testing_cli::CliRun;
+using testing_cli::run_cli;
+using testing_cli::run_command;
+
+CliRun run(const std::string& args) { return run_cli(args, Capture::Separate); }
+
+// Every command path with flags its help must mention.
+const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
+    {"history", {"--plant", "--db", "--machine", "--kind", "--limit", "--since-ns", "--json"}},
+    {"check", {"--machine", "--kind", "--plant", "--domain", "--wait", "--json"}},
+    {"wait", {"--plant", "--db", "--request", "--count", "--settled", "--machine", "--since-ns",
+              "--timeout"}},
+    {"count", {"--plant", "--db", "--machine"}},
+    {"budget", {"--machine", "--plant", "--db", "--last", "--json"}},
+    {"analyze", {"iso230-2", "circle", "grid"}},
+    {"analyze iso230-2", {"FILE", "--json"}},
+    {"analyze circle", {"FILE", "--plane", "--nominal-radius-mm", "--centre-mm", "--json"}},
+    {"analyze grid", {"--x-run", "--y-run", "--grid", "--json"}},
+    {"import", {"iso230-2", "circle", "grid"}},
+    {"import iso230-2", {"FILE", "--machine", "--axis", "--plant", "--domain"}},
+    {"import circle", {"FILE", "--machine", "--plane", "--nominal-radius-mm", "--centre-mm"}},
+    {"import grid", {"--x-run", "--y-run", "--grid", "--machine"}},
+    {"status", {"--plant", "--db", "--machine", "--json"}},
+    {"intervene", {"--machine", "--check", "--note", "--operator", "--plant", "--domain"}},
+    {"trend", {"--machine", "--kind", "--every", "--metrics", "--plant", "--db"}},
+    {"uncertainty", {"--machine", "--plant", "--trials", "--seed", "--threads", "--search",
+                     "--json"}},
+};
+
+TEST(CliUsage, HelpOfEveryCommandAndSubcommandNamesItsFlags) {
+  for (const auto& [path, flags] : kCommands) {
+    for (const char* help : {" --help", " -h"}) {
+      const CliRun r = run(path + help);
+      EXPECT_EQ(r.exit_code, 0) << path << help << "\n" << r.err;
+      EXPECT_NE(r.out.find("usage: ncqual " + path), std::string::npos) << path << "\n" << r.out;
+      for (const auto& flag : flags) {
+        EXPECT_NE(r.out.find(flag), std::string::npos) << path << ": " << flag << "\n" << r.out;
+      }
+    }
+  }
+  // The top level: every command with its synopsis, and the exit codes.
+  const CliRun top = run("--help");
+  EXPECT_EQ(top.exit_code, 0) << top.err;
+  EXPECT_EQ(run("help").out, top.out);
+  for (const auto& [path, flags] : kCommands) {
+    EXPECT_NE(top.out.find("\n  " + path + " "), std::string::npos) << path << "\n" << top.out;
+  }
+  EXPECT_NE(top.out.find("Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed "
+                         "out, 6 not found."),
+            std::string::npos)
+      << top.out;
+  EXPECT_EQ(top.out.find("completion"), std::string::npos) << "the completion command is hidden";
+}
+
+TEST(CliUsage, VersionOfTheCliAndOfEveryService) {
+  // "<program> 0.1.0 (git 8c8baf2-dirty)", or "(git unknown)" without git.
+  const std::string version =
+      std::regex_replace(NCQUAL_VERSION, std::regex(R"(\.)"), R"(\.)") + R"( \(git [^)]+\)\n)";
+  const CliRun cli = run("--version");
+  EXPECT_EQ(cli.exit_code, 0) << cli.err;
+  EXPECT_TRUE(std::regex_match(cli.out, std::regex("ncqual " + version)))
+      << cli.out;
+  for (const auto& [name, exe] : std::vector<std::pair<std::string, std::string>>{
+           {"ncqual-historian", NCQUAL_HISTORIAN_EXE},
+           {"ncqual-solver", NCQUAL_SOLVER_EXE},
+           {"ncqual-acquisition", NCQUAL_ACQUISITION_EXE},
+           {"ncqual-scheduler", NCQUAL_SCHEDULER_EXE}}) {
+    const CliRun v = run_command(exe + " --version", Capture::Separate);
+    EXPECT_EQ(v.exit_code, 0) << name << "\n" << v.err;
+    EXPECT_TRUE(std::regex_match(v.out, std::regex(name + " " + version))) << v.out;
+    // The same build: the CLI's text after its name.
+    EXPECT_EQ(v.out.substr(name.size()), cli.out.substr(std::string("ncqual").size())) << name;
+
+    const CliRun help = run_command(exe + " --help", Capture::Separate);
+    EXPECT_EQ(help.exit_code, 0) << name;
+    for (const char* flag : {"--plant", "--domain", "--log-level", "--version"}) {
+      EXPECT_NE(help.out.find(flag), std::string::npos) << name << ": " << flag;
+    }
+    const CliRun bogus = run_command(exe + " --bogus", Capture::Separate);
+    EXPECT_EQ(bogus.exit_code, 2) << name;
+    EXPECT_NE(bogus.err.find("--bogus"), std::string::npos) << bogus.err;
+    const CliRun missing = run_command(exe + " --domain", Capture::Separate);
+    EXPECT_EQ(missing.exit_code, 2) << name;
+    EXPECT_NE(missing.err.find("--domain"), std::string::npos) << missing.err;
+  }
+}
+
+TEST(CliUsage, BadUsageExitsTwoNamingTheFlagWithTheCommandsUsage) {
+  for (const auto& [args, named] : std::vector<std::pair<std::string, std::string>>{
+           {"history --bogus", "--bogus"},
+           {"history --limit five", "--limit"},
+           {"history --kind nothing", "--kind"},
+           {"budget --plant p.yaml --machine", "--machine"},
+           {"budget --plant p.yaml", "--machine"},
+           {"check --machine pm1 --kind=nothing", "--kind"},
+           {"trend --machine pm1 --metrics 21", "--metrics"},
+           {"intervene --machine pm1 --check monument_positioning", "--note"},
+           {"status -x", "-x"},
+           {"wait --timeout", "--timeout"},
+           {"nothing", "nothing"}}) {
+    const CliRun r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(named), std::string::npos) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("usage: ncqual"), std::string::npos) << args << "\n" << r.err;
+  }
+}
+
+TEST(CliUsage, FlagEqualsValueMeansTheSameAsTwoWords) {
+  const std::string file = std::string(NCQUAL_SOURCE_DIR) + "/tests/data/instrument/circle_xy.csv";
+  const CliRun spaced = run("analyze circle " + file + " --nominal-radius-mm 150 --json");
+  const CliRun joined = run("analyze circle " + file + " --nominal-radius-mm=150 --json");
+  EXPECT_EQ(spaced.exit_code, 0) << spaced.err;
+  EXPECT_EQ(joined.out, spaced.out);
+}
+
+TEST(CliUsage, NoHistorianDatabaseIsNotFound) {
+  const testing_cli::TempDir tmp("ncqual-cli-usage");
+  const CliRun r = run("history --db " + (tmp.path() / "none.db").string());
+  EXPECT_EQ(r.exit_code, 6) << r.err;
+  EXPECT_NE(r.err.find("none.db"), std::string::npos) << r.err;
+}
+
+// Completes `words` (the last one being completed) with the script the build wrote.
+std::vector<std::string> complete(const std::string& words) {
+  const CliRun r = run_command(
+      "bash -c 'source " NCQUAL_COMPLETION_FILE " && COMP_WORDS=(" + words +
+      ") && COMP_CWORD=$((${#COMP_WORDS[@]} - 1)) && _ncqual && printf \"%s\\n\" "
+      "\"${COMPREPLY[@]}\"'",
+      Capture::Separate);
+  EXPECT_EQ(r.exit_code, 0) << words << "\n" << r.err;
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  for (std::size_t end; (end = r.out.find('\n', start)) != std::string::npos; start = end + 1) {
+    out.push_back(r.out.substr(start, end - start));
+  }
+  return out;
+}
+
+bool has(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
+  const auto commands = complete("ncqual \"\"");
+  for (const char* c : {"history", "check", "wait", "count", "budget", "analyze", "import",
+                        "status", "intervene", "trend", "uncertainty"}) {
+    EXPECT_TRUE(has(commands, c)) << c;
+  }
+  EXPECT_FALSE(has(commands, "completion"));
+  EXPECT_EQ(complete("ncqual bu"), std::vector<std::string>{"budget"});
+  const auto budget = complete("ncqual budget --m");
+  EXPECT_TRUE(has(budget, "--machine"));
+  EXPECT_EQ(complete("ncqual budget --machine pm1 --pl"), std::vector<std::string>{"--plant"});
+  EXPECT_EQ(complete("ncqual analyze c"), std::vector<std::string>{"circle"});
+  EXPECT_TRUE(has(complete("ncqual analyze circle --"), "--nominal-radius-mm"));
+  EXPECT_TRUE(has(complete("ncqual check --kind monument_p"), "monument_positioning"));
+}
+
+}  // namespace
+}  // namespace ncqual
