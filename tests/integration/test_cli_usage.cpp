@@ -46,6 +46,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
     {"trend", {"--machine", "--kind", "--every", "--metrics", "--plant", "--db"}},
     {"uncertainty", {"--machine", "--plant", "--trials", "--seed", "--threads", "--search",
                      "--json"}},
+    {"config", {"check"}},
+    {"config check", {"--plant", "--print", "--json"}},
 };
 
 TEST(CliUsage, HelpOfEveryCommandAndSubcommandNamesItsFlags) {
@@ -175,6 +177,37 @@ TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
   EXPECT_EQ(complete("ncqual analyze c"), std::vector<std::string>{"circle"});
   EXPECT_TRUE(has(complete("ncqual analyze circle --"), "--nominal-radius-mm"));
   EXPECT_TRUE(has(complete("ncqual check --kind monument_p"), "monument_positioning"));
+}
+
+// `config check`: every problem of the plant at once, with file, key and value, exit 4; the
+// example plant loads, exit 0, and --print shows resolved values with their units.
+TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
+  testing_cli::TempDir tmp("ncqual-config-check");
+  const std::string pm1 = std::string(NCQUAL_SOURCE_DIR) + "/deploy/machines/pm1.yaml";
+  const std::string machine = tmp.write("m.yaml", "extends: " + pm1 +
+                                                      "\nmachine_id: m\ntolerances: {centre_dx_mm: 1}\n");
+  const std::string plant = tmp.write(
+      "plant.yaml", "plant: p\ndomian_id: 3\nqos_profile: q.xml\nmachines: [" + machine + "]\n");
+  const CliRun bad = run("config check --plant " + plant);
+  EXPECT_EQ(bad.exit_code, 4) << bad.out << bad.err;
+  EXPECT_NE(bad.out.find(plant + ": domian_id = '3': unknown key"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find(plant + ": qos_profile = 'q.xml': unknown key"), std::string::npos)
+      << bad.out;
+  EXPECT_NE(bad.out.find(machine + ": tolerances.centre_dx_mm = '1': no check reads this "
+                                   "tolerance; did you mean 'center_dx_mm'?"),
+            std::string::npos)
+      << bad.out;
+  EXPECT_NE(bad.out.find("3 problems"), std::string::npos) << bad.out;
+
+  const CliRun ok = run("config check --print --plant " NCQUAL_SOURCE_DIR "/deploy/plant.yaml");
+  EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
+  EXPECT_NE(ok.out.find("OK, plant 'demo-plant' on domain 42, 1 machine: pm1"), std::string::npos)
+      << ok.out;
+  EXPECT_NE(ok.out.find("  budget.allowable_total = 0.762 mm (written 0.03 in)"),
+            std::string::npos)
+      << ok.out;
+  EXPECT_NE(ok.out.find("  monument.face_offset_mm = 35 mm  (default)"), std::string::npos)
+      << ok.out;
 }
 
 }  // namespace

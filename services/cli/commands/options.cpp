@@ -2,6 +2,8 @@
 // ids of the samples they publish. See commands.hpp.
 #include "commands.hpp"
 
+#include "ncqual/check_kinds.hpp"
+
 #include "ncqual/clock.hpp"
 #include "ncqual/solver/circular_test.hpp"
 
@@ -52,7 +54,11 @@ CLI::Option* add_kind_option(CLI::App* command, const std::string& name,
           name,
           [name, &kind](const std::string& text) {
             kind = parse_check_kind(text);
-            if (!kind) throw CLI::ValidationError(name, "'" + text + "' is not a check kind");
+            if (!kind) {
+              std::string names;
+              for (const auto& row : check_kinds()) names += (names.empty() ? "" : ", ") + std::string(row.name);
+              throw CLI::ValidationError(name, "'" + text + "' is not a check kind (" + names + ")");
+            }
           },
           description)
       ->type_name("KIND");

@@ -16,6 +16,8 @@
 // database at the path.
 #include "commands.hpp"
 
+#include "ncqual/check_kinds.hpp"
+
 #include "ncqual/calendar.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/storage.hpp"
@@ -72,11 +74,12 @@ int run(const Options& o) {
       for (CheckKind k : period.checks) {
         if (!has_sections_for(m, k)) continue;
         any = true;
-        std::optional<std::int64_t> last = db.last_pass_ns(m.machine_id, k);
-        if (k == CheckKind::FixturePreCalibration) {
-          // A fixture loop that ended in a passed post-calibration completes the week too.
-          const auto post = db.last_pass_ns(m.machine_id, CheckKind::FixturePostCalibration);
-          if (post && (!last || *post > *last)) last = post;
+        // The newest pass of the kind or of one that satisfies it (a fixture loop that ended in a
+        // passed post-calibration completes the week too): the check-kind table says which.
+        std::optional<std::int64_t> last;
+        for (CheckKind passing : kinds_passing(k)) {
+          const auto t = db.last_pass_ns(m.machine_id, passing);
+          if (t && (!last || *t > *last)) last = t;
         }
         jp["checks"].push_back({{"kind", std::string(to_string(k))}, {"last_pass_ns", time_or_null(last)}});
         if (!last) {
