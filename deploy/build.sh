@@ -5,6 +5,8 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${NCQUAL_BUILD_DIR:-$root/build}"
 jobs="${NCQUAL_JOBS:-$(nproc)}"
+# ccache hits across clones and build directories: paths below the root count as relative.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$root}"
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release > "$root/.cmake-configure.log" 2>&1 \
     || { cat "$root/.cmake-configure.log"; exit 1; }

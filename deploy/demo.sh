@@ -149,6 +149,16 @@ start() {  # start NAME ARGS...: a service in the background, its log in var/log
   pids+=($!)
 }
 
+# How to go on from here with the operator's tool, against this run's plant and historian.
+look_further() {
+  echo
+  echo "== to look further (the services are stopped; the historian stays):"
+  echo "   export NCQUAL_PLANT=$plant"
+  echo "   $bin/cli/ncqual status          # every machine's state and what is due"
+  echo "   $bin/cli/ncqual history --machine $machine_id --limit 20"
+  echo "   $bin/cli/ncqual config check --print"
+}
+
 since_ns="$(date +%s%N)"
 echo "== starting the services on DDS domain $domain (logs in $var/log)"
 start historian
@@ -176,6 +186,7 @@ if [ -n "$weeks" ]; then
   echo
   echo "== the daily checks and the fixture, week by week"
   "$bin/cli/ncqual" trend --machine "$machine_id" --every week
+  look_further
   exit 0
 fi
 start acquisition --machine "$machine_id"
@@ -197,3 +208,4 @@ stop_all
 echo
 echo "== summary (historian $db), newest first"
 "$bin/cli/ncqual" history --machine "$machine_id" --since-ns "$since_ns"
+look_further

@@ -85,6 +85,36 @@ const std::array<CheckKindInfo, kCheckKindCount>& table() {
 
 }  // namespace
 
+std::string_view to_string(Cadence cadence) {
+  switch (cadence) {
+    case Cadence::Monthly: return "monthly";
+    case Cadence::Weekly: return "weekly";
+    case Cadence::Daily: return "daily";
+    case Cadence::PerPart: return "per part";
+    case Cadence::AfterCorrection: return "after correction";
+  }
+  return "?";
+}
+
+std::string_view to_string(Instrument instrument) {
+  switch (instrument) {
+    case Instrument::TouchProbe: return "touch probe";
+    case Instrument::FixtureProbe: return "fixture probe";
+    case Instrument::LaserTracker: return "laser tracker";
+  }
+  return "?";
+}
+
+std::string_view to_string(Needs needs) {
+  switch (needs) {
+    case Needs::Monument: return "monument";
+    case Needs::SetPoints: return "set points";
+    case Needs::Fixture: return "fixture";
+    case Needs::GlobalCheck: return "global check";
+  }
+  return "?";
+}
+
 const std::array<CheckKindInfo, kCheckKindCount>& check_kinds() { return table(); }
 
 const CheckKindInfo& check_kind_info(CheckKind kind) {
@@ -97,6 +127,13 @@ std::vector<CheckKind> kinds_passing(CheckKind kind) {
     if (row.satisfies == kind) out.push_back(row.kind);
   }
   return out;
+}
+
+std::optional<CheckKind> verified_by(CheckKind kind) {
+  for (const auto& row : table()) {
+    if (row.satisfies == kind && row.cadence == Cadence::AfterCorrection) return row.kind;
+  }
+  return std::nullopt;
 }
 
 CheckKind rerun_after_intervention(CheckKind held) {

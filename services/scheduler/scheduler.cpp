@@ -1,5 +1,7 @@
 #include "scheduler.hpp"
 
+#include "ncqual/check_kinds.hpp"
+
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
@@ -472,11 +474,11 @@ void Scheduler::result(const CheckResult& res) {
   // The fixture loop: a pre-calibration out of tolerance issues zero offsets (the solver
   // publishes them as a Compensation for the fixture's control unit); a post-calibration of the
   // same configuration then decides whether software correction was enough.
-  if (res.kind == CheckKind::FixturePreCalibration && res.verdict == Verdict::Fail && res.correction) {
+  const std::optional<CheckKind> verification = verified_by(res.kind);
+  if (verification && res.verdict == Verdict::Fail && res.correction) {
     spdlog::info("{}: {} issued zero offsets for {}; verifying them", res.machine_id,
                  res.request_id, res.correction->target);
-    issue(m, CheckKind::FixturePostCalibration, "scheduler", done.parameters, res.request_id,
-          done.in_sequence);
+    issue(m, *verification, "scheduler", done.parameters, res.request_id, done.in_sequence);
     commit(m);
     return;
   }

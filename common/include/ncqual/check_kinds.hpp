@@ -27,6 +27,12 @@ enum class Instrument { TouchProbe, FixtureProbe, LaserTracker };
 // never planned or shown that kind.
 enum class Needs { Monument, SetPoints, Fixture, GlobalCheck };
 
+// "monthly", "weekly", "daily", "per part", "after correction"; "touch probe", "fixture probe",
+// "laser tracker"; "monument", "set points", "fixture", "global check".
+std::string_view to_string(Cadence cadence);
+std::string_view to_string(Instrument instrument);
+std::string_view to_string(Needs needs);
+
 struct CheckKindInfo {
   CheckKind kind;
   std::string_view name;   // the stable name: config, command line, logs, JSON, historian
@@ -57,6 +63,10 @@ const CheckKindInfo& check_kind_info(CheckKind kind);
 std::vector<CheckKind> kinds_passing(CheckKind kind);
 // What an intervention on a machine held by `held` re-runs (itself unless its row says another).
 CheckKind rerun_after_intervention(CheckKind held);
+// The kind that verifies a software correction issued by a failed `kind` (the post-calibration
+// after the pre-calibration's zero offsets): the row that satisfies `kind` and runs after a
+// correction. None: a failure of `kind` holds the machine.
+std::optional<CheckKind> verified_by(CheckKind kind);
 // Whether an intervention that names `named` may re-arm a machine held by `held`.
 bool intervention_matches(CheckKind named, CheckKind held);
 

@@ -199,5 +199,34 @@ TEST(CheckKindTable, TheExampleMachineLoadsAndItsDefaultCalendarFollowsTheCadenc
                                     CheckKind::MonumentCAlignment));
 }
 
+// docs/architecture.md lists the table for people; it must say what the code says.
+TEST(CheckKindTable, TheDocsListEveryRow) {
+  std::ifstream in(NCQUAL_SOURCE_DIR "/docs/architecture.md");
+  ASSERT_TRUE(in) << "docs/architecture.md is missing";
+  // The rows of the table after the marker, up to the blank line that ends it.
+  std::vector<std::string> rows;
+  std::string line;
+  bool in_table = false;
+  while (std::getline(in, line)) {
+    if (line.find("check-kinds-table") != std::string::npos) in_table = true;
+    if (in_table && line.empty()) break;
+    if (in_table && line.rfind("| `", 0) == 0) rows.push_back(line);
+  }
+  ASSERT_EQ(rows.size(), static_cast<std::size_t>(kCheckKindCount));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const CheckKindInfo& row = check_kinds()[i];
+    std::string keys;
+    for (auto key : row.tolerances) keys += (keys.empty() ? "" : ", ") + std::string(key);
+    std::ostringstream minutes;
+    minutes << row.duration_min;
+    const std::string expected = "| `" + std::string(row.name) + "` | " +
+                                 std::string(to_string(row.cadence)) + " | " +
+                                 std::string(to_string(row.instrument)) + " | " +
+                                 std::string(to_string(row.needs)) + " | " + minutes.str() +
+                                 " | " + keys + " |";
+    EXPECT_EQ(rows[i], expected);
+  }
+}
+
 }  // namespace
 }  // namespace ncqual
