@@ -1,230 +1,49 @@
-// ncqual-acquisition: answers the CheckRequests of its machine tool(s) by performing the moves on
-// the instrument (here: the simulator) and publishing the raw MeasurementSet. One process may
-// serve several machines (--machine a,b,c or --all): each has its own station (simulators,
-// machine-filtered readers, the requests it performed and the corrections it applied), and
-// nothing is shared between stations but the participant and the MeasurementSet writer. A plant
-// runs one per machine's control cabinet, or one on a cell computer for a group of machines. It never judges a measurement. It also stands for the holding fixture's
-// control unit: it applies the zero offsets the solver publishes as Compensations (replayed from
-// the durable topic after a restart), and a post-calibration that verifies a correction waits
-// until that correction is applied. The monthly checks are measured by a simulated laser tracker
-// (ncqual/sim/tracker_simulator.hpp) when the machine config has a global_check: section.
-#include "ncqual/check_kinds.hpp"
+// ncqual-acquisition: answers the CheckRequests of its machine tool(s) by measuring with the
+// instruments (here: the simulator) and publishing the raw MeasurementSet; it never judges one.
+// It also stands for the holding fixture's control unit: it applies the zero offsets the solver
+// publishes as Compensations (replayed from the durable topic after a restart), and a
+// post-calibration waits until the correction it verifies is applied. What a machine does with
+// its requests is ncqual/acquisition/station.hpp; this file wires one station per machine served
+// (--machine a,b,c or --all) to its machine-filtered readers and the shared MeasurementSet writer.
+#include "ncqual/acquisition/station.hpp"
 #include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
-#include "ncqual/sim/fixture_simulator.hpp"
-#include "ncqual/sim/machine_simulator.hpp"
-#include "ncqual/sim/simulator_config.hpp"
-#include "ncqual/sim/tracker_simulator.hpp"
-#include "ncqual/state_file.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <deque>
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <map>
 #include <optional>
-#include <set>
 
 namespace {
 
 using namespace ncqual;
 
-// The state file's document of a measured request: {"seq": N}, its place in the order measured.
-struct PerformedEntry {
-  std::int64_t seq = 0;
-};
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PerformedEntry, seq)
-
-// How many performed request ids each machine remembers in the state file: more than the durable
-// CheckRequest history a restarted acquisition can be replayed (500 per machine, deploy/qos).
-constexpr std::size_t kRememberedPerformed = 1000;
-
-// One machine tool served by this process.
-class Station {
+// One machine served: its station, fed by its machine-filtered request and compensation readers.
+class Served {
  public:
-  Station(const MachineConfig& machine, ncqual::dds::Service& service,
-          ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic>& sets, bool simulated,
-          std::int64_t max_age_ns, storage::StateFile& state,
-          const std::map<std::string, std::string>& documents)
-      : machine_(machine),
-        sim_config_(machine_.simulator),
-        simulator_(machine_, sim_config_),
-        service_(service),
-        sets_(sets),
-        simulated_(simulated),
-        max_age_ns_(max_age_ns),
-        state_(state),
-        requests_(service.participant(), machine_.machine_id),
-        compensations_(service.participant(), machine_.machine_id) {
-    load_performed(documents);
-    if (machine_.fixture) fixture_ = sim::FixtureSimulator::for_machine(machine_, sim_config_);
-    if (machine_.global_check) tracker_.emplace(machine_, sim_config_);
-    service.dispatcher().on(compensations_, [this](ncqual::dds::Received<Compensation> in) {
-      on_compensation(in);
+  Served(ncqual::dds::Service& service, std::unique_ptr<acquisition::Station> station)
+      : station_(std::move(station)),
+        requests_(service.participant(), station_->id()),
+        compensations_(service.participant(), station_->id()) {
+    const Clock& clock = service.clock();
+    acquisition::Station& s = *station_;
+    service.dispatcher().on(compensations_, [&s, &clock](ncqual::dds::Received<Compensation> in) {
+      if (in.error.empty()) s.on_compensation(in.value, clock.now_ns());
     });
-    service.dispatcher().on(requests_, [this](ncqual::dds::Received<CheckRequest> in) {
-      on_request(in);
+    service.dispatcher().on(requests_, [&s, &clock](ncqual::dds::Received<CheckRequest> in) {
+      s.on_request(in.value, in.error, clock.now_ns());
     });
   }
-  Station(const Station&) = delete;
-  Station& operator=(const Station&) = delete;
-
-  const std::string& id() const { return machine_.machine_id; }
 
  private:
-  // On a simulated clock the measurement is taken at the request's time and takes the
-  // instrument's time; on the wall clock it is taken now.
-  void perform(const CheckRequest& req, const std::string& malformed) {
-    const std::int64_t now =
-        simulated_ ? req.time_ns + static_cast<std::int64_t>(check_kind_info(req.kind).duration_min * 60e9)
-                   : service_.clock().now_ns();
-    MeasurementSet set;
-    const bool fixture_check = is_fixture_check(req.kind);
-    const bool tracker_check = is_tracker_check(req.kind);
-    if (!malformed.empty() || (fixture_check && !fixture_) || (tracker_check && !tracker_)) {
-      set.machine_id = req.machine_id;
-      set.request_id = req.request_id;
-      set.kind = req.kind;
-      set.time_ns = now;
-      set.parameters = req.parameters;
-      set.error = !malformed.empty() ? "malformed CheckRequest: " + malformed
-                  : fixture_check    ? "machine '" + id() + "' has no fixture: section to probe"
-                                     : "machine '" + id() +
-                                        "' has no global_check: section for the laser tracker";
-    } else if (fixture_check) {
-      set = sim::perform_fixture_check(simulator_, *fixture_, req, now);
-    } else if (tracker_check) {
-      set = tracker_->perform(req, now);
-    } else {
-      set = simulator_.perform(req, now);
-    }
-    spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
-                 to_string(set.kind), set.touches.size(), set.tracker_points.size(),
-                 set.error.empty() ? "" : " (" + set.error + ")");
-    if (!sets_.write(set)) {
-      spdlog::error("{}: measurement set could not be queued", set.request_id);
-      return;
-    }
-    remember_performed(req.request_id);
-  }
-
-  // The requests this machine already measured, from the state file: a restarted acquisition
-  // is replayed the durable request history and must not move the machine for them again.
-  void load_performed(const std::map<std::string, std::string>& documents) {
-    const std::string prefix = "performed/" + id() + "/";
-    std::vector<std::pair<std::int64_t, std::string>> found;
-    for (auto it = documents.lower_bound(prefix);
-         it != documents.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++it) {
-      std::int64_t seq = 0;
-      try {
-        seq = nlohmann::json::parse(it->second).get<PerformedEntry>().seq;
-      } catch (const nlohmann::json::exception&) {
-        spdlog::warn("{}: state file {} entry '{}' is not readable; ignored", id(), state_.path(), it->first);
-        continue;
-      }
-      found.emplace_back(seq, it->first.substr(prefix.size()));
-    }
-    std::sort(found.begin(), found.end());
-    for (const auto& [seq, request_id] : found) {
-      performed_.insert(request_id);
-      performed_order_.push_back(request_id);
-      next_seq_ = std::max(next_seq_, seq + 1);
-    }
-    if (!found.empty()) {
-      spdlog::info("{}: {} performed requests remembered from {}", id(), found.size(), state_.path());
-    }
-  }
-
-  // Records a measured request; forgets the oldest beyond kRememberedPerformed. A failure to
-  // write is logged, not fatal: the worst outcome is one repeated measurement after a restart.
-  void remember_performed(const std::string& request_id) {
-    const std::string prefix = "performed/" + id() + "/";
-    performed_order_.push_back(request_id);
-    std::vector<std::string> erase;
-    while (performed_order_.size() > kRememberedPerformed) {
-      erase.push_back(prefix + performed_order_.front());
-      performed_order_.pop_front();
-    }
-    try {
-      state_.save({{prefix + request_id, nlohmann::json(PerformedEntry{next_seq_++}).dump()}}, erase);
-    } catch (const std::exception& e) {
-      spdlog::error("{}: could not record {} as performed: {}", id(), request_id, e.what());
-    }
-  }
-
-  void on_compensation(const ncqual::dds::Received<Compensation>& in) {
-    const Compensation& c = in.value;
-    if (!in.error.empty() || c.machine_id != id()) return;
-    if (!applied_.insert(c.request_id).second) return;
-    if (c.correction.target.rfind("fixture:", 0) == 0) {
-      if (!fixture_) {
-        spdlog::error("{}: zero offsets for {} but machine '{}' has no fixture", c.request_id,
-                      c.correction.target, id());
-      } else {
-        try {
-          fixture_->apply_zero_offsets(c.correction);
-          spdlog::info("{}: applied {} zero offsets to {}", c.request_id,
-                       c.correction.offsets.size(), c.correction.target);
-        } catch (const std::invalid_argument& e) {
-          spdlog::error("{}: zero offsets refused: {}", c.request_id, e.what());
-        }
-      }
-    }
-    // Post-calibrations that waited for this correction run now.
-    if (auto it = waiting_.find(c.request_id); it != waiting_.end()) {
-      for (const auto& req : it->second) perform(req, "");
-      waiting_.erase(it);
-    }
-  }
-
-  void on_request(const ncqual::dds::Received<CheckRequest>& in) {
-    const CheckRequest& req = in.value;
-    if (req.machine_id != id()) return;  // the filter should have done this
-    if (!performed_.insert(req.request_id).second) {
-      spdlog::debug("{} {}: already performed, not measured again", req.machine_id, req.request_id);
-      return;
-    }
-    const std::int64_t now = service_.clock().now_ns();
-    // Requests older than this are history, not work: a restarted acquisition must not move the
-    // machine for checks long since answered.
-    if (!simulated_ && now - req.time_ns > max_age_ns_) {
-      spdlog::info("{} {}: request from {} s ago ignored (older than --max-request-age-s)",
-                   req.machine_id, req.request_id, (now - req.time_ns) / 1000000000);
-      return;
-    }
-    if (in.error.empty() && !req.verifies_correction_of.empty() &&
-        !applied_.count(req.verifies_correction_of)) {
-      spdlog::info("{} {}: waiting for the Compensation of {} before measuring", req.machine_id,
-                   req.request_id, req.verifies_correction_of);
-      waiting_[req.verifies_correction_of].push_back(req);
-      return;
-    }
-    perform(req, in.error);
-  }
-
-  const MachineConfig machine_;
-  const sim::SimulatorConfig sim_config_;
-  const sim::MachineSimulator simulator_;
-  std::optional<sim::FixtureSimulator> fixture_;
-  std::optional<sim::TrackerSimulator> tracker_;
-  ncqual::dds::Service& service_;
-  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic>& sets_;
-  const bool simulated_;
-  const std::int64_t max_age_ns_;
-  storage::StateFile& state_;
+  std::unique_ptr<acquisition::Station> station_;
   ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests_;
   ncqual::dds::Reader<ncqual::dds::CompensationTopic> compensations_;
-  std::set<std::string> performed_;            // requests taken (measured, waiting or refused)
-  std::deque<std::string> performed_order_;    // measured ones in the state file, oldest first
-  std::int64_t next_seq_ = 0;
-  std::set<std::string> applied_;                             // compensations by request id
-  std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
 };
 
 // What names the machines to serve: --machine (comma-separated ids), --all, or --machine-config.
@@ -299,10 +118,17 @@ int main(int argc, char** argv) {
         (std::filesystem::path(plant.historian_database).parent_path() /
          ("acquisition-" + file_ids + ".db")).string()));
     const auto documents = state.load();
-    std::vector<std::unique_ptr<Station>> stations;
+    const acquisition::StationOptions station_options{plant.simulated_clock, max_age_ns};
+    std::vector<std::unique_ptr<Served>> stations;
     for (const auto& m : machines) {
-      stations.push_back(std::make_unique<Station>(m, service, sets, plant.simulated_clock,
-                                                   max_age_ns, state, documents));
+      acquisition::PerformedRequests performed(state, m.machine_id);
+      performed.load(documents);
+      stations.push_back(std::make_unique<Served>(
+          service,
+          std::make_unique<acquisition::Station>(
+              m.machine_id, std::make_unique<acquisition::SimulatedInstruments>(m),
+              std::move(performed), station_options,
+              [&sets](const MeasurementSet& set) { return sets.write(set); })));
     }
     spdlog::info("serving {} machine(s): {}", stations.size(), served);
     return service.run();

@@ -1,0 +1,57 @@
+// The instruments of one machine tool, as the acquisition's stations see them: measure a request,
+// apply a software correction. A small interface so that a plant can put its own instruments
+// behind a station (a control that runs probing programs, an MTConnect or OPC UA source) without
+// touching the rest; SimulatedInstruments is the one ncqual has today.
+#pragma once
+
+#include "ncqual/config.hpp"
+#include "ncqual/model.hpp"
+#include "ncqual/sim/fixture_simulator.hpp"
+#include "ncqual/sim/machine_simulator.hpp"
+#include "ncqual/sim/tracker_simulator.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace ncqual::acquisition {
+
+class Instruments {
+ public:
+  virtual ~Instruments() = default;
+
+  // Measures `request` at `time_ns` (ns since the epoch, UTC): the raw touches or tracker points,
+  // never a verdict. What cannot be measured (a check the machine has no instrument or config
+  // section for) comes back as a MeasurementSet whose `error` says why, never as an exception.
+  virtual MeasurementSet measure(const CheckRequest& request, std::int64_t time_ns) = 0;
+
+  // Applies a software correction for this machine (zero offsets of its fixture, "fixture:<id>").
+  // Returns "" when applied or when it is not for an instrument of this machine to apply (a
+  // work offset is the control's), else why it was refused.
+  virtual std::string apply(const Correction& correction) = 0;
+};
+
+// The simulated machine, touch probe, monument, fixture and laser tracker of one machine config
+// (ncqual/sim): the touch probe measures the monument and set-point checks, the fixture
+// simulator the fixture checks when the config has a fixture, the tracker the monthly checks when
+// it has a global_check section.
+class SimulatedInstruments : public Instruments {
+ public:
+  explicit SimulatedInstruments(const MachineConfig& machine);
+
+  MeasurementSet measure(const CheckRequest& request, std::int64_t time_ns) override;
+  std::string apply(const Correction& correction) override;
+
+ private:
+  const MachineConfig machine_;
+  const sim::MachineSimulator simulator_;
+  std::optional<sim::FixtureSimulator> fixture_;
+  std::optional<sim::TrackerSimulator> tracker_;
+};
+
+// A MeasurementSet for `request` with nothing measured and `error` saying why.
+MeasurementSet unmeasured(const CheckRequest& request, std::int64_t time_ns,
+                          const std::string& error);
+
+}  // namespace ncqual::acquisition

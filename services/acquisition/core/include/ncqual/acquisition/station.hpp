@@ -1,0 +1,96 @@
+// One machine tool served by an acquisition process: what it does with the CheckRequests and
+// Compensations of its machine, with no DDS (the executable wires the topics to it). It never
+// judges a measurement.
+//
+//   request  -> already taken (measured, waiting or refused before)?        ignore it
+//               on the wall clock, older than the maximum age?              history: ignore it
+//               verifies a correction not yet applied?                      wait for it
+//               otherwise                                                   measure and publish
+//   compensation -> for this machine and not seen before?  apply it, then measure the requests
+//                   that waited for it
+//
+// Each measured request is recorded in the state file before the next is taken, so a restarted
+// acquisition, which is replayed the durable request history, never moves the machine again for a
+// request it measured (at most the one in flight when it was killed).
+#pragma once
+
+#include "ncqual/acquisition/instruments.hpp"
+#include "ncqual/model.hpp"
+#include "ncqual/state_file.hpp"
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace ncqual::acquisition {
+
+// The requests a machine measured, oldest first, kept in the service's state file as documents
+// "performed/<machine>/<request id>" = {"seq": N}. Only the newest `capacity` are kept: more than
+// the durable request history a restart can replay (500 per machine, deploy/qos).
+class PerformedRequests {
+ public:
+  PerformedRequests(storage::StateFile& state, std::string machine_id,
+                    std::size_t capacity = 1000);
+  // Those recorded by an earlier run, from the state file's documents.
+  void load(const std::map<std::string, std::string>& documents);
+  // Records one (and forgets the oldest beyond the capacity). A failure to write is logged, not
+  // thrown: the worst outcome is one repeated measurement after a restart.
+  void record(const std::string& request_id);
+  bool contains(const std::string& request_id) const { return ids_.count(request_id) > 0; }
+  std::size_t size() const { return order_.size(); }
+
+ private:
+  storage::StateFile& state_;
+  const std::string machine_id_;
+  const std::size_t capacity_;
+  std::set<std::string> ids_;
+  std::deque<std::string> order_;
+  std::int64_t next_seq_ = 0;
+};
+
+struct StationOptions {
+  // Simulated clock: a measurement is stamped its request's time plus the instrument's time (the
+  // check-kind table's duration) and requests never age. Wall clock: stamped `now`.
+  bool simulated_clock = false;
+  // Wall clock: requests older than this are history, not work.
+  std::int64_t max_request_age_ns = 600'000'000'000;
+};
+
+class Station {
+ public:
+  // Where a measurement goes (the MeasurementSet writer); false when it could not be queued.
+  using Publish = std::function<bool(const MeasurementSet&)>;
+
+  Station(std::string machine_id, std::unique_ptr<Instruments> instruments,
+          PerformedRequests performed, StationOptions options, Publish publish);
+
+  const std::string& id() const { return machine_id_; }
+
+  // A CheckRequest as received at `now_ns`; `malformed` is the wire's complaint about it ("" for
+  // a good sample): a malformed request is answered with a MeasurementSet that says so.
+  void on_request(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
+  // A Compensation as received at `now_ns` (corrections are applied once per request id).
+  void on_compensation(const Compensation& compensation, std::int64_t now_ns);
+
+  // Requests waiting for a correction to be applied.
+  std::size_t waiting() const;
+
+ private:
+  void measure(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
+
+  const std::string machine_id_;
+  std::unique_ptr<Instruments> instruments_;
+  PerformedRequests performed_;
+  const StationOptions options_;
+  const Publish publish_;
+  std::set<std::string> taken_;     // requests taken this run: measured, waiting or ignored
+  std::set<std::string> applied_;   // compensations, by the request id that issued them
+  std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
+};
+
+}  // namespace ncqual::acquisition

@@ -1,0 +1,62 @@
+#include "ncqual/acquisition/instruments.hpp"
+
+#include "ncqual/check_kinds.hpp"
+
+#include <stdexcept>
+
+namespace ncqual::acquisition {
+
+MeasurementSet unmeasured(const CheckRequest& request, std::int64_t time_ns,
+                          const std::string& error) {
+  MeasurementSet set;
+  set.machine_id = request.machine_id;
+  set.request_id = request.request_id;
+  set.kind = request.kind;
+  set.time_ns = time_ns;
+  set.parameters = request.parameters;
+  set.error = error;
+  return set;
+}
+
+SimulatedInstruments::SimulatedInstruments(const MachineConfig& machine)
+    : machine_(machine), simulator_(machine_, machine_.simulator) {
+  if (machine_.fixture) fixture_ = sim::FixtureSimulator::for_machine(machine_, machine_.simulator);
+  if (machine_.global_check) tracker_.emplace(machine_, machine_.simulator);
+}
+
+MeasurementSet SimulatedInstruments::measure(const CheckRequest& request, std::int64_t time_ns) {
+  switch (check_kind_info(request.kind).instrument) {
+    case Instrument::FixtureProbe:
+      if (!fixture_) {
+        return unmeasured(request, time_ns,
+                          "machine '" + machine_.machine_id + "' has no fixture: section to probe");
+      }
+      return sim::perform_fixture_check(simulator_, *fixture_, request, time_ns);
+    case Instrument::LaserTracker:
+      if (!tracker_) {
+        return unmeasured(request, time_ns,
+                          "machine '" + machine_.machine_id +
+                              "' has no global_check: section for the laser tracker");
+      }
+      return tracker_->perform(request, time_ns);
+    case Instrument::TouchProbe:
+      break;
+  }
+  return simulator_.perform(request, time_ns);
+}
+
+std::string SimulatedInstruments::apply(const Correction& correction) {
+  if (correction.target.rfind("fixture:", 0) != 0) return "";
+  if (!fixture_) {
+    return "zero offsets for " + correction.target + " but machine '" + machine_.machine_id +
+           "' has no fixture";
+  }
+  try {
+    fixture_->apply_zero_offsets(correction);
+  } catch (const std::invalid_argument& e) {
+    return std::string("zero offsets refused: ") + e.what();
+  }
+  return "";
+}
+
+}  // namespace ncqual::acquisition

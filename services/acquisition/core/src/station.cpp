@@ -1,0 +1,148 @@
+#include "ncqual/acquisition/station.hpp"
+
+#include "ncqual/check_kinds.hpp"
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ncqual::acquisition {
+namespace {
+
+// The state file's document of a measured request: {"seq": N}, its place in the order measured.
+struct PerformedEntry {
+  std::int64_t seq = 0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PerformedEntry, seq)
+
+}  // namespace
+
+// ---- PerformedRequests ---------------------------------------------------------------------------
+
+PerformedRequests::PerformedRequests(storage::StateFile& state, std::string machine_id,
+                                     std::size_t capacity)
+    : state_(state), machine_id_(std::move(machine_id)), capacity_(capacity) {}
+
+void PerformedRequests::load(const std::map<std::string, std::string>& documents) {
+  const std::string prefix = "performed/" + machine_id_ + "/";
+  std::vector<std::pair<std::int64_t, std::string>> found;
+  for (auto it = documents.lower_bound(prefix);
+       it != documents.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++it) {
+    try {
+      found.emplace_back(nlohmann::json::parse(it->second).get<PerformedEntry>().seq,
+                         it->first.substr(prefix.size()));
+    } catch (const nlohmann::json::exception&) {
+      spdlog::warn("{}: state file {} entry '{}' is not readable; ignored", machine_id_,
+                   state_.path(), it->first);
+    }
+  }
+  std::sort(found.begin(), found.end());
+  for (const auto& [seq, request_id] : found) {
+    ids_.insert(request_id);
+    order_.push_back(request_id);
+    next_seq_ = std::max(next_seq_, seq + 1);
+  }
+  if (!found.empty()) {
+    spdlog::info("{}: {} performed requests remembered from {}", machine_id_, found.size(),
+                 state_.path());
+  }
+}
+
+void PerformedRequests::record(const std::string& request_id) {
+  const std::string prefix = "performed/" + machine_id_ + "/";
+  ids_.insert(request_id);
+  order_.push_back(request_id);
+  std::vector<std::string> erase;
+  while (order_.size() > capacity_) {
+    erase.push_back(prefix + order_.front());
+    ids_.erase(order_.front());
+    order_.pop_front();
+  }
+  try {
+    state_.save({{prefix + request_id, nlohmann::json(PerformedEntry{next_seq_++}).dump()}}, erase);
+  } catch (const std::exception& e) {
+    spdlog::error("{}: could not record {} as performed: {}", machine_id_, request_id, e.what());
+  }
+}
+
+// ---- Station -------------------------------------------------------------------------------------
+
+Station::Station(std::string machine_id, std::unique_ptr<Instruments> instruments,
+                 PerformedRequests performed, StationOptions options, Publish publish)
+    : machine_id_(std::move(machine_id)),
+      instruments_(std::move(instruments)),
+      performed_(std::move(performed)),
+      options_(options),
+      publish_(std::move(publish)) {}
+
+std::size_t Station::waiting() const {
+  std::size_t n = 0;
+  for (const auto& [correction, requests] : waiting_) n += requests.size();
+  return n;
+}
+
+void Station::on_request(const CheckRequest& req, const std::string& malformed,
+                         std::int64_t now_ns) {
+  if (req.machine_id != machine_id_) return;  // the reader's filter should have done this
+  if (performed_.contains(req.request_id) || !taken_.insert(req.request_id).second) {
+    spdlog::debug("{} {}: already performed, not measured again", req.machine_id, req.request_id);
+    return;
+  }
+  // Requests older than this are history, not work: a restarted acquisition must not move the
+  // machine for checks long since answered.
+  if (!options_.simulated_clock && now_ns - req.time_ns > options_.max_request_age_ns) {
+    spdlog::info("{} {}: request from {} s ago ignored (older than --max-request-age-s)",
+                 req.machine_id, req.request_id, (now_ns - req.time_ns) / 1000000000);
+    return;
+  }
+  if (malformed.empty() && !req.verifies_correction_of.empty() &&
+      !applied_.count(req.verifies_correction_of)) {
+    spdlog::info("{} {}: waiting for the Compensation of {} before measuring", req.machine_id,
+                 req.request_id, req.verifies_correction_of);
+    waiting_[req.verifies_correction_of].push_back(req);
+    return;
+  }
+  measure(req, malformed, now_ns);
+}
+
+void Station::on_compensation(const Compensation& c, std::int64_t now_ns) {
+  if (c.machine_id != machine_id_) return;
+  if (!applied_.insert(c.request_id).second) return;
+  if (const std::string refused = instruments_->apply(c.correction); !refused.empty()) {
+    spdlog::error("{}: {}", c.request_id, refused);
+  } else if (c.correction.target.rfind("fixture:", 0) == 0) {
+    spdlog::info("{}: applied {} zero offsets to {}", c.request_id, c.correction.offsets.size(),
+                 c.correction.target);
+  }
+  // The requests that waited for this correction are measured now.
+  if (auto it = waiting_.find(c.request_id); it != waiting_.end()) {
+    const std::vector<CheckRequest> requests = std::move(it->second);
+    waiting_.erase(it);
+    for (const auto& req : requests) measure(req, "", now_ns);
+  }
+}
+
+// On a simulated clock the measurement is taken at the request's time and takes the
+// instrument's time; on the wall clock it is taken now.
+void Station::measure(const CheckRequest& req, const std::string& malformed,
+                      std::int64_t now_ns) {
+  const std::int64_t at =
+      options_.simulated_clock
+          ? req.time_ns + static_cast<std::int64_t>(check_kind_info(req.kind).duration_min * 60e9)
+          : now_ns;
+  const MeasurementSet set = malformed.empty()
+                                 ? instruments_->measure(req, at)
+                                 : unmeasured(req, at, "malformed CheckRequest: " + malformed);
+  spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
+               to_string(set.kind), set.touches.size(), set.tracker_points.size(),
+               set.error.empty() ? "" : " (" + set.error + ")");
+  if (!publish_(set)) {
+    spdlog::error("{}: measurement set could not be queued", set.request_id);
+    return;
+  }
+  performed_.record(req.request_id);
+}
+
+}  // namespace ncqual::acquisition

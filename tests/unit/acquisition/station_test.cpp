@@ -1,0 +1,219 @@
+// The acquisition's stations without DDS: each request measured once (also across a restart,
+// through a real state file), old requests on the wall clock left alone, post-calibrations that
+// wait for the correction they verify, malformed requests answered, nothing recorded that was
+// not published.
+#include "ncqual/acquisition/station.hpp"
+
+#include "ncqual/check_kinds.hpp"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+
+namespace ncqual::acquisition {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Instruments that record what they were asked: the station's logic is under test here, the
+// physics is the simulator's (tested on its own, and below once through SimulatedInstruments).
+struct Recorder {
+  std::vector<std::string> measured;  // request ids, in order
+  std::vector<std::string> applied;   // correction targets, in order
+};
+class RecordingInstruments : public Instruments {
+ public:
+  explicit RecordingInstruments(Recorder& r) : r_(r) {}
+  MeasurementSet measure(const CheckRequest& request, std::int64_t time_ns) override {
+    r_.measured.push_back(request.request_id);
+    return unmeasured(request, time_ns, "");
+  }
+  std::string apply(const Correction& correction) override {
+    r_.applied.push_back(correction.target);
+    return "";
+  }
+
+ private:
+  Recorder& r_;
+};
+
+constexpr std::int64_t kSecond = 1'000'000'000;
+constexpr std::int64_t kNow = 1'800'000'000 * kSecond;
+
+CheckRequest request(const std::string& id, std::int64_t time_ns = kNow,
+                     CheckKind kind = CheckKind::MonumentPositioning) {
+  CheckRequest r;
+  r.machine_id = "m1";
+  r.request_id = id;
+  r.kind = kind;
+  r.time_ns = time_ns;
+  return r;
+}
+
+class StationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = fs::temp_directory_path() / ("ncqual-station-" + std::to_string(::getpid()) + "-" +
+                                         ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db");
+    fs::remove(path_);
+    state_ = std::make_unique<storage::StateFile>(storage::StateFile::open(path_.string()));
+  }
+  void TearDown() override {
+    state_.reset();
+    for (const char* suffix : {"", "-wal", "-shm"}) fs::remove(path_.string() + suffix);
+  }
+
+  // A station as a (re)started process builds it: its performed requests read from the file.
+  std::unique_ptr<Station> station(StationOptions options = {}, std::size_t capacity = 1000,
+                                   bool publish_ok = true) {
+    PerformedRequests performed(*state_, "m1", capacity);
+    performed.load(state_->load());
+    return std::make_unique<Station>("m1", std::make_unique<RecordingInstruments>(recorder_),
+                                     std::move(performed), options,
+                                     [this, publish_ok](const MeasurementSet& set) {
+                                       if (publish_ok) published_.push_back(set);
+                                       return publish_ok;
+                                     });
+  }
+
+  fs::path path_;
+  std::unique_ptr<storage::StateFile> state_;
+  Recorder recorder_;
+  std::vector<MeasurementSet> published_;
+};
+
+TEST_F(StationTest, ARequestIsMeasuredOnceEvenAfterARestart) {
+  auto s = station();
+  s->on_request(request("r1"), "", kNow);
+  s->on_request(request("r1"), "", kNow);  // redelivered
+  s->on_request(request("r2"), "", kNow);
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1", "r2"}));
+  ASSERT_EQ(published_.size(), 2u);
+  EXPECT_EQ(published_[0].request_id, "r1");
+
+  // A restart is replayed the durable history: r1 and r2 are in the state file.
+  s = station();
+  s->on_request(request("r1"), "", kNow);
+  s->on_request(request("r2"), "", kNow);
+  s->on_request(request("r3"), "", kNow);
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1", "r2", "r3"}));
+}
+
+TEST_F(StationTest, OnlyTheNewestRequestsAreRemembered) {
+  auto s = station({}, 3);
+  for (const char* id : {"a", "b", "c", "d"}) s->on_request(request(id), "", kNow);
+  EXPECT_EQ(state_->load().size(), 3u);
+  s = station({}, 3);
+  s->on_request(request("a"), "", kNow);  // forgotten: measured again
+  s->on_request(request("d"), "", kNow);  // remembered
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"a", "b", "c", "d", "a"}));
+}
+
+TEST_F(StationTest, AnUnpublishedMeasurementIsNotRecordedAsPerformed) {
+  auto s = station({}, 1000, /*publish_ok=*/false);
+  s->on_request(request("r1"), "", kNow);
+  EXPECT_TRUE(state_->load().empty());
+  s = station();
+  s->on_request(request("r1"), "", kNow);
+  EXPECT_EQ(published_.size(), 1u);
+}
+
+TEST_F(StationTest, OnTheWallClockOldRequestsAreHistoryNotWork) {
+  StationOptions wall;
+  wall.max_request_age_ns = 600 * kSecond;
+  auto s = station(wall);
+  s->on_request(request("old", kNow - 601 * kSecond), "", kNow);
+  s->on_request(request("young", kNow - 599 * kSecond), "", kNow);
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"young"}));
+  ASSERT_EQ(published_.size(), 1u);
+  EXPECT_EQ(published_[0].time_ns, kNow);  // measured now
+}
+
+TEST_F(StationTest, OnASimulatedClockAMeasurementTakesItsInstrumentsTime) {
+  StationOptions simulated;
+  simulated.simulated_clock = true;
+  simulated.max_request_age_ns = 1;
+  auto s = station(simulated);
+  const std::int64_t asked = kNow - 3600 * kSecond;  // an hour ago on the wall: not history
+  s->on_request(request("g", asked, CheckKind::GlobalGrid), "", kNow);
+  ASSERT_EQ(published_.size(), 1u);
+  // The grid takes 90 minutes (the check-kind table).
+  EXPECT_EQ(published_[0].time_ns, asked + 90 * 60 * kSecond);
+}
+
+TEST_F(StationTest, APostCalibrationWaitsForTheCorrectionItVerifies) {
+  auto s = station();
+  CheckRequest post = request("post", kNow, CheckKind::FixturePostCalibration);
+  post.verifies_correction_of = "pre";
+  s->on_request(post, "", kNow);
+  EXPECT_TRUE(recorder_.measured.empty());
+  EXPECT_EQ(s->waiting(), 1u);
+
+  Compensation other;
+  other.machine_id = "m1";
+  other.request_id = "another-pre";
+  other.correction.target = "fixture:F1";
+  s->on_compensation(other, kNow);
+  EXPECT_TRUE(recorder_.measured.empty());
+
+  Compensation c = other;
+  c.request_id = "pre";
+  s->on_compensation(c, kNow + kSecond);
+  s->on_compensation(c, kNow + 2 * kSecond);  // replayed after a restart of the writer: once
+  EXPECT_EQ(recorder_.applied, (std::vector<std::string>{"fixture:F1", "fixture:F1"}));
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"post"}));
+  EXPECT_EQ(s->waiting(), 0u);
+  ASSERT_EQ(published_.size(), 1u);
+  EXPECT_EQ(published_[0].time_ns, kNow + kSecond);
+
+  // A correction already applied lets its post-calibration through at once.
+  CheckRequest again = post;
+  again.request_id = "post-2";
+  s->on_request(again, "", kNow);
+  EXPECT_EQ(recorder_.measured.back(), "post-2");
+}
+
+TEST_F(StationTest, AMalformedRequestIsAnsweredWithAnErrorAndOtherMachinesAreNotOurs) {
+  auto s = station();
+  s->on_request(request("bad"), "CheckRequest.kind = 99 is not a check kind", kNow);
+  CheckRequest theirs = request("theirs");
+  theirs.machine_id = "m2";
+  s->on_request(theirs, "", kNow);
+  EXPECT_TRUE(recorder_.measured.empty());
+  ASSERT_EQ(published_.size(), 1u);
+  EXPECT_EQ(published_[0].error, "malformed CheckRequest: CheckRequest.kind = 99 is not a check kind");
+}
+
+// The simulated instruments behind a station: the example machine's fixture and tracker
+// measure their checks; a machine without those sections says so in the set.
+TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
+  MachineConfig pm1 = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
+  SimulatedInstruments full(pm1);
+  for (const auto& row : check_kinds()) {
+    CheckRequest r = request(std::string("r-") + std::string(row.name), kNow, row.kind);
+    r.machine_id = "pm1";
+    if (row.kind == CheckKind::FixturePostCalibration) continue;  // needs its pre-calibration's set
+    if (row.kind == CheckKind::FixturePreCalibration) r.parameters.push_back({"fixture_configuration", 0, ""});
+    const MeasurementSet set = full.measure(r, kNow);
+    EXPECT_TRUE(set.error.empty()) << row.name << ": " << set.error;
+    EXPECT_FALSE(set.touches.empty() && set.tracker_points.empty()) << row.name;
+  }
+  MachineConfig bare = pm1;
+  bare.fixture.reset();
+  bare.global_check.reset();
+  SimulatedInstruments monument_only(bare);
+  EXPECT_EQ(monument_only.measure(request("f", kNow, CheckKind::FixturePreCalibration), kNow).error,
+            "machine 'pm1' has no fixture: section to probe");
+  EXPECT_EQ(monument_only.measure(request("g", kNow, CheckKind::GlobalGrid), kNow).error,
+            "machine 'pm1' has no global_check: section for the laser tracker");
+  Correction zero;
+  zero.target = "fixture:UHF1";
+  EXPECT_EQ(monument_only.apply(zero), "zero offsets for fixture:UHF1 but machine 'pm1' has no fixture");
+  zero.target = "machine:work_offset";
+  EXPECT_EQ(monument_only.apply(zero), "");  // not the instruments' to apply
+}
+
+}  // namespace
+}  // namespace ncqual::acquisition
