@@ -1,13 +1,9 @@
 // ncqual-scheduler: runs the qualification process (scheduler.hpp) for every machine of the
-// plant. Reads CheckResults, CheckCommands and Interventions; writes CheckRequests and
-// MachineStatus. Its durable state is the plant's scheduler.state_database.
-//
-// Wall clock: decisions are taken as results arrive and once a second (shift starts, timeouts).
-// Simulated clock (plant clock.mode: simulated): the clock starts at clock.start (or where the
-// state file left it) and, whenever no check is waiting for a result, jumps to the next thing
-// due; --days N (or --until T) ends the run once nothing is due before that time. A check that
-// gets no answer for --stall-s of wall time lets the clock run on to its timeout (so a dead
-// acquisition is retried and reported as it would be in a plant).
+// plant, or of --machine. Reads CheckResults, CheckCommands and Interventions; writes
+// CheckRequests and MachineStatus; its durable state is the plant's scheduler.state_database.
+// Wall clock: it decides as results arrive and once a second; simulated clock: run_simulated
+// (driver.hpp). This file parses the command line and wires DDS to the Scheduler and driver.hpp.
+#include "driver.hpp"
 #include "scheduler.hpp"
 
 #include "ncqual/command_line.hpp"
@@ -16,36 +12,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <filesystem>
 #include <iostream>
 #include <set>
 
-namespace {
-
-using namespace ncqual;
-
-std::vector<CheckKind> parse_cycle(const std::string& text) {
-  std::vector<CheckKind> cycle;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    const auto comma = text.find(',', start);
-    const std::string name =
-        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const auto kind = parse_check_kind(name);
-    if (!kind) throw std::invalid_argument("--cycle: '" + name + "' is not a check kind");
-    cycle.push_back(*kind);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return cycle;
-}
-
-constexpr std::int64_t kNsPerDay = 86'400'000'000'000LL;
-
-}  // namespace
-
 int main(int argc, char** argv) {
+  using namespace ncqual;
   CLI::App app("Runs the qualification process of every machine of the plant (or of --machine).",
                "ncqual-scheduler");
   command_line::configure(app);
@@ -73,48 +44,24 @@ int main(int argc, char** argv) {
                  "simulated clock: wall seconds without an answer before the clock runs on to "
                  "the check's timeout")
       ->type_name("S")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   if (const auto code = command_line::parse(app, argc, argv)) return *code;
   try {
     init_logging("scheduler", options.log_level);
-    PlantConfig loaded = load_plant_config(ncqual::dds::plant_file_from(options.plant));
-    // --machine: this scheduler serves only those machines (one scheduler per machine, or per
-    // group); the others' commands and interventions are another scheduler's, not errors. Its
-    // default state file is its own, so two schedulers never share one.
-    std::set<std::string> others;
-    if (const auto& list = machine_list) {
-      std::vector<MachineConfig> served = loaded.machines_named(*list, "--machine");
-      for (const auto& m : loaded.machines) others.insert(m.machine_id);
-      for (const auto& m : served) others.erase(m.machine_id);
-      loaded.machines = std::move(served);
-      std::string ids = *list;
-      std::replace(ids.begin(), ids.end(), ',', '+');
-      loaded.scheduler_state_database =
-          (std::filesystem::path(loaded.scheduler_state_database).parent_path() /
-           ("scheduler-" + ids + ".db")).string();
-    }
-    const PlantConfig plant = std::move(loaded);
-    std::vector<CheckKind> cycle = plant.calendar ? std::vector<CheckKind>{} : plant.startup_checks;
-    if (cycle_text) cycle = parse_cycle(*cycle_text);
-
-    storage::StateFile state = storage::StateFile::open(state_flag.value_or(plant.scheduler_state_database));
-    SimulatedClock simulated(plant.simulated_start_ns);
+    const scheduler::ServedPlant served = scheduler::serve_only(
+        load_plant_config(ncqual::dds::plant_file_from(options.plant)), machine_list);
+    const PlantConfig& plant = served.plant;
+    const std::vector<CheckKind> cycle =
+        cycle_text ? scheduler::check_kind_list(*cycle_text)
+                   : (plant.calendar ? std::vector<CheckKind>{} : plant.startup_checks);
+    const std::optional<std::int64_t> until = scheduler::simulated_run_end(plant, days, until_text);
+    storage::StateFile state =
+        storage::StateFile::open(state_flag.value_or(plant.scheduler_state_database));
+    // The simulated clock goes on where the state file left it.
+    SimulatedClock simulated(scheduler::saved_clock_ns(state).value_or(plant.simulated_start_ns));
     WallClock wall;
-    std::optional<std::int64_t> until;
-    if (plant.simulated_clock) {
-      if (const auto saved = scheduler::saved_clock_ns(state)) simulated.set_ns(*saved);
-      if (until_text) {
-        until = parse_iso8601(*until_text);
-        if (!until) throw std::invalid_argument("--until: '" + *until_text + "' is not an ISO 8601 UTC time");
-      } else if (days) {
-        if (!(*days > 0)) throw std::invalid_argument("--days: must be > 0");
-        until = plant.simulated_start_ns + static_cast<std::int64_t>(*days * kNsPerDay);
-      }
-    } else if (days || until_text) {
-      throw std::invalid_argument("--days/--until need the plant's clock.mode: simulated");
-    }
     const Clock& clock = plant.simulated_clock ? static_cast<const Clock&>(simulated) : wall;
-    if (!(stall_s > 0)) throw std::invalid_argument("--stall-s: must be > 0");
 
     ncqual::dds::Service service({"scheduler", "",
                                   ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
@@ -142,45 +89,25 @@ int main(int argc, char** argv) {
       sched.result(in.value);
     });
     service.dispatcher().on(commands, [&](ncqual::dds::Received<CheckCommand> in) {
-      if (others.count(in.value.machine_id)) return;  // another scheduler's machine
+      if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.command(in.value) : in.error;
       if (!refused.empty()) spdlog::error("check command {} refused: {}", in.value.request_id, refused);
     });
     service.dispatcher().on(interventions, [&](ncqual::dds::Received<Intervention> in) {
-      if (others.count(in.value.machine_id)) return;  // another scheduler's machine
+      if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.intervention(in.value) : in.error;
       if (!refused.empty()) spdlog::warn("intervention {}: {}", in.value.intervention_id, refused);
     });
-    // A restarted scheduler sends nothing until its writers have matched the readers the last
-    // run had (historian, acquisitions), or 10 s passed. Otherwise a request could reach the
-    // acquisition, which discovered the new writer first, and be lost to the historian if this
-    // process were killed again before the historian matched it.
-    scheduler::ReaderCounts known = scheduler::saved_reader_counts(state);
-    if (known.requests > 0 || known.statuses > 0) {
-      const bool matched = requests.wait_for_readers(known.requests, std::chrono::seconds(10)) &&
-                           statuses.wait_for_readers(known.statuses, std::chrono::seconds(10));
-      const scheduler::ReaderCounts now{requests.matched_readers(), statuses.matched_readers()};
-      if (!matched) {
-        spdlog::warn("after 10 s {} of {} request readers and {} of {} status readers are matched; "
-                     "going on without the others",
-                     now.requests, known.requests, now.statuses, known.statuses);
-        known = now;  // the plant has changed: learn its readers afresh
-        scheduler::save_reader_counts(state, known);
-      } else {
-        spdlog::info("{} request and {} status readers matched", now.requests, now.statuses);
-      }
-    }
-    // Remembers more readers as they appear (services started after the scheduler).
-    const auto learn_readers = [&] {
-      const scheduler::ReaderCounts now{std::max(known.requests, requests.matched_readers()),
-                                        std::max(known.statuses, statuses.matched_readers())};
-      if (!(now == known)) {
-        known = now;
-        scheduler::save_reader_counts(state, known);
-      }
-    };
+    // A restart sends nothing before the last run's readers match again (driver.hpp).
+    scheduler::ReaderHandshake readers(
+        state,
+        {[&] { return requests.matched_readers(); },
+         [&](int n, std::chrono::milliseconds t) { return requests.wait_for_readers(n, t); }},
+        {[&] { return statuses.matched_readers(); },
+         [&](int n, std::chrono::milliseconds t) { return statuses.wait_for_readers(n, t); }});
+    readers.wait(std::chrono::seconds(10));
     sched.start(cycle);
 
     // Before the writers go: every reader (acquisition, historian) must have what was written,
@@ -194,56 +121,25 @@ int main(int argc, char** argv) {
     if (!plant.simulated_clock) {
       service.dispatcher().every(std::chrono::seconds(1), [&] {
         sched.tick();
-        learn_readers();
+        readers.learn();
       });
       const int code = service.run();
       flush();
       return code;
     }
-
-    // Simulated time: run the calendar as fast as the checks come back.
+    // Simulated time: run the calendar as fast as the checks come back (driver.hpp).
     auto& d = service.dispatcher();
-    const auto stall = std::chrono::milliseconds(static_cast<std::int64_t>(stall_s * 1000));
-    int spins = 0;
-    while (!d.stopping()) {
-      sched.tick();
-      learn_readers();
-      if (sched.idle()) {
-        const auto next = sched.next_event_ns();
-        if (until && (!next || *next > *until)) {
-          char buffer[32];
-          spdlog::info("simulated run complete at {}: nothing due before --until",
-                       format_iso8601(simulated.now_ns(), buffer));
-          sched.persist_clock();
-          break;
-        }
-        if (next && *next > simulated.now_ns()) {
-          simulated.set_ns(*next);
-          sched.persist_clock();
-          spins = 0;
-          continue;
-        }
-        // Nothing to jump to (no calendar) or a decision due now that took none: wait for the
-        // operator (commands, interventions) without spinning.
-        if (++spins > 2) {
-          progress = false;
-          d.run_until([&] { return progress; }, std::chrono::milliseconds(500));
-        }
-        continue;
-      }
-      spins = 0;
-      progress = false;
-      if (!d.run_until([&] { return progress; }, stall) && !d.stopping()) {
-        // No answer for a while: let simulated time run on to the next deadline (a timeout).
-        const auto next = sched.next_event_ns();
-        if (next && *next > simulated.now_ns()) {
-          spdlog::warn("no answer for {} s of wall time: simulated clock runs on to the next deadline",
-                       stall_s);
-          simulated.set_ns(*next);
-          sched.persist_clock();
-        }
-      }
-    }
+    scheduler::SimulatedRunOptions run_options;
+    run_options.until_ns = until;
+    run_options.stall = std::chrono::milliseconds(static_cast<std::int64_t>(stall_s * 1000));
+    scheduler::run_simulated(sched, simulated,
+                             {[&](std::chrono::milliseconds patience) {
+                                readers.learn();
+                                progress = false;
+                                return d.run_until([&] { return progress; }, patience);
+                              },
+                              [&] { return d.stopping(); }},
+                             run_options);
     flush();
     return 0;
   } catch (const std::exception& e) {

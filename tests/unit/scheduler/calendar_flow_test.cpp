@@ -3,7 +3,8 @@
 // by an intervention; the fixture loop; the configuration rotation across restarts; timeouts and
 // retries; and restarts at random points that end with exactly the checks of an uninterrupted
 // run. The driver below answers requests the way the acquisition and solver do (a result some
-// simulated minutes after the request) and moves the clock the way ncqual-scheduler does.
+// simulated minutes after the request); the clock moves by ncqual-scheduler's own run_simulated.
+#include "driver.hpp"
 #include "scheduler.hpp"
 
 #include <gtest/gtest.h>
@@ -109,24 +110,28 @@ struct Driver {
     return true;
   }
 
-  // One step of ncqual-scheduler's simulated loop; false when nothing is due before `until`.
-  bool step(Scheduler& s, std::int64_t until) {
-    s.tick();
-    if (deliver_one(s)) return true;
-    const auto next = s.next_event_ns();
-    if (s.idle() && (!next || *next > until)) return false;
-    if (!next) return false;
-    if (*next > clock.now_ns()) {
-      clock.set_ns(*next);
-      return true;
-    }
-    s.tick();
-    return !inbox.empty() || s.next_event_ns() != next || clock.now_ns() < *next;
-  }
+  // ncqual-scheduler's own simulated run (driver.hpp), with this driver as its events: each wait
+  // answers one request at once, and an empty inbox is a stall (the clock runs on to the next
+  // deadline). It ends when nothing is due before `until`.
+  void run(Scheduler& s, std::int64_t until) { run_for(s, until, -1); }
 
-  void run(Scheduler& s, std::int64_t until) {
-    for (int guard = 0; guard < 200000 && step(s, until); ++guard) {
-    }
+  // As run, but the process is killed after `waits` waits for events (-1: never). True when it
+  // was killed before the run was over.
+  bool run_for(Scheduler& s, std::int64_t until, int waits) {
+    SimulatedRunOptions options;
+    options.until_ns = until;
+    options.stall = std::chrono::milliseconds(0);
+    options.operator_patience = std::chrono::milliseconds(0);
+    options.give_up_after_idle_waits = 3;
+    bool killed = false;
+    run_simulated(s, clock,
+                  {[&](std::chrono::milliseconds) {
+                     killed = waits >= 0 && --waits < 0;
+                     return !killed && deliver_one(s);
+                   },
+                   [&] { return killed; }},
+                  options);
+    return killed;
   }
 
   std::vector<CheckKind> kinds_between(std::int64_t from, std::int64_t to,
@@ -476,8 +481,7 @@ TEST(CalendarFlow, RestartsAtRandomPointsChangeNothing) {
       d.inbox.clear();
       Scheduler s(p, d.clock, d.outputs(), &state);
       s.start({});
-      const int steps = std::uniform_int_distribution<int>(1, 60)(rng);
-      for (int i = 0; i < steps && more; ++i) more = d.step(s, until);
+      more = d.run_for(s, until, std::uniform_int_distribution<int>(1, 60)(rng));
       ++restarts;
     }
     EXPECT_GT(restarts, 5);

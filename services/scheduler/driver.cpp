@@ -1,0 +1,142 @@
+#include "driver.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+namespace ncqual::scheduler {
+
+ServedPlant serve_only(PlantConfig plant, const std::optional<std::string>& machine_list) {
+  ServedPlant out;
+  if (machine_list) {
+    std::vector<MachineConfig> served = plant.machines_named(*machine_list, "--machine");
+    for (const auto& m : plant.machines) out.others.insert(m.machine_id);
+    for (const auto& m : served) out.others.erase(m.machine_id);
+    plant.machines = std::move(served);
+    std::string ids = *machine_list;
+    std::replace(ids.begin(), ids.end(), ',', '+');
+    plant.scheduler_state_database =
+        (std::filesystem::path(plant.scheduler_state_database).parent_path() /
+         ("scheduler-" + ids + ".db"))
+            .string();
+  }
+  out.plant = std::move(plant);
+  return out;
+}
+
+std::vector<CheckKind> check_kind_list(const std::string& text) {
+  std::vector<CheckKind> kinds;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const auto comma = std::min(text.find(',', start), text.size());
+    const std::string name = text.substr(start, comma - start);
+    const auto kind = parse_check_kind(name);
+    if (!kind) throw std::invalid_argument("--cycle: '" + name + "' is not a check kind");
+    kinds.push_back(*kind);
+    start = comma + 1;
+  }
+  return kinds;
+}
+
+std::optional<std::int64_t> simulated_run_end(const PlantConfig& plant, std::optional<double> days,
+                                              const std::optional<std::string>& until) {
+  if (!plant.simulated_clock) {
+    if (days || until) {
+      throw std::invalid_argument("--days/--until need the plant's clock.mode: simulated");
+    }
+    return std::nullopt;
+  }
+  if (until) {
+    const auto t = parse_iso8601(*until);
+    if (!t) throw std::invalid_argument("--until: '" + *until + "' is not an ISO 8601 UTC time");
+    return t;
+  }
+  if (!days) return std::nullopt;
+  if (!(*days > 0)) throw std::invalid_argument("--days: must be > 0");
+  constexpr double kNsPerDay = 86'400e9;
+  return plant.simulated_start_ns + static_cast<std::int64_t>(*days * kNsPerDay);
+}
+
+void run_simulated(Scheduler& sched, SimulatedClock& clock, const Events& events,
+                   const SimulatedRunOptions& options) {
+  int idle_waits = 0;
+  while (!events.stopping()) {
+    sched.tick();
+    if (sched.idle()) {
+      const auto next = sched.next_event_ns();
+      if (options.until_ns && (!next || *next > *options.until_ns)) {
+        char buffer[32];
+        spdlog::info("simulated run complete at {}: nothing due before --until",
+                     format_iso8601(clock.now_ns(), buffer));
+        sched.persist_clock();
+        return;
+      }
+      if (next && *next > clock.now_ns()) {
+        clock.set_ns(*next);
+        sched.persist_clock();
+        idle_waits = 0;
+        continue;
+      }
+      // Nothing to jump to (no calendar) or a decision due now that took none: wait for the
+      // operator (commands, interventions) without spinning.
+      if (++idle_waits > 2) {
+        if (events.wait_for_progress(options.operator_patience)) {
+          idle_waits = 0;
+        } else if (options.give_up_after_idle_waits &&
+                   idle_waits > 2 + *options.give_up_after_idle_waits) {
+          sched.persist_clock();
+          return;
+        }
+      }
+      continue;
+    }
+    idle_waits = 0;
+    if (!events.wait_for_progress(options.stall) && !events.stopping()) {
+      // No answer for a while: let simulated time run on to the next deadline (a timeout).
+      const auto next = sched.next_event_ns();
+      if (next && *next > clock.now_ns()) {
+        spdlog::warn("no answer for {} ms of wall time: simulated clock runs on to the next "
+                     "deadline",
+                     options.stall.count());
+        clock.set_ns(*next);
+        sched.persist_clock();
+      }
+    }
+  }
+}
+
+ReaderHandshake::ReaderHandshake(storage::StateFile& state, Writer requests, Writer statuses)
+    : state_(state),
+      requests_(std::move(requests)),
+      statuses_(std::move(statuses)),
+      known_(saved_reader_counts(state)) {}
+
+bool ReaderHandshake::wait(std::chrono::milliseconds patience) {
+  if (known_.requests == 0 && known_.statuses == 0) return true;
+  const bool matched =
+      requests_.wait(known_.requests, patience) && statuses_.wait(known_.statuses, patience);
+  const ReaderCounts now{requests_.matched(), statuses_.matched()};
+  if (!matched) {
+    spdlog::warn("after {} ms {} of {} request readers and {} of {} status readers are matched; "
+                 "going on without the others",
+                 patience.count(), now.requests, known_.requests, now.statuses, known_.statuses);
+    known_ = now;  // the plant has changed: learn its readers afresh
+    save_reader_counts(state_, known_);
+  } else {
+    spdlog::info("{} request and {} status readers matched", now.requests, now.statuses);
+  }
+  return matched;
+}
+
+void ReaderHandshake::learn() {
+  const ReaderCounts now{std::max(known_.requests, requests_.matched()),
+                         std::max(known_.statuses, statuses_.matched())};
+  if (!(now == known_)) {
+    known_ = now;
+    save_reader_counts(state_, known_);
+  }
+}
+
+}  // namespace ncqual::scheduler
