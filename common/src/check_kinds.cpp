@@ -1,5 +1,7 @@
 #include "ncqual/check_kinds.hpp"
 
+#include "ncqual/enum_names.hpp"
+
 #include <algorithm>
 
 namespace ncqual {
@@ -86,33 +88,21 @@ const std::array<CheckKindInfo, kCheckKindCount>& table() {
 }  // namespace
 
 std::string_view to_string(Cadence cadence) {
-  switch (cadence) {
-    case Cadence::Monthly: return "monthly";
-    case Cadence::Weekly: return "weekly";
-    case Cadence::Daily: return "daily";
-    case Cadence::PerPart: return "per part";
-    case Cadence::AfterCorrection: return "after correction";
-  }
-  return "?";
+  constexpr std::array<std::string_view, 5> kNames = {"monthly", "weekly", "daily", "per part",
+                                                      "after correction"};
+  return name_of(kNames, cadence);
 }
 
 std::string_view to_string(Instrument instrument) {
-  switch (instrument) {
-    case Instrument::TouchProbe: return "touch probe";
-    case Instrument::FixtureProbe: return "fixture probe";
-    case Instrument::LaserTracker: return "laser tracker";
-  }
-  return "?";
+  constexpr std::array<std::string_view, 3> kNames = {"touch probe", "fixture probe",
+                                                      "laser tracker"};
+  return name_of(kNames, instrument);
 }
 
 std::string_view to_string(Needs needs) {
-  switch (needs) {
-    case Needs::Monument: return "monument";
-    case Needs::SetPoints: return "set points";
-    case Needs::Fixture: return "fixture";
-    case Needs::GlobalCheck: return "global check";
-  }
-  return "?";
+  constexpr std::array<std::string_view, 4> kNames = {"monument", "set points", "fixture",
+                                                      "global check"};
+  return name_of(kNames, needs);
 }
 
 const std::array<CheckKindInfo, kCheckKindCount>& check_kinds() { return table(); }

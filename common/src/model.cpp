@@ -1,6 +1,7 @@
 #include "ncqual/model.hpp"
 
 #include "ncqual/check_kinds.hpp"
+#include "ncqual/enum_names.hpp"
 
 #include <array>
 
@@ -10,21 +11,6 @@ namespace {
 constexpr std::array<std::string_view, 3> kVerdictNames = {"PASS", "FAIL", "INVALID"};
 constexpr std::array<std::string_view, 6> kStateNames = {
     "UNKNOWN", "QUALIFIED", "CHECKING", "NEEDS_INTERVENTION", "OVERDUE", "OFFLINE"};
-
-template <typename Enum, std::size_t N>
-std::optional<Enum> parse_enum(const std::array<std::string_view, N>& names,
-                               std::string_view text) {
-  for (std::size_t i = 0; i < N; ++i) {
-    if (names[i] == text) return static_cast<Enum>(i);
-  }
-  return std::nullopt;
-}
-
-template <std::size_t N>
-std::string_view name_of(const std::array<std::string_view, N>& names, int value) {
-  if (value < 0 || static_cast<std::size_t>(value) >= N) return "unknown";
-  return names[static_cast<std::size_t>(value)];
-}
 
 }  // namespace
 
@@ -46,17 +32,17 @@ std::vector<CheckKind> all_check_kinds() {
 }
 
 std::string_view to_string(Verdict verdict) {
-  return name_of(kVerdictNames, static_cast<int>(verdict));
+  return name_of(kVerdictNames, verdict, "unknown");
 }
 std::optional<Verdict> parse_verdict(std::string_view name) {
-  return parse_enum<Verdict>(kVerdictNames, name);
+  return enum_named<Verdict>(kVerdictNames, name);
 }
 
 std::string_view to_string(MachineState state) {
-  return name_of(kStateNames, static_cast<int>(state));
+  return name_of(kStateNames, state, "unknown");
 }
 std::optional<MachineState> parse_machine_state(std::string_view name) {
-  return parse_enum<MachineState>(kStateNames, name);
+  return enum_named<MachineState>(kStateNames, name);
 }
 
 const Metric* find_metric(const CheckResult& result, std::string_view name) {
@@ -64,6 +50,16 @@ const Metric* find_metric(const CheckResult& result, std::string_view name) {
     if (m.name == name) return &m;
   }
   return nullptr;
+}
+
+MeasurementSet measurement_set_for(const CheckRequest& request, std::int64_t time_ns) {
+  MeasurementSet set;
+  set.machine_id = request.machine_id;
+  set.request_id = request.request_id;
+  set.kind = request.kind;
+  set.time_ns = time_ns;
+  set.parameters = request.parameters;
+  return set;
 }
 
 const NamedValue* find_value(const std::vector<NamedValue>& values, std::string_view name) {

@@ -98,19 +98,15 @@ int main(int argc, char** argv) {
                  "on the wall clock, requests older than this are history, not work")
       ->type_name("S")
       ->capture_default_str();
-  if (const auto code = command_line::parse(app, argc, argv)) return *code;
-  try {
-    init_logging("acquisition", options.log_level);
-    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(options.plant));
+  return ncqual::dds::service_main(app, argc, argv, options, "acquisition", [&](PlantConfig loaded) {
+    const PlantConfig plant = std::move(loaded);
     const std::vector<MachineConfig> machines = served_machines(selection, plant);
     const std::int64_t max_age_ns = static_cast<std::int64_t>(max_age_s * 1e9);
 
     // The heartbeat names the machines served: one id, or the ids joined by commas.
     std::string served;
     for (const auto& m : machines) served += (served.empty() ? "" : ",") + m.machine_id;
-    ncqual::dds::Service service({"acquisition", served,
-                                  ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
-                                  plant.qos_profiles_file});
+    ncqual::dds::Service service(ncqual::dds::service_options("acquisition", served, options, plant));
     ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
     std::string file_ids = selection.all ? "all" : served;
     std::replace(file_ids.begin(), file_ids.end(), ',', '+');
@@ -132,8 +128,5 @@ int main(int argc, char** argv) {
     }
     spdlog::info("serving {} machine(s): {}", stations.size(), served);
     return service.run();
-  } catch (const std::exception& e) {
-    std::cerr << "ncqual-acquisition: " << e.what() << "\n";
-    return 2;
-  }
+  });
 }

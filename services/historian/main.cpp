@@ -45,17 +45,13 @@ int main(int argc, char** argv) {
   std::string db_flag;
   app.add_option("--db", db_flag, "the database (default: the plant's historian.database)")
       ->type_name("PATH");
-  if (const auto code = command_line::parse(app, argc, argv)) return *code;
-  try {
-    init_logging("historian", options.log_level);
-    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(options.plant));
+  return ncqual::dds::service_main(app, argc, argv, options, "historian", [&](PlantConfig loaded) {
+    const PlantConfig plant = std::move(loaded);
     const std::string db_path = db_flag.empty() ? plant.historian_database : db_flag;
     auto db = storage::Database::open(db_path);
     spdlog::info("historian database {}", db_path);
 
-    ncqual::dds::Service service({"historian", "",
-                          ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
-                          plant.qos_profiles_file});
+    ncqual::dds::Service service(ncqual::dds::service_options("historian", "", options, plant));
     auto& p = service.participant();
     ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(p);
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(p);
@@ -88,8 +84,5 @@ int main(int argc, char** argv) {
       store(db, "heartbeat", in, in.value.machine_id, in.value.service + "@" + in.value.instance);
     });
     return service.run();
-  } catch (const std::exception& e) {
-    std::cerr << "ncqual-historian: " << e.what() << "\n";
-    return 2;
-  }
+  });
 }

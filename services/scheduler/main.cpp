@@ -46,11 +46,9 @@ int main(int argc, char** argv) {
       ->type_name("S")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  if (const auto code = command_line::parse(app, argc, argv)) return *code;
-  try {
-    init_logging("scheduler", options.log_level);
+  return ncqual::dds::service_main(app, argc, argv, options, "scheduler", [&](PlantConfig loaded) {
     const scheduler::ServedPlant served = scheduler::serve_only(
-        load_plant_config(ncqual::dds::plant_file_from(options.plant)), machine_list);
+        std::move(loaded), machine_list);
     const PlantConfig& plant = served.plant;
     const std::vector<CheckKind> cycle =
         cycle_text ? scheduler::check_kind_list(*cycle_text)
@@ -63,9 +61,7 @@ int main(int argc, char** argv) {
     WallClock wall;
     const Clock& clock = plant.simulated_clock ? static_cast<const Clock&>(simulated) : wall;
 
-    ncqual::dds::Service service({"scheduler", "",
-                                  ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
-                                  plant.qos_profiles_file});
+    ncqual::dds::Service service(ncqual::dds::service_options("scheduler", "", options, plant));
     auto& p = service.participant();
     ncqual::dds::Writer<ncqual::dds::CheckRequestTopic> requests(p);
     ncqual::dds::Writer<ncqual::dds::MachineStatusTopic> statuses(p);
@@ -142,8 +138,5 @@ int main(int argc, char** argv) {
                              run_options);
     flush();
     return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "ncqual-scheduler: " << e.what() << "\n";
-    return 2;
-  }
+  });
 }

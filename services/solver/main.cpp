@@ -44,13 +44,9 @@ int main(int argc, char** argv) {
   command_line::configure(app);
   command_line::ServiceOptions options;
   command_line::add_service_options(app, options);
-  if (const auto code = command_line::parse(app, argc, argv)) return *code;
-  try {
-    init_logging("solver", options.log_level);
-    const PlantConfig plant = load_plant_config(ncqual::dds::plant_file_from(options.plant));
-    ncqual::dds::Service service({"solver", "",
-                          ncqual::dds::resolve_domain_id(options.domain, plant.domain_id),
-                          plant.qos_profiles_file});
+  return ncqual::dds::service_main(app, argc, argv, options, "solver", [&](PlantConfig loaded) {
+    const PlantConfig plant = std::move(loaded);
+    ncqual::dds::Service service(ncqual::dds::service_options("solver", "", options, plant));
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(service.participant());
     ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(service.participant());
     ncqual::dds::Writer<ncqual::dds::CompensationTopic> compensations(service.participant());
@@ -88,8 +84,5 @@ int main(int argc, char** argv) {
       }
     });
     return service.run();
-  } catch (const std::exception& e) {
-    std::cerr << "ncqual-solver: " << e.what() << "\n";
-    return 2;
-  }
+  });
 }

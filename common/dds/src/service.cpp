@@ -1,5 +1,9 @@
 #include "ncqual/dds/service.hpp"
 
+#include "ncqual/log.hpp"
+
+#include <iostream>
+
 #include <spdlog/spdlog.h>
 
 #include <unistd.h>
@@ -11,6 +15,25 @@ std::string plant_file_from(const std::string& flag_value) {
   const std::string path = plant_config_path(flag_value);
   if (path.empty()) throw ConfigError("no plant config: pass --plant FILE or set NCQUAL_PLANT");
   return path;
+}
+
+int service_main(CLI::App& app, int argc, char** argv, const command_line::ServiceOptions& options,
+                 const std::string& service, const std::function<int(PlantConfig)>& body) {
+  if (const auto code = command_line::parse(app, argc, argv)) return *code;
+  try {
+    init_logging(service, options.log_level);
+    return body(load_plant_config(plant_file_from(options.plant)));
+  } catch (const std::exception& e) {
+    std::cerr << app.get_name() << ": " << e.what() << "\n";
+    return command_line::kUsageExit;
+  }
+}
+
+ServiceOptions service_options(const std::string& service, const std::string& served,
+                               const command_line::ServiceOptions& options,
+                               const PlantConfig& plant) {
+  return {service, served, resolve_domain_id(options.domain, plant.domain_id),
+          plant.qos_profiles_file};
 }
 
 Service::Service(const ServiceOptions& options) : options_(options) {

@@ -199,4 +199,8 @@ struct Heartbeat {
 // Looks up a metric by name; nullptr when absent.
 const Metric* find_metric(const CheckResult& result, std::string_view name);
 
+// The MeasurementSet that answers `request`, taken at `time_ns`, with nothing measured yet: its
+// machine, request id, kind and parameters.
+MeasurementSet measurement_set_for(const CheckRequest& request, std::int64_t time_ns);
+
 }  // namespace ncqual

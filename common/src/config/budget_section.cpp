@@ -1,6 +1,8 @@
 // The `budget:` section of a machine config (ncqual/config/budget.hpp).
 #include "node.hpp"
 
+#include "ncqual/enum_names.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -8,36 +10,19 @@
 namespace ncqual {
 namespace solver {
 
-std::string_view to_string(BudgetAxis axis) {
-  switch (axis) {
-    case BudgetAxis::Y: return "y";
-    case BudgetAxis::Z: return "z";
-    case BudgetAxis::S: return "s";
-  }
-  return "?";
-}
+namespace {
+// The names of the enums, in enumerator order: in the config and in every output.
+constexpr std::array<std::string_view, 3> kAxisNames = {"y", "z", "s"};
+constexpr std::array<std::string_view, 4> kDirectionNames = {"y", "z", "s", "yz"};
+constexpr std::array<std::string_view, 2> kMethodNames = {"rss", "monte_carlo"};
+constexpr std::array<std::string_view, 3> kDistributionNames = {"normal", "uniform", "weibull"};
+}  // namespace
 
-std::string_view to_string(BudgetDirection direction) {
-  switch (direction) {
-    case BudgetDirection::Y: return "y";
-    case BudgetDirection::Z: return "z";
-    case BudgetDirection::S: return "s";
-    case BudgetDirection::YZ: return "yz";
-  }
-  return "?";
-}
-
-std::string_view to_string(BudgetMethod method) {
-  return method == BudgetMethod::Rss ? "rss" : "monte_carlo";
-}
-
+std::string_view to_string(BudgetAxis axis) { return name_of(kAxisNames, axis); }
+std::string_view to_string(BudgetDirection direction) { return name_of(kDirectionNames, direction); }
+std::string_view to_string(BudgetMethod method) { return name_of(kMethodNames, method); }
 std::string_view to_string(BudgetDistribution distribution) {
-  switch (distribution) {
-    case BudgetDistribution::Normal: return "normal";
-    case BudgetDistribution::Uniform: return "uniform";
-    case BudgetDistribution::Weibull: return "weibull";
-  }
-  return "?";
+  return name_of(kDistributionNames, distribution);
 }
 
 std::vector<BudgetAxis> axes_of(BudgetDirection d) {
@@ -114,23 +99,23 @@ std::optional<LengthOrAngle> length_or_angle(const Node& v) {
   }
 }
 
+// One of the names of `names`, or a problem `why`.
+template <typename Enum, std::size_t N>
+std::optional<Enum> read_name(const Node& v, const std::array<std::string_view, N>& names,
+                              const std::string& why) {
+  const auto value = enum_named<Enum>(names, v.scalar());
+  if (!value) v.problem(why);
+  return value;
+}
+
 std::optional<BudgetAxis> read_axis(const Node& v) {
-  const std::string s = v.scalar();
-  if (s == "y") return BudgetAxis::Y;
-  if (s == "z") return BudgetAxis::Z;
-  if (s == "s") return BudgetAxis::S;
-  v.problem("expected y, z or s");
-  return std::nullopt;
+  return read_name<BudgetAxis>(v, kAxisNames, "expected y, z or s");
 }
 
 std::optional<BudgetDirection> read_direction(const Node& v) {
-  const std::string s = v.scalar();
-  if (s == "y") return BudgetDirection::Y;
-  if (s == "z") return BudgetDirection::Z;
-  if (s == "s") return BudgetDirection::S;
-  if (s == "yz") return BudgetDirection::YZ;
-  v.problem("expected y (ΔS = ΔY cos θ), z (ΔS = ΔZ sin θ), yz (both) or s (along the surface)");
-  return std::nullopt;
+  return read_name<BudgetDirection>(
+      v, kDirectionNames,
+      "expected y (ΔS = ΔY cos θ), z (ΔS = ΔZ sin θ), yz (both) or s (along the surface)");
 }
 
 // A metric: its name alone, or {name, axis, unit, lever_arm}.
@@ -285,16 +270,10 @@ BudgetSource read_source(const Node& node) {
     s.bound = read_bound(node, "capability", s);
   }
 
-  const Node dist = node["distribution"];
-  const std::string d = dist.text("normal");
-  if (d == "normal") {
-    s.distribution = BudgetDistribution::Normal;
-  } else if (d == "uniform") {
-    s.distribution = BudgetDistribution::Uniform;
-  } else if (d == "weibull") {
-    s.distribution = BudgetDistribution::Weibull;
-  } else {
-    dist.problem("expected normal, uniform or weibull");
+  if (node["distribution"].present()) {
+    s.distribution = read_name<BudgetDistribution>(node["distribution"], kDistributionNames,
+                                                   "expected normal, uniform or weibull")
+                         .value_or(s.distribution);
   }
   const Node shape = node["weibull_shape"];
   if (s.distribution == BudgetDistribution::Weibull) {
@@ -341,13 +320,9 @@ ErrorBudgetConfig read_budget(const Node& budget) {
   }
 
   if (const Node st = budget["statistics"]; st.map_of({"method", "coverage", "samples", "seed"})) {
-    const std::string method = st["method"].text("rss");
-    if (method == "rss") {
-      c.method = BudgetMethod::Rss;
-    } else if (method == "monte_carlo") {
-      c.method = BudgetMethod::MonteCarlo;
-    } else {
-      st["method"].problem("expected rss or monte_carlo");
+    if (st["method"].present()) {
+      c.method = read_name<BudgetMethod>(st["method"], kMethodNames, "expected rss or monte_carlo")
+                     .value_or(c.method);
     }
     c.coverage = st["coverage"].number(c.coverage);
     if (!(c.coverage > 0 && c.coverage < 1)) {

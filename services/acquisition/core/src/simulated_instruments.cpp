@@ -8,12 +8,7 @@ namespace ncqual::acquisition {
 
 MeasurementSet unmeasured(const CheckRequest& request, std::int64_t time_ns,
                           const std::string& error) {
-  MeasurementSet set;
-  set.machine_id = request.machine_id;
-  set.request_id = request.request_id;
-  set.kind = request.kind;
-  set.time_ns = time_ns;
-  set.parameters = request.parameters;
+  MeasurementSet set = measurement_set_for(request, time_ns);
   set.error = error;
   return set;
 }

@@ -253,14 +253,9 @@ MeasurementSet perform_fixture_check(const MachineSimulator& machine, const Fixt
   if (machine.config().drift || fixture.drift()) {
     return perform_fixture_check(machine.at(time_ns), fixture.at(time_ns), request, time_ns);
   }
-  MeasurementSet set;
-  set.machine_id = request.machine_id;
-  set.request_id = request.request_id;
-  set.kind = request.kind;
-  set.time_ns = time_ns;
+  MeasurementSet set = measurement_set_for(request, time_ns);
   set.instrument = "touch_probe";
   set.frame = "machine";
-  set.parameters = request.parameters;
 
   if (request.machine_id != machine.machine().machine_id) {
     set.error = "the request is for machine '" + request.machine_id +

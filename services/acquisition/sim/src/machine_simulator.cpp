@@ -156,12 +156,7 @@ std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double n
 MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64_t time_ns) const {
   // A drifting truth: measure on the simulator frozen at the measurement time (no drift there).
   if (config_.drift) return at(time_ns).perform(request, time_ns);
-  MeasurementSet set;
-  set.machine_id = request.machine_id;
-  set.request_id = request.request_id;
-  set.kind = request.kind;
-  set.time_ns = time_ns;
-  set.parameters = request.parameters;
+  MeasurementSet set = measurement_set_for(request, time_ns);
   describe_instrument(request.kind, &set);
 
   if (request.machine_id != machine_.machine_id) {

@@ -67,14 +67,9 @@ Eigen::Vector3d TrackerSimulator::true_target(const AxisPosition& axes, const Pr
 MeasurementSet TrackerSimulator::perform(const CheckRequest& request, std::int64_t time_ns) const {
   // A drifting truth: measure on the simulator frozen at the measurement time (no drift there).
   if (config_.drift) return at(time_ns).perform(request, time_ns);
-  MeasurementSet set;
-  set.machine_id = request.machine_id;
-  set.request_id = request.request_id;
-  set.kind = request.kind;
+  MeasurementSet set = measurement_set_for(request, time_ns);
   set.instrument = "laser_tracker";
   set.frame = "tracker";
-  set.time_ns = time_ns;
-  set.parameters = request.parameters;
   if (!is_tracker_check(request.kind)) {
     set.error = "the laser tracker cannot perform check kind '" +
                 std::string(to_string(request.kind)) + "'";

@@ -1,5 +1,7 @@
 #include "ncqual/solver/circular_test.hpp"
 
+#include "ncqual/enum_names.hpp"
+
 #include "ncqual/units.hpp"
 #include "result_building.hpp"
 
@@ -202,12 +204,8 @@ CircularPathFigures path_figures(const CircularTestInput& input, PathDirection d
 }  // namespace
 
 std::string_view to_string(Plane p) {
-  switch (p) {
-    case Plane::XY: return "XY";
-    case Plane::YZ: return "YZ";
-    case Plane::XZ: return "XZ";
-  }
-  return "?";
+  constexpr std::array<std::string_view, 3> kNames = {"XY", "YZ", "XZ"};
+  return name_of(kNames, p);
 }
 
 std::optional<Plane> parse_plane(std::string_view text) {

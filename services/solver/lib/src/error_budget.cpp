@@ -8,6 +8,8 @@
 //   6. consumption: how much of the budget today's errors take.
 #include "ncqual/solver/error_budget.hpp"
 
+#include "ncqual/enum_names.hpp"
+
 #include "ncqual/units.hpp"
 
 #include <algorithm>
@@ -139,12 +141,8 @@ SourceError scaled(const SourceError& e, double k) { return {e.y_mm * k, e.z_mm 
 // ---- Names -------------------------------------------------------------------------------------
 
 std::string_view to_string(CapabilityBasis basis) {
-  switch (basis) {
-    case CapabilityBasis::Default: return "default";
-    case CapabilityBasis::History: return "history";
-    case CapabilityBasis::Fixed: return "fixed";
-  }
-  return "?";
+  constexpr std::array<std::string_view, 3> kNames = {"default", "history", "fixed"};
+  return name_of(kNames, basis);
 }
 
 // ---- Step 2: geometry --------------------------------------------------------------------------

@@ -1,5 +1,7 @@
 #include "ncqual/solver/rotary_axes.hpp"
 
+#include "ncqual/enum_names.hpp"
+
 #include "ncqual/units.hpp"
 #include "result_building.hpp"
 
@@ -108,12 +110,8 @@ PrincipalAxes scatter_of(const std::vector<RotaryPoint>& points) {
 }  // namespace
 
 std::string_view rotary_axis_name(RotaryAxis axis) {
-  switch (axis) {
-    case RotaryAxis::W: return "W";
-    case RotaryAxis::A: return "A";
-    case RotaryAxis::C: return "C";
-  }
-  return "?";
+  constexpr std::array<std::string_view, 3> kNames = {"W", "A", "C"};
+  return name_of(kNames, axis);
 }
 
 RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<RotaryPoint>& points,

@@ -4,10 +4,12 @@
 #pragma once
 
 #include "ncqual/clock.hpp"
+#include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/dispatcher.hpp"
 #include "ncqual/dds/topics.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -49,5 +51,19 @@ class Service {
 // The plant config a service runs with: --plant FILE, else NCQUAL_PLANT; a service cannot run
 // without one, so this throws ConfigError when neither is given.
 std::string plant_file_from(const std::string& flag_value);
+
+// What a service's main does around its own wiring, once its options are added to `app`: parses
+// the command line (0 after --help/--version, 2 for bad usage), sets up logging as `service`,
+// loads the plant (--plant or NCQUAL_PLANT) and runs `body` with it. This is the services' one
+// error boundary (docs/architecture.md, "Errors"): an exception from any of it is reported on
+// stderr as "<app>: <what>" and the process exits 2.
+int service_main(CLI::App& app, int argc, char** argv, const command_line::ServiceOptions& options,
+                 const std::string& service, const std::function<int(PlantConfig)>& body);
+
+// The Service of `service` (serving `served`, for an acquisition) in `plant`: the domain from
+// --domain, else NCQUAL_DOMAIN, else the plant's; the plant's QoS profiles.
+ServiceOptions service_options(const std::string& service, const std::string& served,
+                               const command_line::ServiceOptions& options,
+                               const PlantConfig& plant);
 
 }  // namespace ncqual::dds
