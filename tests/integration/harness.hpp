@@ -2,6 +2,8 @@
 // domain with a plant config in a temporary directory, and waits on the historian's database.
 #pragma once
 
+#include "domains.hpp"
+
 #include "ncqual/clock.hpp"
 #include "ncqual/storage.hpp"
 
@@ -92,9 +94,9 @@ class Process {
 // four services.
 class Plant {
  public:
-  // Every test passes its own domain id (tests/integration/CMakeLists.txt lists them), so tests
+  // Every test passes its own domain (tests/integration/domains.hpp allocates them), so tests
   // that ctest runs in parallel never hear each other.
-  Plant(const std::string& name, int domain) : domain_(domain) {
+  Plant(const std::string& name, TestDomain domain) : domain_(domain_id(domain)) {
     std::random_device rd;
     dir_ = fs::temp_directory_path() / ("ncqual-it-" + name + "-" + std::to_string(getpid()) +
                                         "-" + std::to_string(rd() % 100000));

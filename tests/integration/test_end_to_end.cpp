@@ -13,7 +13,7 @@ namespace ncqual::testing {
 namespace {
 
 TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
-  Plant plant("e2e", 201);
+  Plant plant("e2e", TestDomain::EndToEnd);
   // pm-good: no errors (PASS). pm-shifted: the machine has shifted (FAIL, first cause machine).
   const auto good = plant.add_machine("pm-good", machine_yaml("pm-good", "    machine_shift_mm: [0, 0, 0]\n", 11));
   const auto shifted = plant.add_machine(
@@ -89,7 +89,7 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
 }
 
 TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
-  Plant plant("cli", 202);
+  Plant plant("cli", TestDomain::OperatorCheck);
   plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
   plant.write_plant("[]");  // no start-up cycle: only the operator's order
   plant.start("historian");

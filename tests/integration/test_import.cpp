@@ -1,5 +1,5 @@
 // `ncqual import`: a real instrument's export published as a MeasurementSet goes through the
-// real solver and historian processes over DDS (domain 206) and is stored with its result, the
+// real solver and historian processes over DDS (on its own domain) and is stored with its result, the
 // figures those of the file worked by hand.
 #include "cli_runner.hpp"
 #include "harness.hpp"
@@ -22,7 +22,7 @@ std::pair<int, std::string> cli(const std::string& args) {
 }
 
 TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
-  Plant plant("import", 206);
+  Plant plant("import", TestDomain::Import);
   plant.add_machine("pm1", "extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\n");
   plant.write_plant("[]");
   plant.start("historian");
@@ -48,7 +48,8 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
     }
   }
   const auto [code, out] = cli("import iso230-2 " + file + " --machine pm1 --plant " +
-                               plant.plant_file() + " --domain 206");
+                               plant.plant_file() + " --domain " +
+                               std::to_string(plant.domain()));
   ASSERT_EQ(code, 0) << out;
   const std::string request = out.substr(out.rfind("import-"), out.find('\n', out.rfind("import-")) - out.rfind("import-"));
   ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
