@@ -212,7 +212,7 @@ TEST(Fleet, TwentyMachinesThreeWeeksEveryDueCheckStoredExactlyOnce) {
 
   // `ncqual status` shows all twenty, each QUALIFIED, with the last pass and next due of each
   // period its sections allow.
-  const auto status = run_cli_stdout("status --json --plant " + plant.plant_file());
+  const auto status = run_cli_stdout({"status", "--json", "--plant", plant.plant_file()});
   ASSERT_EQ(status.exit_code, 0) << status.out;
   const auto json = nlohmann::json::parse(status.out);
   ASSERT_EQ(json["machines"].size(), static_cast<std::size_t>(kMachines));
@@ -244,8 +244,7 @@ TEST(Fleet, AcquisitionRefusesABadMachineListNamingTheEntry) {
   for (const auto& [args, message] : cases) {
     const std::size_t before = plant.log("acquisition").size();  // the log is appended to
     Process& acquisition = plant.start("acquisition", args);
-    const int status = acquisition.wait();
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << message;
+    EXPECT_EQ(acquisition.wait(), 2) << message;
     const std::string said = plant.log("acquisition").substr(before);
     EXPECT_NE(said.find(message), std::string::npos) << "expected \"" << message << "\" in:\n" << said;
   }

@@ -11,12 +11,13 @@
 #include <fstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace ncqual::testing {
 namespace {
 
 // Runs the CLI with `args`; returns its exit code and what it printed (stdout and stderr).
-std::pair<int, std::string> cli(const std::string& args) {
+std::pair<int, std::string> cli(const std::vector<std::string>& args) {
   const testing_cli::CliRun r = testing_cli::run_cli(args);
   return {r.exit_code, r.out};
 }
@@ -47,9 +48,8 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
       }
     }
   }
-  const auto [code, out] = cli("import iso230-2 " + file + " --machine pm1 --plant " +
-                               plant.plant_file() + " --domain " +
-                               std::to_string(plant.domain()));
+  const auto [code, out] = cli({"import", "iso230-2", file, "--machine", "pm1", "--plant",
+                                plant.plant_file(), "--domain", std::to_string(plant.domain())});
   ASSERT_EQ(code, 0) << out;
   const std::string request = out.substr(out.rfind("import-"), out.find('\n', out.rfind("import-")) - out.rfind("import-"));
   ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
@@ -74,8 +74,8 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
 
   // A bad file is refused before anything is published, naming file, line and column.
   std::ofstream(plant.dir() / "bad.csv") << "target_mm,cycle,direction,measured_mm\n0,1,up,x\n";
-  const auto [bad_code, bad_out] = cli("import iso230-2 " + (plant.dir() / "bad.csv").string() +
-                                       " --machine pm1 --plant " + plant.plant_file());
+  const auto [bad_code, bad_out] = cli({"import", "iso230-2", (plant.dir() / "bad.csv").string(),
+                                        "--machine", "pm1", "--plant", plant.plant_file()});
   EXPECT_EQ(bad_code, 1);
   EXPECT_NE(bad_out.find("bad.csv:2:4:"), std::string::npos) << bad_out;
 }
