@@ -19,6 +19,8 @@
 namespace ncqual::storage {
 namespace {
 
+using testing::expect_axes_eq;
+using testing::expect_result_eq;
 using testing::RawDb;
 using testing::TempDir;
 
@@ -59,44 +61,44 @@ void expect_request(const CheckRecord& record, const std::string& requested_by,
   EXPECT_EQ(record.request->verifies_correction_of, "");
 }
 
-void expect_metric(const Metric& m, const std::string& name, double value, const std::string& unit,
-                   double lower, double upper, bool pass) {
-  EXPECT_EQ(m.name, name);
-  EXPECT_EQ(m.value, value) << name;
-  EXPECT_EQ(m.unit, unit) << name;
-  EXPECT_EQ(m.lower, lower) << name;
-  EXPECT_EQ(m.upper, upper) << name;
-  EXPECT_EQ(m.pass, pass) << name;
+// The measurement summary of a check.
+void expect_measurement(const CheckRecord& record, const std::string& instrument,
+                        const std::string& frame, std::int64_t time_ns, std::int64_t touches,
+                        std::int64_t tracker_points, const std::string& error = "") {
+  ASSERT_TRUE(record.measurement) << record.request_id;
+  EXPECT_EQ(record.measurement->instrument, instrument);
+  EXPECT_EQ(record.measurement->frame, frame);
+  EXPECT_EQ(record.measurement->time_ns, time_ns);
+  EXPECT_EQ(record.measurement->touches, touches);
+  EXPECT_EQ(record.measurement->tracker_points, tracker_points);
+  EXPECT_EQ(record.measurement->error, error);
+}
+
+// The record's result, which must be `expected` (machine, kind and id are the record's).
+void expect_result(const CheckRecord& record, CheckResult expected) {
+  ASSERT_TRUE(record.result) << record.request_id;
+  expected.machine_id = record.machine_id;
+  expected.request_id = record.request_id;
+  expected.kind = record.kind;
+  expect_result_eq(*record.result, expected);
 }
 
 void expect_touch(const Touch& t, const std::string& feature, AxisPosition a, Eigen::Vector3d u) {
   EXPECT_EQ(t.feature, feature);
-  EXPECT_EQ(t.axes.x_mm, a.x_mm) << feature;
-  EXPECT_EQ(t.axes.y_mm, a.y_mm) << feature;
-  EXPECT_EQ(t.axes.z_mm, a.z_mm) << feature;
-  EXPECT_EQ(t.axes.w_mm, a.w_mm) << feature;
-  EXPECT_EQ(t.axes.a_rad, a.a_rad) << feature;
-  EXPECT_EQ(t.axes.c_rad, a.c_rad) << feature;
+  expect_axes_eq(t.axes, a);
   EXPECT_EQ(t.approach, u) << feature;
 }
 
 void expect_point(const TrackerPoint& p, const std::string& label, AxisPosition a,
                   Eigen::Vector3d measured) {
   EXPECT_EQ(p.label, label);
-  EXPECT_EQ(p.commanded.x_mm, a.x_mm) << label;
-  EXPECT_EQ(p.commanded.y_mm, a.y_mm) << label;
-  EXPECT_EQ(p.commanded.z_mm, a.z_mm) << label;
-  EXPECT_EQ(p.commanded.w_mm, a.w_mm) << label;
-  EXPECT_EQ(p.commanded.a_rad, a.a_rad) << label;
-  EXPECT_EQ(p.commanded.c_rad, a.c_rad) << label;
+  expect_axes_eq(p.commanded, a);
   EXPECT_EQ(p.measured_mm, measured) << label;
 }
 
-void expect_offset(const NamedValue& v, const std::string& name, double value) {
-  EXPECT_EQ(v.name, name);
-  EXPECT_EQ(v.value, value) << name;
-  EXPECT_EQ(v.unit, "mm") << name;
-}
+// The zero offsets of pm1-precal-1, in its result and in its Compensation.
+const Correction kPogoCorrection{
+    "fixture:F1", {{"pogo_C2R3_dx_mm", -0.046875, "mm"}, {"pogo_C2R3_dy_mm", 0.015625, "mm"}}};
 
 TEST(StorageMigration, TheFixtureIsTheFirstMigrationsSchemaAtVersionOne) {
   TempDir dir;
@@ -147,24 +149,15 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
     EXPECT_EQ(rec->machine_id, "pm1");
     EXPECT_EQ(rec->kind, CheckKind::MonumentCAlignment);
     expect_request(*rec, "scheduler", 1780000000000000000, 1);
-    ASSERT_TRUE(rec->measurement);
-    EXPECT_EQ(rec->measurement->instrument, "touch_probe");
-    EXPECT_EQ(rec->measurement->frame, "machine");
-    EXPECT_EQ(rec->measurement->time_ns, 1780000060000000000);
-    EXPECT_EQ(rec->measurement->touches, 4);
-    EXPECT_EQ(rec->measurement->tracker_points, 0);
-    EXPECT_EQ(rec->measurement->error, "");
-    ASSERT_TRUE(rec->result);
-    const CheckResult& r = *rec->result;
-    EXPECT_EQ(r.verdict, Verdict::Pass);
-    EXPECT_EQ(r.reason, "");
-    EXPECT_EQ(r.time_ns, 1780000120000000000);
-    EXPECT_FALSE(r.correction);
-    ASSERT_EQ(r.metrics.size(), 3u);
-    expect_metric(r.metrics[0], "c_align_dx_mm", 0.00390625, "mm", -0.015625, 0.015625, true);
-    expect_metric(r.metrics[1], "c_align_dy_mm", -0.001953125, "mm", -0.015625, 0.015625, true);
-    expect_metric(r.metrics[2], "probe_c_offset_mm", 0.0078125, "mm", -kInf, 0.03125, true);
-    EXPECT_EQ(r.likely_causes, (std::vector<std::string>{"bent stylus", "probe microswitches"}));
+    expect_measurement(*rec, "touch_probe", "machine", 1780000060000000000, 4, 0);
+    CheckResult expected;
+    expected.verdict = Verdict::Pass;
+    expected.time_ns = 1780000120000000000;
+    expected.metrics = {{"c_align_dx_mm", 0.00390625, "mm", -0.015625, 0.015625, true},
+                        {"c_align_dy_mm", -0.001953125, "mm", -0.015625, 0.015625, true},
+                        {"probe_c_offset_mm", 0.0078125, "mm", -kInf, 0.03125, true}};
+    expected.likely_causes = {"bent stylus", "probe microswitches"};
+    expect_result(*rec, expected);
 
     const auto set = db.load_measurement_set("pm1-c-align-1");
     ASSERT_TRUE(set);
@@ -187,26 +180,17 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
     ASSERT_TRUE(rec);
     EXPECT_EQ(rec->kind, CheckKind::FixturePreCalibration);
     expect_request(*rec, "scheduler", 1780000600000000000, 2);
-    ASSERT_TRUE(rec->measurement);
-    EXPECT_EQ(rec->measurement->instrument, "fixture_probe");
-    EXPECT_EQ(rec->measurement->frame, "fixture");
-    EXPECT_EQ(rec->measurement->touches, 2);
-    ASSERT_TRUE(rec->result);
-    const CheckResult& r = *rec->result;
-    EXPECT_EQ(r.verdict, Verdict::Fail);
-    EXPECT_EQ(r.reason, "pogo_C2R3_dx_mm = 0.047 mm: out of tolerance");
-    EXPECT_EQ(r.time_ns, 1780000720000000000);
-    ASSERT_EQ(r.metrics.size(), 2u);
-    expect_metric(r.metrics[0], "pogo_C2R3_dx_mm", 0.046875, "mm", -0.03125, 0.03125, false);
-    expect_metric(r.metrics[1], "fixture_max_dx_mm", 0.046875, "mm", -kInf, 0.03125, false);
-    EXPECT_EQ(r.likely_causes, (std::vector<std::string>{"pogo C2R3 displaced",
-                                                          "fixture base moved",
-                                                          "thermal growth of the fixture"}));
-    ASSERT_TRUE(r.correction);
-    EXPECT_EQ(r.correction->target, "fixture:F1");
-    ASSERT_EQ(r.correction->offsets.size(), 2u);
-    expect_offset(r.correction->offsets[0], "pogo_C2R3_dx_mm", -0.046875);
-    expect_offset(r.correction->offsets[1], "pogo_C2R3_dy_mm", 0.015625);
+    expect_measurement(*rec, "fixture_probe", "fixture", 1780000660000000000, 2, 0);
+    CheckResult expected;
+    expected.verdict = Verdict::Fail;
+    expected.reason = "pogo_C2R3_dx_mm = 0.047 mm: out of tolerance";
+    expected.time_ns = 1780000720000000000;
+    expected.metrics = {{"pogo_C2R3_dx_mm", 0.046875, "mm", -0.03125, 0.03125, false},
+                        {"fixture_max_dx_mm", 0.046875, "mm", -kInf, 0.03125, false}};
+    expected.likely_causes = {"pogo C2R3 displaced", "fixture base moved",
+                              "thermal growth of the fixture"};
+    expected.correction = kPogoCorrection;
+    expect_result(*rec, expected);
 
     const auto set = db.load_measurement_set("pm1-precal-1");
     ASSERT_TRUE(set);
@@ -222,18 +206,13 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
     EXPECT_EQ(rec->machine_id, "pm2");
     EXPECT_EQ(rec->kind, CheckKind::GlobalMasterFrame);
     expect_request(*rec, "operator:ada", 1780001200000000000, 1);
-    ASSERT_TRUE(rec->measurement);
-    EXPECT_EQ(rec->measurement->instrument, "laser_tracker");
-    EXPECT_EQ(rec->measurement->frame, "tracker");
-    EXPECT_EQ(rec->measurement->tracker_points, 3);
-    ASSERT_TRUE(rec->result);
-    EXPECT_EQ(rec->result->verdict, Verdict::Invalid);
-    EXPECT_EQ(rec->result->reason, "tracker_points: 3, the master frame needs 11");
-    EXPECT_EQ(rec->result->time_ns, 1780001320000000000);
-    ASSERT_EQ(rec->result->metrics.size(), 1u);
-    expect_metric(rec->result->metrics[0], "master_orthogonality_urad", 12.5, "urad", -40.0, 40.0,
-                  true);
-    EXPECT_TRUE(rec->result->likely_causes.empty());
+    expect_measurement(*rec, "laser_tracker", "tracker", 1780001260000000000, 0, 3);
+    CheckResult expected;
+    expected.verdict = Verdict::Invalid;
+    expected.reason = "tracker_points: 3, the master frame needs 11";
+    expected.time_ns = 1780001320000000000;
+    expected.metrics = {{"master_orthogonality_urad", 12.5, "urad", -40.0, 40.0, true}};
+    expect_result(*rec, expected);
 
     const auto set = db.load_measurement_set("pm2-master-1");
     ASSERT_TRUE(set);
@@ -250,10 +229,8 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
     const auto rec = db.find_check("pm2-master-2");
     ASSERT_TRUE(rec);
     expect_request(*rec, "operator:ada", 1780001800000000000, 1);
-    ASSERT_TRUE(rec->measurement);
-    EXPECT_EQ(rec->measurement->error, "tracker lost the reflector at P2");
-    EXPECT_EQ(rec->measurement->time_ns, 1780001860000000000);
-    EXPECT_EQ(rec->measurement->tracker_points, 0);
+    expect_measurement(*rec, "laser_tracker", "tracker", 1780001860000000000, 0, 0,
+                       "tracker lost the reflector at P2");
     EXPECT_FALSE(rec->result);
   }
   {
@@ -262,11 +239,11 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
     EXPECT_EQ(rec->kind, CheckKind::MonumentPositioning);
     EXPECT_FALSE(rec->request);
     EXPECT_FALSE(rec->measurement);
-    ASSERT_TRUE(rec->result);
-    EXPECT_EQ(rec->result->verdict, Verdict::Pass);
-    ASSERT_EQ(rec->result->metrics.size(), 1u);
-    expect_metric(rec->result->metrics[0], "center_dx_mm", 0.0009765625, "mm", -0.03125, 0.03125,
-                  true);
+    CheckResult expected;
+    expected.verdict = Verdict::Pass;
+    expected.time_ns = 1780002400000000000;
+    expected.metrics = {{"center_dx_mm", 0.0009765625, "mm", -0.03125, 0.03125, true}};
+    expect_result(*rec, expected);
   }
   EXPECT_EQ(db.last_pass_ns("pm1", CheckKind::MonumentPositioning), 1780002400000000000);
   EXPECT_EQ(db.last_pass_ns("pm1", CheckKind::FixturePreCalibration), std::nullopt);
@@ -304,10 +281,11 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
   EXPECT_EQ(compensations[0].request_id, "pm1-precal-1");
   EXPECT_EQ(compensations[0].machine_id, "pm1");
   EXPECT_EQ(compensations[0].time_ns, 1780000720000000000);
-  EXPECT_EQ(compensations[0].correction.target, "fixture:F1");
-  ASSERT_EQ(compensations[0].correction.offsets.size(), 2u);
-  expect_offset(compensations[0].correction.offsets[0], "pogo_C2R3_dx_mm", -0.046875);
-  expect_offset(compensations[0].correction.offsets[1], "pogo_C2R3_dy_mm", 0.015625);
+  CheckResult with_correction;
+  with_correction.correction = compensations[0].correction;
+  CheckResult expected;
+  expected.correction = kPogoCorrection;
+  expect_result_eq(with_correction, expected);  // the correction's target and offsets
 
   const auto services = db.services();
   ASSERT_EQ(services.size(), 2u);
