@@ -1,21 +1,21 @@
 // Running the built `ncqual` binary from a test: its exit code and what it printed, and a private
 // temporary directory for the files a test writes. Shared by the CLI tests (budget, analyze,
-// uncertainty, import); the binary is NCQUAL_CLI_EXE, defined by each test target's CMake.
+// uncertainty, import, usage, golden outputs); the binary is NCQUAL_CLI_EXE, defined by each test
+// target's CMake. Processes start through tests/support/process.hpp: an argv, no shell.
 #pragma once
 
-#include <sys/wait.h>
+#include "process.hpp"
+
 #include <unistd.h>
 
-#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #ifndef NCQUAL_CLI_EXE
 #error "NCQUAL_CLI_EXE (the path of the built ncqual binary) must be defined by the test target"
@@ -25,87 +25,48 @@ namespace ncqual::testing_cli {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;  // -1 when it could not be started or did not exit normally
-  std::string out;     // stdout (with stderr after it for Capture::Merged)
-  std::string err;     // stderr, for Capture::Separate only
-};
+// exit_code (-1 when it could not be started or did not exit normally), out, err.
+using CliRun = testing::Outcome;
 
-enum class Capture {
-  Merged,      // stdout and stderr together in `out` (2>&1)
-  StdoutOnly,  // stdout in `out`, stderr discarded (e.g. for --json)
-  Separate,    // stdout in `out`, stderr in `err`
-};
+// Merged: stdout and stderr together in `out` (2>&1); StdoutOnly: stderr discarded (e.g. for
+// --json); Separate: stdout in `out`, stderr in `err`.
+using Capture = testing::Output;
 
-namespace detail {
-
-inline std::string read_all(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
+// Runs `argv` (argv[0] a path or a name in PATH) and waits for it.
+inline CliRun run_command(std::vector<std::string> argv, Capture capture = Capture::Merged) {
+  return testing::run(testing::Launch(std::move(argv), capture));
 }
 
-// A file name of its own under the temporary directory (mkstemp), removed by the destructor.
-class ScratchFile {
- public:
-  ScratchFile() {
-    std::string pattern = (fs::temp_directory_path() / "ncqual-cli-stderr-XXXXXX").string();
-    const int fd = mkstemp(pattern.data());
-    if (fd < 0) throw std::runtime_error("mkstemp " + pattern + " failed");
-    close(fd);
-    path_ = pattern;
-  }
-  ~ScratchFile() {
-    std::error_code ec;
-    fs::remove(path_, ec);
-  }
-  ScratchFile(const ScratchFile&) = delete;
-  ScratchFile& operator=(const ScratchFile&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-}  // namespace detail
-
-// Runs `command` through the shell and waits for it. It must already be shell-safe (the
-// tests' paths have no spaces or quotes).
-inline CliRun run_command(std::string command, Capture capture = Capture::Merged) {
-  CliRun r;
-  std::unique_ptr<detail::ScratchFile> err_file;
-  switch (capture) {
-    case Capture::Merged:
-      command += " 2>&1";
-      break;
-    case Capture::StdoutOnly:
-      command += " 2>/dev/null";
-      break;
-    case Capture::Separate:
-      err_file = std::make_unique<detail::ScratchFile>();
-      command += " 2>" + err_file->path().string();
-      break;
-  }
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return r;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.out.append(buffer, n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  if (err_file) r.err = detail::read_all(err_file->path());
-  return r;
-}
-
-// Runs `ncqual <args>` through the shell and waits for it (see run_command).
-inline CliRun run_cli(const std::string& args, Capture capture = Capture::Merged) {
-  return run_command(std::string(NCQUAL_CLI_EXE) + " " + args, capture);
+// Runs `ncqual <args>` and waits for it: each element is one argument, as it is.
+inline CliRun run_cli(std::vector<std::string> args, Capture capture = Capture::Merged) {
+  args.insert(args.begin(), NCQUAL_CLI_EXE);
+  return run_command(std::move(args), capture);
 }
 
 // stdout alone (stderr discarded).
-inline CliRun run_cli_stdout(const std::string& args) {
-  return run_cli(args, Capture::StdoutOnly);
+inline CliRun run_cli_stdout(std::vector<std::string> args) {
+  return run_cli(std::move(args), Capture::StdoutOnly);
+}
+
+// Fixed words of a command line, split at single spaces: words("history --limit five"). For
+// literal text only; a path or any value that is not a fixed word goes as an argument of its own.
+inline std::vector<std::string> words(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find(' ', start);
+    if (end == std::string::npos) end = text.size();
+    if (end > start) out.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+
+// The arguments with spaces between, for a test's failure messages.
+inline std::string joined(const std::vector<std::string>& args) {
+  std::string text;
+  for (const auto& arg : args) text += (text.empty() ? "" : " ") + arg;
+  return text;
 }
 
 // A new directory under the system's temporary directory, "<stem>-<pid>-<random>", removed with

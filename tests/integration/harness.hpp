@@ -2,13 +2,12 @@
 // domain with a plant config in a temporary directory, and waits on the historian's database.
 #pragma once
 
+#include "domains.hpp"
+#include "process.hpp"
+
 #include "ncqual/clock.hpp"
 #include "ncqual/storage.hpp"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -21,80 +20,17 @@
 #include <thread>
 #include <vector>
 
-extern char** environ;
-
 namespace ncqual::testing {
 
 namespace fs = std::filesystem;
-
-// A child process running one executable.
-class Process {
- public:
-  Process(const std::string& exe, const std::vector<std::string>& args, const std::string& log) {
-    std::vector<std::string> all{exe};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  // Stops the process as an operator would (SIGTERM), so that it removes its shared-memory
-  // segments; SIGKILL only if it has not ended after 10 s.
-  ~Process() {
-    if (running()) {
-      signal(SIGTERM);
-      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-      while (running() && std::chrono::steady_clock::now() < deadline) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      }
-      if (running()) signal(SIGKILL);
-    }
-    wait();
-  }
-  Process(const Process&) = delete;
-  Process& operator=(const Process&) = delete;
-
-  bool started() const { return pid_ > 0; }
-  bool running() {
-    if (pid_ <= 0 || exited_) return false;
-    int status = 0;
-    if (waitpid(pid_, &status, WNOHANG) == pid_) {
-      exited_ = true;
-      status_ = status;
-      return false;
-    }
-    return true;
-  }
-  void signal(int sig) {
-    if (pid_ > 0 && !exited_) ::kill(pid_, sig);
-  }
-  // Waits for the process to end; returns its wait status.
-  int wait() {
-    if (pid_ > 0 && !exited_) {
-      waitpid(pid_, &status_, 0);
-      exited_ = true;
-    }
-    return status_;
-  }
-
- private:
-  pid_t pid_ = -1;
-  bool exited_ = false;
-  int status_ = 0;
-};
 
 // A private plant: a temporary directory, a domain id of its own, machine configs, and the
 // four services.
 class Plant {
  public:
-  // Every test passes its own domain id (tests/integration/CMakeLists.txt lists them), so tests
+  // Every test passes its own domain (tests/integration/domains.hpp allocates them), so tests
   // that ctest runs in parallel never hear each other.
-  Plant(const std::string& name, int domain) : domain_(domain) {
+  Plant(const std::string& name, TestDomain domain) : domain_(domain_id(domain)) {
     std::random_device rd;
     dir_ = fs::temp_directory_path() / ("ncqual-it-" + name + "-" + std::to_string(getpid()) +
                                         "-" + std::to_string(rd() % 100000));
@@ -127,12 +63,14 @@ class Plant {
                             scheduler_yaml);
   }
 
+  // Starts a service of the plant; stdout and stderr are appended to <service>.log in the
+  // plant's directory (several instances of one service share the file).
   Process& start(const std::string& service, const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> args{"--plant", plant_file_, "--log-level", "debug"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    const std::string exe = executable(service);
+    std::vector<std::string> argv{executable(service), "--plant", plant_file_, "--log-level",
+                                  "debug"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
     processes_.push_back(
-        std::make_unique<Process>(exe, args, (dir_ / (service + ".log")).string()));
+        std::make_unique<Process>(Launch(argv).log_to((dir_ / (service + ".log")).string())));
     return *processes_.back();
   }
 

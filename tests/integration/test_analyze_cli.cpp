@@ -23,6 +23,7 @@ struct Vec3 {
 };
 
 using ncqual::testing_cli::CliRun;
+using ncqual::testing_cli::joined;
 
 class AnalyzeCli : public ::testing::Test {
  protected:
@@ -30,13 +31,14 @@ class AnalyzeCli : public ::testing::Test {
     return tmp_.write(name, text);
   }
 
-  // Runs `ncqual <args>` (args already shell-safe: our paths have no spaces or quotes).
-  CliRun run(const std::string& args) {
+  // Runs `ncqual <args>`, stdout and stderr apart.
+  CliRun run(const std::vector<std::string>& args) {
     return ncqual::testing_cli::run_cli(args, ncqual::testing_cli::Capture::Separate);
   }
 
-  json run_json(const std::string& args) {
-    const CliRun r = run(args + " --json");
+  json run_json(std::vector<std::string> args) {
+    args.push_back("--json");
+    const CliRun r = run(args);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     try {
       return json::parse(r.out);
@@ -79,7 +81,7 @@ std::string run_file(bool with_down) {
 
 TEST_F(AnalyzeCli, Iso230_2JsonHasTheHandWorkedFigures) {
   const std::string path = write("run.csv", run_file(true));
-  const json j = run_json("analyze iso230-2 " + path);
+  const json j = run_json({"analyze", "iso230-2", path});
   EXPECT_EQ(j["standard"], "ISO 230-2:2014");
   EXPECT_EQ(j["unit"], "mm");
   EXPECT_EQ(j["targets"], 3);
@@ -111,7 +113,7 @@ TEST_F(AnalyzeCli, Iso230_2JsonHasTheHandWorkedFigures) {
 
 TEST_F(AnalyzeCli, Iso230_2UnidirectionalFiguresAreNull) {
   const std::string path = write("up.csv", run_file(false));
-  const json j = run_json("analyze iso230-2 " + path);
+  const json j = run_json({"analyze", "iso230-2", path});
   EXPECT_NEAR(j["E_up"].get<double>(), 0.006, 1e-9);
   EXPECT_NEAR(j["A_up"].get<double>(), 0.012, 1e-9);
   for (const char* name : {"A", "A_down", "E", "E_down", "M", "R", "R_down", "B", "B_mean"}) {
@@ -123,7 +125,7 @@ TEST_F(AnalyzeCli, Iso230_2UnidirectionalFiguresAreNull) {
 
 TEST_F(AnalyzeCli, Iso230_2TableIsPrinted) {
   const std::string path = write("run.csv", run_file(true));
-  const CliRun r = run("analyze iso230-2 " + path);
+  const CliRun r = run({"analyze", "iso230-2", path});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("ISO 230-2:2014"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("0.0140"), std::string::npos) << r.out;    // A
@@ -150,7 +152,7 @@ std::string circle_file(bool with_cw) {
 
 TEST_F(AnalyzeCli, CircleJsonHasTheHandWorkedFigures) {
   const std::string path = write("circle.csv", circle_file(true));
-  const json j = run_json("analyze circle " + path + " --plane YZ");
+  const json j = run_json({"analyze", "circle", path, "--plane", "YZ"});
   const double tol = 1e-8;
   EXPECT_EQ(j["plane"], "YZ");
   EXPECT_EQ(j["unit"], "mm");
@@ -179,8 +181,8 @@ TEST_F(AnalyzeCli, CircleJsonHasTheHandWorkedFigures) {
 TEST_F(AnalyzeCli, CircleRadialDeviationAboutTheNominal) {
   const std::string path = write("circle.csv", circle_file(true));
   // About (0, 0) with R0 = 9.999: the radii 9.998 .. 10.002 give F +0.003 / -0.001.
-  const json j = run_json("analyze circle " + path +
-                          " --plane XY --nominal-radius-mm 9.999 --centre-mm 0,0");
+  const json j = run_json({"analyze", "circle", path, "--plane", "XY", "--nominal-radius-mm",
+                           "9.999", "--centre-mm", "0,0"});
   EXPECT_NEAR(j["F_max_mm"].get<double>(), 0.003, 1e-9);
   EXPECT_NEAR(j["F_min_mm"].get<double>(), -0.001, 1e-9);
   EXPECT_EQ(j["F_reference"]["centre"], "nominal");
@@ -191,7 +193,7 @@ TEST_F(AnalyzeCli, CircleRadialDeviationAboutTheNominal) {
 
 TEST_F(AnalyzeCli, CircleUnidirectionalHasNullBidirectionalFigures) {
   const std::string path = write("ccw.csv", circle_file(false));
-  const json j = run_json("analyze circle " + path + " --plane XZ");
+  const json j = run_json({"analyze", "circle", path, "--plane", "XZ"});
   EXPECT_TRUE(j["G_b_mm"].is_null());
   EXPECT_TRUE(j["H_mm"].is_null());
   EXPECT_TRUE(j["directions"]["cw"].is_null());
@@ -217,7 +219,7 @@ TEST_F(AnalyzeCli, CircleCoordinatesRecoverScaleMismatchAndSquareness) {
     }
   }
   const std::string path = write("xy.csv", text);
-  const json j = run_json("analyze circle " + path);
+  const json j = run_json({"analyze", "circle", path});
   EXPECT_EQ(j["plane"], "XY");
   EXPECT_EQ(j["layout"], "coordinates");
   EXPECT_NEAR(j["scale_mismatch_um_per_m"].get<double>(), 30, 0.1);
@@ -231,21 +233,21 @@ TEST_F(AnalyzeCli, BadFileExitsOneWithFileLineColumn) {
   std::string text = run_file(true);
   text.replace(text.find("100.0060"), 8, "100.0O60");  // letter O, line 7
   const std::string path = write("bad.csv", text);
-  const CliRun r = run("analyze iso230-2 " + path + " --json");
+  const CliRun r = run({"analyze", "iso230-2", path, "--json"});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_TRUE(r.out.empty()) << r.out;
   EXPECT_EQ(r.err, path + ":7:4: column 'measured_mm' = '100.0O60': expected a number\n");
 
   // A repeated reading names both lines.
   const std::string dup = write("dup.csv", run_file(true) + "100,2,up,100.0050,20.0\n");
-  const CliRun d = run("analyze iso230-2 " + dup);
+  const CliRun d = run({"analyze", "iso230-2", dup});
   EXPECT_EQ(d.exit_code, 1);
   EXPECT_EQ(d.err, dup + ":21: target_mm = 100, cycle = 2, direction = up: a second reading of "
                          "the same target, cycle and direction (first at line 7)\n");
 
   // A circle file whose pair names another plane than --plane.
   const std::string xz = write("xz.csv", "x_mm,z_mm\n1,2\n");
-  const CliRun p = run("analyze circle " + xz + " --plane XY");
+  const CliRun p = run({"analyze", "circle", xz, "--plane", "XY"});
   EXPECT_EQ(p.exit_code, 1);
   EXPECT_EQ(p.err, xz + ":1:1: the header's x_mm, z_mm name plane XZ, but plane XY was asked "
                         "for\n");
@@ -254,33 +256,35 @@ TEST_F(AnalyzeCli, BadFileExitsOneWithFileLineColumn) {
   std::string few = circle_file(true);
   few.erase(few.rfind("315,"));
   const std::string few_path = write("few.csv", few);
-  const CliRun f = run("analyze circle " + few_path + " --plane XY");
+  const CliRun f = run({"analyze", "circle", few_path, "--plane", "XY"});
   EXPECT_EQ(f.exit_code, 1);
   EXPECT_EQ(f.err.rfind(few_path + ":16: direction cw: 7 points;", 0), 0u) << f.err;
 
   // A file that is not there.
   const std::string missing = (dir_ / "missing.csv").string();
-  const CliRun m = run("analyze iso230-2 " + missing);
+  const CliRun m = run({"analyze", "iso230-2", missing});
   EXPECT_EQ(m.exit_code, 1);
   EXPECT_EQ(m.err, missing + ": cannot read: No such file or directory\n");
 }
 
 TEST_F(AnalyzeCli, BadUsageExitsTwoWithTheUsage) {
   const std::string path = write("run.csv", run_file(true));
-  for (const std::string& args :
-       {std::string("analyze"), std::string("analyze nothing " + path),
-        std::string("analyze iso230-2"), std::string("analyze iso230-2 " + path + " " + path),
-        std::string("analyze iso230-2 " + path + " --plane XY"),
-        std::string("analyze circle " + path + " --plane QQ"),
-        std::string("analyze circle " + path + " --centre-mm 1"),
-        std::string("analyze circle " + path + " --centre-mm 1,x"),
-        std::string("analyze circle " + path + " --nominal-radius-mm -3")}) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"analyze"},
+           {"analyze", "nothing", path},
+           {"analyze", "iso230-2"},
+           {"analyze", "iso230-2", path, path},
+           {"analyze", "iso230-2", path, "--plane", "XY"},
+           {"analyze", "circle", path, "--plane", "QQ"},
+           {"analyze", "circle", path, "--centre-mm", "1"},
+           {"analyze", "circle", path, "--centre-mm", "1,x"},
+           {"analyze", "circle", path, "--nominal-radius-mm", "-3"}}) {
     const CliRun r = run(args);
-    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find("usage: ncqual analyze"), std::string::npos) << args << "\n" << r.err;
-    EXPECT_NE(r.err.find("analyze circle FILE"), std::string::npos) << args;
+    EXPECT_EQ(r.exit_code, 2) << joined(args) << "\n" << r.err;
+    EXPECT_NE(r.err.find("usage: ncqual analyze"), std::string::npos) << joined(args) << "\n" << r.err;
+    EXPECT_NE(r.err.find("analyze circle FILE"), std::string::npos) << joined(args);
   }
-  const CliRun top = run("");
+  const CliRun top = run({});
   EXPECT_EQ(top.exit_code, 2);
   EXPECT_NE(top.out.find("analyze iso230-2 FILE"), std::string::npos) << top.out;
 }
@@ -320,8 +324,8 @@ TEST_F(AnalyzeCli, GridJsonRecoversSquarenessAndScaleInTheMasterFrame) {
       for (int i = 0; i < 9; ++i) g += grid_line("g" + std::to_string(n++), 200 + 500 * i, yy, z);
     }
   }
-  const json r = run_json("analyze grid --x-run " + write("x.csv", x) + " --y-run " +
-                          write("y.csv", y) + " --grid " + write("g.csv", g));
+  const json r = run_json({"analyze", "grid", "--x-run", write("x.csv", x), "--y-run",
+                           write("y.csv", y), "--grid", write("g.csv", g)});
   ASSERT_TRUE(r.is_object());
   EXPECT_EQ(r["points"], 216);
   // By hand: the actual motions are X (1 + 25e-6, 0, 0), Y (-80e-6, 1, 0), Z (0, 0, 1):
@@ -337,8 +341,8 @@ TEST_F(AnalyzeCli, GridJsonRecoversSquarenessAndScaleInTheMasterFrame) {
   // 25e-6 * dx + 40e-6 * dy there, not by the whole 80 urad lever.
   EXPECT_GT(r["max_deviation_mm"].get<double>(), 0.03);
   EXPECT_LT(r["max_deviation_mm"].get<double>(), 0.12);
-  const CliRun table = run("analyze grid --x-run " + write("x2.csv", x) + " --y-run " +
-                           write("y2.csv", y) + " --grid " + write("g2.csv", g));
+  const CliRun table = run({"analyze", "grid", "--x-run", write("x2.csv", x), "--y-run",
+                            write("y2.csv", y), "--grid", write("g2.csv", g)});
   EXPECT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("squareness xy"), std::string::npos) << table.out;
 }
@@ -350,7 +354,7 @@ TEST_F(AnalyzeCli, BadGridFilesNameFileLineAndColumn) {
   const std::string xf = write("x.csv", x), yf = write("y.csv", y);
   auto refused = [&](const std::string& grid_text, const std::string& expected) {
     const std::string gf = write("bad.csv", grid_text);
-    const CliRun r = run("analyze grid --x-run " + xf + " --y-run " + yf + " --grid " + gf);
+    const CliRun r = run({"analyze", "grid", "--x-run", xf, "--y-run", yf, "--grid", gf});
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_NE(r.err.find(gf + ":" + expected), std::string::npos) << r.err;
   };

@@ -119,7 +119,7 @@ TEST_F(BudgetCli, JsonFromAHistorianWithKnownValues) {
                     Verdict::Fail, {metric("center_dy_mm", 5.0, "mm")}));
   }
 
-  const CliRun run = run_cli_stdout("budget --plant " + plant + " --machine m1 --json");
+  const CliRun run = run_cli_stdout({"budget", "--plant", plant, "--machine", "m1", "--json"});
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const nlohmann::json doc = nlohmann::json::parse(run.out);
 
@@ -194,13 +194,13 @@ TEST_F(BudgetCli, JsonFromAHistorianWithKnownValues) {
   EXPECT_GT(doc.at("monte_carlo_total_mm").get<double>(), 0);
 
   // The table prints too, with the verdict.
-  const CliRun table = run_cli("budget --plant " + plant + " --machine m1");
+  const CliRun table = run_cli({"budget", "--plant", plant, "--machine", "m1"});
   ASSERT_EQ(table.exit_code, 0) << table.out;
   EXPECT_NE(table.out.find("WITHIN BUDGET"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("center_dy_mm"), std::string::npos) << table.out;
 
   // --last 2: only the two newest values count (too few: back to the default capability).
-  const CliRun last2 = run_cli_stdout("budget --plant " + plant + " --machine m1 --json --last 2");
+  const CliRun last2 = run_cli_stdout({"budget", "--plant", plant, "--machine", "m1", "--json", "--last", "2"});
   ASSERT_EQ(last2.exit_code, 0) << last2.out;
   const auto doc2 = nlohmann::json::parse(last2.out);
   EXPECT_EQ(source_named(doc2, "machine_y").at("metrics").at(0).at("samples"), 2);
@@ -215,7 +215,7 @@ TEST_F(BudgetCli, OverBudgetWhenTodaysValuesAreLarge) {
     db.store(result("m1", "big", CheckKind::MonumentPositioning, 1'000, Verdict::Fail,
                     {metric("center_dy_mm", -0.9, "mm")}));
   }
-  const CliRun run = run_cli_stdout("budget --plant " + plant + " --machine m1 --json");
+  const CliRun run = run_cli_stdout({"budget", "--plant", plant, "--machine", "m1", "--json"});
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const auto doc = nlohmann::json::parse(run.out);
   EXPECT_FALSE(doc.at("within_budget").get<bool>());
@@ -229,20 +229,20 @@ TEST_F(BudgetCli, ErrorsSayWhatIsWrong) {
   const std::string plant = write_plant({m1, m2});
 
   // No historian file yet: the defaults, with a note.
-  const CliRun fresh = run_cli("budget --plant " + plant + " --machine m1");
+  const CliRun fresh = run_cli({"budget", "--plant", plant, "--machine", "m1"});
   EXPECT_EQ(fresh.exit_code, 0) << fresh.out;
   EXPECT_NE(fresh.out.find("no historian"), std::string::npos) << fresh.out;
 
-  const CliRun unknown = run_cli("budget --plant " + plant + " --machine nope");
+  const CliRun unknown = run_cli({"budget", "--plant", plant, "--machine", "nope"});
   EXPECT_EQ(unknown.exit_code, 1) << unknown.out;
   EXPECT_NE(unknown.out.find("'nope' is not configured"), std::string::npos) << unknown.out;
 
-  const CliRun no_budget = run_cli("budget --plant " + plant + " --machine m2");
+  const CliRun no_budget = run_cli({"budget", "--plant", plant, "--machine", "m2"});
   EXPECT_EQ(no_budget.exit_code, 1) << no_budget.out;
   EXPECT_NE(no_budget.out.find("no budget"), std::string::npos) << no_budget.out;
 
   const CliRun missing_db =
-      run_cli("budget --plant " + plant + " --machine m1 --db " + (dir_ / "none.db").string());
+      run_cli({"budget", "--plant", plant, "--machine", "m1", "--db", (dir_ / "none.db").string()});
   EXPECT_EQ(missing_db.exit_code, 1) << missing_db.out;
   EXPECT_NE(missing_db.out.find("none.db"), std::string::npos) << missing_db.out;
 
@@ -251,11 +251,11 @@ TEST_F(BudgetCli, ErrorsSayWhatIsWrong) {
                      "budget: {allowable_total: 1, part: {panel_radius: 1, theta_max: 0.1}, "
                      "sources: [{name: a, direction: q, allowance: 1}]}\n");
   const std::string plant3 = write_plant({bad});
-  const CliRun bad_run = run_cli("budget --plant " + plant3 + " --machine m3");
+  const CliRun bad_run = run_cli({"budget", "--plant", plant3, "--machine", "m3"});
   EXPECT_EQ(bad_run.exit_code, 1) << bad_run.out;
   EXPECT_NE(bad_run.out.find("budget.sources[0].direction"), std::string::npos) << bad_run.out;
 
-  const CliRun usage = run_cli("budget --plant " + plant);
+  const CliRun usage = run_cli({"budget", "--plant", plant});
   EXPECT_EQ(usage.exit_code, 2) << usage.out;
   EXPECT_NE(usage.out.find("--machine"), std::string::npos) << usage.out;
 }

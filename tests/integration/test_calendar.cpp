@@ -64,7 +64,7 @@ constexpr const char* kDays = "14";
 TEST(Calendar, SchedulerKilledAtRandomPointsEndsWithExactlyTheChecksOfAnUndisturbedRun) {
   std::map<std::string, std::string> reference;
   {
-    Plant plant("calendar-ref", 207);
+    Plant plant("calendar-ref", TestDomain::CalendarReference);
     add_machines(plant);
     plant.start("historian");
     plant.start("solver");
@@ -90,7 +90,7 @@ TEST(Calendar, SchedulerKilledAtRandomPointsEndsWithExactlyTheChecksOfAnUndistur
   const unsigned seed = std::random_device{}();
   SCOPED_TRACE("kill points seed " + std::to_string(seed));
   std::mt19937 rng(seed);
-  Plant plant("calendar-kill", 208);
+  Plant plant("calendar-kill", TestDomain::CalendarSchedulerKill);
   add_machines(plant);
   plant.start("historian");
   plant.start("solver");
@@ -142,7 +142,7 @@ TEST(Calendar, SchedulerKilledAtRandomPointsEndsWithExactlyTheChecksOfAnUndistur
 // retry. At most the one request in flight at the kill may be measured twice: it was published
 // but not yet recorded; the historian keeps its first measurement.
 TEST(Calendar, RestartedAcquisitionDoesNotMeasureReplayedRequestsAgain) {
-  Plant plant("calendar-acq-restart", 212);
+  Plant plant("calendar-acq-restart", TestDomain::CalendarAcquisitionRestart);
   add_machines(plant);
   plant.start("historian");
   plant.start("solver");

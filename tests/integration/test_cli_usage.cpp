@@ -22,8 +22,10 @@ using testing_cli::Capture;
 using testing_cli::CliRun;
 using testing_cli::run_cli;
 using testing_cli::run_command;
+using testing_cli::words;
 
-CliRun run(const std::string& args) { return run_cli(args, Capture::Separate); }
+// `ncqual <args>`, stdout and stderr apart.
+CliRun run(const std::vector<std::string>& args) { return run_cli(args, Capture::Separate); }
 
 // Every command path with flags its help must mention.
 const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
@@ -53,7 +55,7 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
 TEST(CliUsage, HelpOfEveryCommandAndSubcommandNamesItsFlags) {
   for (const auto& [path, flags] : kCommands) {
     for (const char* help : {" --help", " -h"}) {
-      const CliRun r = run(path + help);
+      const CliRun r = run(words(path + help));
       EXPECT_EQ(r.exit_code, 0) << path << help << "\n" << r.err;
       EXPECT_NE(r.out.find("usage: ncqual " + path), std::string::npos) << path << "\n" << r.out;
       for (const auto& flag : flags) {
@@ -62,9 +64,9 @@ TEST(CliUsage, HelpOfEveryCommandAndSubcommandNamesItsFlags) {
     }
   }
   // The top level: every command with its synopsis, and the exit codes.
-  const CliRun top = run("--help");
+  const CliRun top = run({"--help"});
   EXPECT_EQ(top.exit_code, 0) << top.err;
-  EXPECT_EQ(run("help").out, top.out);
+  EXPECT_EQ(run({"help"}).out, top.out);
   for (const auto& [path, flags] : kCommands) {
     EXPECT_NE(top.out.find("\n  " + path + " "), std::string::npos) << path << "\n" << top.out;
   }
@@ -79,7 +81,7 @@ TEST(CliUsage, VersionOfTheCliAndOfEveryService) {
   // "<program> 0.1.0 (git 8c8baf2-dirty)", or "(git unknown)" without git.
   const std::string version =
       std::regex_replace(NCQUAL_VERSION, std::regex(R"(\.)"), R"(\.)") + R"( \(git [^)]+\)\n)";
-  const CliRun cli = run("--version");
+  const CliRun cli = run({"--version"});
   EXPECT_EQ(cli.exit_code, 0) << cli.err;
   EXPECT_TRUE(std::regex_match(cli.out, std::regex("ncqual " + version)))
       << cli.out;
@@ -88,21 +90,21 @@ TEST(CliUsage, VersionOfTheCliAndOfEveryService) {
            {"ncqual-solver", NCQUAL_SOLVER_EXE},
            {"ncqual-acquisition", NCQUAL_ACQUISITION_EXE},
            {"ncqual-scheduler", NCQUAL_SCHEDULER_EXE}}) {
-    const CliRun v = run_command(exe + " --version", Capture::Separate);
+    const CliRun v = run_command({exe, "--version"}, Capture::Separate);
     EXPECT_EQ(v.exit_code, 0) << name << "\n" << v.err;
     EXPECT_TRUE(std::regex_match(v.out, std::regex(name + " " + version))) << v.out;
     // The same build: the CLI's text after its name.
     EXPECT_EQ(v.out.substr(name.size()), cli.out.substr(std::string("ncqual").size())) << name;
 
-    const CliRun help = run_command(exe + " --help", Capture::Separate);
+    const CliRun help = run_command({exe, "--help"}, Capture::Separate);
     EXPECT_EQ(help.exit_code, 0) << name;
     for (const char* flag : {"--plant", "--domain", "--log-level", "--version"}) {
       EXPECT_NE(help.out.find(flag), std::string::npos) << name << ": " << flag;
     }
-    const CliRun bogus = run_command(exe + " --bogus", Capture::Separate);
+    const CliRun bogus = run_command({exe, "--bogus"}, Capture::Separate);
     EXPECT_EQ(bogus.exit_code, 2) << name;
     EXPECT_NE(bogus.err.find("--bogus"), std::string::npos) << bogus.err;
-    const CliRun missing = run_command(exe + " --domain", Capture::Separate);
+    const CliRun missing = run_command({exe, "--domain"}, Capture::Separate);
     EXPECT_EQ(missing.exit_code, 2) << name;
     EXPECT_NE(missing.err.find("--domain"), std::string::npos) << missing.err;
   }
@@ -121,7 +123,7 @@ TEST(CliUsage, BadUsageExitsTwoNamingTheFlagWithTheCommandsUsage) {
            {"status -x", "-x"},
            {"wait --timeout", "--timeout"},
            {"nothing", "nothing"}}) {
-    const CliRun r = run(args);
+    const CliRun r = run(words(args));
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
     EXPECT_NE(r.err.find(named), std::string::npos) << args << "\n" << r.err;
     EXPECT_NE(r.err.find("usage: ncqual"), std::string::npos) << args << "\n" << r.err;
@@ -130,15 +132,15 @@ TEST(CliUsage, BadUsageExitsTwoNamingTheFlagWithTheCommandsUsage) {
 
 TEST(CliUsage, FlagEqualsValueMeansTheSameAsTwoWords) {
   const std::string file = std::string(NCQUAL_SOURCE_DIR) + "/tests/data/instrument/circle_xy.csv";
-  const CliRun spaced = run("analyze circle " + file + " --nominal-radius-mm 150 --json");
-  const CliRun joined = run("analyze circle " + file + " --nominal-radius-mm=150 --json");
+  const CliRun spaced = run({"analyze", "circle", file, "--nominal-radius-mm", "150", "--json"});
+  const CliRun joined = run({"analyze", "circle", file, "--nominal-radius-mm=150", "--json"});
   EXPECT_EQ(spaced.exit_code, 0) << spaced.err;
   EXPECT_EQ(joined.out, spaced.out);
 }
 
 TEST(CliUsage, NoHistorianDatabaseIsNotFound) {
   const testing_cli::TempDir tmp("ncqual-cli-usage");
-  const CliRun r = run("history --db " + (tmp.path() / "none.db").string());
+  const CliRun r = run({"history", "--db", (tmp.path() / "none.db").string()});
   EXPECT_EQ(r.exit_code, 6) << r.err;
   EXPECT_NE(r.err.find("none.db"), std::string::npos) << r.err;
 }
@@ -146,9 +148,10 @@ TEST(CliUsage, NoHistorianDatabaseIsNotFound) {
 // Completes `words` (the last one being completed) with the script the build wrote.
 std::vector<std::string> complete(const std::string& words) {
   const CliRun r = run_command(
-      "bash -c 'source " NCQUAL_COMPLETION_FILE " && COMP_WORDS=(" + words +
-      ") && COMP_CWORD=$((${#COMP_WORDS[@]} - 1)) && _ncqual && printf \"%s\\n\" "
-      "\"${COMPREPLY[@]}\"'",
+      {"bash", "-c",
+       "source " NCQUAL_COMPLETION_FILE " && COMP_WORDS=(" + words +
+           ") && COMP_CWORD=$((${#COMP_WORDS[@]} - 1)) && _ncqual && printf \"%s\\n\" "
+           "\"${COMPREPLY[@]}\""},
       Capture::Separate);
   EXPECT_EQ(r.exit_code, 0) << words << "\n" << r.err;
   std::vector<std::string> out;
@@ -188,7 +191,7 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
                                                       "\nmachine_id: m\ntolerances: {centre_dx_mm: 1}\n");
   const std::string plant = tmp.write(
       "plant.yaml", "plant: p\ndomian_id: 3\nqos_profile: q.xml\nmachines: [" + machine + "]\n");
-  const CliRun bad = run("config check --plant " + plant);
+  const CliRun bad = run({"config", "check", "--plant", plant});
   EXPECT_EQ(bad.exit_code, 4) << bad.out << bad.err;
   EXPECT_NE(bad.out.find(plant + ": domian_id = '3': unknown key"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find(plant + ": qos_profile = 'q.xml': unknown key"), std::string::npos)
@@ -199,7 +202,8 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
       << bad.out;
   EXPECT_NE(bad.out.find("3 problems"), std::string::npos) << bad.out;
 
-  const CliRun ok = run("config check --print --plant " NCQUAL_SOURCE_DIR "/deploy/plant.yaml");
+  const CliRun ok =
+      run({"config", "check", "--print", "--plant", NCQUAL_SOURCE_DIR "/deploy/plant.yaml"});
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   EXPECT_NE(ok.out.find("OK, plant 'demo-plant' on domain 42, 1 machine: pm1"), std::string::npos)
       << ok.out;

@@ -1,6 +1,7 @@
 // The four real executables over Fast DDS on loopback, two simulated machines, one solver and
 // one historian: the scheduler's start-up cycle runs check 3 on both, and the stored results
 // must match the errors injected into each simulated machine.
+#include "cli_runner.hpp"
 #include "harness.hpp"
 
 #include "ncqual/config.hpp"
@@ -13,7 +14,7 @@ namespace ncqual::testing {
 namespace {
 
 TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
-  Plant plant("e2e", 201);
+  Plant plant("e2e", TestDomain::EndToEnd);
   // pm-good: no errors (PASS). pm-shifted: the machine has shifted (FAIL, first cause machine).
   const auto good = plant.add_machine("pm-good", machine_yaml("pm-good", "    machine_shift_mm: [0, 0, 0]\n", 11));
   const auto shifted = plant.add_machine(
@@ -89,7 +90,7 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
 }
 
 TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
-  Plant plant("cli", 202);
+  Plant plant("cli", TestDomain::OperatorCheck);
   plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
   plant.write_plant("[]");  // no start-up cycle: only the operator's order
   plant.start("historian");
@@ -97,14 +98,11 @@ TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
   plant.start("acquisition", {"--machine", "pm1"});
   plant.start("scheduler");
 
-  const std::string out = (plant.dir() / "check.out").string();
-  const std::string cmd = std::string(NCQUAL_CLI_EXE) + " check --plant " + plant.plant_file() +
-                          " --machine pm1 --kind monument_positioning --wait 60 --json > " + out +
-                          " 2>&1";
-  const int rc = std::system(cmd.c_str());
-  ASSERT_EQ(WEXITSTATUS(rc), 0) << plant.log("scheduler");
-  std::ifstream in(out);
-  const std::string json(std::istreambuf_iterator<char>(in), {});
+  const testing_cli::CliRun check =
+      testing_cli::run_cli({"check", "--plant", plant.plant_file(), "--machine", "pm1", "--kind",
+                            "monument_positioning", "--wait", "60", "--json"});
+  ASSERT_EQ(check.exit_code, 0) << plant.log("scheduler");
+  const std::string json = check.out;
   EXPECT_NE(json.find("\"verdict\": \"PASS\""), std::string::npos) << json;
   EXPECT_NE(json.find("center_dx_mm"), std::string::npos) << json;
 
@@ -117,11 +115,10 @@ TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
   EXPECT_EQ(rec.request->requested_by.rfind("operator:", 0), 0u) << rec.request->requested_by;
 
   // An unknown machine is refused by the tool with a message naming it, exit code 2.
-  const std::string bad = std::string(NCQUAL_CLI_EXE) + " check --plant " + plant.plant_file() +
-                          " --machine nope --kind monument_positioning > " + out + " 2>&1";
-  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 2);
-  std::ifstream in2(out);
-  const std::string msg(std::istreambuf_iterator<char>(in2), {});
+  const testing_cli::CliRun bad = testing_cli::run_cli(
+      {"check", "--plant", plant.plant_file(), "--machine", "nope", "--kind", "monument_positioning"});
+  EXPECT_EQ(bad.exit_code, 2);
+  const std::string msg = bad.out;
   EXPECT_NE(msg.find("'nope'"), std::string::npos) << msg;
 }
 

@@ -30,7 +30,7 @@ bool complete(const std::optional<storage::CheckRecord>& r) {
 }
 
 TEST(FixtureLoop, ZeroOffsetsFixADriftedFixtureButNotALeaningOne) {
-  Plant plant("fixture", 205);
+  Plant plant("fixture", TestDomain::FixtureLoop);
   plant.add_machine("pm-drift", fixture_scenario("pm-drift",
                                                  "    column_x: {offset_mm: 0.040}\n"
                                                  "    pogo_offsets_mm: {C2R2: [0, 0.03, -0.03]}\n"));

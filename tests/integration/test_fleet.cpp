@@ -141,7 +141,7 @@ void expect_requests(const std::string& id, std::vector<Expected> got, const std
 }
 
 TEST(Fleet, TwentyMachinesThreeWeeksEveryDueCheckStoredExactlyOnce) {
-  Plant plant("fleet", 209);
+  Plant plant("fleet", TestDomain::Fleet);
   std::string first_ten, last_ten;
   for (int i = 1; i <= kMachines; ++i) {
     plant.add_machine(machine_id(i), machine_file(i));
@@ -212,7 +212,7 @@ TEST(Fleet, TwentyMachinesThreeWeeksEveryDueCheckStoredExactlyOnce) {
 
   // `ncqual status` shows all twenty, each QUALIFIED, with the last pass and next due of each
   // period its sections allow.
-  const auto status = run_cli_stdout("status --json --plant " + plant.plant_file());
+  const auto status = run_cli_stdout({"status", "--json", "--plant", plant.plant_file()});
   ASSERT_EQ(status.exit_code, 0) << status.out;
   const auto json = nlohmann::json::parse(status.out);
   ASSERT_EQ(json["machines"].size(), static_cast<std::size_t>(kMachines));
@@ -230,7 +230,7 @@ TEST(Fleet, TwentyMachinesThreeWeeksEveryDueCheckStoredExactlyOnce) {
 // The machine list is checked before anything joins the domain: a bad list names the bad entry
 // and the process exits 2 (usage), so a plant's service manager shows why it did not start.
 TEST(Fleet, AcquisitionRefusesABadMachineListNamingTheEntry) {
-  Plant plant("fleet-args", 210);
+  Plant plant("fleet-args", TestDomain::FleetArguments);
   plant.add_machine("m01", machine_file(1));
   plant.add_machine("m13", machine_file(13));
   plant.write_calendar_plant(kScheduler, "2026-03-23T00:00:00Z");
@@ -244,8 +244,7 @@ TEST(Fleet, AcquisitionRefusesABadMachineListNamingTheEntry) {
   for (const auto& [args, message] : cases) {
     const std::size_t before = plant.log("acquisition").size();  // the log is appended to
     Process& acquisition = plant.start("acquisition", args);
-    const int status = acquisition.wait();
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << message;
+    EXPECT_EQ(acquisition.wait(), 2) << message;
     const std::string said = plant.log("acquisition").substr(before);
     EXPECT_NE(said.find(message), std::string::npos) << "expected \"" << message << "\" in:\n" << said;
   }
@@ -258,7 +257,7 @@ TEST(Fleet, AcquisitionRefusesABadMachineListNamingTheEntry) {
 TEST(Fleet, OneSchedulerPerMachineGivesEachMachineItsProcess) {
   constexpr int kShortDays = 8;
   const std::vector<int> machines = {5, 13, 14};
-  Plant plant("fleet-per-machine", 211);
+  Plant plant("fleet-per-machine", TestDomain::FleetSchedulerPerMachine);
   for (int i : machines) plant.add_machine(machine_id(i), machine_file(i));
   plant.write_calendar_plant(kScheduler, "2026-03-23T00:00:00Z");
   plant.start("historian");

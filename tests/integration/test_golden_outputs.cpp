@@ -12,14 +12,13 @@
 
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #ifndef NCQUAL_SOURCE_DIR
 #error "NCQUAL_SOURCE_DIR must be defined by the test target"
@@ -49,19 +48,13 @@ std::string replace_all(std::string text, const std::string& from, const std::st
 }
 
 // Runs `ncqual <args>` in the source directory (so relative paths in the output are the same on
-// every machine), stdout and the exit code; absolute paths of the source and of `scratch` are
-// written as $SRC and $TMP.
-std::string run_in_source(const std::string& args, const fs::path& scratch) {
-  const std::string command =
-      "cd " + kSource.string() + " && " + NCQUAL_CLI_EXE + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return "could not start: " + command;
-  std::string out;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
-  const int status = pclose(pipe);
-  out += "[exit " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "]\n";
+// every machine), stdout and stderr as written and the exit code; absolute paths of the source
+// and of `scratch` are written as $SRC and $TMP.
+std::string run_in_source(std::vector<std::string> args, const fs::path& scratch) {
+  args.insert(args.begin(), NCQUAL_CLI_EXE);
+  const testing::Outcome r =
+      testing::run(testing::Launch(args, testing::Output::Merged).in(kSource.string()));
+  std::string out = r.out + "[exit " + std::to_string(r.exit_code) + "]\n";
   out = replace_all(out, scratch.string(), "$TMP");
   return replace_all(out, kSource.string(), "$SRC");
 }
@@ -87,26 +80,33 @@ class Golden : public ::testing::Test {
 
 constexpr const char* kIso = "tests/data/instrument/iso230-2_x.csv";
 constexpr const char* kCircle = "tests/data/instrument/circle_xy.csv";
-constexpr const char* kGrid =
-    "--x-run tests/data/instrument/grid_x_run.csv --y-run tests/data/instrument/grid_y_run.csv "
-    "--grid tests/data/instrument/grid.csv";
+const std::vector<std::string> kGrid = {"--x-run", "tests/data/instrument/grid_x_run.csv",
+                                        "--y-run", "tests/data/instrument/grid_y_run.csv",
+                                        "--grid", "tests/data/instrument/grid.csv"};
+
+// `args` with `--json` after them.
+std::vector<std::string> with_json(std::vector<std::string> args) {
+  args.push_back("--json");
+  return args;
+}
 
 TEST_F(Golden, AnalyzeIso230_2) {
-  expect_golden("analyze-iso230-2.txt", run_in_source(std::string("analyze iso230-2 ") + kIso, tmp_.path()));
-  expect_golden("analyze-iso230-2.json",
-                run_in_source(std::string("analyze iso230-2 ") + kIso + " --json", tmp_.path()));
+  const std::vector<std::string> args = {"analyze", "iso230-2", kIso};
+  expect_golden("analyze-iso230-2.txt", run_in_source(args, tmp_.path()));
+  expect_golden("analyze-iso230-2.json", run_in_source(with_json(args), tmp_.path()));
 }
 
 TEST_F(Golden, AnalyzeCircle) {
-  const std::string args = std::string("analyze circle ") + kCircle + " --nominal-radius-mm 150";
+  const std::vector<std::string> args = {"analyze", "circle", kCircle, "--nominal-radius-mm", "150"};
   expect_golden("analyze-circle.txt", run_in_source(args, tmp_.path()));
-  expect_golden("analyze-circle.json", run_in_source(args + " --json", tmp_.path()));
+  expect_golden("analyze-circle.json", run_in_source(with_json(args), tmp_.path()));
 }
 
 TEST_F(Golden, AnalyzeGrid) {
-  const std::string args = std::string("analyze grid ") + kGrid;
+  std::vector<std::string> args = {"analyze", "grid"};
+  args.insert(args.end(), kGrid.begin(), kGrid.end());
   expect_golden("analyze-grid.txt", run_in_source(args, tmp_.path()));
-  expect_golden("analyze-grid.json", run_in_source(args + " --json", tmp_.path()));
+  expect_golden("analyze-grid.json", run_in_source(with_json(args), tmp_.path()));
 }
 
 // The example machine's budget against a historian holding a few daily checks of pm1.
@@ -129,17 +129,18 @@ TEST_F(Golden, BudgetOfTheExampleMachine) {
       database.store(r);
     }
   }
-  const std::string args = "budget --machine pm1 --plant deploy/plant.yaml --db " + db;
+  const std::vector<std::string> args = {"budget", "--machine", "pm1", "--plant",
+                                         "deploy/plant.yaml", "--db", db};
   expect_golden("budget-pm1.txt", run_in_source(args, tmp_.path()));
-  expect_golden("budget-pm1.json", run_in_source(args + " --json", tmp_.path()));
+  expect_golden("budget-pm1.json", run_in_source(with_json(args), tmp_.path()));
 }
 
 TEST_F(Golden, UncertaintyOfACoarseGrid) {
-  const std::string args =
-      "uncertainty --machine small1 --plant tests/data/plants/small/plant.yaml --trials 40 --seed 7 "
-      "--threads 1";
+  const std::vector<std::string> args = {"uncertainty", "--machine", "small1",
+                                         "--plant", "tests/data/plants/small/plant.yaml",
+                                         "--trials", "40", "--seed", "7", "--threads", "1"};
   expect_golden("uncertainty-small1.txt", run_in_source(args, tmp_.path()));
-  expect_golden("uncertainty-small1.json", run_in_source(args + " --json", tmp_.path()));
+  expect_golden("uncertainty-small1.json", run_in_source(with_json(args), tmp_.path()));
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // `ncqual import`: a real instrument's export published as a MeasurementSet goes through the
-// real solver and historian processes over DDS (domain 206) and is stored with its result, the
+// real solver and historian processes over DDS (on its own domain) and is stored with its result, the
 // figures those of the file worked by hand.
 #include "cli_runner.hpp"
 #include "harness.hpp"
@@ -11,18 +11,19 @@
 #include <fstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace ncqual::testing {
 namespace {
 
 // Runs the CLI with `args`; returns its exit code and what it printed (stdout and stderr).
-std::pair<int, std::string> cli(const std::string& args) {
+std::pair<int, std::string> cli(const std::vector<std::string>& args) {
   const testing_cli::CliRun r = testing_cli::run_cli(args);
   return {r.exit_code, r.out};
 }
 
 TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
-  Plant plant("import", 206);
+  Plant plant("import", TestDomain::Import);
   plant.add_machine("pm1", "extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\n");
   plant.write_plant("[]");
   plant.start("historian");
@@ -47,8 +48,8 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
       }
     }
   }
-  const auto [code, out] = cli("import iso230-2 " + file + " --machine pm1 --plant " +
-                               plant.plant_file() + " --domain 206");
+  const auto [code, out] = cli({"import", "iso230-2", file, "--machine", "pm1", "--plant",
+                                plant.plant_file(), "--domain", std::to_string(plant.domain())});
   ASSERT_EQ(code, 0) << out;
   const std::string request = out.substr(out.rfind("import-"), out.find('\n', out.rfind("import-")) - out.rfind("import-"));
   ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
@@ -73,8 +74,8 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
 
   // A bad file is refused before anything is published, naming file, line and column.
   std::ofstream(plant.dir() / "bad.csv") << "target_mm,cycle,direction,measured_mm\n0,1,up,x\n";
-  const auto [bad_code, bad_out] = cli("import iso230-2 " + (plant.dir() / "bad.csv").string() +
-                                       " --machine pm1 --plant " + plant.plant_file());
+  const auto [bad_code, bad_out] = cli({"import", "iso230-2", (plant.dir() / "bad.csv").string(),
+                                        "--machine", "pm1", "--plant", plant.plant_file()});
   EXPECT_EQ(bad_code, 1);
   EXPECT_NE(bad_out.find("bad.csv:2:4:"), std::string::npos) << bad_out;
 }

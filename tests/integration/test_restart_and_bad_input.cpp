@@ -28,7 +28,7 @@ std::vector<std::string> order_checks(ncqual::dds::Writer<ncqual::dds::CheckComm
 }
 
 TEST(HistorianRestart, SigkillWhileChecksAreProducedStoresEveryCheckExactlyOnce) {
-  Plant plant("restart", 203);
+  Plant plant("restart", TestDomain::HistorianRestart);
   plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0.001, 0, 0]\n"));
   plant.write_plant("[]");
   Process* historian = &plant.start("historian");
@@ -73,7 +73,7 @@ TEST(HistorianRestart, SigkillWhileChecksAreProducedStoresEveryCheckExactlyOnce)
 }
 
 TEST(BadInput, MalformedMeasurementSetsGetInvalidResultsAndNothingIsLost) {
-  Plant plant("bad", 204);
+  Plant plant("bad", TestDomain::BadInput);
   plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
   plant.write_plant();  // the start-up cycle stores one good check first
   plant.start("historian");

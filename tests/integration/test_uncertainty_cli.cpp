@@ -176,9 +176,11 @@ class UncertaintyCli : public ::testing::Test {
     plant_ = tmp_.write("plant.yaml", plant);
   }
 
-  std::string command(const std::string& machine, const std::string& extra = "") const {
-    return "uncertainty --plant " + plant_ + " --machine " + machine + (extra.empty() ? "" : " ") +
-           extra;
+  // `ncqual uncertainty` of `machine` with the fixed words of `extra` after it.
+  std::vector<std::string> command(const std::string& machine, const std::string& extra = "") const {
+    std::vector<std::string> args{"uncertainty", "--plant", plant_, "--machine", machine};
+    for (auto& word : ncqual::testing_cli::words(extra)) args.push_back(word);
+    return args;
   }
 
   // The --json document of a run that must succeed, and its text.
@@ -381,7 +383,7 @@ TEST_F(UncertaintyCli, ErrorsSayWhatIsMissingAndBadUsageExitsTwo) {
                      "  uncertainty: {tracker: {position_mm: [0, -900, 500], samples_per_point: 0}}\n");
   const std::string plant6 = tmp_.write(
       "plant6.yaml", "plant: p6\ndomain_id: 0\nmachines:\n  - " + bad_config + "\n");
-  const CliRun bad = run_cli("uncertainty --plant " + plant6 + " --machine u6");
+  const CliRun bad = run_cli({"uncertainty", "--plant", plant6, "--machine", "u6"});
   EXPECT_EQ(bad.exit_code, 1) << bad.out;
   EXPECT_NE(bad.out.find("global_check.uncertainty.tracker.samples_per_point = '0'"),
             std::string::npos)
@@ -393,7 +395,7 @@ TEST_F(UncertaintyCli, ErrorsSayWhatIsMissingAndBadUsageExitsTwo) {
     EXPECT_EQ(r.exit_code, 2) << extra << "\n" << r.out;
     EXPECT_NE(r.out.find("usage:"), std::string::npos) << extra << "\n" << r.out;
   }
-  const CliRun no_machine = run_cli("uncertainty --plant " + plant_);
+  const CliRun no_machine = run_cli({"uncertainty", "--plant", plant_});
   EXPECT_EQ(no_machine.exit_code, 2) << no_machine.out;
   EXPECT_NE(no_machine.out.find("--machine"), std::string::npos) << no_machine.out;
 }

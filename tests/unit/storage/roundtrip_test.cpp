@@ -6,50 +6,13 @@
 namespace ncqual::storage {
 namespace {
 
+using testing::expect_axes_eq;
+using testing::expect_result_eq;
 using testing::make_measurement_set;
 using testing::make_request;
 using testing::make_result;
 using testing::RawDb;
 using testing::TempDir;
-
-void expect_axes_eq(const AxisPosition& a, const AxisPosition& b) {
-  // Exact: SQLite stores IEEE doubles, nothing may be lost on the way.
-  EXPECT_EQ(a.x_mm, b.x_mm);
-  EXPECT_EQ(a.y_mm, b.y_mm);
-  EXPECT_EQ(a.z_mm, b.z_mm);
-  EXPECT_EQ(a.w_mm, b.w_mm);
-  EXPECT_EQ(a.a_rad, b.a_rad);
-  EXPECT_EQ(a.c_rad, b.c_rad);
-}
-
-void expect_result_eq(const CheckResult& a, const CheckResult& b) {
-  EXPECT_EQ(a.machine_id, b.machine_id);
-  EXPECT_EQ(a.request_id, b.request_id);
-  EXPECT_EQ(a.kind, b.kind);
-  EXPECT_EQ(a.verdict, b.verdict);
-  EXPECT_EQ(a.reason, b.reason);
-  EXPECT_EQ(a.time_ns, b.time_ns);
-  ASSERT_EQ(a.metrics.size(), b.metrics.size());
-  for (std::size_t i = 0; i < a.metrics.size(); ++i) {
-    EXPECT_EQ(a.metrics[i].name, b.metrics[i].name);
-    EXPECT_EQ(a.metrics[i].value, b.metrics[i].value);
-    EXPECT_EQ(a.metrics[i].unit, b.metrics[i].unit);
-    EXPECT_EQ(a.metrics[i].lower, b.metrics[i].lower);
-    EXPECT_EQ(a.metrics[i].upper, b.metrics[i].upper);
-    EXPECT_EQ(a.metrics[i].pass, b.metrics[i].pass);
-  }
-  EXPECT_EQ(a.likely_causes, b.likely_causes);
-  ASSERT_EQ(a.correction.has_value(), b.correction.has_value());
-  if (a.correction) {
-    EXPECT_EQ(a.correction->target, b.correction->target);
-    ASSERT_EQ(a.correction->offsets.size(), b.correction->offsets.size());
-    for (std::size_t i = 0; i < a.correction->offsets.size(); ++i) {
-      EXPECT_EQ(a.correction->offsets[i].name, b.correction->offsets[i].name);
-      EXPECT_EQ(a.correction->offsets[i].value, b.correction->offsets[i].value);
-      EXPECT_EQ(a.correction->offsets[i].unit, b.correction->offsets[i].unit);
-    }
-  }
-}
 
 class StorageRoundTrip : public ::testing::Test {
  protected:

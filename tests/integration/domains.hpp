@@ -1,0 +1,61 @@
+// The DDS domain ids of the multi-process tests, allocated here and nowhere else.
+//
+// ctest runs tests in parallel (-j2 and more), and two tests on one domain would hear each
+// other's samples: every test that joins DDS has its own id, and Plant takes only a TestDomain,
+// never a number. The ids must be unique and within 200-232 (the demo draws from 100-199, a
+// plant's default is below 100, and 232 is the highest domain id Fast DDS's default port mapping
+// allows). A new test adds one enumerator here, and one case in domain_id() below.
+//
+// Tests that write a plant file only for commands that never join DDS (budget, uncertainty,
+// config check, status) need no id.
+#pragma once
+
+#include <stdexcept>
+
+namespace ncqual::testing {
+
+namespace detail {
+// In an enumerator's initializer: an id outside 200-232 does not compile.
+constexpr int test_domain(int id) {
+  return id >= 200 && id <= 232 ? id
+                                 : throw std::logic_error("DDS test domains are 200-232");
+}
+}  // namespace detail
+
+enum class TestDomain : int {
+  EndToEnd = detail::test_domain(201),            // EndToEnd.CheckThreeOfTwoMachines...
+  OperatorCheck = detail::test_domain(202),       // EndToEnd.OperatorCheckGoesThrough...
+  HistorianRestart = detail::test_domain(203),    // HistorianRestart.*
+  BadInput = detail::test_domain(204),            // BadInput.*
+  FixtureLoop = detail::test_domain(205),         // FixtureLoop.*
+  Import = detail::test_domain(206),              // Import.*
+  CalendarReference = detail::test_domain(207),   // Calendar.SchedulerKilled...: the undisturbed run
+  CalendarSchedulerKill = detail::test_domain(208),  // Calendar.SchedulerKilled...: the killed one
+  Fleet = detail::test_domain(209),               // Fleet.TwentyMachinesThreeWeeks...
+  FleetArguments = detail::test_domain(210),      // Fleet.AcquisitionRefusesABadMachineList...
+  FleetSchedulerPerMachine = detail::test_domain(211),  // Fleet.OneSchedulerPerMachine...
+  CalendarAcquisitionRestart = detail::test_domain(212),  // Calendar.RestartedAcquisition...
+};
+
+// The id as an int. The switch is the check that no two ids are equal: two case labels with the
+// same value do not compile, and -Wswitch names an enumerator that is missing here.
+constexpr int domain_id(TestDomain domain) {
+  switch (domain) {
+    case TestDomain::EndToEnd:
+    case TestDomain::OperatorCheck:
+    case TestDomain::HistorianRestart:
+    case TestDomain::BadInput:
+    case TestDomain::FixtureLoop:
+    case TestDomain::Import:
+    case TestDomain::CalendarReference:
+    case TestDomain::CalendarSchedulerKill:
+    case TestDomain::Fleet:
+    case TestDomain::FleetArguments:
+    case TestDomain::FleetSchedulerPerMachine:
+    case TestDomain::CalendarAcquisitionRestart:
+      break;
+  }
+  return static_cast<int>(domain);
+}
+
+}  // namespace ncqual::testing
