@@ -4,6 +4,7 @@
 #include "ncqual/config.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
+#include "ncqual/version.hpp"
 #include "ncqual/solver/solve.hpp"
 
 #include <spdlog/spdlog.h>
@@ -52,6 +53,7 @@ int main(int argc, char** argv) {
     ncqual::dds::Writer<ncqual::dds::CompensationTopic> compensations(service.participant());
     RecentIds solved(10000);
 
+    const std::string produced_by = version_line("ncqual-solver");
     service.dispatcher().on(sets, [&](ncqual::dds::Received<MeasurementSet> in) {
       const MeasurementSet& set = in.value;
       if (!solved.insert(set.request_id)) {
@@ -73,6 +75,7 @@ int main(int argc, char** argv) {
       } else {
         result = solver::solve(set, plant, now);
       }
+      result.produced_by = produced_by;  // every verdict names the software that made it
       spdlog::info("{} {} {}: {}{}", result.machine_id, result.request_id, to_string(result.kind),
                    to_string(result.verdict), result.reason.empty() ? "" : " (" + result.reason + ")");
       if (!results.write(result)) {

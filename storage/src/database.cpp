@@ -79,7 +79,8 @@ constexpr Sql kInsertTrackerPoint{
 constexpr Sql kInsertResult{
     "insert result",
     "INSERT INTO results (request_id, machine_id, kind, verdict, reason, time_ns, "
-    "correction_target) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) ON CONFLICT (request_id) DO NOTHING"};
+    "correction_target, produced_by) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8) "
+    "ON CONFLICT (request_id) DO NOTHING"};
 constexpr Sql kInsertMetric{
     "insert metric",
     "INSERT INTO metrics (request_id, idx, name, value, unit, lower, upper, pass) "
@@ -157,8 +158,8 @@ constexpr Sql kSelectTrackerPoints{
     "measured_z_mm FROM tracker_points WHERE request_id = ?1 ORDER BY idx"};
 constexpr Sql kSelectResult{
     "select result",
-    "SELECT machine_id, kind, verdict, reason, time_ns, correction_target FROM results "
-    "WHERE request_id = ?1"};
+    "SELECT machine_id, kind, verdict, reason, time_ns, correction_target, produced_by "
+    "FROM results WHERE request_id = ?1"};
 constexpr Sql kSelectMetrics{
     "select metrics",
     "SELECT name, value, unit, lower, upper, pass FROM metrics WHERE request_id = ?1 "
@@ -380,6 +381,7 @@ struct Database::Impl {
       result.reason = q.text(3);
       result.time_ns = q.int64(4);
       correction_target = q.optional_text(5);
+      result.produced_by = q.text(6);
     }
     {
       Query q(statements, kSelectMetrics);
@@ -624,7 +626,8 @@ bool Database::store(const CheckResult& result) {
       if (result.correction) target = result.correction->target;
       Query insert(impl_->statements, kInsertResult);
       insert.bind(result.request_id, result.machine_id, code(result.kind),
-                  to_string(result.verdict), result.reason, result.time_ns, target);
+                  to_string(result.verdict), result.reason, result.time_ns, target,
+                  result.produced_by);
       insert.run();
       if (insert.changes() == 0) return false;
     }

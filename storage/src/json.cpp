@@ -27,6 +27,7 @@ nlohmann::json to_json(const CheckRecord& record) {
   out["result_at_ns"] = result ? json(result->time_ns) : json(nullptr);
   out["verdict"] = result ? json(std::string(to_string(result->verdict))) : json(nullptr);
   out["reason"] = result ? json(result->reason) : json(nullptr);
+  out["produced_by"] = result ? json(result->produced_by) : json(nullptr);
 
   json metrics = json::array();
   json causes = json::array();

@@ -226,10 +226,17 @@ CREATE TABLE measurement_parameters (
 ) STRICT, WITHOUT ROWID;
 )sql";
 
+// Version 3: the software that judged each result (CheckResult.produced_by); '' for results
+// stored before.
+constexpr const char* kVersion3 = R"sql(
+ALTER TABLE results ADD COLUMN produced_by TEXT NOT NULL DEFAULT '';
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
     {2, "store request and measurement parameters", kVersion2},
+    {3, "store the software that judged each result", kVersion3},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

@@ -4,6 +4,7 @@
 #include "cli_runner.hpp"
 #include "harness.hpp"
 
+#include "ncqual/version.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/simulator_config.hpp"
@@ -56,6 +57,8 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
     ASSERT_TRUE(rec.result.has_value()) << "result stored";
     EXPECT_EQ(rec.request->requested_by, "scheduler");
     EXPECT_EQ(rec.result->kind, CheckKind::MonumentPositioning);
+    // The verdict names the software that made it: this build's solver.
+    EXPECT_EQ(rec.result->produced_by, version_line("ncqual-solver"));
     // Check 3 sees the monument relative to the machine: monument shift minus machine shift.
     const Eigen::Vector3d expected = truth.monument_shift_mm - truth.machine_shift_mm;
     const Metric* dx = find_metric(*rec.result, "center_dx_mm");

@@ -152,6 +152,7 @@ msg::CheckResult to_wire(const CheckResult& v) {
   msg::CheckResult w;
   w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
   w.verdict(wire_verdict(v.verdict)); w.reason(v.reason); w.time_ns(v.time_ns);
+  w.produced_by(v.produced_by);
   for (const auto& m : v.metrics) {
     msg::Metric wm;
     wm.name(m.name); wm.value(m.value); wm.unit(m.unit);
@@ -168,7 +169,7 @@ CheckResult from_wire(const msg::CheckResult& w, std::string& error) {
   v.machine_id = w.machine_id(); v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "CheckResult.kind", error);
   v.verdict = model_verdict(w.verdict(), "CheckResult.verdict", error);
-  v.reason = w.reason(); v.time_ns = w.time_ns();
+  v.reason = w.reason(); v.time_ns = w.time_ns(); v.produced_by = w.produced_by();
   for (const auto& m : w.metrics()) {
     v.metrics.push_back(Metric{m.name(), m.value(), m.unit(), m.lower(), m.upper(), m.pass()});
   }

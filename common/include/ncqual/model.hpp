@@ -149,6 +149,9 @@ struct CheckResult {
   std::string reason;                      // why INVALID or FAIL, in words
   std::optional<Correction> correction;
   std::int64_t time_ns = 0;
+  // The software that judged it ("ncqual-solver 0.1.0 (git 1a2b3c4)"), so that a stored verdict
+  // names the version that made it; empty for results stored before it was recorded.
+  std::string produced_by;
 };
 
 struct MachineStatus {

@@ -115,6 +115,7 @@ inline void expect_result_eq(const CheckResult& a, const CheckResult& b) {
   EXPECT_EQ(a.verdict, b.verdict);
   EXPECT_EQ(a.reason, b.reason);
   EXPECT_EQ(a.time_ns, b.time_ns);
+  EXPECT_EQ(a.produced_by, b.produced_by);
   ASSERT_EQ(a.metrics.size(), b.metrics.size());
   for (std::size_t i = 0; i < a.metrics.size(); ++i) {
     EXPECT_EQ(a.metrics[i].name, b.metrics[i].name);
@@ -197,6 +198,7 @@ inline CheckResult make_result(const std::string& request_id, const std::string&
       Correction{"machine:work_offset",
                  {NamedValue{"dx_mm", -0.0123, "mm"}, NamedValue{"dc_rad", 1e-6, "rad"}}};
   result.time_ns = time_ns;
+  result.produced_by = "ncqual-solver 0.1.0 (git 1a2b3c4)";
   return result;
 }
 
