@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Configures and builds ncqual (Release) into build/ at the repository root.
 # Usage: deploy/build.sh [cmake --build arguments, e.g. --target ncqual-solver]
 set -euo pipefail

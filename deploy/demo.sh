@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The main job: install, build, start the four ncqual services and one simulated machine on a
 # private DDS domain, run a qualification cycle (the monthly global check with a laser tracker:
 # master frame, grid, rotary C, A and W, circles in XY, YZ and XZ, an ISO 230-2 run of X; daily
@@ -35,7 +36,7 @@ while [ $# -gt 0 ]; do
     --domain) domain="$2"; shift 2 ;;
     --weeks) weeks="$2"; shift 2 ;;
     --machines) machines="$2"; shift 2 ;;
-    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+    -h|--help) awk 'NR > 2 && /^#/ { print; next } NR > 2 { exit }' "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs the Debian 12 packages ncqual builds and runs with, when they are missing.
 # Everything comes from Debian's archive; nothing else is downloaded.
 set -euo pipefail

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # ncqual_idl_generate(TARGET <name> FILES <a.idl> ...)
 #
 # Turns IDL files into a static library target whose sources fastddsgen writes into the build

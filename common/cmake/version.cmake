@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Writes OUTPUT (a .cpp in the build tree) from TEMPLATE with the project version VERSION and the
 # source tree's `git describe --always --dirty`, or "unknown" where there is no git or no
 # repository. Run at build time (cmake -P) by the target ncqual_version_info; configure_file

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/command_line.hpp"
 
 #include "ncqual/version.hpp"

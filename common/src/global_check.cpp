@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/global_check.hpp"
 
 #include "ncqual/units.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ncqual-acquisition: answers the CheckRequests of its machine tool(s) by measuring with the
 // instruments (here: the simulator) and publishing the raw MeasurementSet; it never judges one.
 // It also stands for the holding fixture's control unit: it applies the zero offsets the solver

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The exit codes of `ncqual`, every command's, in one place. Scripts and tests depend on the
 // numbers: append, never renumber. `ncqual --help` prints kExitCodesHelp.
 #pragma once

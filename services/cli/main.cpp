@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ncqual: the operator's command-line tool. One CLI11 app; each command is a file under
 // commands/ (commands.hpp). This file builds the app, parses and dispatches. `ncqual --help`
 // lists the commands with their synopses, `ncqual <command> --help` a command's options.

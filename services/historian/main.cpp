@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ncqual-historian: one per plant. Stores every request, measurement set, result,
 // compensation, status change, intervention and service heartbeat in SQLite, exactly once
 // (storing is idempotent on each sample's id, so DDS redelivery after a restart is harmless).

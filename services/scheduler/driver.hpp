@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How ncqual-scheduler drives its Scheduler over time, without DDS: the simulated clock's run and
 // the restart handshake with the readers of its writers. The executable wires DDS to these; the
 // tests drive them directly.

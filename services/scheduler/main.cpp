@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ncqual-scheduler: runs the qualification process (scheduler.hpp) for every machine of the
 // plant, or of --machine. Reads CheckResults, CheckCommands and Interventions; writes
 // CheckRequests and MachineStatus; its durable state is the plant's scheduler.state_database.

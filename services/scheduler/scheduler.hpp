@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The scheduler's decisions, apart from DDS: the qualification flowchart per machine.
 //
 // With a calendar (plant config scheduler.calendar), per machine:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ncqual-solver: turns MeasurementSets into CheckResults (and Compensations) with the pure
 // solver library. Thin: arguments, wiring, publishing. No storage, no math here.
 #include "ncqual/command_line.hpp"

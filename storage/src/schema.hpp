@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The historian's schema: every migration, in order, in schema.cpp. Nothing else creates or
 // alters a table.
 #pragma once

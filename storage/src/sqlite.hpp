@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Thin RAII wrappers over the SQLite C API, private to ncqual_storage: a connection, prepared
 // statements kept in a cache so that each is prepared once per connection, one use of a statement
 // at a time (bind, step, read, reset), and transactions that roll back unless committed.

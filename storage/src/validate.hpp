@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Checks a sample before anything of it is written. Throws StorageError whose message names the
 // field and the value ("CheckResult.request_id is empty", "Metric.value of 'center_dx_mm' is
 // NaN (CheckResult 'r-17')").

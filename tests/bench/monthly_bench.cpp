@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Benchmark of the monthly analysis on the example machine (deploy/machines/pm1.yaml): prints
 // figures with their targets and PASS/MISS beside them; never asserts, always exits 0.
 //   (a) the full monthly grid analysis (master frame + grid + the 21-error identification:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Running the built `ncqual` binary from a test: its exit code and what it printed, and a private
 // temporary directory for the files a test writes. Shared by the CLI tests (budget, analyze,
 // uncertainty, import, usage, golden outputs); the binary is NCQUAL_CLI_EXE, defined by each test

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The DDS domain ids of the multi-process tests, allocated here and nowhere else.
 //
 // ctest runs tests in parallel (-j2 and more), and two tests on one domain would hear each

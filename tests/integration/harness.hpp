@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Test harness for multi-process tests: starts the real ncqual executables on a private DDS
 // domain with a plant config in a temporary directory, and waits on the historian's database.
 #pragma once

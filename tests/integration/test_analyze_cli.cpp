@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual analyze` end to end: instrument files written here, the built `ncqual` binary run on
 // them, its --json document checked against figures worked by hand (independent of the
 // solver), and the exit codes and file:line:column messages of bad files and bad usage.

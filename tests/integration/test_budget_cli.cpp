@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual budget` end to end without DDS: a plant config with a machine budget, a historian
 // written with storage::Database holding known metric values, the built `ncqual` binary run with
 // --json, and its document checked against the budget library and hand computations.

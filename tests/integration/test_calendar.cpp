@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The scheduler's calendar across real processes on a simulated clock: two weeks of shifts for
 // two machines (one with a fixture whose zeros drifted, so the weekly fixture loop runs), once
 // undisturbed and once with the scheduler killed (SIGKILL) at random points and restarted. The

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The command lines of `ncqual` and the services, with no service running: --help of every
 // command and subcommand, --version of every executable, bad usage (exit 2 naming the flag),
 // --flag=value, exit code 6, and the bash completion the build writes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The four real executables over Fast DDS on loopback, two simulated machines, one solver and
 // one historian: the scheduler's start-up cycle runs check 3 on both, and the stored results
 // must match the errors injected into each simulated machine.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The weekly fixture loop across real processes: the scheduler's pre-calibration fails, the
 // solver publishes the deltas as zero offsets (Compensation), the acquisition service (standing
 // for the fixture's control unit) applies them before it measures the post-calibration the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Twenty machines of three kinds against one scheduler, one solver and one historian, for three
 // simulated weeks that cross the change to summer time (29 March 2026 in Europe/Berlin) and a
 // month end (1 April). Two acquisition processes serve ten machines each (the "cell computer"

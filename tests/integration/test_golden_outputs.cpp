@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The printed outputs of `analyze`, `budget` and `uncertainty`, byte for byte, against the
 // files under tests/data/golden/. These pin the text a user and their scripts read while the
 // code behind them is restructured: a change of a figure or of the layout shows up here as a

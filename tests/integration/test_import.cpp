@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual import`: a real instrument's export published as a MeasurementSet goes through the
 // real solver and historian processes over DDS (on its own domain) and is stored with its result, the
 // figures those of the file worked by hand.

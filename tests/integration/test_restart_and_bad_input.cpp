@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Restart and bad input across real processes.
 #include "harness.hpp"
 

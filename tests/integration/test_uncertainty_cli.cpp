@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual uncertainty` end to end: a plant and machine config written here with a small monthly
 // grid and its `global_check.uncertainty:` block, the built binary run with --json, and its
 // document checked: the tracker-alone figures against eq. 24 worked here by hand (no solver

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Starting processes from tests: the one way the tests run an executable, whether a service that
 // runs beside the test (the integration harness), the `ncqual` binary (the CLI tests) or any
 // other program (bash for the completion test).

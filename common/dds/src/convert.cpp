@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/dds/convert.hpp"
 
 namespace ncqual::dds {

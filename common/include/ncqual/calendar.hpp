@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The plant's calendar: shifts in the plant's time zone, the periods of the qualification process
 // (which checks belong to each, in the order they run at the start of a shift), and when a
 // period's checks are due or overdue. Pure functions of (config, last pass, time): the scheduler

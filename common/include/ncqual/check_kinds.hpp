@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The table of check kinds: one row per kind with everything the parts of ncqual need to know
 // about it besides its math. The scheduler, `ncqual status`, the acquisition, the solver's
 // dispatch, the configuration layer (which tolerance keys exist) and the CLI read it; nothing else

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Clocks. Everything that decides by time takes a Clock, so tests and the demo can run on
 // simulated time while services run on the wall clock.
 #pragma once

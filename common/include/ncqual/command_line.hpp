@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Command lines of the ncqual executables, on CLI11 (Debian's libcli11-dev, 2.1): the settings
 // every executable shares, --version, the options every service takes, and parsing with
 // ncqual's exit codes (0 after --help and --version, 2 for bad usage). An unknown flag or a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Plant and machine configuration: the typed result of reading the YAML files.
 //
 // The configuration layer (common/src/config/) is the only code that reads YAML: every section

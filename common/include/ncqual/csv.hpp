@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A small CSV reader for instrument exports (laser interferometer runs, ballbar circles, tracker
 // grids): one header line naming the columns, then one row per reading.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Names of enumerators kept in one array per enum (in enumerator order), instead of a switch per
 // direction: name_of for printing, enum_named for reading.
 #pragma once

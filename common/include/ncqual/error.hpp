@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The one error convention of ncqual's libraries (docs/architecture.md, "Errors"):
 //
 //   1. Input from outside that cannot be used (a config file, an instrument file, a database or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The workpiece holding fixture: a pogo fixture (Universal Holding Fixture), its configurations for
 // the weekly checks, and the names the acquisition and the solver share for its touches and its
 // zero offsets.

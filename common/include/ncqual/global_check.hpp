@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The monthly global check with a laser tracker (patent "Global Positioning Accuracy Check"):
 // what the machine runs while the tracker measures a reflector (the target) in its spindle, and
 // the names the acquisition and the solver share for its points.

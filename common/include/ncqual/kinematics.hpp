@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Nominal kinematics of the five-axis post mill: X, Y, Z move the wrist pivot (the point where
 // the A and C axes meet); C turns the head about the machine's Z axis; A turns the body about
 // the head's own axis (parallel to machine X when C = 0); W moves the spindle along the tool

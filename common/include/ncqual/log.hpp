@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Logging with spdlog: one logger per process, named after the service, level from a flag.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The domain model shared by every part of ncqual: plain C++ values, no DDS.
 //
 // The wire types in idl/ mirror these one to one; common/dds converts between them, so

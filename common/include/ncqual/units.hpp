@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Units at the edges. Inside ncqual everything is millimetres, radians and seconds; inches,
 // degrees and arc-seconds appear only in config files, imports and display.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The version of this build: the CMake project version and `git describe --always --dirty` of
 // the source tree when it was built ("unknown" without git). The definitions are generated in
 // the build tree (common/cmake/version.cmake); link ncqual_version to use them.

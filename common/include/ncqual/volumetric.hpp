@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The 21 rigid-body errors of the three linear axes X, Y, Z (ISO 230-1 names) and the actual
 // position of a tool point they produce. Shared by the simulator (ground truth) and the solver
 // (identification, ncqual/solver/volumetric_identification.hpp).

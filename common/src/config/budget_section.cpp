@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `budget:` section of a machine config (ncqual/config/budget.hpp).
 #include "node.hpp"
 

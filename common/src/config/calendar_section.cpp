@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `scheduler.calendar:` section of a plant config (ncqual/calendar.hpp).
 #include "node.hpp"
 

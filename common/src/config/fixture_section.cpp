@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `fixture:` section of a machine config (ncqual/fixture.hpp).
 #include "node.hpp"
 

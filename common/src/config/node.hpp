@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The one YAML reader of the configuration layer (private to common/src/config: nothing outside
 // this folder sees yaml-cpp).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The plant and machine files: the top level of the configuration layer. It reads the files,
 // resolves `extends:` and relative paths, reads every section into its typed struct (the readers
 // of the other files of this folder) and reports every problem at once.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `simulator:` section of a machine config (ncqual/config/simulator.hpp).
 #include "node.hpp"
 

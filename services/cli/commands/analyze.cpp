@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual analyze`: the evaluations of instrument exports, run by a metrologist on a file, with
 // no service, plant config or historian.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual budget`: the machine's error budget against its history.
 //
 //   ncqual budget --machine M [--plant F] [--db F] [--last N] [--json]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual check`: asks the scheduler to run a check now.
 //
 //   ncqual check --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]

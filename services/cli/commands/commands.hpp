@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The commands of `ncqual`. Each file in this folder adds one command to the CLI11 app (its
 // options, its help) and registers what runs it; main.cpp only builds the app from them, parses
 // and dispatches. Exit codes: exit_codes.hpp.

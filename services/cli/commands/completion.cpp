@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual completion bash` (hidden): prints a bash completion script derived from the app itself,
 // so it never goes stale: per command path its subcommands and its flags, and which flags take
 // a value. The build writes it to share/bash-completion/completions/ncqual (services/cli/

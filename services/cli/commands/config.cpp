@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual config check [--plant F] [--print] [--json]`: loads the whole plant (the plant file and
 // every machine file it names) and prints every problem with its file, key and value, not only
 // the first; with --print, every value as it was resolved (in mm and rad, with what was written

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual count [--plant F | --db F] [--machine M]`: the number of stored results (0 when there
 // is no historian database yet).
 #include "commands.hpp"

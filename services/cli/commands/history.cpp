@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual history`: the stored checks, newest first.
 //
 //   ncqual history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--since-ns T]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual import`: a real instrument's export published as a MeasurementSet, so it goes through
 // the whole service chain (the solver judges it, the historian stores set and result) like a
 // simulated measurement. The files are those of `ncqual analyze` (analyze_command.hpp); the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual intervene`: the record of a physical intervention, which re-arms a held check.
 //
 //   ncqual intervene --machine M --check KIND --note TEXT [--operator NAME] [--plant F]

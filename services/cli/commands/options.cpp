@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What several commands share: their common options, the plant and machine they name, and the
 // ids of the samples they publish. See commands.hpp.
 #include "commands.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual status`: the plant's machines as the qualification process sees them.
 //
 //   ncqual status [--plant F] [--db F] [--machine M] [--json]

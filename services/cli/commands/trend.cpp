@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual trend`: per period, how the machine's checks went.
 //
 //   ncqual trend --machine M [--kind K] [--every day|week|month] [--metrics N] [--plant F]

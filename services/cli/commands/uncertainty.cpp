@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual uncertainty`: the uncertainty of a machine's monthly laser-tracker verification (the
 // grid check and its identification of the 21 rigid-body errors), by Monte Carlo (GUM S1).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ncqual wait`: waits until the historian has stored a whole check, N results, or the end of a
 // machine's cycle.
 //

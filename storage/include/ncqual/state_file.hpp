@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A service's own durable state: named JSON documents in one SQLite file (WAL mode), replaced
 // together in one transaction. The scheduler keeps its state here (one document per machine, per
 // fixture, and its simulated clock), so a kill at any moment leaves either the state before a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The historian's store: every request, measurement set, result, status change, intervention,
 // compensation and heartbeat of every machine, in one SQLite file.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // JSON for `ncqual history --json` and reports. The names are a public interface: append, never
 // rename.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Drift of the simulator's ground truth with time (simulator.drift): the section's parsing and
 // refusals, the truth at a time (errors_at and friends: nothing before `since`, then linear), the
 // touch probe, fixture and tracker measuring the truth of their measurement time, bit-identical

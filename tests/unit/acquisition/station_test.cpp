@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The acquisition's stations without DDS: each request measured once (also across a restart,
 // through a real state file), old requests on the wall clock left alone, post-calibrations that
 // wait for the correction they verify, malformed requests answered, nothing recorded that was

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Holding fixtures and fixture requests for the fixture simulator and fixture check tests.
 #pragma once
 

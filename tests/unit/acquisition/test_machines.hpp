@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Machine configs, simulator configs and requests for the solver and simulator unit tests.
 #pragma once
 

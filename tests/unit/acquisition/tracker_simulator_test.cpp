@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The laser tracker simulator: its readings are the true target seen from the tracker's frame,
 // with the configured noise in range and angles; its machine has the configured reversal,
 // thermal expansion, rigid-body and wrist errors.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The plant calendar: shifts in a time zone across DST, periods across month and year ends,
 // due and overdue, and the calendar's config section. Expected instants are worked by hand from
 // the zones' offsets (Europe/Berlin: CET = UTC+1, CEST = UTC+2 from the last Sunday of March

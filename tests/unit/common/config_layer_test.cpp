@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The configuration layer as a whole: every problem of a plant at once, unknown keys refused at
 // every level, the resolved values with their units; and the table of check kinds against the
 // wire contract.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The CSV reader of instrument exports: header and rows, comments, CRLF, quotes, and the
 // file:line:column of every refusal.
 #include "ncqual/csv.hpp"

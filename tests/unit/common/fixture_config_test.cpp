@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `fixture:` section of a machine config, the fixture's configurations and the names the
 // acquisition and the solver share (pogo labels, touch features, zero offsets).
 #include "ncqual/config.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `global_check:` section of a machine config and the programs of the monthly tracker checks.
 #include "ncqual/config.hpp"
 #include "ncqual/global_check.hpp"

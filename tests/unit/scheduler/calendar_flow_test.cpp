@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The scheduler running the plant calendar on a simulated clock: which checks each shift runs
 // (monthly, weekly, daily; parts), across month ends, DST and missed shifts; gating and re-arming
 // by an intervention; the fixture loop; the configuration rotation across restarts; timeouts and

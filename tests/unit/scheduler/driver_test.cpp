@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The scheduler's restart handshake with the readers of its writers, and its command-line
 // choices, without DDS: a restarted scheduler waits for the readers its last run had, learns a
 // changed plant, and remembers readers that join later (through a real state file).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ISO 230-4 circular test evaluation: tiny paths worked by hand (G, G(b), F, H, the 2θ shape),
 // simulated paths with known radius error, centre offset, scale mismatch, squareness, backlash
 // and noise, and every refusal.

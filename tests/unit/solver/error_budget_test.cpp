@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The error budget (ncqual/solver/error_budget.hpp): the patent's geometry and example numbers,
 // root sum square totals computed by hand, allocation, Monte Carlo against the RSS it must
 // converge to, Weibull sampling against its closed-form mean, capability from history,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The monthly tracker checks end to end: the tracker simulator measures the true machine of
 // deploy/machines/pm1.yaml (with errors changed here), the solver judges the set; the figures are
 // compared with the simulator's ground truth within bounds derived from the tracker's noise.

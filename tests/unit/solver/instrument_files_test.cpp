@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Readers of instrument exports: good files of each format (extra columns, comments, CRLF, any
 // column order) and every kind of bad file, with the exact "<file>:<line>:<column>: " of the
 // refusal.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ISO 230-2 evaluation: two runs worked by hand, a unidirectional run, simulated runs with a
 // known systematic error curve, reversal and noise, and every refusal.
 #include "ncqual/solver/iso230_2.hpp"

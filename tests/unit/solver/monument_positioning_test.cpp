@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/monument_positioning.hpp"
 
 #include "ncqual/sim/machine_simulator.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Probe checks 1, 2 and 4 against the simulator's ground truth. Every case injects ALL the
 // simulator's errors at once (machine and monument shift, stylus offset, tool length, C angle,
 // A home): each check must see its own error and be blind to the others, as the procedure

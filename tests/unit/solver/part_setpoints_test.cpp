@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-part set-point check against the simulator's ground truth: blocks moved on their
 // fixturing devices, parts seated off their locators, and the machine's own errors.
 #include "ncqual/solver/part_setpoints.hpp"

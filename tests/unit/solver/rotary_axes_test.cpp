@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/rotary_axes.hpp"
 
 #include "ncqual/kinematics.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Truth for the tracker evaluation tests (master frame, grid), written independently of the code
 // under test: a machine with scale, squareness and straightness errors of its linear axes, and a
 // tracker placed anywhere.

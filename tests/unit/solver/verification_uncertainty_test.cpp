@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Monte Carlo uncertainty of the volumetric verification: zero noise leaves zero residual (for a
 // machine the model represents, out-of-gauge terms and a thermal correction included), the
 // residual is linear in the tracker noise, the thermal correction's error is a scale error about

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Identification of the 21 rigid-body errors: seeded simulated tracker grids and sequential
 // diagonals generated with the exact chain of volumetric::actual_position from a known truth,
 // checked within 5 sigma of the estimator's own covariance, the honesty of that covariance

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Crash tests in the spirit of SQLite's own: a child process stores results as fast as it can and
 // reports each committed request id over a pipe, then dies by SIGKILL. After every death the file
 // must be intact and hold every reported result exactly once, each one whole.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A shim SQLite VFS for crash tests: forwards everything to the default VFS and SIGKILLs the
 // process just before the n-th write, sync or truncate of a chosen kind of file. Lets a test die
 // at an exact point inside a transaction (or a checkpoint) instead of wherever a signal from

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A historian written at schema version 1 (tests/data/historian-v1.sql: the first migration and
 // rows in every table) is opened by this build: it migrates to the latest version, and every row
 // reads back through the query API with the values it was written with.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // history(), find_check() and the JSON the command-line tool prints.
 #include "ncqual/storage_json.hpp"
 #include "storage_test_support.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every sample type comes back exactly as stored, and storing it again changes nothing.
 #include "storage_test_support.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Opening: migrations, connection settings, refusing files that are not ours or are too new, and
 // read-only handles that read while a writer writes.
 #include "storage_test_support.hpp"

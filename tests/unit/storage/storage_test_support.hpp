@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared by the storage tests: a temporary directory per test, a raw SQLite handle to look at the
 // file behind the library's back, and sample builders with every field set to something
 // distinguishable.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bad input is refused with a message naming the field and the value, and nothing of the sample
 // is written, neither when validation refuses it nor when SQLite fails half way through.
 #include "storage_test_support.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // tests/support/process.hpp, with small programs every Debian machine has (sh, printf, pwd,
 // printenv, sleep, head).
 #include "process.hpp"

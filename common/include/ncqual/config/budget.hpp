@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The error budget's section of a machine config (`budget:`), as read by the configuration layer
 // (common/src/config/budget_section.cpp; see deploy/machines/pm1.yaml for a documented example).
 // The model that uses it, and what each field means to it, is ncqual/solver/error_budget.hpp; the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simulator's section of a machine config (`simulator:`), as read by the configuration layer
 // (common/src/config/simulator_section.cpp): noise, the true geometry the taught config does not
 // hold, and the injected errors that are the ground truth the solver is checked against. The

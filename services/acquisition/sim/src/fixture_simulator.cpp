@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/sim/fixture_simulator.hpp"
 
 #include "ncqual/sim/contact.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/sim/programs.hpp"
 
 #include "ncqual/kinematics.hpp"

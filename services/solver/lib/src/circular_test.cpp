@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/circular_test.hpp"
 
 #include "ncqual/enum_names.hpp"

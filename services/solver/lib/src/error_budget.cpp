@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The error budget (patent: "Math Model Relating Production Part Accuracy to Machine System
 // Parameters"). In the order of the model:
 //   1. the budget as configured (read at load by the configuration layer, ncqual/config/budget.hpp);

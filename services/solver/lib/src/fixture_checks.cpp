@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The weekly fixture checks. The code follows the procedure of the patent ("Probe Checks of
 // Fixture"):
 //   0. make sure the touches, the configuration and the fixture config can support a verdict;

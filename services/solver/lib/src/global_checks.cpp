@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The monthly tracker checks: sort the labelled points of a set, evaluate them with the pure
 // evaluations, judge the figures against the machine's tolerances, rank the likely causes.
 #include "ncqual/solver/global_checks.hpp"

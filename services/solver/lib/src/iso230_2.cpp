@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/iso230_2.hpp"
 
 #include "result_building.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/master_frame.hpp"
 
 #include "ncqual/solver/circle_fit.hpp"

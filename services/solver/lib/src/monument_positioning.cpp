@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Probe check 3, repeatable X, Y, Z positioning against the monument. The code follows the
 // procedure of the patent (probe check number 3):
 //   0. make sure the touches and the taught monument can support a verdict;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Daily probe checks 1, 2 and 4 against the monument. Each follows its procedure in the patent:
 //   0. make sure the touches (head orientations, surfaces, approach) and the config can support
 //      a verdict;

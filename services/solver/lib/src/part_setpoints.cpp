@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-part set-point check:
 //   0. make sure every configured set point has its three touches, at home head angles;
 //   1. contact point of each touch from the nominal kinematics;

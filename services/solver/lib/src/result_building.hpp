@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Small helpers every check uses to build its CheckResult (internal to the solver library).
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/solve.hpp"
 
 #include "ncqual/solver/fixture_checks.hpp"

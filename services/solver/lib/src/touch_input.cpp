@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "touch_input.hpp"
 
 #include "result_building.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Step 0 of every probe check, shared: is a touch usable, does the machine config support the
 // check, which tolerances does it need; and the verdict from judged metrics. Internal to the
 // solver library.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Monte Carlo uncertainty of the volumetric verification, eq. 23-24 of Aguado et al. and the
 // tracker location search. See the header for what is propagated and how.
 #include "ncqual/solver/verification_uncertainty.hpp"

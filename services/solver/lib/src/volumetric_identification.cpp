@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/volumetric_identification.hpp"
 
 #include "result_building.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The parameter model of the volumetric identification (internal to the solver library), shared
 // by identify_rigid_body_errors / identify_from_diagonals (volumetric_identification.cpp) and the
 // linearised identification of the verification's Monte Carlo (verification_uncertainty.cpp): the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Conversions between the wire types generated from idl/ncqual.idl and the domain model.
 // from_wire never trusts its input: an enum out of range or a non-finite number in a header
 // field is reported in `error` (naming the field and value) rather than thrown, so a service can

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The receive loop of a service: one WaitSet over the readers' DATA_AVAILABLE conditions, a
 // GuardCondition to stop it from any thread, and optional periodic work (heartbeats, timeouts).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Typed writers and readers over the Fast DDS 2.9 DCPS API, in domain-model types.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One DomainParticipant per process, its publisher, subscriber and topics. QoS comes from the
 // Fast DDS XML profile file (deploy/qos/ncqual-qos.xml), never from code.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What every ncqual service shares: its plant config, one participant, the receive loop,
 // periodic heartbeats, and a clean stop on SIGINT/SIGTERM. Executables only parse their
 // arguments, wire their readers and writers to a library, and call run().

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The topics of ncqual: name, wire type, domain type and QoS profiles of each.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The instruments of one machine tool, as the acquisition's stations see them: measure a request,
 // apply a software correction. A small interface so that a plant can put its own instruments
 // behind a station (a control that runs probing programs, an MTConnect or OPC UA source) without

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One machine tool served by an acquisition process: what it does with the CheckRequests and
 // Compensations of its machine, with no DDS (the executable wires the topics to it). It never
 // judges a measurement.

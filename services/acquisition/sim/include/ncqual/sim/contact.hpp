@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The touch engine: where a stylus ball moving along a straight line first meets a surface.
 //
 // The ball centre moves along c(s) = c0 + s u (u a unit vector, s >= 0 the distance moved).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The holding fixture simulator: a pogo fixture (Universal Holding Fixture) whose true pogo
 // positions differ from the commanded ones by known errors, its control unit with the zero
 // offsets the weekly pre-calibration issues, and the probing program of the weekly fixture checks

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The instrument simulator: stands in for a five-axis post mill with a touch-trigger probe and
 // its monument. It runs the probing program of a check on a true machine that differs from the
 // nominal one by known errors, and returns raw touches (axis readouts) as the real control

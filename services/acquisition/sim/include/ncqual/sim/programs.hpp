@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Probing programs: the moves the machine's control runs for each check, written as a real
 // part program would be, against the nominal probe and the taught monument (the control knows
 // nothing better). The simulator executes them on the true machine.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reproducible randomness: one generator per request, seeded from the config seed and a stable
 // hash of the request id, so a request yields the same touches whatever was asked before it.
 #pragma once

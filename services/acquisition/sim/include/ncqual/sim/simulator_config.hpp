@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The instrument simulator's configuration and its ground truth at a time. The section itself
 // (what every key means) is documented and read in the configuration layer:
 // ncqual/config/simulator.hpp; a machine config holds it as MachineConfig::simulator.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The laser tracker simulator of the monthly global check: the machine runs the program of a
 // tracker check (ncqual/global_check.hpp) and a tracker standing beside it measures the reflector
 // in the spindle. The machine is the true one of SimulatorConfig (21 rigid-body errors, thermal

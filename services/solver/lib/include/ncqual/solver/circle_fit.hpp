@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Least-squares circle through points in a plane, and the principal axes of a point cloud (the
 // total-least-squares line or plane through it).
 //

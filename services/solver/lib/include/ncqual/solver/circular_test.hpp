@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Circular tests per ISO 230-4 (circular tests for numerically controlled machine tools): the
 // machine interpolates a circle in one plane with two linear axes, clockwise and/or
 // counter-clockwise, and an instrument (ballbar, grid encoder, tracker) records the actual path.

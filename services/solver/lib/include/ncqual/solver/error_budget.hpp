@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The error budget: how each machine and fixture error moves the hole on the part, how they add
 // up, and how much of the part tolerance each error source may take.
 //

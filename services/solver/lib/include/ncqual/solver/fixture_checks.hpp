@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The weekly probe checks of the holding fixture: pre-calibration and post-calibration.
 //
 // Patent ("Probe Checks of Fixture"): "the machine is moved to each of a plurality of the pogos

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The monthly global check with a laser tracker, as checks: a tracker MeasurementSet in, a
 // CheckResult out. The point labels and the programs are those of ncqual/global_check.hpp; the
 // evaluations are the pure functions of master_frame.hpp, global_grid.hpp, rotary_axes.hpp,

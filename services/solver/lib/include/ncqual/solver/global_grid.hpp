@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Monthly laser-tracker check, step 2: positioning over a grid of the working envelope.
 //
 // Patent ("Global Machine Accuracy Check"): "the machine is moved along its X, Y, and Z axes so as

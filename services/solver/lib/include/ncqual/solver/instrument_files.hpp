@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Readers of instrument exports (CSV, see ncqual/csv.hpp for the common format): text (or a
 // parsed CsvTable) in, typed data out, no file I/O here (the caller reads the file, e.g. with
 // ncqual::read_csv_file, and passes the table); every problem a CsvError "<file>:<line>:<column>: <message>" (column left out when a

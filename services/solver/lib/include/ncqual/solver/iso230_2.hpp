@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Evaluation of a linear-axis positioning test per ISO 230-2:2014 ("Determination of accuracy
 // and repeatability of positioning of numerically controlled axes"), from the readings of a
 // laser interferometer (or any length instrument) at targets P_i, i = 1..m, in cycles

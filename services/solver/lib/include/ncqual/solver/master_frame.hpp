@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Monthly laser-tracker check, step 1: the master frame of reference.
 //
 // Patent ("Global Machine Accuracy Check"): "the machine is positioned at the middle of its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Daily probe check 3 against the monument: repeatable X, Y, Z positioning of the machine.
 //
 // Patent (probe check number 3): "the machine is moved in the X and Y directions to cause the

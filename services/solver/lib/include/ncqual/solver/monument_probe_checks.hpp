@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Daily probe checks 1, 2 and 4 against the fixed monument (check 3 is in
 // monument_positioning.hpp). They run in the order 1, 2, 3, 4: each isolates one error of the
 // probe or the wrist so that the next can trust it.

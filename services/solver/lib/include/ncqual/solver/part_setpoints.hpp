@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-part check: probe the primary and secondary set points of the loaded workpiece and
 // compare them with their intended positions; only a PASS lets machining proceed.
 //

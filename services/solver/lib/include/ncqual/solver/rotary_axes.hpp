@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Monthly laser-tracker check, step 3: the W, A and C axes with X, Y, Z fixed.
 //
 // Patent ("Global Machine Accuracy Check"): "a check of the W, A, and C axes is made with the

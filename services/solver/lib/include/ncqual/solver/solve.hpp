@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The solver's entry point: a measurement set in, a check result out.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Uncertainty of the monthly volumetric verification (Aguado et al., Sensors 2019): what a
 // laser-tracker grid and the identification of the 21 rigid-body errors
 // (ncqual/solver/volumetric_identification.hpp) leave uncompensated, by the Monte Carlo method of

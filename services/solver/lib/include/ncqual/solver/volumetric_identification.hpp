@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Identification of the 21 rigid-body errors of the linear axes X, Y, Z (model and names in
 // ncqual/volumetric.hpp) from
 //   A. a laser-tracker grid (Aguado et al.): the tool point measured in the tracker's own frame
