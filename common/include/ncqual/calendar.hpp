@@ -76,7 +76,7 @@ struct CalendarConfig {
   int retries = 2;
 };
 
-// The process of ../shared/DESIGN.md: monthly tracker checks (master frame, grid, W, A, C, the
+// The process of docs/architecture.md: monthly tracker checks (master frame, grid, W, A, C, the
 // three circles, the ISO 230-2 run), the weekly fixture pre-calibration, the daily monument
 // checks 1 -> 4, in that order; two shifts Monday to Friday, 06:00-14:00 and 14:00-22:00, UTC.
 CalendarConfig default_calendar_config();

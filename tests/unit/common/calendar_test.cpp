@@ -224,7 +224,7 @@ retries: 1
   EXPECT_EQ(c.parts.checks, std::vector<CheckKind>{CheckKind::PartSetPoints});
   EXPECT_EQ(c.check_timeout_min, 45);
   EXPECT_EQ(c.retries, 1);
-  // Omitted: the defaults of DESIGN.md.
+  // Omitted: the defaults of docs/architecture.md.
   const CalendarConfig d = parse_calendar_config(yaml("{}"), "plant.yaml");
   ASSERT_EQ(d.periods.size(), 3u);
   EXPECT_EQ(d.periods[0].name, "monthly");
