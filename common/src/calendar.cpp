@@ -27,8 +27,6 @@ std::int64_t floor_div(std::int64_t a, std::int64_t b) {
   return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
 }
 
-const char* const kDayNames[7] = {"mon", "tue", "wed", "thu", "fri", "sat", "sun"};
-
 int monday_index(date::local_days d) {
   return static_cast<int>((date::weekday(d).c_encoding() + 6) % 7);
 }

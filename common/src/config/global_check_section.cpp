@@ -121,25 +121,19 @@ double sigma(const Node& v, double value) {
   return value;
 }
 
-// A list of 3 values per machine axis X, Y, Z: lengths, angles or plain numbers by the key.
+// A list of 3 values per machine axis X, Y, Z: lengths, angles or plain numbers by the key;
+// `sigmas`: each must be >= 0.
 enum class Kind { Length, Angle, Number };
 Eigen::Vector3d per_axis(const Node& v, Kind kind, const Eigen::Vector3d& fallback,
                          bool sigmas = false) {
-  if (!v.present()) return fallback;
-  if (!v.is_list() || v.size() != 3) {
-    v.problem("expected a list of 3 numbers");
-    return fallback;
+  const auto read = kind == Kind::Length  ? v.lengths(3)
+                    : kind == Kind::Angle ? v.angles(3)
+                                          : v.numbers(3);
+  if (!read) return fallback;
+  if (sigmas) {
+    for (std::size_t i = 0; i < 3; ++i) sigma(v[i], (*read)[static_cast<int>(i)]);
   }
-  Eigen::Vector3d out = fallback;
-  for (std::size_t i = 0; i < 3; ++i) {
-    const Node item = v[i];
-    const auto d = kind == Kind::Length  ? item.length()
-                   : kind == Kind::Angle ? item.angle()
-                                         : item.number();
-    if (!d) continue;
-    out[static_cast<int>(i)] = sigmas ? sigma(item, *d) : *d;
-  }
-  return out;
+  return *read;
 }
 
 PlannedTrackerConfig read_planned_tracker(const Node& t) {

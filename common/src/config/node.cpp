@@ -11,10 +11,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool ends_with(std::string_view s, std::string_view suffix) {
-  return s.size() > suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 // A bare decimal number (what std::stod reads, all of it); nullopt otherwise.
 std::optional<double> plain_number(const std::string& text) {
   try {
@@ -135,16 +131,21 @@ bool Node::required_map_of(const std::set<std::string>& keys) const {
 
 bool Node::require() const { return present() || problem("required"); }
 
-std::string_view Node::length_unit() const {
-  if (ends_with(unit_key_, "_in")) return "in";
-  if (ends_with(unit_key_, "_um")) return "um";
+bool key_ends_with(std::string_view key, std::string_view suffix) {
+  return key.size() > suffix.size() &&
+         key.compare(key.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+std::string_view length_unit_of(std::string_view key) {
+  if (key_ends_with(key, "_in")) return "in";
+  if (key_ends_with(key, "_um")) return "um";
   return "mm";
 }
 
-std::string_view Node::angle_unit() const {
-  if (ends_with(unit_key_, "_deg")) return "deg";
-  if (ends_with(unit_key_, "_arcsec")) return "arcsec";
-  if (ends_with(unit_key_, "_urad")) return "urad";
+std::string_view angle_unit_of(std::string_view key) {
+  if (key_ends_with(key, "_deg")) return "deg";
+  if (key_ends_with(key, "_arcsec")) return "arcsec";
+  if (key_ends_with(key, "_urad")) return "urad";
   return "rad";
 }
 
@@ -183,10 +184,12 @@ std::optional<double> Node::quantity(units::Dimension dim, std::string_view defa
 }
 
 std::optional<double> Node::length() const {
-  return quantity(units::Dimension::Length, length_unit());
+  return quantity(units::Dimension::Length, length_unit_of(unit_key_));
 }
 
-std::optional<double> Node::angle() const { return quantity(units::Dimension::Angle, angle_unit()); }
+std::optional<double> Node::angle() const {
+  return quantity(units::Dimension::Angle, angle_unit_of(unit_key_));
+}
 
 std::optional<double> Node::number() const {
   if (!present()) return std::nullopt;
@@ -235,21 +238,34 @@ std::optional<bool> Node::flag() const {
   return s == "true";
 }
 
-std::optional<Eigen::VectorXd> Node::lengths(int n) const {
+std::optional<Eigen::VectorXd> Node::list_of(int n, std::optional<double> (Node::*read)() const,
+                                             const char* what) const {
   if (!present()) return std::nullopt;
   if (!yaml_->IsSequence() || static_cast<int>(yaml_->size()) != n) {
-    problem("expected a list of " + std::to_string(n) + " lengths");
+    problem("expected a list of " + std::to_string(n) + " " + what);
     return std::nullopt;
   }
   Eigen::VectorXd out(n);
   bool ok = true;
   for (int i = 0; i < n; ++i) {
-    const auto v = (*this)[static_cast<std::size_t>(i)].length();
+    const auto v = ((*this)[static_cast<std::size_t>(i)].*read)();
     if (v) out[i] = *v;
     ok = ok && v.has_value();
   }
   if (!ok) return std::nullopt;
   return out;
+}
+
+std::optional<Eigen::VectorXd> Node::lengths(int n) const {
+  return list_of(n, static_cast<std::optional<double> (Node::*)() const>(&Node::length), "lengths");
+}
+
+std::optional<Eigen::VectorXd> Node::angles(int n) const {
+  return list_of(n, static_cast<std::optional<double> (Node::*)() const>(&Node::angle), "angles");
+}
+
+std::optional<Eigen::VectorXd> Node::numbers(int n) const {
+  return list_of(n, static_cast<std::optional<double> (Node::*)() const>(&Node::number), "numbers");
 }
 
 double Node::length(double fallback) const {

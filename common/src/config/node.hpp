@@ -108,8 +108,11 @@ class Node {
   std::optional<int> integer(int lo, int hi) const;
   std::optional<std::string> text() const;
   std::optional<bool> flag() const;  // true or false
-  // A list of exactly `n` lengths (mm).
+  // A list of exactly `n` lengths (mm), angles (rad) or plain numbers; a problem "expected a
+  // list of <n> lengths" (angles, numbers) when it is not one.
   std::optional<Eigen::VectorXd> lengths(int n) const;
+  std::optional<Eigen::VectorXd> angles(int n) const;
+  std::optional<Eigen::VectorXd> numbers(int n) const;
 
   // ---- With a fallback: returned (and logged as the default) when absent, or when bad --------
   double length(double fallback) const;
@@ -125,8 +128,9 @@ class Node {
 
  private:
   std::string child_path(const std::string& key) const;
-  std::string_view length_unit() const;
-  std::string_view angle_unit() const;
+  // A list of exactly `n` values, each read by `read`; `what` names them in the problem.
+  std::optional<Eigen::VectorXd> list_of(int n, std::optional<double> (Node::*read)() const,
+                                         const char* what) const;
   void log(const std::string& value) const;
   void log_default(const std::string& value) const;
 
@@ -151,6 +155,13 @@ GlobalCheckConfig read_global_check(const Node& node);
 CalendarConfig read_calendar(const Node& node);
 solver::ErrorBudgetConfig read_budget(const Node& node);
 sim::SimulatorConfig read_simulator(const Node& node, const MachineConfig& machine);
+
+// The unit a bare number of `key` is in, by the key's suffix: lengths `_in`, `_um`, else mm;
+// angles `_deg`, `_arcsec`, `_urad`, else rad.
+std::string_view length_unit_of(std::string_view key);
+std::string_view angle_unit_of(std::string_view key);
+// True when `key` ends in `suffix` and is longer than it.
+bool key_ends_with(std::string_view key, std::string_view suffix);
 
 // An id of a machine or fixture: letters, digits, '-', '_' and '.', not empty.
 bool valid_id(const std::string& id);

@@ -37,25 +37,14 @@ std::string resolve(const std::string& base_file, const std::string& path) {
   return (fs::absolute(base_file).parent_path() / p).lexically_normal().string();
 }
 
-bool ends_with(const std::string& s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-std::string_view angle_unit_of(const std::string& metric) {
-  if (ends_with(metric, "_deg")) return "deg";
-  if (ends_with(metric, "_arcsec")) return "arcsec";
-  if (ends_with(metric, "_urad")) return "urad";
-  return "rad";
-}
-
 // A tolerance bound is in the unit of its metric, which the metric's name ends in: a length
 // metric (_mm) takes any length ("0.001 in"), an angle metric (_arcsec, _deg, _urad, _rad) any
 // angle ("2 urad" for an arcsec metric), both converted to the metric's unit; a bare number is
 // in the metric's unit. Other metrics take a plain number.
 std::optional<double> tolerance_bound(const Node& v, const std::string& metric) {
-  if (ends_with(metric, "_mm")) return v.quantity(units::Dimension::Length, "mm");
+  if (key_ends_with(metric, "_mm")) return v.quantity(units::Dimension::Length, "mm");
   const std::string_view angle_unit = angle_unit_of(metric);
-  if (angle_unit != "rad" || ends_with(metric, "_rad")) {
+  if (angle_unit != "rad" || key_ends_with(metric, "_rad")) {
     const auto rad = v.quantity(units::Dimension::Angle, angle_unit);
     if (!rad) return std::nullopt;
     return *rad / units::parse_quantity(units::Dimension::Angle, "1", angle_unit);

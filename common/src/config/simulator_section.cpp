@@ -156,30 +156,9 @@ TrackerModel read_tracker(const Node& node) {
   return t;
 }
 
-// Two angles under one key (e.g. c_axis_tilt_urad: [about X, about Y]).
+// Two angles under one key (e.g. c_axis_tilt_urad: [about X, about Y]); zero when absent.
 Eigen::Vector2d angle_pair(const Node& v) {
-  Eigen::Vector2d out = Eigen::Vector2d::Zero();
-  if (!v.present()) return out;
-  if (!v.is_list() || v.size() != 2) {
-    v.problem("expected a list of 2 angles");
-    return out;
-  }
-  for (std::size_t i = 0; i < 2; ++i) out[static_cast<int>(i)] = v[i].angle(0.0);
-  return out;
-}
-
-// A list of 3 plain numbers, each scaled by `scale`.
-Eigen::Vector3d numbers3(const Node& v, const Eigen::Vector3d& fallback, double scale) {
-  if (!v.present()) return fallback;
-  if (!v.is_list() || v.size() != 3) {
-    v.problem("expected 3 numbers");
-    return fallback;
-  }
-  Eigen::Vector3d out = fallback;
-  for (std::size_t i = 0; i < 3; ++i) {
-    if (const auto d = v[i].number()) out[static_cast<int>(i)] = *d * scale;
-  }
-  return out;
+  return v.angles(2).value_or(Eigen::Vector2d::Zero());
 }
 
 VolumetricTruth read_volumetric(const Node& node) {
@@ -197,8 +176,8 @@ VolumetricTruth read_volumetric(const Node& node) {
   v.repeatability_sigma_mm = non_negative(node["repeatability_sigma_mm"],
                                           node["repeatability_sigma_mm"].length(0.0));
   v.backlash_mm = node["backlash_mm"].lengths(3, v.backlash_mm);
-  v.expansion_per_K = numbers3(node["expansion_ppm_per_K"], v.expansion_per_K / 1e-6, 1e-6);
-  v.temperature_C = numbers3(node["temperature_C"], v.temperature_C, 1.0);
+  if (const auto ppm = node["expansion_ppm_per_K"].numbers(3)) v.expansion_per_K = *ppm * 1e-6;
+  v.temperature_C = node["temperature_C"].numbers(3).value_or(v.temperature_C);
   bool any_function = false;
   for (int i = 0; i < 18; ++i) {
     const Node c = node[function_key(i)];
