@@ -202,7 +202,8 @@ std::int64_t Calendar::period_start(const PeriodConfig& period, std::int64_t t_n
     for (int i = 0; i <= kSearchDays && !best; ++i) {
       for (const auto& s : config_.shifts) {
         const auto slot = slot_on(zone_, s, today - date::days(i));
-        if (slot && slot->start_ns <= t_ns && (!best || slot->start_ns > *best)) best = slot->start_ns;
+        if (slot && slot->start_ns <= t_ns && (!best || slot->start_ns > *best))
+          best = slot->start_ns;
       }
     }
     return best.value_or(std::numeric_limits<std::int64_t>::min());
@@ -236,8 +237,8 @@ bool Calendar::overdue(const PeriodConfig& period, std::optional<std::int64_t> l
   return first && first->start_ns <= t_ns;
 }
 
-std::int64_t Calendar::next_due(const PeriodConfig& period, std::optional<std::int64_t> last_pass_ns,
-                                std::int64_t t_ns) const {
+std::int64_t Calendar::next_due(const PeriodConfig& period,
+                                std::optional<std::int64_t> last_pass_ns, std::int64_t t_ns) const {
   return due(period, last_pass_ns, t_ns) ? t_ns : next_period_start(period, t_ns);
 }
 

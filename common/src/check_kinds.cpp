@@ -15,6 +15,8 @@ using N = Needs;
 
 // One row per kind, in CheckKind order (check_kinds() verifies the order once).
 std::array<CheckKindInfo, kCheckKindCount> make_table() {
+  // One row per kind reads as a table: clang-format keeps its hands off.
+  // clang-format off
   return {{
       {K::MonumentCAlignment, "monument_c_alignment", "daily 1: probe alignment with the C axis",
        C::Daily, I::TouchProbe, N::Monument, 8, std::nullopt, std::nullopt,
@@ -73,6 +75,7 @@ std::array<CheckKindInfo, kCheckKindCount> make_table() {
        C::Monthly, I::LaserTracker, N::GlobalCheck, 45, std::nullopt, std::nullopt,
        {"linear_A_mm", "linear_E_mm", "linear_R_mm", "linear_B_mm"}},
   }};
+  // clang-format on
 }
 
 const std::array<CheckKindInfo, kCheckKindCount>& table() {

@@ -38,7 +38,8 @@ std::optional<std::int64_t> parse_iso8601(std::string_view text) {
   const std::string s(text);
   int y = 0, mo = 0, d = 0, h = 0, mi = 0, consumed = 0;
   char sep = 0;
-  if (std::sscanf(s.c_str(), "%4d-%2d-%2d%c%2d:%2d%n", &y, &mo, &d, &sep, &h, &mi, &consumed) != 6 ||
+  if (std::sscanf(s.c_str(), "%4d-%2d-%2d%c%2d:%2d%n", &y, &mo, &d, &sep, &h, &mi, &consumed) !=
+          6 ||
       consumed != 16 || (sep != 'T' && sep != ' ')) {
     return std::nullopt;
   }

@@ -10,11 +10,12 @@ namespace ncqual::command_line {
 void configure(CLI::App& app) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app.get_formatter()->label("Usage", "usage");
-  app.set_version_flag("--version", [&app] { return version_line(app.get_name()); },
-                       "print the version and exit");
+  app.set_version_flag(
+      "--version", [&app] { return version_line(app.get_name()); }, "print the version and exit");
 }
 
-std::optional<int> parse(CLI::App& app, int argc, char** argv, const UsageReporter& on_usage_error) {
+std::optional<int> parse(CLI::App& app, int argc, char** argv,
+                         const UsageReporter& on_usage_error) {
   try {
     app.parse(argc, argv);
     return std::nullopt;

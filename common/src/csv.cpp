@@ -30,8 +30,7 @@ std::string lower(std::string_view s) {
 }
 
 // Splits one line (no line ending) into trimmed cells, unquoting quoted cells.
-std::vector<std::string> split_cells(std::string_view line, const std::string& file,
-                                     int line_no) {
+std::vector<std::string> split_cells(std::string_view line, const std::string& file, int line_no) {
   std::vector<std::string> cells;
   std::size_t i = 0;
   const std::size_t n = line.size();
@@ -137,9 +136,8 @@ double CsvTable::number(const CsvRow& row, std::size_t column) const {
     digits.remove_prefix(1);  // from_chars takes no '+'
   }
   double value = 0;
-  const auto [end, ec] =
-      std::from_chars(digits.data(), digits.data() + digits.size(), value,
-                      std::chars_format::general);
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value,
+                                         std::chars_format::general);
   if (ec == std::errc::result_out_of_range) {
     fail(row.line, column, what + "out of the range of a double");
   }
@@ -202,14 +200,13 @@ CsvTable read_csv(std::string_view text, const std::string& file) {
       std::map<std::string, std::size_t> seen;
       for (std::size_t c = 0; c < cells.size(); ++c) {
         if (cells[c].empty()) {
-          throw CsvError(file, line_no, static_cast<int>(c) + 1,
-                         "empty column name in the header");
+          throw CsvError(file, line_no, static_cast<int>(c) + 1, "empty column name in the header");
         }
         const auto [it, fresh] = seen.emplace(cells[c], c);
         if (!fresh) {
-          throw CsvError(file, line_no, static_cast<int>(c) + 1,
-                         "column name '" + cells[c] + "' repeats column " +
-                             std::to_string(it->second + 1));
+          throw CsvError(
+              file, line_no, static_cast<int>(c) + 1,
+              "column name '" + cells[c] + "' repeats column " + std::to_string(it->second + 1));
         }
       }
       table.header_line = line_no;
@@ -222,8 +219,7 @@ CsvTable read_csv(std::string_view text, const std::string& file) {
       throw CsvError(file, line_no, column,
                      std::to_string(cells.size()) + " cells, but the header (line " +
                          std::to_string(table.header_line) + ") has " +
-                         std::to_string(table.header.size()) + " columns: " +
-                         join(table.header));
+                         std::to_string(table.header.size()) + " columns: " + join(table.header));
     }
     table.rows.push_back(CsvRow{line_no, std::move(cells)});
   }

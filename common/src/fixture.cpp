@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/fixture.hpp"
 
-
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -68,23 +67,17 @@ bool fixture_has_pogo(const FixtureConfig& fixture, const PogoId& pogo) {
 
 std::string_view to_string(RowSelection rows) {
   switch (rows) {
-    case RowSelection::Odd:
-      return "odd rows";
-    case RowSelection::Even:
-      return "even rows";
-    default:
-      return "all rows";
+    case RowSelection::Odd: return "odd rows";
+    case RowSelection::Even: return "even rows";
+    default: return "all rows";
   }
 }
 
 bool row_selected(RowSelection rows, int row) {
   switch (rows) {
-    case RowSelection::Odd:
-      return row % 2 == 1;
-    case RowSelection::Even:
-      return row % 2 == 0;
-    default:
-      return true;
+    case RowSelection::Odd: return row % 2 == 1;
+    case RowSelection::Even: return row % 2 == 0;
+    default: return true;
   }
 }
 
@@ -140,16 +133,11 @@ std::vector<std::vector<PogoPlacement>> postcalibration_configurations(const Fix
 
 std::string_view to_string(PogoFace face) {
   switch (face) {
-    case PogoFace::Top:
-      return "top";
-    case PogoFace::XMinus:
-      return "x-";
-    case PogoFace::XPlus:
-      return "x+";
-    case PogoFace::YMinus:
-      return "y-";
-    case PogoFace::YPlus:
-      return "y+";
+    case PogoFace::Top: return "top";
+    case PogoFace::XMinus: return "x-";
+    case PogoFace::XPlus: return "x+";
+    case PogoFace::YMinus: return "y-";
+    case PogoFace::YPlus: return "y+";
   }
   return "?";
 }
@@ -157,31 +145,21 @@ std::string_view to_string(PogoFace face) {
 // Written out component by component: negating a unit vector would give signed zeros.
 Eigen::Vector3d outward_normal(PogoFace face) {
   switch (face) {
-    case PogoFace::XMinus:
-      return Eigen::Vector3d(-1, 0, 0);
-    case PogoFace::XPlus:
-      return Eigen::Vector3d(1, 0, 0);
-    case PogoFace::YMinus:
-      return Eigen::Vector3d(0, -1, 0);
-    case PogoFace::YPlus:
-      return Eigen::Vector3d(0, 1, 0);
-    default:
-      return Eigen::Vector3d(0, 0, 1);
+    case PogoFace::XMinus: return Eigen::Vector3d(-1, 0, 0);
+    case PogoFace::XPlus: return Eigen::Vector3d(1, 0, 0);
+    case PogoFace::YMinus: return Eigen::Vector3d(0, -1, 0);
+    case PogoFace::YPlus: return Eigen::Vector3d(0, 1, 0);
+    default: return Eigen::Vector3d(0, 0, 1);
   }
 }
 
 Eigen::Vector3d approach_direction(PogoFace face) {
   switch (face) {
-    case PogoFace::XMinus:
-      return Eigen::Vector3d(1, 0, 0);
-    case PogoFace::XPlus:
-      return Eigen::Vector3d(-1, 0, 0);
-    case PogoFace::YMinus:
-      return Eigen::Vector3d(0, 1, 0);
-    case PogoFace::YPlus:
-      return Eigen::Vector3d(0, -1, 0);
-    default:
-      return Eigen::Vector3d(0, 0, -1);
+    case PogoFace::XMinus: return Eigen::Vector3d(1, 0, 0);
+    case PogoFace::XPlus: return Eigen::Vector3d(-1, 0, 0);
+    case PogoFace::YMinus: return Eigen::Vector3d(0, 1, 0);
+    case PogoFace::YPlus: return Eigen::Vector3d(0, -1, 0);
+    default: return Eigen::Vector3d(0, 0, -1);
   }
 }
 

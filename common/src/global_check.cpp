@@ -22,12 +22,12 @@ std::string indexed(const char* stem, std::size_t i) { return stem + std::to_str
 
 void append_master_frame_runs(const GlobalCheckConfig& c, std::vector<TrackerMove>& moves) {
   for (std::size_t i = 0; i < c.x_run_mm.size(); ++i) {
-    moves.push_back({indexed("x_run:", i),
-                     pivot({c.x_run_mm[i], c.x_run_at_mm.x(), c.x_run_at_mm.y()}), 0});
+    moves.push_back(
+        {indexed("x_run:", i), pivot({c.x_run_mm[i], c.x_run_at_mm.x(), c.x_run_at_mm.y()}), 0});
   }
   for (std::size_t i = 0; i < c.y_run_mm.size(); ++i) {
-    moves.push_back({indexed("y_run:", i),
-                     pivot({c.y_run_at_mm.x(), c.y_run_mm[i], c.y_run_at_mm.y()}), 0});
+    moves.push_back(
+        {indexed("y_run:", i), pivot({c.y_run_at_mm.x(), c.y_run_mm[i], c.y_run_at_mm.y()}), 0});
   }
 }
 
@@ -61,8 +61,7 @@ std::vector<TrackerMove> global_check_program(CheckKind kind, const GlobalCheckC
   // master-frame runs of the session would be in another frame, so it has none.
   if (kind != CheckKind::LinearAxisRun) append_master_frame_runs(c, moves);
   switch (kind) {
-    case CheckKind::GlobalMasterFrame:
-      break;
+    case CheckKind::GlobalMasterFrame: break;
     case CheckKind::GlobalGrid: {
       const std::size_t nx = c.grid_x_mm.size(), ny = c.grid_y_mm.size();
       for (std::size_t k = 0; k < c.targets.size(); ++k) {
@@ -102,15 +101,9 @@ std::vector<TrackerMove> global_check_program(CheckKind kind, const GlobalCheckC
         moves.push_back({indexed("w:", i), a, 0});
       }
       break;
-    case CheckKind::CircleXY:
-      append_circle(c.circle, 0, 1, moves);
-      break;
-    case CheckKind::CircleYZ:
-      append_circle(c.circle, 1, 2, moves);
-      break;
-    case CheckKind::CircleXZ:
-      append_circle(c.circle, 0, 2, moves);
-      break;
+    case CheckKind::CircleXY: append_circle(c.circle, 0, 1, moves); break;
+    case CheckKind::CircleYZ: append_circle(c.circle, 1, 2, moves); break;
+    case CheckKind::CircleXZ: append_circle(c.circle, 0, 2, moves); break;
     case CheckKind::LinearAxisRun: {
       const LinearRunConfig& r = c.linear_run;
       auto at = [&](double q) {
@@ -135,8 +128,7 @@ std::vector<TrackerMove> global_check_program(CheckKind kind, const GlobalCheckC
       }
       break;
     }
-    default:
-      break;
+    default: break;
   }
   return moves;
 }

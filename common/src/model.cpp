@@ -32,16 +32,12 @@ std::vector<CheckKind> all_check_kinds() {
   return kinds;
 }
 
-std::string_view to_string(Verdict verdict) {
-  return name_of(kVerdictNames, verdict, "unknown");
-}
+std::string_view to_string(Verdict verdict) { return name_of(kVerdictNames, verdict, "unknown"); }
 std::optional<Verdict> parse_verdict(std::string_view name) {
   return enum_named<Verdict>(kVerdictNames, name);
 }
 
-std::string_view to_string(MachineState state) {
-  return name_of(kStateNames, state, "unknown");
-}
+std::string_view to_string(MachineState state) { return name_of(kStateNames, state, "unknown"); }
 std::optional<MachineState> parse_machine_state(std::string_view name) {
   return enum_named<MachineState>(kStateNames, name);
 }

@@ -11,9 +11,9 @@ namespace ncqual::volumetric {
 namespace {
 
 constexpr std::array<std::string_view, kNameCount> kNames = {
-    "EXX", "EYX", "EZX", "EAX", "EBX", "ECX",  //
-    "EXY", "EYY", "EZY", "EAY", "EBY", "ECY",  //
-    "EXZ", "EYZ", "EZZ", "EAZ", "EBZ", "ECZ",  //
+    "EXX",     "EYX",     "EZX",    "EAX", "EBX", "ECX",  //
+    "EXY",     "EYY",     "EZY",    "EAY", "EBY", "ECY",  //
+    "EXZ",     "EYZ",     "EZZ",    "EAZ", "EBZ", "ECZ",  //
     "EC(0X)Y", "EB(0X)Z", "EA(0Y)Z"};
 
 void check_range(double lo, double hi) {
@@ -56,7 +56,8 @@ std::string_view function_name(int index) {
 }
 
 double legendre(int k, double u) {
-  if (k < 0) throw std::invalid_argument("legendre: k = " + std::to_string(k) + ": expected k >= 0");
+  if (k < 0)
+    throw std::invalid_argument("legendre: k = " + std::to_string(k) + ": expected k >= 0");
   if (k == 0) return 1.0;
   double p_prev = 1.0, p = u;
   for (int n = 1; n < k; ++n) {
@@ -74,8 +75,8 @@ double legendre_derivative(int k, double u) {
   }
   // P'_{n+1} = P'_{n-1} + (2n + 1) P_n, with P'_0 = 0, P'_1 = 1.
   if (k == 0) return 0.0;
-  double d_prev = 0.0, d = 1.0;       // P'_0, P'_1
-  double p_prev = 1.0, p = u;         // P_0, P_1
+  double d_prev = 0.0, d = 1.0;  // P'_0, P'_1
+  double p_prev = 1.0, p = u;    // P_0, P_1
   for (int n = 1; n < k; ++n) {
     const double d_next = d_prev + (2.0 * n + 1.0) * p;
     const double p_next = ((2.0 * n + 1.0) * u * p - n * p_prev) / (n + 1.0);
@@ -123,7 +124,8 @@ Eigen::Matrix3d rotation_from_vector(const Eigen::Vector3d& v_rad) {
   return Eigen::AngleAxisd(angle, v_rad / angle).toRotationMatrix();
 }
 
-Eigen::Vector3d actual_position(const RigidBodyErrors& errors, const Eigen::Vector3d& commanded_xyz_mm,
+Eigen::Vector3d actual_position(const RigidBodyErrors& errors,
+                                const Eigen::Vector3d& commanded_xyz_mm,
                                 const Eigen::Vector3d& tool_offset_mm) {
   const auto f = [&](int axis, int component) {
     return errors.functions[static_cast<std::size_t>(axis * 6 + component)].value(

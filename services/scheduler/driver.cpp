@@ -98,9 +98,10 @@ void run_simulated(Scheduler& sched, SimulatedClock& clock, const Events& events
       // No answer for a while: let simulated time run on to the next deadline (a timeout).
       const auto next = sched.next_event_ns();
       if (next && *next > clock.now_ns()) {
-        spdlog::warn("no answer for {} ms of wall time: simulated clock runs on to the next "
-                     "deadline",
-                     options.stall.count());
+        spdlog::warn(
+            "no answer for {} ms of wall time: simulated clock runs on to the next "
+            "deadline",
+            options.stall.count());
         clock.set_ns(*next);
         sched.persist_clock();
       }
@@ -120,9 +121,10 @@ bool ReaderHandshake::wait(std::chrono::milliseconds patience) {
       requests_.wait(known_.requests, patience) && statuses_.wait(known_.statuses, patience);
   const ReaderCounts now{requests_.matched(), statuses_.matched()};
   if (!matched) {
-    spdlog::warn("after {} ms {} of {} request readers and {} of {} status readers are matched; "
-                 "going on without the others",
-                 patience.count(), now.requests, known_.requests, now.statuses, known_.statuses);
+    spdlog::warn(
+        "after {} ms {} of {} request readers and {} of {} status readers are matched; "
+        "going on without the others",
+        patience.count(), now.requests, known_.requests, now.statuses, known_.statuses);
     known_ = now;  // the plant has changed: learn its readers afresh
     save_reader_counts(state_, known_);
   } else {

@@ -79,7 +79,7 @@ void run_simulated(Scheduler& scheduler, SimulatedClock& clock, const Events& ev
 class ReaderHandshake {
  public:
   struct Writer {
-    std::function<int()> matched;                                    // readers matched now
+    std::function<int()> matched;                                      // readers matched now
     std::function<bool(int readers, std::chrono::milliseconds)> wait;  // until that many
   };
 

@@ -48,8 +48,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   return ncqual::dds::service_main(app, argc, argv, options, "scheduler", [&](PlantConfig loaded) {
-    const scheduler::ServedPlant served = scheduler::serve_only(
-        std::move(loaded), machine_list);
+    const scheduler::ServedPlant served = scheduler::serve_only(std::move(loaded), machine_list);
     const PlantConfig& plant = served.plant;
     const std::vector<CheckKind> cycle =
         cycle_text ? scheduler::check_kind_list(*cycle_text)
@@ -72,7 +71,8 @@ int main(int argc, char** argv) {
 
     scheduler::Scheduler sched(plant, clock,
                                {[&](const CheckRequest& r) {
-                                  if (!requests.write(r)) spdlog::error("{}: request not queued", r.request_id);
+                                  if (!requests.write(r))
+                                    spdlog::error("{}: request not queued", r.request_id);
                                 },
                                 [&](const MachineStatus& s) { statuses.write(s); }},
                                &state);
@@ -80,7 +80,8 @@ int main(int argc, char** argv) {
     service.dispatcher().on(results, [&](ncqual::dds::Received<CheckResult> in) {
       progress = true;
       if (!in.error.empty()) {
-        spdlog::error("result {} of '{}' ignored: {}", in.value.request_id, in.value.machine_id, in.error);
+        spdlog::error("result {} of '{}' ignored: {}", in.value.request_id, in.value.machine_id,
+                      in.error);
         return;
       }
       sched.result(in.value);
@@ -89,7 +90,8 @@ int main(int argc, char** argv) {
       if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.command(in.value) : in.error;
-      if (!refused.empty()) spdlog::error("check command {} refused: {}", in.value.request_id, refused);
+      if (!refused.empty())
+        spdlog::error("check command {} refused: {}", in.value.request_id, refused);
     });
     service.dispatcher().on(interventions, [&](ncqual::dds::Received<Intervention> in) {
       if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine

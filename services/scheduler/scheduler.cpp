@@ -54,7 +54,8 @@ namespace {
 
 nlohmann::json values_json(const std::vector<NamedValue>& values) {
   nlohmann::json a = nlohmann::json::array();
-  for (const auto& v : values) a.push_back({{"name", v.name}, {"value", v.value}, {"unit", v.unit}});
+  for (const auto& v : values)
+    a.push_back({{"name", v.name}, {"value", v.value}, {"unit", v.unit}});
   return a;
 }
 
@@ -69,7 +70,9 @@ std::vector<NamedValue> values_from(const nlohmann::json& a) {
 
 CheckKind kind_from(const nlohmann::json& j) {
   const auto kind = parse_check_kind(j.get<std::string>());
-  if (!kind) throw std::invalid_argument("scheduler state: unknown check kind '" + j.get<std::string>() + "'");
+  if (!kind)
+    throw std::invalid_argument("scheduler state: unknown check kind '" + j.get<std::string>() +
+                                "'");
   return *kind;
 }
 
@@ -135,7 +138,8 @@ MachineRun machine_run_from_json(const std::string& text) {
   for (const auto& p : j.at("pending")) {
     PendingCheck c;
     c.request_ids = p.at("request_ids").get<std::vector<std::string>>();
-    if (c.request_ids.empty()) throw std::invalid_argument("scheduler state: a pending check without request id");
+    if (c.request_ids.empty())
+      throw std::invalid_argument("scheduler state: a pending check without request id");
     c.kind = kind_from(p.at("kind"));
     c.requested_by = p.at("requested_by").get<std::string>();
     c.issued_ns = p.at("issued_ns").get<std::int64_t>();
@@ -147,11 +151,12 @@ MachineRun machine_run_from_json(const std::string& text) {
   }
   if (j.contains("hold")) {
     const auto& h = j.at("hold");
-    run.hold = Hold{kind_from(h.at("kind")), h.at("request_id").get<std::string>(),
+    run.hold = Hold{kind_from(h.at("kind")),           h.at("request_id").get<std::string>(),
                     h.at("detail").get<std::string>(), kind_from(h.at("rerun")),
-                    values_from(h.at("parameters")), h.at("in_sequence").get<bool>()};
+                    values_from(h.at("parameters")),   h.at("in_sequence").get<bool>()};
   }
-  if (j.contains("planned_shift_ns")) run.planned_shift_ns = j.at("planned_shift_ns").get<std::int64_t>();
+  if (j.contains("planned_shift_ns"))
+    run.planned_shift_ns = j.at("planned_shift_ns").get<std::int64_t>();
   if (j.contains("next_part_ns")) run.next_part_ns = j.at("next_part_ns").get<std::int64_t>();
   run.part_step = j.at("part_step").get<std::size_t>();
   run.local_time_ns = j.at("local_time_ns").get<std::int64_t>();
@@ -198,7 +203,9 @@ ReaderCounts saved_reader_counts(storage::StateFile& file) {
 
 void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts) {
   try {
-    file.save({{"readers", nlohmann::json{{"requests", counts.requests}, {"statuses", counts.statuses}}.dump()}});
+    file.save(
+        {{"readers",
+          nlohmann::json{{"requests", counts.requests}, {"statuses", counts.statuses}}.dump()}});
   } catch (const std::exception& e) {
     spdlog::error("reader counts not saved to {}: {}", file.path(), e.what());
   }
@@ -212,7 +219,8 @@ Scheduler::Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outpu
   if (plant_.calendar) calendar_.emplace(*plant_.calendar);
   const CalendarConfig& limits = calendar_ ? calendar_->config() : default_calendar_config();
   check_timeout_min_ = limits.check_timeout_min;
-  check_timeout_ns_ = static_cast<std::int64_t>(std::llround(limits.check_timeout_min * kNsPerMinute));
+  check_timeout_ns_ =
+      static_cast<std::int64_t>(std::llround(limits.check_timeout_min * kNsPerMinute));
   retries_ = limits.retries;
   for (const auto& m : plant_.machines) machines_[m.machine_id].config = &m;
   if (!state_file_) return;
@@ -254,19 +262,20 @@ void Scheduler::start(const std::vector<CheckKind>& cycle) {
     }
     for (const auto& p : m.run.pending) {
       if (resent.count(p.request_ids.back())) continue;
-      outbox_requests_.push_back(CheckRequest{id, p.request_ids.back(), p.kind, p.requested_by,
-                                              p.issued_ns, static_cast<std::int32_t>(p.request_ids.size()),
-                                              p.parameters, p.verifies_correction_of});
+      outbox_requests_.push_back(CheckRequest{
+          id, p.request_ids.back(), p.kind, p.requested_by, p.issued_ns,
+          static_cast<std::int32_t>(p.request_ids.size()), p.parameters, p.verifies_correction_of});
     }
     if (!cycle.empty() && !m.run.hold) {
       for (CheckKind k : cycle) {
-        if (std::find(m.run.queue.begin(), m.run.queue.end(), k) == m.run.queue.end()) m.run.queue.push_back(k);
+        if (std::find(m.run.queue.begin(), m.run.queue.end(), k) == m.run.queue.end())
+          m.run.queue.push_back(k);
       }
     }
     // The state as stored, published again: a restarted scheduler tells everyone where it is.
     if (!m.run.detail.empty()) {
-      outbox_statuses_.push_back(MachineStatus{id, "", m.run.state, std::nullopt, std::nullopt,
-                                               m.run.detail, now(m)});
+      outbox_statuses_.push_back(
+          MachineStatus{id, "", m.run.state, std::nullopt, std::nullopt, m.run.detail, now(m)});
     }
     advance(m);
     update_state(m, "", std::nullopt, std::nullopt);
@@ -300,7 +309,8 @@ void Scheduler::tick() {
 void Scheduler::advance(Machine& m) {
   MachineRun& run = m.run;
   if (run.hold) return;
-  if (std::any_of(run.pending.begin(), run.pending.end(), [](const PendingCheck& p) { return p.in_sequence; })) {
+  if (std::any_of(run.pending.begin(), run.pending.end(),
+                  [](const PendingCheck& p) { return p.in_sequence; })) {
     return;
   }
   const std::int64_t t = now(m);
@@ -370,12 +380,15 @@ void Scheduler::issue(Machine& m, CheckKind kind, const std::string& requested_b
   const std::int64_t t = now(m);
   add_fixture_configuration(m, kind, parameters);
   const std::string id = request_id.empty() ? request_id_for(m, kind) : std::move(request_id);
-  PendingCheck p{{id}, kind, requested_by, t, parameters, verifies_correction_of, in_sequence, rearmed};
+  PendingCheck p{{id},        kind,   requested_by, t, parameters, verifies_correction_of,
+                 in_sequence, rearmed};
   m.run.pending.push_back(p);
   send(m, CheckRequest{m.config->machine_id, id, kind, requested_by, t, 1, std::move(parameters),
                        std::move(verifies_correction_of)});
-  spdlog::info("{}: requesting {} ({}) for {}", m.config->machine_id, to_string(kind), id, requested_by);
-  update_state(m, id, kind, std::nullopt, std::string(to_string(kind)) + " requested by " + requested_by);
+  spdlog::info("{}: requesting {} ({}) for {}", m.config->machine_id, to_string(kind), id,
+               requested_by);
+  update_state(m, id, kind, std::nullopt,
+               std::string(to_string(kind)) + " requested by " + requested_by);
 }
 
 void Scheduler::retry_or_hold(Machine& m, PendingCheck& p) {
@@ -385,8 +398,8 @@ void Scheduler::retry_or_hold(Machine& m, PendingCheck& p) {
     const std::string id = p.request_ids.front() + "-r" + std::to_string(attempts + 1);
     p.request_ids.push_back(id);
     p.issued_ns = now(m);
-    send(m, CheckRequest{m.config->machine_id, id, p.kind, p.requested_by, p.issued_ns, attempts + 1,
-                         p.parameters, p.verifies_correction_of});
+    send(m, CheckRequest{m.config->machine_id, id, p.kind, p.requested_by, p.issued_ns,
+                         attempts + 1, p.parameters, p.verifies_correction_of});
     spdlog::warn("{}: no result for {} ({}) after {} min; attempt {} as {}", m.config->machine_id,
                  to_string(p.kind), late, check_timeout_min_, attempts + 1, id);
     update_state(m, id, p.kind, std::nullopt,
@@ -396,8 +409,9 @@ void Scheduler::retry_or_hold(Machine& m, PendingCheck& p) {
     return;
   }
   const PendingCheck lost = p;
-  m.run.pending.erase(std::find_if(m.run.pending.begin(), m.run.pending.end(),
-                                   [&](const PendingCheck& q) { return q.request_ids == lost.request_ids; }));
+  m.run.pending.erase(
+      std::find_if(m.run.pending.begin(), m.run.pending.end(),
+                   [&](const PendingCheck& q) { return q.request_ids == lost.request_ids; }));
   std::string ids;
   for (const auto& id : lost.request_ids) ids += (ids.empty() ? "" : ", ") + id;
   spdlog::error("{}: {} got no result after {} attempts ({})", m.config->machine_id,
@@ -406,7 +420,8 @@ void Scheduler::retry_or_hold(Machine& m, PendingCheck& p) {
                std::string(to_string(lost.kind)) + " MISSED: no measurement or result after " +
                    std::to_string(attempts) + " attempts (" + ids +
                    "); first likely cause: the acquisition service or the instrument of " +
-                   m.config->machine_id + " is down; next: restore it, then ncqual intervene --machine " +
+                   m.config->machine_id +
+                   " is down; next: restore it, then ncqual intervene --machine " +
                    m.config->machine_id + " --check " + std::string(to_string(lost.kind)) +
                    " --note \"...\"",
                lost.kind, lost.parameters, lost.in_sequence});
@@ -441,8 +456,9 @@ void Scheduler::result(const CheckResult& res) {
   auto it = machines_.find(res.machine_id);
   if (it == machines_.end()) return;
   Machine& m = it->second;
-  auto p = std::find_if(m.run.pending.begin(), m.run.pending.end(),
-                        [&](const PendingCheck& q) { return contains(q.request_ids, res.request_id); });
+  auto p = std::find_if(m.run.pending.begin(), m.run.pending.end(), [&](const PendingCheck& q) {
+    return contains(q.request_ids, res.request_id);
+  });
   if (p == m.run.pending.end()) return;  // not ours, or already handled
   const PendingCheck done = *p;
   m.run.pending.erase(p);
@@ -461,8 +477,8 @@ void Scheduler::result(const CheckResult& res) {
       if (std::find(parts.begin(), parts.end(), res.kind) != parts.end() && m.run.next_part_ns) {
         if (++m.run.part_step >= parts.size()) {
           m.run.part_step = 0;
-          m.run.next_part_ns =
-              t + static_cast<std::int64_t>(std::llround(calendar_->config().parts.cycle_min * kNsPerMinute));
+          m.run.next_part_ns = t + static_cast<std::int64_t>(std::llround(
+                                       calendar_->config().parts.cycle_min * kNsPerMinute));
         }
       }
     }
@@ -488,12 +504,13 @@ void Scheduler::result(const CheckResult& res) {
   if (!res.likely_causes.empty()) detail += "; first likely cause: " + res.likely_causes.front();
   if (!res.reason.empty()) detail += "; " + res.reason;
   const CheckKind rerun = rerun_after_intervention(res.kind);
-  detail += "; next: " +
-            std::string(res.likely_causes.empty() ? "investigate" : "investigate the causes in order") +
-            ", then ncqual intervene --machine " + res.machine_id + " --check " +
-            std::string(to_string(res.kind)) + " --note \"...\"" +
-            (rerun != res.kind ? " (re-runs " + std::string(to_string(rerun)) + ")"
-                               : std::string(" (re-runs the check)"));
+  detail +=
+      "; next: " +
+      std::string(res.likely_causes.empty() ? "investigate" : "investigate the causes in order") +
+      ", then ncqual intervene --machine " + res.machine_id + " --check " +
+      std::string(to_string(res.kind)) + " --note \"...\"" +
+      (rerun != res.kind ? " (re-runs " + std::string(to_string(rerun)) + ")"
+                         : std::string(" (re-runs the check)"));
   std::vector<NamedValue> parameters = done.parameters;
   hold(m, Hold{res.kind, res.request_id, detail, rerun, parameters, done.in_sequence});
   commit(m);
@@ -502,22 +519,26 @@ void Scheduler::result(const CheckResult& res) {
 std::string Scheduler::intervention(const Intervention& iv) {
   auto it = machines_.find(iv.machine_id);
   if (it == machines_.end()) {
-    return "Intervention.machine_id '" + iv.machine_id + "' is not configured in plant '" + plant_.plant + "'";
+    return "Intervention.machine_id '" + iv.machine_id + "' is not configured in plant '" +
+           plant_.plant + "'";
   }
   Machine& m = it->second;
   if (iv.intervention_id.empty()) return "Intervention.intervention_id is empty";
   if (contains(m.run.interventions, iv.intervention_id)) return "";  // redelivered
   if (!m.run.hold) {
-    return "Intervention.kind '" + std::string(to_string(iv.kind)) + "': machine '" + iv.machine_id +
+    return "Intervention.kind '" + std::string(to_string(iv.kind)) + "': machine '" +
+           iv.machine_id +
            "' is not held; nothing to re-arm (the intervention is recorded by the historian)";
   }
   const Hold h = *m.run.hold;
   if (!intervention_matches(iv.kind, h.kind)) {
-    return "Intervention.kind '" + std::string(to_string(iv.kind)) + "' does not match the held check '" +
-           std::string(to_string(h.kind)) + "' of machine '" + iv.machine_id + "'";
+    return "Intervention.kind '" + std::string(to_string(iv.kind)) +
+           "' does not match the held check '" + std::string(to_string(h.kind)) + "' of machine '" +
+           iv.machine_id + "'";
   }
   m.run.interventions.push_back(iv.intervention_id);
-  if (m.run.interventions.size() > kRememberedInterventions) m.run.interventions.erase(m.run.interventions.begin());
+  if (m.run.interventions.size() > kRememberedInterventions)
+    m.run.interventions.erase(m.run.interventions.begin());
   m.run.hold.reset();
   spdlog::info("{}: intervention {} re-arms {}: {}", iv.machine_id, iv.intervention_id,
                to_string(h.rerun), iv.note);
@@ -526,8 +547,9 @@ std::string Scheduler::intervention(const Intervention& iv) {
   return "";
 }
 
-void Scheduler::update_state(Machine& m, const std::string& request_id, std::optional<CheckKind> kind,
-                             std::optional<Verdict> verdict, std::string detail_if_changed) {
+void Scheduler::update_state(Machine& m, const std::string& request_id,
+                             std::optional<CheckKind> kind, std::optional<Verdict> verdict,
+                             std::string detail_if_changed) {
   MachineRun& run = m.run;
   MachineState state = MachineState::Qualified;
   std::string detail;
@@ -569,7 +591,8 @@ void Scheduler::update_state(Machine& m, const std::string& request_id, std::opt
   if (state == run.state && detail == run.detail) return;
   run.state = state;
   run.detail = detail;
-  outbox_statuses_.push_back(MachineStatus{m.config->machine_id, request_id, state, kind, verdict, detail, t});
+  outbox_statuses_.push_back(
+      MachineStatus{m.config->machine_id, request_id, state, kind, verdict, detail, t});
 }
 
 void Scheduler::commit(Machine& m) {
@@ -619,7 +642,8 @@ std::optional<std::int64_t> Scheduler::next_event_ns() const {
     const MachineRun& run = m.run;
     for (const auto& p : run.pending) consider(p.issued_ns + check_timeout_ns_);
     if (run.hold) continue;
-    if (std::any_of(run.pending.begin(), run.pending.end(), [](const PendingCheck& p) { return p.in_sequence; })) {
+    if (std::any_of(run.pending.begin(), run.pending.end(),
+                    [](const PendingCheck& p) { return p.in_sequence; })) {
       continue;
     }
     const std::int64_t t = now(m);

@@ -63,8 +63,8 @@ struct PendingCheck {
   std::int64_t issued_ns = 0;  // of the current attempt
   std::vector<NamedValue> parameters;
   std::string verifies_correction_of;
-  bool in_sequence = true;     // false for an operator's order
-  bool rearmed = false;        // issued again after an intervention
+  bool in_sequence = true;  // false for an operator's order
+  bool rearmed = false;     // issued again after an intervention
 };
 
 // What holds a machine out of production until an intervention.
@@ -80,15 +80,15 @@ struct Hold {
 // Everything the scheduler knows about one machine; persisted as one document.
 struct MachineRun {
   std::map<CheckKind, std::int64_t> last_pass_ns;  // newest PASS of each kind (result time)
-  std::deque<CheckKind> queue;                      // the rest of this shift's period checks
+  std::deque<CheckKind> queue;                     // the rest of this shift's period checks
   std::vector<PendingCheck> pending;
   std::optional<Hold> hold;
-  std::optional<std::int64_t> planned_shift_ns;     // start of the shift already planned
-  std::optional<std::int64_t> next_part_ns;         // when the next part's checks start
-  std::size_t part_step = 0;                        // next of calendar.parts.checks in a part
-  std::int64_t local_time_ns = 0;                   // simulated clock: newest result time
-  std::uint64_t sequence = 0;                       // request ids issued
-  std::vector<std::string> interventions;           // ids applied (newest 64)
+  std::optional<std::int64_t> planned_shift_ns;  // start of the shift already planned
+  std::optional<std::int64_t> next_part_ns;      // when the next part's checks start
+  std::size_t part_step = 0;                     // next of calendar.parts.checks in a part
+  std::int64_t local_time_ns = 0;                // simulated clock: newest result time
+  std::uint64_t sequence = 0;                    // request ids issued
+  std::vector<std::string> interventions;        // ids applied (newest 64)
   // The newest requests issued (16), sent again at start: a killed scheduler's last requests may
   // have reached the acquisition but not yet the historian (its writer died with it).
   std::deque<CheckRequest> recent;
@@ -183,7 +183,9 @@ std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file);
 struct ReaderCounts {
   int requests = 0;
   int statuses = 0;
-  bool operator==(const ReaderCounts& o) const { return requests == o.requests && statuses == o.statuses; }
+  bool operator==(const ReaderCounts& o) const {
+    return requests == o.requests && statuses == o.statuses;
+  }
 };
 ReaderCounts saved_reader_counts(storage::StateFile& file);
 void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts);

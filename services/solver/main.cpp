@@ -78,13 +78,14 @@ int main(int argc, char** argv) {
       }
       result.produced_by = produced_by;  // every verdict names the software that made it
       spdlog::info("{} {} {}: {}{}", result.machine_id, result.request_id, to_string(result.kind),
-                   to_string(result.verdict), result.reason.empty() ? "" : " (" + result.reason + ")");
+                   to_string(result.verdict),
+                   result.reason.empty() ? "" : " (" + result.reason + ")");
       if (!results.write(result)) {
         spdlog::error("{} {}: result could not be queued", result.machine_id, result.request_id);
       }
       if (result.correction) {
-        compensations.write(Compensation{result.machine_id, result.request_id, *result.correction,
-                                         result.time_ns});
+        compensations.write(
+            Compensation{result.machine_id, result.request_id, *result.correction, result.time_ns});
       }
     });
     return service.run();

@@ -645,8 +645,7 @@ bool Database::store(const CheckResult& result) {
           .run();
     }
     if (result.correction) {
-      impl_->store_named_values(kInsertResultOffset, result.request_id,
-                                result.correction->offsets);
+      impl_->store_named_values(kInsertResultOffset, result.request_id, result.correction->offsets);
     }
     impl_->note_check(kUpsertCheckResult, "CheckResult", result.request_id, result.machine_id,
                       result.kind, result.time_ns);

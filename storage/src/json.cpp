@@ -20,9 +20,9 @@ nlohmann::json to_json(const CheckRecord& record) {
     }
   }
   out["parameters"] = std::move(parameters);
-  out["verifies_correction_of"] =
-      request && !request->verifies_correction_of.empty() ? json(request->verifies_correction_of)
-                                                          : json(nullptr);
+  out["verifies_correction_of"] = request && !request->verifies_correction_of.empty()
+                                      ? json(request->verifies_correction_of)
+                                      : json(nullptr);
 
   const auto& result = record.result;
   out["result_at_ns"] = result ? json(result->time_ns) : json(nullptr);

@@ -112,8 +112,7 @@ bool Query::step() {
 }
 
 void Query::run() {
-  while (step()) {
-  }
+  while (step()) {}
 }
 
 int Query::changes() const { return sqlite3_changes(db()); }

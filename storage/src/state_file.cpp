@@ -45,7 +45,8 @@ StateFile StateFile::open(const std::string& path) {
   }
   auto db = sqlite::open_connection(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   sqlite3_busy_timeout(db.get(), 5000);
-  const std::string id = sqlite::query_text(db.get(), "read application id", "PRAGMA application_id");
+  const std::string id =
+      sqlite::query_text(db.get(), "read application id", "PRAGMA application_id");
   const std::string tables =
       sqlite::query_text(db.get(), "count tables", "SELECT count(*) FROM sqlite_schema");
   if (id != std::to_string(kStateApplicationId) && tables != "0") {

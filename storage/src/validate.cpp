@@ -91,8 +91,8 @@ void parameters(const std::vector<NamedValue>& values, const std::string& field,
                 const std::string& owner) {
   for (std::size_t i = 0; i < values.size(); ++i) {
     non_empty(values[i].name, field + "[" + std::to_string(i) + "].name", owner);
-    finite(values[i].value, field + "[" + std::to_string(i) + "].value (" +
-                                quoted(values[i].name) + ")", owner);
+    finite(values[i].value,
+           field + "[" + std::to_string(i) + "].value (" + quoted(values[i].name) + ")", owner);
   }
 }
 

@@ -40,7 +40,8 @@ double rss_mb() {
   std::ifstream in("/proc/self/statm");
   long size = 0, resident = 0;
   in >> size >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) /
+         (1024.0 * 1024.0);
 }
 
 const char* verdict(bool pass) { return pass ? "PASS" : "MISS"; }
@@ -103,9 +104,10 @@ int run() {
   mc.seed = 2024;
 
   std::printf("ncqual monthly bench: %s (%s)\n", machine.machine_id.c_str(), path.c_str());
-  std::printf("  grid design: %zu points (%zu x %zu x %zu grid x %zu targets)\n\n", design.points.size(),
-              machine.global_check->grid_x_mm.size(), machine.global_check->grid_y_mm.size(),
-              machine.global_check->grid_z_mm.size(), machine.global_check->targets.size());
+  std::printf("  grid design: %zu points (%zu x %zu x %zu grid x %zu targets)\n\n",
+              design.points.size(), machine.global_check->grid_x_mm.size(),
+              machine.global_check->grid_y_mm.size(), machine.global_check->grid_z_mm.size(),
+              machine.global_check->targets.size());
 
   // ---- (a) the monthly grid analysis ----
   constexpr int kRuns = 50;
@@ -120,7 +122,9 @@ int run() {
     if (i == 0) first = std::move(r);
   }
   const double med = median(times), mx = *std::max_element(times.begin(), times.end());
-  std::printf("(a) monthly grid analysis (master frame + grid + 21-error identification), %d runs\n", kRuns);
+  std::printf(
+      "(a) monthly grid analysis (master frame + grid + 21-error identification), %d runs\n",
+      kRuns);
   std::printf("    points per set: %zu; verdict of run 0: %s", sets.front().tracker_points.size(),
               std::string(ncqual::to_string(first.verdict)).c_str());
   for (const auto& m : first.metrics) {
@@ -140,34 +144,42 @@ int run() {
   one_full.threads = 1;
   one_full.method = ncqual::solver::IdentificationMethod::Full;
   auto t0 = Clock::now();
-  const auto full = ncqual::solver::evaluate_verification_uncertainty(design, tracker, sources, one_full);
+  const auto full =
+      ncqual::solver::evaluate_verification_uncertainty(design, tracker, sources, one_full);
   const double full_ms = ms_since(t0) / one_full.trials;
 
   t0 = Clock::now();
   const auto u = ncqual::solver::evaluate_verification_uncertainty(design, tracker, sources, mc);
   const double mc_s = ms_since(t0) / 1000.0;
-  std::printf("(b) Monte Carlo verification uncertainty, %d trials, %d threads, linearised identification\n",
-              mc.trials, mc.threads);
+  std::printf(
+      "(b) Monte Carlo verification uncertainty, %d trials, %d threads, linearised "
+      "identification\n",
+      mc.trials, mc.threads);
   std::printf("    %d observations, %d candidate parameters, %.1f kept on average by the BIC\n",
               u.observations, u.candidate_parameters, u.mean_kept_parameters);
   std::printf("    per-trial mean |e|: mean %.2f um, sigma %.2f um, 95%% %.2f um\n",
-              u.mean_residual_mm.mean * 1e3, u.mean_residual_mm.sigma * 1e3, u.mean_residual_mm.quantile95 * 1e3);
-  std::printf("    per-trial max  |e|: mean %.2f um, sigma %.2f um, 95%% %.2f um, largest %.2f um\n",
-              u.max_residual_mm.mean * 1e3, u.max_residual_mm.sigma * 1e3, u.max_residual_mm.quantile95 * 1e3,
-              u.max_residual_mm.max * 1e3);
+              u.mean_residual_mm.mean * 1e3, u.mean_residual_mm.sigma * 1e3,
+              u.mean_residual_mm.quantile95 * 1e3);
+  std::printf(
+      "    per-trial max  |e|: mean %.2f um, sigma %.2f um, 95%% %.2f um, largest %.2f um\n",
+      u.max_residual_mm.mean * 1e3, u.max_residual_mm.sigma * 1e3,
+      u.max_residual_mm.quantile95 * 1e3, u.max_residual_mm.max * 1e3);
   double worst_bound = 0;
   for (const auto& p : u.points) worst_bound = std::max(worst_bound, p.bound95_mm);
-  std::printf("    largest per-point 95%% bound %.2f um; tracker alone (eq. 24): max u_p %.2f um, mean %.2f um\n",
-              worst_bound * 1e3, u.tracker_max_u_mm * 1e3, u.tracker_mean_u_mm * 1e3);
+  std::printf(
+      "    largest per-point 95%% bound %.2f um; tracker alone (eq. 24): max u_p %.2f um, mean "
+      "%.2f um\n",
+      worst_bound * 1e3, u.tracker_max_u_mm * 1e3, u.tracker_mean_u_mm * 1e3);
   // Trial k draws from (seed, k): the first trials of both runs saw the same readings.
   double worst = 0;
   for (std::size_t k = 0; k < full.trial_max_mm.size(); ++k) {
     worst = std::max(worst, std::abs(u.trial_mean_mm[k] / full.trial_mean_mm[k] - 1));
     worst = std::max(worst, std::abs(u.trial_max_mm[k] / full.trial_max_mm[k] - 1));
   }
-  std::printf("    full Ceres identification: %.1f ms per trial; on its %d trials' draws the linearised\n"
-              "    per-trial mean and max |e| differ from it by at most %.1e (relative)\n",
-              full_ms, one_full.trials, worst);
+  std::printf(
+      "    full Ceres identification: %.1f ms per trial; on its %d trials' draws the linearised\n"
+      "    per-trial mean and max |e| differ from it by at most %.1e (relative)\n",
+      full_ms, one_full.trials, worst);
   ncqual::solver::MonteCarloOptions single = mc;
   single.trials = 200;
   single.threads = 1;
@@ -182,11 +194,16 @@ int run() {
   region.hi_mm = Eigen::Vector3d(4400, -400, 2100);
   region.steps = Eigen::Vector3i(12, 8, 5);
   const auto where = ncqual::solver::best_tracker_location(design, tracker, region);
-  std::printf("    best tracker location in x 0..4400, y -3500..-400, z 300..2100 (%d tried, %d excluded):\n",
-              where.tried, where.excluded);
-  std::printf("      (%.0f, %.0f, %.0f) mm, yaw %.1f deg: max u_p %.2f um (the configured placement: %.2f um)\n\n",
-              where.best.position_mm.x(), where.best.position_mm.y(), where.best.position_mm.z(),
-              where.best.ypr_rad[0] * 180 / 3.14159265358979, where.max_u_mm * 1e3, where.given_max_u_mm * 1e3);
+  std::printf(
+      "    best tracker location in x 0..4400, y -3500..-400, z 300..2100 (%d tried, %d "
+      "excluded):\n",
+      where.tried, where.excluded);
+  std::printf(
+      "      (%.0f, %.0f, %.0f) mm, yaw %.1f deg: max u_p %.2f um (the configured placement: %.2f "
+      "um)\n\n",
+      where.best.position_mm.x(), where.best.position_mm.y(), where.best.position_mm.z(),
+      where.best.ypr_rad[0] * 180 / 3.14159265358979, where.max_u_mm * 1e3,
+      where.given_max_u_mm * 1e3);
 
   // ---- (c) memory ----
   // A round: one monthly grid analysis, one Monte Carlo of 1000 trials, one location search.
@@ -213,8 +230,10 @@ int run() {
   const double held_end = reading(&raw_end);
   const double growth = held_end - held_first;
   std::printf("(c) resident set size (after malloc_trim; raw in brackets)\n");
-  std::printf("    before %.1f MB; after the first round %.1f MB [%.1f]; after %d more rounds %.1f MB [%.1f]\n",
-              rss_start, held_first, raw_first, kRounds, held_end, raw_end);
+  std::printf(
+      "    before %.1f MB; after the first round %.1f MB [%.1f]; after %d more rounds %.1f MB "
+      "[%.1f]\n",
+      rss_start, held_first, raw_first, kRounds, held_end, raw_end);
   std::printf("    growth from the first round on %+.2f MB   [target flat: < 1 MB]  %s\n", growth,
               verdict(growth < 1.0));
   return 0;

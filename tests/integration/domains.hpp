@@ -18,23 +18,22 @@ namespace ncqual::testing {
 namespace detail {
 // In an enumerator's initializer: an id outside 200-232 does not compile.
 constexpr int test_domain(int id) {
-  return id >= 200 && id <= 232 ? id
-                                 : throw std::logic_error("DDS test domains are 200-232");
+  return id >= 200 && id <= 232 ? id : throw std::logic_error("DDS test domains are 200-232");
 }
 }  // namespace detail
 
 enum class TestDomain : int {
-  EndToEnd = detail::test_domain(201),            // EndToEnd.CheckThreeOfTwoMachines...
-  OperatorCheck = detail::test_domain(202),       // EndToEnd.OperatorCheckGoesThrough...
-  HistorianRestart = detail::test_domain(203),    // HistorianRestart.*
-  BadInput = detail::test_domain(204),            // BadInput.*
-  FixtureLoop = detail::test_domain(205),         // FixtureLoop.*
-  Import = detail::test_domain(206),              // Import.*
-  CalendarReference = detail::test_domain(207),   // Calendar.SchedulerKilled...: the undisturbed run
+  EndToEnd = detail::test_domain(201),           // EndToEnd.CheckThreeOfTwoMachines...
+  OperatorCheck = detail::test_domain(202),      // EndToEnd.OperatorCheckGoesThrough...
+  HistorianRestart = detail::test_domain(203),   // HistorianRestart.*
+  BadInput = detail::test_domain(204),           // BadInput.*
+  FixtureLoop = detail::test_domain(205),        // FixtureLoop.*
+  Import = detail::test_domain(206),             // Import.*
+  CalendarReference = detail::test_domain(207),  // Calendar.SchedulerKilled...: the undisturbed run
   CalendarSchedulerKill = detail::test_domain(208),  // Calendar.SchedulerKilled...: the killed one
-  Fleet = detail::test_domain(209),               // Fleet.TwentyMachinesThreeWeeks...
-  FleetArguments = detail::test_domain(210),      // Fleet.AcquisitionRefusesABadMachineList...
-  FleetSchedulerPerMachine = detail::test_domain(211),  // Fleet.OneSchedulerPerMachine...
+  Fleet = detail::test_domain(209),                  // Fleet.TwentyMachinesThreeWeeks...
+  FleetArguments = detail::test_domain(210),         // Fleet.AcquisitionRefusesABadMachineList...
+  FleetSchedulerPerMachine = detail::test_domain(211),    // Fleet.OneSchedulerPerMachine...
   CalendarAcquisitionRestart = detail::test_domain(212),  // Calendar.RestartedAcquisition...
 };
 
@@ -53,8 +52,7 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::Fleet:
     case TestDomain::FleetArguments:
     case TestDomain::FleetSchedulerPerMachine:
-    case TestDomain::CalendarAcquisitionRestart:
-      break;
+    case TestDomain::CalendarAcquisitionRestart: break;
   }
   return static_cast<int>(domain);
 }

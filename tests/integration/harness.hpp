@@ -33,8 +33,8 @@ class Plant {
   // that ctest runs in parallel never hear each other.
   Plant(const std::string& name, TestDomain domain) : domain_(domain_id(domain)) {
     std::random_device rd;
-    dir_ = fs::temp_directory_path() / ("ncqual-it-" + name + "-" + std::to_string(getpid()) +
-                                        "-" + std::to_string(rd() % 100000));
+    dir_ = fs::temp_directory_path() / ("ncqual-it-" + name + "-" + std::to_string(getpid()) + "-" +
+                                        std::to_string(rd() % 100000));
     fs::create_directories(dir_);
   }
   ~Plant() {
@@ -144,8 +144,8 @@ inline std::string machine_yaml(const std::string& machine_id, const std::string
          "monument:\n  hole_center_mm: [1200.0, 800.0]\n  hole_diameter_mm: 50.0\n"
          "  face_z_mm: 150.0\n  probe_depth_mm: 5.0\n  gauge_width_mm: 200.0\n"
          "tolerances:\n  center_dx_mm: 0.025\n  center_dy_mm: 0.025\n  face_dz_mm: 0.025\n"
-         "simulator:\n  seed: " + std::to_string(seed) +
-         "\n  trigger_noise_sigma_mm: 0.001\n  errors:\n" + errors;
+         "simulator:\n  seed: " +
+         std::to_string(seed) + "\n  trigger_noise_sigma_mm: 0.001\n  errors:\n" + errors;
 }
 
 }  // namespace ncqual::testing

@@ -243,8 +243,9 @@ TEST_F(AnalyzeCli, BadFileExitsOneWithFileLineColumn) {
   const std::string dup = write("dup.csv", run_file(true) + "100,2,up,100.0050,20.0\n");
   const CliRun d = run({"analyze", "iso230-2", dup});
   EXPECT_EQ(d.exit_code, 1);
-  EXPECT_EQ(d.err, dup + ":21: target_mm = 100, cycle = 2, direction = up: a second reading of "
-                         "the same target, cycle and direction (first at line 7)\n");
+  EXPECT_EQ(d.err, dup +
+                       ":21: target_mm = 100, cycle = 2, direction = up: a second reading of "
+                       "the same target, cycle and direction (first at line 7)\n");
 
   // A circle file whose pair names another plane than --plane.
   const std::string xz = write("xz.csv", "x_mm,z_mm\n1,2\n");
@@ -282,7 +283,8 @@ TEST_F(AnalyzeCli, BadUsageExitsTwoWithTheUsage) {
            {"analyze", "circle", path, "--nominal-radius-mm", "-3"}}) {
     const CliRun r = run(args);
     EXPECT_EQ(r.exit_code, 2) << joined(args) << "\n" << r.err;
-    EXPECT_NE(r.err.find("usage: ncqual analyze"), std::string::npos) << joined(args) << "\n" << r.err;
+    EXPECT_NE(r.err.find("usage: ncqual analyze"), std::string::npos) << joined(args) << "\n"
+                                                                      << r.err;
     EXPECT_NE(r.err.find("analyze circle FILE"), std::string::npos) << joined(args);
   }
   const CliRun top = run({});
@@ -363,10 +365,10 @@ TEST_F(AnalyzeCli, BadGridFilesNameFileLineAndColumn) {
   const std::string c = grid_line("g2", 700, 700, 600), d = grid_line("g3", 200, 700, 1000);
   const std::string e = grid_line("g4", 1200, 500, 700);
   refused("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas\ng0,200,200,600,1,2\n", "1:");  // no z_meas
-  refused(std::string(kGridHeader) + a + "g1,700,abc,800,1,2,3\n", "3:3:"); // non-numeric
+  refused(std::string(kGridHeader) + a + "g1,700,abc,800,1,2,3\n", "3:3:");      // non-numeric
   refused(std::string(kGridHeader) + a + b + c + d + grid_line("g0", 1200, 500, 700), "6:1:");
-  refused(std::string(kGridHeader) + a + b + c + d, "5:");                    // 4 < 5 points
-  refused(std::string(kGridHeader) + a + b + c + d + e + "g5,1,2\n", "7:");   // cell count
+  refused(std::string(kGridHeader) + a + b + c + d, "5:");                   // 4 < 5 points
+  refused(std::string(kGridHeader) + a + b + c + d + e + "g5,1,2\n", "7:");  // cell count
 }
 
 }  // namespace

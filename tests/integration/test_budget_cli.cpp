@@ -35,8 +35,8 @@ class BudgetCli : public ::testing::Test {
   std::string db_path() const { return (dir_ / "historian.db").string(); }
 
   std::string write_plant(const std::vector<std::string>& machine_files) {
-    std::string text = "plant: budget-test\ndomain_id: 0\nhistorian:\n  database: " + db_path() +
-                       "\nmachines:\n";
+    std::string text =
+        "plant: budget-test\ndomain_id: 0\nhistorian:\n  database: " + db_path() + "\nmachines:\n";
     for (const auto& m : machine_files) text += "  - " + m + "\n";
     return write("plant.yaml", text);
   }
@@ -166,8 +166,7 @@ TEST_F(BudgetCli, JsonFromAHistorianWithKnownValues) {
   // value is the newest (3.5 arcsec) and the configured tolerance is in arcsec.
   const auto& cr = source_named(doc, "c_axis_rotation");
   EXPECT_EQ(cr.at("capability_basis"), "default");
-  EXPECT_NEAR(cr.at("capability_mm").at("y").get<double>(), units::arcsec_to_rad(15) * 350,
-              1e-12);
+  EXPECT_NEAR(cr.at("capability_mm").at("y").get<double>(), units::arcsec_to_rad(15) * 350, 1e-12);
   const auto& cr_metric = cr.at("metrics").at(0);
   EXPECT_EQ(cr_metric.at("unit"), "arcsec");
   EXPECT_EQ(cr_metric.at("samples"), 3);
@@ -201,7 +200,8 @@ TEST_F(BudgetCli, JsonFromAHistorianWithKnownValues) {
   EXPECT_NE(table.out.find("center_dy_mm"), std::string::npos) << table.out;
 
   // --last 2: only the two newest values count (too few: back to the default capability).
-  const CliRun last2 = run_cli_stdout({"budget", "--plant", plant, "--machine", "m1", "--json", "--last", "2"});
+  const CliRun last2 =
+      run_cli_stdout({"budget", "--plant", plant, "--machine", "m1", "--json", "--last", "2"});
   ASSERT_EQ(last2.exit_code, 0) << last2.out;
   const auto doc2 = nlohmann::json::parse(last2.out);
   EXPECT_EQ(source_named(doc2, "machine_y").at("metrics").at(0).at("samples"), 2);
@@ -247,10 +247,10 @@ TEST_F(BudgetCli, ErrorsSayWhatIsWrong) {
   EXPECT_EQ(missing_db.exit_code, 1) << missing_db.out;
   EXPECT_NE(missing_db.out.find("none.db"), std::string::npos) << missing_db.out;
 
-  const std::string bad = write(
-      "m3.yaml", std::string("machine_id: m3\n") + kMachineBase +
-                     "budget: {allowable_total: 1, part: {panel_radius: 1, theta_max: 0.1}, "
-                     "sources: [{name: a, direction: q, allowance: 1}]}\n");
+  const std::string bad =
+      write("m3.yaml", std::string("machine_id: m3\n") + kMachineBase +
+                           "budget: {allowable_total: 1, part: {panel_radius: 1, theta_max: 0.1}, "
+                           "sources: [{name: a, direction: q, allowance: 1}]}\n");
   const std::string plant3 = write_plant({bad});
   const CliRun bad_run = run_cli({"budget", "--plant", plant3, "--machine", "m3"});
   EXPECT_EQ(bad_run.exit_code, 1) << bad_run.out;

@@ -33,7 +33,8 @@ std::string scenario(const std::string& machine_id, const std::string& simulator
 
 void add_machines(Plant& plant) {
   plant.add_machine("cal-a", scenario("cal-a", ""));
-  plant.add_machine("cal-b", scenario("cal-b", "simulator:\n  fixture:\n    column_x: {offset_mm: 0.040}\n"));
+  plant.add_machine(
+      "cal-b", scenario("cal-b", "simulator:\n  fixture:\n    column_x: {offset_mm: 0.040}\n"));
   plant.write_calendar_plant(kScheduler, "2026-01-05T00:00:00Z");
 }
 
@@ -80,7 +81,8 @@ TEST(Calendar, SchedulerKilledAtRandomPointsEndsWithExactlyTheChecksOfAnUndistur
   // first pre-calibration fails and its zero offsets pass the post-calibration; with the zeros
   // corrected, the second week's pre-calibration passes.
   std::map<std::string, int> per_kind;
-  for (const auto& [id, text] : reference) per_kind[id.substr(0, 5) + ":" + text.substr(0, text.find('|'))]++;
+  for (const auto& [id, text] : reference)
+    per_kind[id.substr(0, 5) + ":" + text.substr(0, text.find('|'))]++;
   EXPECT_EQ(per_kind["cal-a:monument_c_alignment"], 10);
   EXPECT_EQ(per_kind["cal-b:monument_c_rotation"], 10);
   EXPECT_EQ(per_kind["cal-a:fixture_precal"], 2);
@@ -107,8 +109,10 @@ TEST(Calendar, SchedulerKilledAtRandomPointsEndsWithExactlyTheChecksOfAnUndistur
     at += std::uniform_int_distribution<std::int64_t>(5, total / 5)(rng);
     if (at >= total) break;
     std::int64_t seen = 0;
-    ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) { return (seen = db.count_results()) >= at; }))
-        << "waiting for " << at << " of " << total << " results, " << seen << " stored\n"
+    ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+      return (seen = db.count_results()) >= at;
+    })) << "waiting for "
+        << at << " of " << total << " results, " << seen << " stored\n"
         << plant.log("scheduler");
     if (scheduler.running()) {
       scheduler.signal(SIGKILL);
@@ -150,8 +154,9 @@ TEST(Calendar, RestartedAcquisitionDoesNotMeasureReplayedRequestsAgain) {
   Process* acquisition = &plant.start("acquisition", {"--machine", "cal-a,cal-b"});
   Process& scheduler = plant.start("scheduler", {"--days", "3"});
   std::int64_t seen = 0;
-  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) { return (seen = db.count_results()) >= 20; }))
-      << plant.log("acquisition");
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    return (seen = db.count_results()) >= 20;
+  })) << plant.log("acquisition");
   ASSERT_TRUE(scheduler.running()) << "the run ended before the kill; make it longer";
   acquisition->signal(SIGKILL);
   acquisition->wait();
@@ -163,7 +168,8 @@ TEST(Calendar, RestartedAcquisitionDoesNotMeasureReplayedRequestsAgain) {
   EXPECT_NE(log.find("performed requests remembered from"), std::string::npos) << log;
   std::map<std::string, int> measured;  // request id -> times measured
   const std::regex line(R"((cal-[ab]) (\S+) \S+: \d+ touches)");
-  for (auto it = std::sregex_iterator(log.begin(), log.end(), line); it != std::sregex_iterator(); ++it) {
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), line); it != std::sregex_iterator();
+       ++it) {
     ++measured[(*it)[2]];
   }
   int repeated = 0;

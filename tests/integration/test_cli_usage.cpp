@@ -32,8 +32,9 @@ CliRun run(const std::vector<std::string>& args) { return run_cli(args, Capture:
 const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
     {"history", {"--plant", "--db", "--machine", "--kind", "--limit", "--since-ns", "--json"}},
     {"check", {"--machine", "--kind", "--plant", "--domain", "--wait", "--json"}},
-    {"wait", {"--plant", "--db", "--request", "--count", "--settled", "--machine", "--since-ns",
-              "--timeout"}},
+    {"wait",
+     {"--plant", "--db", "--request", "--count", "--settled", "--machine", "--since-ns",
+      "--timeout"}},
     {"count", {"--plant", "--db", "--machine"}},
     {"budget", {"--machine", "--plant", "--db", "--last", "--json"}},
     {"analyze", {"iso230-2", "circle", "grid"}},
@@ -47,8 +48,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
     {"status", {"--plant", "--db", "--machine", "--json"}},
     {"intervene", {"--machine", "--check", "--note", "--operator", "--plant", "--domain"}},
     {"trend", {"--machine", "--kind", "--every", "--metrics", "--plant", "--db"}},
-    {"uncertainty", {"--machine", "--plant", "--trials", "--seed", "--threads", "--search",
-                     "--json"}},
+    {"uncertainty",
+     {"--machine", "--plant", "--trials", "--seed", "--threads", "--search", "--json"}},
     {"config", {"check"}},
     {"config check", {"--plant", "--print", "--json"}},
 };
@@ -84,8 +85,7 @@ TEST(CliUsage, VersionOfTheCliAndOfEveryService) {
       std::regex_replace(NCQUAL_VERSION, std::regex(R"(\.)"), R"(\.)") + R"( \(git [^)]+\)\n)";
   const CliRun cli = run({"--version"});
   EXPECT_EQ(cli.exit_code, 0) << cli.err;
-  EXPECT_TRUE(std::regex_match(cli.out, std::regex("ncqual " + version)))
-      << cli.out;
+  EXPECT_TRUE(std::regex_match(cli.out, std::regex("ncqual " + version))) << cli.out;
   for (const auto& [name, exe] : std::vector<std::pair<std::string, std::string>>{
            {"ncqual-historian", NCQUAL_HISTORIAN_EXE},
            {"ncqual-solver", NCQUAL_SOLVER_EXE},
@@ -148,12 +148,12 @@ TEST(CliUsage, NoHistorianDatabaseIsNotFound) {
 
 // Completes `words` (the last one being completed) with the script the build wrote.
 std::vector<std::string> complete(const std::string& words) {
-  const CliRun r = run_command(
-      {"bash", "-c",
-       "source " NCQUAL_COMPLETION_FILE " && COMP_WORDS=(" + words +
-           ") && COMP_CWORD=$((${#COMP_WORDS[@]} - 1)) && _ncqual && printf \"%s\\n\" "
-           "\"${COMPREPLY[@]}\""},
-      Capture::Separate);
+  const CliRun r =
+      run_command({"bash", "-c",
+                   "source " NCQUAL_COMPLETION_FILE " && COMP_WORDS=(" + words +
+                       ") && COMP_CWORD=$((${#COMP_WORDS[@]} - 1)) && _ncqual && printf \"%s\\n\" "
+                       "\"${COMPREPLY[@]}\""},
+                  Capture::Separate);
   EXPECT_EQ(r.exit_code, 0) << words << "\n" << r.err;
   std::vector<std::string> out;
   std::size_t start = 0;
@@ -188,8 +188,8 @@ TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
 TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
   testing_cli::TempDir tmp("ncqual-config-check");
   const std::string pm1 = std::string(NCQUAL_SOURCE_DIR) + "/deploy/machines/pm1.yaml";
-  const std::string machine = tmp.write("m.yaml", "extends: " + pm1 +
-                                                      "\nmachine_id: m\ntolerances: {centre_dx_mm: 1}\n");
+  const std::string machine =
+      tmp.write("m.yaml", "extends: " + pm1 + "\nmachine_id: m\ntolerances: {centre_dx_mm: 1}\n");
   const std::string plant = tmp.write(
       "plant.yaml", "plant: p\ndomian_id: 3\nqos_profile: q.xml\nmachines: [" + machine + "]\n");
   const CliRun bad = run({"config", "check", "--plant", plant});
@@ -208,8 +208,7 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   EXPECT_NE(ok.out.find("OK, plant 'demo-plant' on domain 42, 1 machine: pm1"), std::string::npos)
       << ok.out;
-  EXPECT_NE(ok.out.find("  budget.allowable_total = 0.762 mm (written 0.03 in)"),
-            std::string::npos)
+  EXPECT_NE(ok.out.find("  budget.allowable_total = 0.762 mm (written 0.03 in)"), std::string::npos)
       << ok.out;
   EXPECT_NE(ok.out.find("  monument.face_offset_mm = 35 mm  (default)"), std::string::npos)
       << ok.out;

@@ -18,11 +18,13 @@ namespace {
 TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
   Plant plant("e2e", TestDomain::EndToEnd);
   // pm-good: no errors (PASS). pm-shifted: the machine has shifted (FAIL, first cause machine).
-  const auto good = plant.add_machine("pm-good", machine_yaml("pm-good", "    machine_shift_mm: [0, 0, 0]\n", 11));
-  const auto shifted = plant.add_machine(
-      "pm-shifted", machine_yaml("pm-shifted",
-                                 "    machine_shift_mm: [0.040, -0.031, 0.027]\n"
-                                 "    monument_shift_mm: [0.002, 0.001, 0.0]\n", 12));
+  const auto good = plant.add_machine(
+      "pm-good", machine_yaml("pm-good", "    machine_shift_mm: [0, 0, 0]\n", 11));
+  const auto shifted =
+      plant.add_machine("pm-shifted", machine_yaml("pm-shifted",
+                                                   "    machine_shift_mm: [0.040, -0.031, 0.027]\n"
+                                                   "    monument_shift_mm: [0.002, 0.001, 0.0]\n",
+                                                   12));
   plant.write_plant();
   plant.start("historian");
   plant.start("solver");
@@ -42,7 +44,8 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
       if (!r.request || !r.measurement || !r.result) return false;
     }
     return true;
-  })) << plant.log("solver") << plant.log("historian");
+  })) << plant.log("solver")
+      << plant.log("historian");
 
   auto db = storage::Database::open_readonly(plant.db_path());
   const double bound = 3 * 0.001;  // 3 sigma of the 1 um trigger noise
@@ -119,8 +122,9 @@ TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
   EXPECT_EQ(rec.request->requested_by.rfind("operator:", 0), 0u) << rec.request->requested_by;
 
   // An unknown machine is refused by the tool with a message naming it, exit code 2.
-  const testing_cli::CliRun bad = testing_cli::run_cli(
-      {"check", "--plant", plant.plant_file(), "--machine", "nope", "--kind", "monument_positioning"});
+  const testing_cli::CliRun bad =
+      testing_cli::run_cli({"check", "--plant", plant.plant_file(), "--machine", "nope", "--kind",
+                            "monument_positioning"});
   EXPECT_EQ(bad.exit_code, 2);
   const std::string msg = bad.out;
   EXPECT_NE(msg.find("'nope'"), std::string::npos) << msg;

@@ -32,9 +32,10 @@ bool complete(const std::optional<storage::CheckRecord>& r) {
 
 TEST(FixtureLoop, ZeroOffsetsFixADriftedFixtureButNotALeaningOne) {
   Plant plant("fixture", TestDomain::FixtureLoop);
-  plant.add_machine("pm-drift", fixture_scenario("pm-drift",
-                                                 "    column_x: {offset_mm: 0.040}\n"
-                                                 "    pogo_offsets_mm: {C2R2: [0, 0.03, -0.03]}\n"));
+  plant.add_machine("pm-drift",
+                    fixture_scenario("pm-drift",
+                                     "    column_x: {offset_mm: 0.040}\n"
+                                     "    pogo_offsets_mm: {C2R2: [0, 0.03, -0.03]}\n"));
   plant.add_machine("pm-lean", fixture_scenario("pm-lean",
                                                 "    column_x: {offset_mm: 0.040}\n"
                                                 "    pogo_z: {misalignment_x_arcsec: 40}\n"));
@@ -52,7 +53,8 @@ TEST(FixtureLoop, ZeroOffsetsFixADriftedFixtureButNotALeaningOne) {
       if (!status || status->state == MachineState::Checking) return false;
     }
     return true;
-  })) << plant.log("acquisition") << plant.log("scheduler") << plant.log("solver");
+  })) << plant.log("acquisition")
+      << plant.log("scheduler") << plant.log("solver");
 
   auto db = storage::Database::open_readonly(plant.db_path());
   for (const char* id : {"pm-drift", "pm-lean"}) {

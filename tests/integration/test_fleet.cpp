@@ -93,7 +93,7 @@ std::vector<Expected> expected_requests(int i, int days = kDays) {
     const int offset_h = d < 6 ? 1 : 2;
     const std::int64_t midnight_local = day0 + d * day_ns - offset_h * 60 * kNsPerMin;
     const std::int64_t early = midnight_local + 6 * 60 * kNsPerMin;  // 06:00-14:00
-    const std::int64_t late = midnight_local + 14 * 60 * kNsPerMin;   // 14:00-22:00
+    const std::int64_t late = midnight_local + 14 * 60 * kNsPerMin;  // 14:00-22:00
     const std::int64_t late_end = midnight_local + 22 * 60 * kNsPerMin;
     std::int64_t t = early;
     auto run = [&](const std::string& kind) {
@@ -128,8 +128,10 @@ std::string utc_text(std::int64_t ns) {
 
 // The stored requests of one machine (any order) are exactly `want`: same kinds at the same
 // times, none missing, none extra.
-void expect_requests(const std::string& id, std::vector<Expected> got, const std::vector<Expected>& want) {
-  std::sort(got.begin(), got.end(), [](const Expected& a, const Expected& b) { return a.time_ns < b.time_ns; });
+void expect_requests(const std::string& id, std::vector<Expected> got,
+                     const std::vector<Expected>& want) {
+  std::sort(got.begin(), got.end(),
+            [](const Expected& a, const Expected& b) { return a.time_ns < b.time_ns; });
   EXPECT_EQ(got.size(), want.size()) << id;
   for (std::size_t k = 0; k < std::min(got.size(), want.size()); ++k) {
     if (got[k].kind != want[k].kind || got[k].time_ns != want[k].time_ns) {
@@ -166,14 +168,16 @@ TEST(Fleet, TwentyMachinesThreeWeeksEveryDueCheckStoredExactlyOnce) {
     return db.count_results() >= static_cast<std::int64_t>(expected_total);
   };
   ASSERT_TRUE(plant.wait_for_db(all_stored, std::chrono::seconds(120)))
-      << "expected " << expected_total << " results\n" << plant.log("historian");
+      << "expected " << expected_total << " results\n"
+      << plant.log("historian");
 
   auto db = storage::Database::open_readonly(plant.db_path());
   storage::HistoryQuery q;
   q.limit = 0;
   const auto records = db.history(q);
   std::map<std::string, std::vector<Expected>> stored;  // by machine, in request-time order
-  std::map<std::string, std::map<std::int64_t, double>> rotation;  // machine -> time -> configuration
+  std::map<std::string, std::map<std::int64_t, double>>
+      rotation;  // machine -> time -> configuration
   std::size_t incomplete = 0, not_passed = 0;
   for (const auto& r : records) {
     ASSERT_TRUE(r.request) << r.request_id << " has a result but no request";
@@ -247,7 +251,8 @@ TEST(Fleet, AcquisitionRefusesABadMachineListNamingTheEntry) {
     Process& acquisition = plant.start("acquisition", args);
     EXPECT_EQ(acquisition.wait(), 2) << message;
     const std::string said = plant.log("acquisition").substr(before);
-    EXPECT_NE(said.find(message), std::string::npos) << "expected \"" << message << "\" in:\n" << said;
+    EXPECT_NE(said.find(message), std::string::npos) << "expected \"" << message << "\" in:\n"
+                                                     << said;
   }
 }
 
@@ -266,8 +271,8 @@ TEST(Fleet, OneSchedulerPerMachineGivesEachMachineItsProcess) {
   plant.start("acquisition", {"--all"});
   std::vector<Process*> schedulers;
   for (int i : machines) {
-    schedulers.push_back(
-        &plant.start("scheduler", {"--machine", machine_id(i), "--days", std::to_string(kShortDays)}));
+    schedulers.push_back(&plant.start(
+        "scheduler", {"--machine", machine_id(i), "--days", std::to_string(kShortDays)}));
   }
   for (auto* s : schedulers) ASSERT_EQ(s->wait(), 0) << plant.log("scheduler");
   std::size_t total = 0;

@@ -42,7 +42,8 @@ std::string read_file(const fs::path& path) {
 
 // Replaces every occurrence of `from` in `text` with `to`.
 std::string replace_all(std::string text, const std::string& from, const std::string& to) {
-  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) {
+  for (std::size_t at = text.find(from); at != std::string::npos;
+       at = text.find(from, at + to.size())) {
     text.replace(at, from.size(), to);
   }
   return text;
@@ -83,7 +84,7 @@ constexpr const char* kIso = "tests/data/instrument/iso230-2_x.csv";
 constexpr const char* kCircle = "tests/data/instrument/circle_xy.csv";
 const std::vector<std::string> kGrid = {"--x-run", "tests/data/instrument/grid_x_run.csv",
                                         "--y-run", "tests/data/instrument/grid_y_run.csv",
-                                        "--grid", "tests/data/instrument/grid.csv"};
+                                        "--grid",  "tests/data/instrument/grid.csv"};
 
 // `args` with `--json` after them.
 std::vector<std::string> with_json(std::vector<std::string> args) {
@@ -98,7 +99,8 @@ TEST_F(Golden, AnalyzeIso230_2) {
 }
 
 TEST_F(Golden, AnalyzeCircle) {
-  const std::vector<std::string> args = {"analyze", "circle", kCircle, "--nominal-radius-mm", "150"};
+  const std::vector<std::string> args = {"analyze", "circle", kCircle, "--nominal-radius-mm",
+                                         "150"};
   expect_golden("analyze-circle.txt", run_in_source(args, tmp_.path()));
   expect_golden("analyze-circle.json", run_in_source(with_json(args), tmp_.path()));
 }
@@ -130,16 +132,24 @@ TEST_F(Golden, BudgetOfTheExampleMachine) {
       database.store(r);
     }
   }
-  const std::vector<std::string> args = {"budget", "--machine", "pm1", "--plant",
-                                         "deploy/plant.yaml", "--db", db};
+  const std::vector<std::string> args = {
+      "budget", "--machine", "pm1", "--plant", "deploy/plant.yaml", "--db", db};
   expect_golden("budget-pm1.txt", run_in_source(args, tmp_.path()));
   expect_golden("budget-pm1.json", run_in_source(with_json(args), tmp_.path()));
 }
 
 TEST_F(Golden, UncertaintyOfACoarseGrid) {
-  const std::vector<std::string> args = {"uncertainty", "--machine", "small1",
-                                         "--plant", "tests/data/plants/small/plant.yaml",
-                                         "--trials", "40", "--seed", "7", "--threads", "1"};
+  const std::vector<std::string> args = {"uncertainty",
+                                         "--machine",
+                                         "small1",
+                                         "--plant",
+                                         "tests/data/plants/small/plant.yaml",
+                                         "--trials",
+                                         "40",
+                                         "--seed",
+                                         "7",
+                                         "--threads",
+                                         "1"};
   expect_golden("uncertainty-small1.txt", run_in_source(args, tmp_.path()));
   expect_golden("uncertainty-small1.json", run_in_source(with_json(args), tmp_.path()));
 }

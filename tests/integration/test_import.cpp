@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // `ncqual import`: a real instrument's export published as a MeasurementSet goes through the
-// real solver and historian processes over DDS (on its own domain) and is stored with its result, the
-// figures those of the file worked by hand.
+// real solver and historian processes over DDS (on its own domain) and is stored with its result,
+// the figures those of the file worked by hand.
 #include "cli_runner.hpp"
 #include "harness.hpp"
 
@@ -34,7 +34,8 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
   //   100: up 4, 6, 8    down 2, 3, 4     -> B_1 = 3, s_up = 2: R_1 = max(2*2 + 2*1 + 3, 8, 4) = 9
   //   200: up -1, 0, 1   down -3, -2, -1  -> B_2 = 2
   // B = 3 um, R = 9 um, E = 6 - (-2) = 8 um, A = (6 + 4) - (-2 - 2) = 14 um.
-  const int dev[3][2][3] = {{{1, 2, 3}, {-2, -1, 0}}, {{4, 6, 8}, {2, 3, 4}}, {{-1, 0, 1}, {-3, -2, -1}}};
+  const int dev[3][2][3] = {
+      {{1, 2, 3}, {-2, -1, 0}}, {{4, 6, 8}, {2, 3, 4}}, {{-1, 0, 1}, {-3, -2, -1}}};
   const std::string file = (plant.dir() / "run.csv").string();
   {
     std::ofstream out(file);
@@ -52,7 +53,8 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
   const auto [code, out] = cli({"import", "iso230-2", file, "--machine", "pm1", "--plant",
                                 plant.plant_file(), "--domain", std::to_string(plant.domain())});
   ASSERT_EQ(code, 0) << out;
-  const std::string request = out.substr(out.rfind("import-"), out.find('\n', out.rfind("import-")) - out.rfind("import-"));
+  const std::string request =
+      out.substr(out.rfind("import-"), out.find('\n', out.rfind("import-")) - out.rfind("import-"));
   ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
     const auto rec = db.find_check(request);
     return rec && rec->result && rec->measurement;

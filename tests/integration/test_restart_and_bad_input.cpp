@@ -19,8 +19,12 @@ std::vector<std::string> order_checks(ncqual::dds::Writer<ncqual::dds::CheckComm
                                       const std::string& machine, int first, int count) {
   std::vector<std::string> ids;
   for (int i = first; i < first + count; ++i) {
-    CheckCommand cmd{machine, "restart-test-" + std::to_string(i), CheckKind::MonumentPositioning,
-                     "test", WallClock().now_ns(), {}};
+    CheckCommand cmd{machine,
+                     "restart-test-" + std::to_string(i),
+                     CheckKind::MonumentPositioning,
+                     "test",
+                     WallClock().now_ns(),
+                     {}};
     EXPECT_TRUE(commands.write(cmd));
     ids.push_back(cmd.request_id);
   }
@@ -37,8 +41,8 @@ TEST(HistorianRestart, SigkillWhileChecksAreProducedStoresEveryCheckExactlyOnce)
   plant.start("acquisition", {"--machine", "pm1"});
   plant.start("scheduler");
 
-  ncqual::dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
-                                                    "/deploy/qos/ncqual-qos.xml", "test"});
+  ncqual::dds::Participant participant(
+      {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
   ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
   ASSERT_TRUE(commands.wait_for_readers(1, std::chrono::seconds(30)));
 
@@ -83,8 +87,8 @@ TEST(BadInput, MalformedMeasurementSetsGetInvalidResultsAndNothingIsLost) {
   plant.start("scheduler");
   ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 1; }));
 
-  ncqual::dds::Participant participant({plant.domain(), std::string(NCQUAL_SOURCE_DIR) +
-                                                    "/deploy/qos/ncqual-qos.xml", "test"});
+  ncqual::dds::Participant participant(
+      {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   ASSERT_TRUE(sets.wait_for_readers(2, std::chrono::seconds(30)));  // solver and historian
 

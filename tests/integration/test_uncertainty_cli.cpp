@@ -121,8 +121,9 @@ std::vector<GridPoint> grid_points() {
     for (std::size_t iz = 0; iz < kGridZ.size(); ++iz) {
       for (std::size_t iy = 0; iy < ny; ++iy) {
         for (std::size_t ix = 0; ix < nx; ++ix) {
-          out.push_back({"grid:" + std::to_string((iz * ny + iy) * nx + ix) + ":t" + std::to_string(k),
-                         target_mm(kGridX[ix], kGridY[iy], kGridZ[iz], kTargets[k])});
+          out.push_back(
+              {"grid:" + std::to_string((iz * ny + iy) * nx + ix) + ":t" + std::to_string(k),
+               target_mm(kGridX[ix], kGridY[iy], kGridZ[iz], kTargets[k])});
         }
       }
     }
@@ -178,7 +179,8 @@ class UncertaintyCli : public ::testing::Test {
   }
 
   // `ncqual uncertainty` of `machine` with the fixed words of `extra` after it.
-  std::vector<std::string> command(const std::string& machine, const std::string& extra = "") const {
+  std::vector<std::string> command(const std::string& machine,
+                                   const std::string& extra = "") const {
     std::vector<std::string> args{"uncertainty", "--plant", plant_, "--machine", machine};
     for (auto& word : ncqual::testing_cli::words(extra)) args.push_back(word);
     return args;
@@ -226,7 +228,8 @@ TEST_F(UncertaintyCli, JsonDescribesTheRunAndTheTrackerAloneIsEq24ByHand) {
     const json& p = doc.at("points").at(i);
     ASSERT_EQ(p.at("label"), grid[i].label);
     for (int k = 0; k < 3; ++k) {
-      EXPECT_NEAR(p.at("target_mm").at(k).get<double>(), grid[i].target[static_cast<std::size_t>(k)], 1e-9);
+      EXPECT_NEAR(p.at("target_mm").at(k).get<double>(),
+                  grid[i].target[static_cast<std::size_t>(k)], 1e-9);
     }
     const double u = 1e3 * u_p_by_hand(grid[i].target, kTrackerMm, yaw, pitch, roll, 20e-6);
     EXPECT_NEAR(p.at("tracker_u_p_um").get<double>(), u, 1e-9 * u) << grid[i].label;
@@ -253,7 +256,8 @@ TEST_F(UncertaintyCli, JsonDescribesTheRunAndTheTrackerAloneIsEq24ByHand) {
   EXPECT_GE(doc.at("trial_max_residual_um").at("mean_um").get<double>(),
             doc.at("trial_mean_residual_um").at("mean_um").get<double>());
   double largest_bound = 0;
-  for (const auto& p : doc.at("points")) largest_bound = std::max(largest_bound, p.at("bound95_um").get<double>());
+  for (const auto& p : doc.at("points"))
+    largest_bound = std::max(largest_bound, p.at("bound95_um").get<double>());
   const json& worst_points = doc.at("worst_points");
   ASSERT_EQ(worst_points.size(), 5u);
   EXPECT_EQ(worst_points.at(0).at("bound95_um").get<double>(), largest_bound);
@@ -282,9 +286,11 @@ TEST_F(UncertaintyCli, JsonDescribesTheRunAndTheTrackerAloneIsEq24ByHand) {
         V3 c{};
         bool inside = true;
         for (int k = 0; k < 3; ++k) {
-          c[static_cast<std::size_t>(k)] = kSearchLo[k] + (kSearchHi[k] - kSearchLo[k]) * idx[k] / (kSearchSteps[k] - 1);
+          c[static_cast<std::size_t>(k)] =
+              kSearchLo[k] + (kSearchHi[k] - kSearchLo[k]) * idx[k] / (kSearchSteps[k] - 1);
           const double v = c[static_cast<std::size_t>(k)];
-          inside = inside && v >= lo[static_cast<std::size_t>(k)] - 200 && v <= hi[static_cast<std::size_t>(k)] + 200;
+          inside = inside && v >= lo[static_cast<std::size_t>(k)] - 200 &&
+                   v <= hi[static_cast<std::size_t>(k)] + 200;
         }
         bool in_range = true;
         for (const auto& g : grid) {
@@ -298,7 +304,8 @@ TEST_F(UncertaintyCli, JsonDescribesTheRunAndTheTrackerAloneIsEq24ByHand) {
         ++tried;
         const double facing = std::atan2(centre[1] - c[1], centre[0] - c[0]);
         double mx = 0;
-        for (const auto& g : grid) mx = std::max(mx, 1e3 * u_p_by_hand(g.target, c, facing, pitch, roll, 20e-6));
+        for (const auto& g : grid)
+          mx = std::max(mx, 1e3 * u_p_by_hand(g.target, c, facing, pitch, roll, 20e-6));
         best = std::min(best, mx);
       }
     }
@@ -380,10 +387,11 @@ TEST_F(UncertaintyCli, ErrorsSayWhatIsMissingAndBadUsageExitsTwo) {
   EXPECT_NE(unknown.out.find("'nope' is not configured"), std::string::npos) << unknown.out;
 
   const std::string bad_config = tmp_.write(
-      "u6.yaml", std::string("machine_id: u6\n") + kMachineHead + kGlobalCheck +
-                     "  uncertainty: {tracker: {position_mm: [0, -900, 500], samples_per_point: 0}}\n");
-  const std::string plant6 = tmp_.write(
-      "plant6.yaml", "plant: p6\ndomain_id: 0\nmachines:\n  - " + bad_config + "\n");
+      "u6.yaml",
+      std::string("machine_id: u6\n") + kMachineHead + kGlobalCheck +
+          "  uncertainty: {tracker: {position_mm: [0, -900, 500], samples_per_point: 0}}\n");
+  const std::string plant6 =
+      tmp_.write("plant6.yaml", "plant: p6\ndomain_id: 0\nmachines:\n  - " + bad_config + "\n");
   const CliRun bad = run_cli({"uncertainty", "--plant", plant6, "--machine", "u6"});
   EXPECT_EQ(bad.exit_code, 1) << bad.out;
   EXPECT_NE(bad.out.find("global_check.uncertainty.tracker.samples_per_point = '0'"),
@@ -391,7 +399,7 @@ TEST_F(UncertaintyCli, ErrorsSayWhatIsMissingAndBadUsageExitsTwo) {
       << bad.out;
 
   for (const char* extra : {"--trials 0", "--trials -3", "--trials many", "--trials 1.5",
-                                   "--threads 0", "--threads 65", "--seed -1", "--bogus", "extra"}) {
+                            "--threads 0", "--threads 65", "--seed -1", "--bogus", "extra"}) {
     const CliRun r = run_cli(command("u1", extra));
     EXPECT_EQ(r.exit_code, 2) << extra << "\n" << r.out;
     EXPECT_NE(r.out.find("usage:"), std::string::npos) << extra << "\n" << r.out;

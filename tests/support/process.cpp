@@ -90,7 +90,8 @@ Process::Process(const Launch& launch) {
       posix_spawn_file_actions_addopen(&files.actions, 2, "/dev/null", O_WRONLY, 0);
       break;
     case Output::LogFile:
-      if (launch.log_file.empty()) throw std::invalid_argument("Process: Output::LogFile, no log_file");
+      if (launch.log_file.empty())
+        throw std::invalid_argument("Process: Output::LogFile, no log_file");
       posix_spawn_file_actions_addopen(&files.actions, 1, launch.log_file.c_str(),
                                        O_WRONLY | O_CREAT | O_APPEND, 0644);
       posix_spawn_file_actions_adddup2(&files.actions, 1, 2);
@@ -153,8 +154,7 @@ int Process::wait() {
   if (pid_ > 0 && !exited_) {
     int status = 0;
     pid_t got;
-    while ((got = ::waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {
-    }
+    while ((got = ::waitpid(pid_, &status, 0)) < 0 && errno == EINTR) {}
     if (got == pid_) ended(status);
   }
   return exit_code_;

@@ -49,7 +49,7 @@ struct Launch {
 
   std::vector<std::string> argv;  // argv[0]: the executable, a path or a name in PATH
   Output output = Output::Separate;
-  std::string working_directory;  // empty: the test's own
+  std::string working_directory;                   // empty: the test's own
   std::map<std::string, std::string> environment;  // set in the child, over the test's own
   std::string log_file;  // for Output::LogFile: created if missing, appended to
 };
@@ -70,7 +70,7 @@ class Process {
   bool running();
   void terminate() { signal(SIGTERM); }
   void kill() { signal(SIGKILL); }
-  void signal(int sig);                   // any signal, while it runs
+  void signal(int sig);  // any signal, while it runs
   // Waits for the end; its exit code, or -1 when a signal ended it (term_signal() says which).
   int wait();
   // As wait(), but gives up after `timeout`: false when it still runs then.

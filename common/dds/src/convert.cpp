@@ -32,8 +32,12 @@ Verdict model_verdict(msg::Verdict v, const char* field, std::string& error) {
 
 msg::AxisPosition wire_axes(const AxisPosition& a) {
   msg::AxisPosition w;
-  w.x_mm(a.x_mm); w.y_mm(a.y_mm); w.z_mm(a.z_mm);
-  w.w_mm(a.w_mm); w.a_rad(a.a_rad); w.c_rad(a.c_rad);
+  w.x_mm(a.x_mm);
+  w.y_mm(a.y_mm);
+  w.z_mm(a.z_mm);
+  w.w_mm(a.w_mm);
+  w.a_rad(a.a_rad);
+  w.c_rad(a.c_rad);
   return w;
 }
 AxisPosition model_axes(const msg::AxisPosition& w) {
@@ -41,7 +45,9 @@ AxisPosition model_axes(const msg::AxisPosition& w) {
 }
 msg::Vector3 wire_vec(const Eigen::Vector3d& v) {
   msg::Vector3 w;
-  w.x(v.x()); w.y(v.y()); w.z(v.z());
+  w.x(v.x());
+  w.y(v.y());
+  w.z(v.z());
   return w;
 }
 Eigen::Vector3d model_vec(const msg::Vector3& w) { return {w.x(), w.y(), w.z()}; }
@@ -51,7 +57,9 @@ std::vector<msg::NamedValue> wire_values(const std::vector<NamedValue>& values) 
   w.reserve(values.size());
   for (const auto& o : values) {
     msg::NamedValue nv;
-    nv.name(o.name); nv.value(o.value); nv.unit(o.unit);
+    nv.name(o.name);
+    nv.value(o.value);
+    nv.unit(o.unit);
     w.push_back(nv);
   }
   return w;
@@ -80,17 +88,24 @@ Correction model_correction(const msg::SoftwareCorrection& w) {
 
 msg::CheckRequest to_wire(const CheckRequest& v) {
   msg::CheckRequest w;
-  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
-  w.requested_by(v.requested_by); w.time_ns(v.time_ns); w.attempt(v.attempt);
+  w.machine_id(v.machine_id);
+  w.request_id(v.request_id);
+  w.kind(wire_kind(v.kind));
+  w.requested_by(v.requested_by);
+  w.time_ns(v.time_ns);
+  w.attempt(v.attempt);
   w.parameters(wire_values(v.parameters));
   w.verifies_correction_of(v.verifies_correction_of);
   return w;
 }
 CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
   CheckRequest v;
-  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.machine_id = w.machine_id();
+  v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "CheckRequest.kind", error);
-  v.requested_by = w.requested_by(); v.time_ns = w.time_ns(); v.attempt = w.attempt();
+  v.requested_by = w.requested_by();
+  v.time_ns = w.time_ns();
+  v.attempt = w.attempt();
   v.parameters = model_values(w.parameters());
   v.verifies_correction_of = w.verifies_correction_of();
   return v;
@@ -98,44 +113,62 @@ CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
 
 msg::CheckCommand to_wire(const CheckCommand& v) {
   msg::CheckCommand w;
-  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
-  w.requested_by(v.requested_by); w.time_ns(v.time_ns);
+  w.machine_id(v.machine_id);
+  w.request_id(v.request_id);
+  w.kind(wire_kind(v.kind));
+  w.requested_by(v.requested_by);
+  w.time_ns(v.time_ns);
   w.parameters(wire_values(v.parameters));
   return w;
 }
 CheckCommand from_wire(const msg::CheckCommand& w, std::string& error) {
   CheckCommand v;
-  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.machine_id = w.machine_id();
+  v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "CheckCommand.kind", error);
-  v.requested_by = w.requested_by(); v.time_ns = w.time_ns();
+  v.requested_by = w.requested_by();
+  v.time_ns = w.time_ns();
   v.parameters = model_values(w.parameters());
   return v;
 }
 
 msg::MeasurementSet to_wire(const MeasurementSet& v) {
   msg::MeasurementSet w;
-  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
-  w.instrument(v.instrument); w.frame(v.frame); w.time_ns(v.time_ns); w.error(v.error);
+  w.machine_id(v.machine_id);
+  w.request_id(v.request_id);
+  w.kind(wire_kind(v.kind));
+  w.instrument(v.instrument);
+  w.frame(v.frame);
+  w.time_ns(v.time_ns);
+  w.error(v.error);
   w.parameters(wire_values(v.parameters));
   w.touches().reserve(v.touches.size());
   for (const auto& t : v.touches) {
     msg::Touch wt;
-    wt.feature(t.feature); wt.axes(wire_axes(t.axes)); wt.approach(wire_vec(t.approach));
+    wt.feature(t.feature);
+    wt.axes(wire_axes(t.axes));
+    wt.approach(wire_vec(t.approach));
     w.touches().push_back(wt);
   }
   w.tracker_points().reserve(v.tracker_points.size());
   for (const auto& p : v.tracker_points) {
     msg::TrackerPoint wp;
-    wp.label(p.label); wp.commanded(wire_axes(p.commanded)); wp.measured_mm(wire_vec(p.measured_mm));
+    wp.label(p.label);
+    wp.commanded(wire_axes(p.commanded));
+    wp.measured_mm(wire_vec(p.measured_mm));
     w.tracker_points().push_back(wp);
   }
   return w;
 }
 MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error) {
   MeasurementSet v;
-  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.machine_id = w.machine_id();
+  v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "MeasurementSet.kind", error);
-  v.instrument = w.instrument(); v.frame = w.frame(); v.time_ns = w.time_ns(); v.error = w.error();
+  v.instrument = w.instrument();
+  v.frame = w.frame();
+  v.time_ns = w.time_ns();
+  v.error = w.error();
   v.parameters = model_values(w.parameters());
   v.touches.reserve(w.touches().size());
   for (const auto& t : w.touches()) {
@@ -151,13 +184,21 @@ MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error) {
 
 msg::CheckResult to_wire(const CheckResult& v) {
   msg::CheckResult w;
-  w.machine_id(v.machine_id); w.request_id(v.request_id); w.kind(wire_kind(v.kind));
-  w.verdict(wire_verdict(v.verdict)); w.reason(v.reason); w.time_ns(v.time_ns);
+  w.machine_id(v.machine_id);
+  w.request_id(v.request_id);
+  w.kind(wire_kind(v.kind));
+  w.verdict(wire_verdict(v.verdict));
+  w.reason(v.reason);
+  w.time_ns(v.time_ns);
   w.produced_by(v.produced_by);
   for (const auto& m : v.metrics) {
     msg::Metric wm;
-    wm.name(m.name); wm.value(m.value); wm.unit(m.unit);
-    wm.lower(m.lower); wm.upper(m.upper); wm.pass(m.pass);
+    wm.name(m.name);
+    wm.value(m.value);
+    wm.unit(m.unit);
+    wm.lower(m.lower);
+    wm.upper(m.upper);
+    wm.pass(m.pass);
     w.metrics().push_back(wm);
   }
   for (const auto& c : v.likely_causes) w.likely_causes().push_back(c);
@@ -167,10 +208,13 @@ msg::CheckResult to_wire(const CheckResult& v) {
 }
 CheckResult from_wire(const msg::CheckResult& w, std::string& error) {
   CheckResult v;
-  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.machine_id = w.machine_id();
+  v.request_id = w.request_id();
   v.kind = model_kind(w.kind(), "CheckResult.kind", error);
   v.verdict = model_verdict(w.verdict(), "CheckResult.verdict", error);
-  v.reason = w.reason(); v.time_ns = w.time_ns(); v.produced_by = w.produced_by();
+  v.reason = w.reason();
+  v.time_ns = w.time_ns();
+  v.produced_by = w.produced_by();
   for (const auto& m : w.metrics()) {
     v.metrics.push_back(Metric{m.name(), m.value(), m.unit(), m.lower(), m.upper(), m.pass()});
   }
@@ -181,17 +225,20 @@ CheckResult from_wire(const msg::CheckResult& w, std::string& error) {
 
 msg::MachineStatus to_wire(const MachineStatus& v) {
   msg::MachineStatus w;
-  w.machine_id(v.machine_id); w.request_id(v.request_id);
+  w.machine_id(v.machine_id);
+  w.request_id(v.request_id);
   w.state(static_cast<msg::MachineState>(static_cast<int>(v.state)));
   w.has_last_check(v.last_kind.has_value());
   if (v.last_kind) w.last_kind(wire_kind(*v.last_kind));
   w.last_verdict(wire_verdict(v.last_verdict.value_or(Verdict::Invalid)));
-  w.detail(v.detail); w.time_ns(v.time_ns);
+  w.detail(v.detail);
+  w.time_ns(v.time_ns);
   return w;
 }
 MachineStatus from_wire(const msg::MachineStatus& w, std::string& error) {
   MachineStatus v;
-  v.machine_id = w.machine_id(); v.request_id = w.request_id();
+  v.machine_id = w.machine_id();
+  v.request_id = w.request_id();
   const auto raw = static_cast<std::uint32_t>(w.state());
   if (raw > static_cast<std::uint32_t>(MachineState::Offline)) {
     note(error, "MachineStatus.state = " + std::to_string(raw) + " is not a known state");
@@ -202,41 +249,56 @@ MachineStatus from_wire(const msg::MachineStatus& w, std::string& error) {
     v.last_kind = model_kind(w.last_kind(), "MachineStatus.last_kind", error);
     v.last_verdict = model_verdict(w.last_verdict(), "MachineStatus.last_verdict", error);
   }
-  v.detail = w.detail(); v.time_ns = w.time_ns();
+  v.detail = w.detail();
+  v.time_ns = w.time_ns();
   return v;
 }
 
 msg::Intervention to_wire(const Intervention& v) {
   msg::Intervention w;
-  w.machine_id(v.machine_id); w.intervention_id(v.intervention_id); w.kind(wire_kind(v.kind));
-  w.note(v.note); w.operator_name(v.operator_name); w.time_ns(v.time_ns);
+  w.machine_id(v.machine_id);
+  w.intervention_id(v.intervention_id);
+  w.kind(wire_kind(v.kind));
+  w.note(v.note);
+  w.operator_name(v.operator_name);
+  w.time_ns(v.time_ns);
   return w;
 }
 Intervention from_wire(const msg::Intervention& w, std::string& error) {
   Intervention v;
-  v.machine_id = w.machine_id(); v.intervention_id = w.intervention_id();
+  v.machine_id = w.machine_id();
+  v.intervention_id = w.intervention_id();
   v.kind = model_kind(w.kind(), "Intervention.kind", error);
-  v.note = w.note(); v.operator_name = w.operator_name(); v.time_ns = w.time_ns();
+  v.note = w.note();
+  v.operator_name = w.operator_name();
+  v.time_ns = w.time_ns();
   return v;
 }
 
 msg::Compensation to_wire(const Compensation& v) {
   msg::Compensation w;
-  w.machine_id(v.machine_id); w.request_id(v.request_id);
-  w.correction(wire_correction(v.correction)); w.time_ns(v.time_ns);
+  w.machine_id(v.machine_id);
+  w.request_id(v.request_id);
+  w.correction(wire_correction(v.correction));
+  w.time_ns(v.time_ns);
   return w;
 }
 Compensation from_wire(const msg::Compensation& w, std::string& /*error*/) {
   Compensation v;
-  v.machine_id = w.machine_id(); v.request_id = w.request_id();
-  v.correction = model_correction(w.correction()); v.time_ns = w.time_ns();
+  v.machine_id = w.machine_id();
+  v.request_id = w.request_id();
+  v.correction = model_correction(w.correction());
+  v.time_ns = w.time_ns();
   return v;
 }
 
 msg::Heartbeat to_wire(const Heartbeat& v) {
   msg::Heartbeat w;
-  w.machine_id(v.machine_id); w.service(v.service); w.instance(v.instance);
-  w.state(v.state); w.time_ns(v.time_ns);
+  w.machine_id(v.machine_id);
+  w.service(v.service);
+  w.instance(v.instance);
+  w.state(v.state);
+  w.time_ns(v.time_ns);
   return w;
 }
 Heartbeat from_wire(const msg::Heartbeat& w, std::string& /*error*/) {

@@ -12,7 +12,7 @@ using namespace eprosima::fastdds::dds;
 eprosima::fastrtps::Duration_t to_dds_duration(std::chrono::milliseconds ms) {
   const auto count = ms.count() < 0 ? 0 : ms.count();
   return eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(count / 1000),
-                              static_cast<std::uint32_t>((count % 1000) * 1000000));
+                                        static_cast<std::uint32_t>((count % 1000) * 1000000));
 }
 
 Dispatcher::Dispatcher() { waitset_.attach_condition(stop_); }
@@ -59,8 +59,7 @@ bool Dispatcher::step(std::chrono::steady_clock::time_point deadline) {
 }
 
 void Dispatcher::run() {
-  while (step(std::chrono::steady_clock::now() + std::chrono::seconds(3600))) {
-  }
+  while (step(std::chrono::steady_clock::now() + std::chrono::seconds(3600))) {}
 }
 
 bool Dispatcher::run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {

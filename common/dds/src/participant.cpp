@@ -20,7 +20,8 @@ int resolve_domain_id(int flag_value, int config_value) {
     char* end = nullptr;
     const long v = std::strtol(env, &end, 10);
     if (*end != '\0' || v < 0 || v > 232) {
-      throw DdsError(std::string("NCQUAL_DOMAIN = '") + env + "': expected an integer from 0 to 232");
+      throw DdsError(std::string("NCQUAL_DOMAIN = '") + env +
+                     "': expected an integer from 0 to 232");
     }
     return static_cast<int>(v);
   }
@@ -56,8 +57,9 @@ Participant::Participant(const ParticipantOptions& options) : domain_id_(options
       eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
     // Without our profiles file the Fast DDS defaults apply: reliable readers and writers, but
     // VOLATILE, so a restarted historian would miss what was published while it was down.
-    spdlog::warn("QoS profiles not loaded (set qos_profiles in the plant config or "
-                 "FASTRTPS_DEFAULT_PROFILES_FILE): using Fast DDS defaults, which are not durable");
+    spdlog::warn(
+        "QoS profiles not loaded (set qos_profiles in the plant config or "
+        "FASTRTPS_DEFAULT_PROFILES_FILE): using Fast DDS defaults, which are not durable");
     qos = PARTICIPANT_QOS_DEFAULT;
   }
   if (!options.name.empty()) qos.name(options.name);

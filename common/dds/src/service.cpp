@@ -9,7 +9,6 @@
 
 #include <unistd.h>
 
-
 namespace ncqual::dds {
 
 std::string plant_file_from(const std::string& flag_value) {
@@ -55,7 +54,8 @@ Service::Service(const ServiceOptions& options) : options_(options) {
 Service::~Service() = default;
 
 void Service::beat(const std::string& state) {
-  heartbeat_->write(Heartbeat{options_.service, instance_, options_.machine_id, state, clock_.now_ns()});
+  heartbeat_->write(
+      Heartbeat{options_.service, instance_, options_.machine_id, state, clock_.now_ns()});
 }
 
 int Service::run() {

@@ -43,15 +43,15 @@ std::string_view to_string(PeriodUnit unit);
 
 struct ShiftConfig {
   std::string name;
-  int start_minute = 0;  // local time of day, minutes after midnight (0..1439)
-  int end_minute = 0;    // <= start_minute: the shift ends on the next day
+  int start_minute = 0;        // local time of day, minutes after midnight (0..1439)
+  int end_minute = 0;          // <= start_minute: the shift ends on the next day
   std::array<bool, 7> days{};  // the day it starts, [0] = Monday .. [6] = Sunday
 };
 
 struct PeriodConfig {
   std::string name;  // e.g. "monthly"
   PeriodUnit unit = PeriodUnit::Day;
-  int every = 1;     // >= 1
+  int every = 1;                  // >= 1
   std::vector<CheckKind> checks;  // run in this order
 };
 

@@ -34,8 +34,7 @@ namespace ncqual {
 // "<file>: <key> = <value>: <why>"; problems() has them one by one.
 class ConfigError : public Error {
  public:
-  explicit ConfigError(const std::string& problem)
-      : Error(problem), problems_{problem} {}
+  explicit ConfigError(const std::string& problem) : Error(problem), problems_{problem} {}
   explicit ConfigError(std::vector<std::string> problems);
   const std::vector<std::string>& problems() const { return problems_; }
 
@@ -64,11 +63,11 @@ struct Tolerance {
 struct MonumentConfig {
   Eigen::Vector2d hole_center_mm = Eigen::Vector2d::Zero();  // taught X, Y of the hole centre
   double hole_diameter_mm = 0;
-  double face_z_mm = 0;        // taught Z of the gauge face (top, parallel to XY)
-  double probe_depth_mm = 0;   // depth below the face at which the hole edge is touched
-  double gauge_width_mm = 0;   // between the opposite vertical edges (along X)
-  double face_offset_mm = 0;   // where on the face (radially from the hole centre, +X) to touch Z
-  int hole_touches = 4;        // edge touches for the hole centre (at least 3)
+  double face_z_mm = 0;       // taught Z of the gauge face (top, parallel to XY)
+  double probe_depth_mm = 0;  // depth below the face at which the hole edge is touched
+  double gauge_width_mm = 0;  // between the opposite vertical edges (along X)
+  double face_offset_mm = 0;  // where on the face (radially from the hole centre, +X) to touch Z
+  int hole_touches = 4;       // edge touches for the hole centre (at least 3)
 };
 
 // The set points of a loaded part: reference blocks on the fixturing devices (the patent's
@@ -88,9 +87,9 @@ struct PartSetPointsConfig {
 struct MachineConfig {
   std::string machine_id;
   std::string description;
-  std::string source_path;     // file it was read from
-  ProbeGeometry probe;         // nominal
-  MonumentConfig monument;     // nominal, as taught
+  std::string source_path;                      // file it was read from
+  ProbeGeometry probe;                          // nominal
+  MonumentConfig monument;                      // nominal, as taught
   std::map<std::string, Tolerance> tolerances;  // by metric name
   sim::SimulatorConfig simulator;  // the `simulator:` section (ground truth; acquisition only)
   std::optional<solver::ErrorBudgetConfig> budget;  // the `budget:` section, if any

@@ -13,7 +13,8 @@
 // Geometry, in the fixture frame (axes parallel to the machine's; its origin is at `origin_mm` in
 // the machine frame, so machine = origin + fixture):
 //   - column c (1-based) has its pogo axes at X = its commanded X, home X = column_home_x_mm[c-1];
-//   - pogo r (1-based row) of every column moves in Y along its column, home Y = row_home_y_mm[r-1];
+//   - pogo r (1-based row) of every column moves in Y along its column, home Y =
+//   row_home_y_mm[r-1];
 //   - each pogo extends in Z; its commanded Z is the Z of the top reference face of the vacuum
 //     assembly's reference block (the rigid surface the workpiece is pulled against);
 //   - the reference block is a square prism centred on the pogo axis: side faces at
@@ -23,8 +24,8 @@
 // Configurations (weekly checks, patent "pre-calibration" and "post-calibration"):
 //   - pre-calibration configuration k, 0 <= k < 2 n (n = number of constant-Z planes, 5 by default,
 //     so ten configurations in rotation): k < n puts the ODD rows (1, 3, 5, ...) at Z plane k,
-//     k >= n puts the EVEN rows (2, 4, ...) at Z plane k - n; every column at its home X, every pogo
-//     at its home Y; the rows put at the plane are the ones probed (alternate rows, as in the
+//     k >= n puts the EVEN rows (2, 4, ...) at Z plane k - n; every column at its home X, every
+//     pogo at its home Y; the rows put at the plane are the ones probed (alternate rows, as in the
 //     patent). The other rows stay retracted and are not probed.
 //   - post-calibration: every combination of the `postcalibration` Z values (absolute), Y offsets
 //     (from each row's home) and X offsets (from each column's home): by default 2 Z x 2 Y x 3 X =
@@ -52,25 +53,29 @@ struct PostCalibrationPattern {
 struct FixtureConfig {
   std::string fixture_id;  // the Correction target is "fixture:<fixture_id>"
   Eigen::Vector3d origin_mm = Eigen::Vector3d::Zero();  // fixture frame origin, machine frame
-  std::vector<double> column_home_x_mm;  // per column (1-based index c at [c-1])
-  std::vector<double> row_home_y_mm;     // per row (1-based index r at [r-1]), same on every column
-  std::vector<double> z_planes_mm;       // constant-Z planes, default 0, 6, 12, 18, 24 in
-  double block_size_mm = 0;              // reference block: side faces at +- size/2
-  double block_height_mm = 0;            // side faces extend this far below the top face
-  double probe_depth_mm = 0;             // side touches this far below the top face
+  std::vector<double> column_home_x_mm;                 // per column (1-based index c at [c-1])
+  std::vector<double> row_home_y_mm;  // per row (1-based index r at [r-1]), same on every column
+  std::vector<double> z_planes_mm;    // constant-Z planes, default 0, 6, 12, 18, 24 in
+  double block_size_mm = 0;           // reference block: side faces at +- size/2
+  double block_height_mm = 0;         // side faces extend this far below the top face
+  double probe_depth_mm = 0;          // side touches this far below the top face
   PostCalibrationPattern postcalibration;
 
   int columns() const { return static_cast<int>(column_home_x_mm.size()); }
   int rows() const { return static_cast<int>(row_home_y_mm.size()); }
   double block_half_size_mm() const { return block_size_mm / 2; }
   // 2 n: odd rows at each of the n planes, then even rows at each.
-  int precalibration_configuration_count() const { return 2 * static_cast<int>(z_planes_mm.size()); }
+  int precalibration_configuration_count() const {
+    return 2 * static_cast<int>(z_planes_mm.size());
+  }
   int postcalibration_configuration_count() const {
     return static_cast<int>(postcalibration.z_mm.size() * postcalibration.y_offsets_mm.size() *
                             postcalibration.x_offsets_mm.size());
   }
   // machine = origin + fixture (the fixture's axes are nominally the machine's).
-  Eigen::Vector3d to_machine(const Eigen::Vector3d& fixture_mm) const { return origin_mm + fixture_mm; }
+  Eigen::Vector3d to_machine(const Eigen::Vector3d& fixture_mm) const {
+    return origin_mm + fixture_mm;
+  }
 };
 
 // ---- Pogo labels: "C<column>R<row>", both 1-based, e.g. "C2R3" ----------------------------------

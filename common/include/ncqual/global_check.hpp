@@ -42,17 +42,17 @@ namespace ncqual {
 struct CircleTestConfig {
   Eigen::Vector3d centre_mm = Eigen::Vector3d::Zero();  // commanded pivot position of the centre
   double radius_mm = 0;
-  int points = 0;               // per direction, evenly spaced from angle 0
-  bool bidirectional = true;    // ccw then cw
+  int points = 0;             // per direction, evenly spaced from angle 0
+  bool bidirectional = true;  // ccw then cw
 };
 
 struct LinearRunConfig {
-  int axis = 0;                               // 0, 1, 2 = X, Y, Z
+  int axis = 0;                                     // 0, 1, 2 = X, Y, Z
   Eigen::Vector3d at_mm = Eigen::Vector3d::Zero();  // the pivot position; the axis' own coordinate
-                                              // is replaced by each target
-  std::vector<double> targets_mm;             // ascending
+                                                    // is replaced by each target
+  std::vector<double> targets_mm;                   // ascending
   int cycles = 5;
-  double overrun_mm = 5;                      // past the last target before reversing
+  double overrun_mm = 5;  // past the last target before reversing
 };
 
 // ---- The verification's uncertainty (`global_check.uncertainty:`) ------------------------------
@@ -110,7 +110,8 @@ struct UncertaintySourcesConfig {
   Eigen::Vector3d repeatability_sigma_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d expansion_per_K = Eigen::Vector3d::Constant(11.5e-6);  // alpha (1/K)
   // u(alpha) (1/K): the rule of ISO/TR 230-9 for 11.5e-6, a 2e-6 wide rectangle: 5.77e-7.
-  Eigen::Vector3d expansion_sigma_per_K = Eigen::Vector3d::Constant(2e-6 / (2 * 1.7320508075688772));
+  Eigen::Vector3d expansion_sigma_per_K =
+      Eigen::Vector3d::Constant(2e-6 / (2 * 1.7320508075688772));
   Eigen::Vector3d temperature_deviation_K = Eigen::Vector3d::Zero();  // measured T - 20 C
   Eigen::Vector3d temperature_sigma_K = Eigen::Vector3d::Zero();      // its 1 sigma
 };
@@ -130,7 +131,7 @@ struct TrackerSearchConfig {
 struct VerificationUncertaintyConfig {
   PlannedTrackerConfig tracker;
   UncertaintySourcesConfig sources;
-  int trials = 1000;            // Monte Carlo trials (1 .. 1e6)
+  int trials = 1000;  // Monte Carlo trials (1 .. 1e6)
   std::uint64_t seed = 1;
   std::optional<TrackerSearchConfig> search;  // the `search:` mapping, if any
 };
@@ -147,12 +148,12 @@ struct GlobalCheckConfig {
   std::vector<double> grid_x_mm, grid_y_mm, grid_z_mm;
   // Rotary checks at a fixed pivot position.
   Eigen::Vector3d rotary_at_mm = Eigen::Vector3d::Zero();
-  double c_check_a_rad = 0;            // A held at this tilt while C steps
-  std::vector<double> c_check_c_rad;   // C steps
-  double a_check_c_rad = 0;            // C held while A steps
+  double c_check_a_rad = 0;           // A held at this tilt while C steps
+  std::vector<double> c_check_c_rad;  // C steps
+  double a_check_c_rad = 0;           // C held while A steps
   std::vector<double> a_check_a_rad;
-  std::vector<double> w_check_w_mm;    // W steps at A = C = 0
-  CircleTestConfig circle;             // the same circle in each plane
+  std::vector<double> w_check_w_mm;  // W steps at A = C = 0
+  CircleTestConfig circle;           // the same circle in each plane
   LinearRunConfig linear_run;
   // The `uncertainty:` mapping (see above), if any: what `ncqual uncertainty` simulates.
   std::optional<VerificationUncertaintyConfig> uncertainty;
@@ -183,7 +184,5 @@ struct TrackerMove {
 // interferometer), in another frame. Throws std::invalid_argument for a kind that is not a
 // tracker check.
 std::vector<TrackerMove> global_check_program(CheckKind kind, const GlobalCheckConfig& config);
-
-
 
 }  // namespace ncqual

@@ -21,8 +21,8 @@
 namespace ncqual {
 
 struct ProbeGeometry {
-  double tool_length_mm = 0;   // L: A axis to stylus ball centre, W at home
-  double ball_radius_mm = 0;   // stylus ball radius
+  double tool_length_mm = 0;  // L: A axis to stylus ball centre, W at home
+  double ball_radius_mm = 0;  // stylus ball radius
   Eigen::Vector2d stylus_offset_mm = Eigen::Vector2d::Zero();  // (ox, oy) in the body frame
 };
 

@@ -19,14 +19,14 @@ namespace ncqual {
 // Every check of the qualification process. The numeric values are those of the IDL enum
 // and of the `kind` columns in the historian: never renumber, only append.
 enum class CheckKind : int {
-  MonumentCAlignment = 0,     // daily 1: probe alignment with the C axis
-  MonumentToolLength = 1,     // daily 2: composite tool length
-  MonumentPositioning = 2,    // daily 3: repeatable X, Y, Z positioning
-  MonumentCRotation = 3,      // daily 4: C-axis rotational accuracy
-  FixturePreCalibration = 4,  // weekly
-  FixturePostCalibration = 5, // weekly, after a zero-offset correction
-  PartSetPoints = 6,          // per part
-  GlobalMasterFrame = 7,      // monthly, laser tracker
+  MonumentCAlignment = 0,      // daily 1: probe alignment with the C axis
+  MonumentToolLength = 1,      // daily 2: composite tool length
+  MonumentPositioning = 2,     // daily 3: repeatable X, Y, Z positioning
+  MonumentCRotation = 3,       // daily 4: C-axis rotational accuracy
+  FixturePreCalibration = 4,   // weekly
+  FixturePostCalibration = 5,  // weekly, after a zero-offset correction
+  PartSetPoints = 6,           // per part
+  GlobalMasterFrame = 7,       // monthly, laser tracker
   GlobalGrid = 8,
   RotaryW = 9,
   RotaryA = 10,
@@ -105,18 +105,17 @@ struct MeasurementSet {
   // The request's parameters, echoed by the instrument so the solver knows what was asked
   // (e.g. "fixture_configuration" of a weekly fixture check).
   std::vector<NamedValue> parameters;
-  std::string error;       // non-empty when the instrument could not perform the request
+  std::string error;  // non-empty when the instrument could not perform the request
 };
 
 struct Metric {
-  std::string name;   // public interface, e.g. "center_dx_mm"
+  std::string name;  // public interface, e.g. "center_dx_mm"
   double value = 0;
-  std::string unit;   // "mm", "rad", "arcsec", ...
-  double lower = 0;   // tolerance band: pass when lower <= value <= upper
+  std::string unit;  // "mm", "rad", "arcsec", ...
+  double lower = 0;  // tolerance band: pass when lower <= value <= upper
   double upper = 0;
   bool pass = false;
 };
-
 
 // A software correction: offsets to apply to `target` (e.g. "fixture:F1", "machine:work_offset").
 struct Correction {
@@ -193,10 +192,10 @@ struct CheckCommand {
 };
 
 struct Heartbeat {
-  std::string service;   // "scheduler", "acquisition", "solver", "historian"
-  std::string instance;  // host:pid
+  std::string service;     // "scheduler", "acquisition", "solver", "historian"
+  std::string instance;    // host:pid
   std::string machine_id;  // the machine an acquisition serves; empty for plant-wide services
-  std::string state;     // "starting", "running", "stopping"
+  std::string state;       // "starting", "running", "stopping"
   std::int64_t time_ns = 0;
 };
 

@@ -50,12 +50,12 @@ namespace ncqual::volumetric {
 inline constexpr int kAxisX = 0;
 inline constexpr int kAxisY = 1;
 inline constexpr int kAxisZ = 2;
-inline constexpr int kAlongX = 0;   // translational error along X
+inline constexpr int kAlongX = 0;  // translational error along X
 inline constexpr int kAlongY = 1;
 inline constexpr int kAlongZ = 2;
-inline constexpr int kAboutX = 3;   // angular error about X (A)
-inline constexpr int kAboutY = 4;   // about Y (B)
-inline constexpr int kAboutZ = 5;   // about Z (C)
+inline constexpr int kAboutX = 3;  // angular error about X (A)
+inline constexpr int kAboutY = 4;  // about Y (B)
+inline constexpr int kAboutZ = 5;  // about Z (C)
 inline constexpr int kFunctionCount = 18;
 // function_name() indices of the squareness errors, after the 18 functions.
 inline constexpr int kSquarenessEC0XY = 18;
@@ -117,7 +117,8 @@ Eigen::Matrix3d rotation_from_vector(const Eigen::Vector3d& v_rad);
 // pivot at commanded axis positions `commanded_xyz_mm`: the exact chain in the header comment
 // (no small-angle approximation). Refuses (std::invalid_argument, from ErrorSeries::value) a
 // function with coefficients over an empty range.
-Eigen::Vector3d actual_position(const RigidBodyErrors& errors, const Eigen::Vector3d& commanded_xyz_mm,
+Eigen::Vector3d actual_position(const RigidBodyErrors& errors,
+                                const Eigen::Vector3d& commanded_xyz_mm,
                                 const Eigen::Vector3d& tool_offset_mm);
 
 }  // namespace ncqual::volumetric

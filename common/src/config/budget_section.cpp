@@ -20,7 +20,9 @@ constexpr std::array<std::string_view, 3> kDistributionNames = {"normal", "unifo
 }  // namespace
 
 std::string_view to_string(BudgetAxis axis) { return name_of(kAxisNames, axis); }
-std::string_view to_string(BudgetDirection direction) { return name_of(kDirectionNames, direction); }
+std::string_view to_string(BudgetDirection direction) {
+  return name_of(kDirectionNames, direction);
+}
 std::string_view to_string(BudgetMethod method) { return name_of(kMethodNames, method); }
 std::string_view to_string(BudgetDistribution distribution) {
   return name_of(kDistributionNames, distribution);
@@ -90,8 +92,7 @@ std::optional<LengthOrAngle> length_or_angle(const Node& v) {
   }
   try {
     return LengthOrAngle{units::parse_quantity(units::Dimension::Length, v.scalar(), "mm"), false};
-  } catch (const std::invalid_argument&) {
-  }
+  } catch (const std::invalid_argument&) {}
   try {
     return LengthOrAngle{units::parse_quantity(units::Dimension::Angle, v.scalar(), "rad"), true};
   } catch (const std::invalid_argument&) {
@@ -173,13 +174,16 @@ BudgetMetric read_metric(const Node& node, BudgetDirection direction) {
   } else if (const auto r = units::to_internal_factor(units::Dimension::Angle, m.unit)) {
     m.angle = true;
     if (!lever.present()) {
-      lever.problem("required for an angle metric: the length (e.g. the composite tool length L) "
-                    "that turns its angle into a tool-tip displacement");
+      lever.problem(
+          "required for an angle metric: the length (e.g. the composite tool length L) "
+          "that turns its angle into a tool-tip displacement");
     }
     m.lever_arm_mm = positive_length(lever).value_or(0);
     m.mm_per_unit = *r * m.lever_arm_mm;
   } else {
-    (unit.present() ? unit : node.is_scalar() ? node : node["name"])
+    (unit.present()     ? unit
+     : node.is_scalar() ? node
+                        : node["name"])
         .problem("unit '" + m.unit + "' is not one of mm, um, m, in, rad, mrad, urad, deg, arcsec");
   }
   return m;
@@ -259,13 +263,15 @@ BudgetSource read_source(const Node& node) {
                                                         "allowance_s"};
   if (s.fixed()) {
     if (const Node c = first_present(node, capability); c.present()) {
-      c.problem("source '" + s.name + "' has no metrics: no check measures it, so give its fixed "
+      c.problem("source '" + s.name +
+                "' has no metrics: no check measures it, so give its fixed "
                 "`allowance` instead");
     }
     s.bound = read_bound(node, "allowance", s);
   } else {
     if (const Node a = first_present(node, allowance); a.present()) {
-      a.problem("source '" + s.name + "' is measured (it has metrics): its allowance is allocated "
+      a.problem("source '" + s.name +
+                "' is measured (it has metrics): its allowance is allocated "
                 "from the budget; give its default `capability`");
     }
     s.bound = read_bound(node, "capability", s);

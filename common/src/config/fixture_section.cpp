@@ -60,8 +60,8 @@ std::string format_mm(double v) {
 //   home[i] = first + i * pitch,  i = 0 .. count - 1
 std::vector<double> homes(const Node& section, const std::string& axis, int minimum_count) {
   const std::string first_key = "first_" + axis + "_mm";
-  if (!section.required_map_of({"count", first_key, "pitch_mm", "home_" + axis + "_mm",
-                                "home_" + axis + "_in"})) {
+  if (!section.required_map_of(
+          {"count", first_key, "pitch_mm", "home_" + axis + "_mm", "home_" + axis + "_in"})) {
     return {};
   }
   Node list_node = section["home_" + axis + "_mm"];
@@ -82,7 +82,8 @@ std::vector<double> homes(const Node& section, const std::string& axis, int mini
     return *listed;
   }
   const Node count = section["count"];
-  if (!count.present()) count.problem("must be an integer from " + std::to_string(minimum_count) + " to 999");
+  if (!count.present())
+    count.problem("must be an integer from " + std::to_string(minimum_count) + " to 999");
   const auto n = count.integer(minimum_count, 999);
   const auto first = section[first_key].required_length();
   const auto pitch = section["pitch_mm"].required_length();
@@ -114,8 +115,8 @@ PostCalibrationPattern read_postcalibration(const Node& node, const FixtureConfi
   }
   p.y_offsets_mm = {-75.0, 75.0};
   p.x_offsets_mm = {-150.0, 0.0, 150.0};
-  if (!node.map_of({"z_mm", "z_in", "y_offsets_mm", "y_offsets_in", "x_offsets_mm",
-                    "x_offsets_in"})) {
+  if (!node.map_of(
+          {"z_mm", "z_in", "y_offsets_mm", "y_offsets_in", "x_offsets_mm", "x_offsets_in"})) {
     return p;
   }
   const std::pair<const char*, std::vector<double>*> lists[] = {

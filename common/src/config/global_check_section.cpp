@@ -146,7 +146,8 @@ PlannedTrackerConfig read_planned_tracker(const Node& t) {
   t["position_mm"].require();
   c.position_mm = per_axis(t["position_mm"], Kind::Length, c.position_mm);
   c.ypr_rad = per_axis(t["ypr_deg"], Kind::Angle, c.ypr_rad);
-  c.angular_sigma_rad = sigma(t["angular_sigma_urad"], t["angular_sigma_urad"].angle(c.angular_sigma_rad));
+  c.angular_sigma_rad =
+      sigma(t["angular_sigma_urad"], t["angular_sigma_urad"].angle(c.angular_sigma_rad));
   c.radial_sigma_mm = sigma(t["radial_sigma_mm"], t["radial_sigma_mm"].length(c.radial_sigma_mm));
   c.radial_sigma_mm_per_m =
       sigma(t["radial_sigma_mm_per_m"], t["radial_sigma_mm_per_m"].length(c.radial_sigma_mm_per_m));
@@ -245,8 +246,8 @@ VerificationUncertaintyConfig read_verification_uncertainty(const Node& node) {
 
 GlobalCheckConfig read_global_check(const Node& node) {
   GlobalCheckConfig c;
-  if (!node.map_of({"targets", "master_frame", "grid", "rotary", "circles", "linear_run",
-                    "uncertainty"})) {
+  if (!node.map_of(
+          {"targets", "master_frame", "grid", "rotary", "circles", "linear_run", "uncertainty"})) {
     return c;
   }
   const Node targets = node["targets"];
@@ -309,8 +310,8 @@ GlobalCheckConfig read_global_check(const Node& node) {
   }
 
   const Node lr = node["linear_run"];
-  if (lr.required_map_of({"axis", "at_mm", "targets", "targets_mm", "targets_in", "cycles",
-                          "overrun_mm"})) {
+  if (lr.required_map_of(
+          {"axis", "at_mm", "targets", "targets_mm", "targets_in", "cycles", "overrun_mm"})) {
     const std::string axis = lr["axis"].text("");
     if (axis != "x" && axis != "y" && axis != "z") {
       lr["axis"].problem("expected x, y or z");

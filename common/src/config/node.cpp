@@ -17,8 +17,7 @@ std::optional<double> plain_number(const std::string& text) {
     std::size_t used = 0;
     const double d = std::stod(text, &used);
     if (used == text.size()) return d;
-  } catch (const std::logic_error&) {
-  }
+  } catch (const std::logic_error&) {}
   return std::nullopt;
 }
 
@@ -36,7 +35,8 @@ std::string format_number(double v) {
   return buffer;
 }
 
-// ---- Diagnostics ---------------------------------------------------------------------------------
+// ---- Diagnostics
+// ---------------------------------------------------------------------------------
 
 void Diagnostics::problem(const std::string& file, const std::string& path,
                           const std::string& value, const std::string& why) {
@@ -60,7 +60,8 @@ void Diagnostics::throw_if_any() const {
   throw ConfigError(problems_);
 }
 
-// ---- Node ----------------------------------------------------------------------------------------
+// ---- Node
+// ----------------------------------------------------------------------------------------
 
 Node::Node(YAML::Node yaml, std::string file, Diagnostics& diagnostics, std::string path,
            std::string unit_key)
@@ -88,8 +89,9 @@ Node Node::operator[](const std::string& key) const {
 }
 
 Node Node::operator[](std::size_t index) const {
-  return Node(present() && yaml_->IsSequence() && index < yaml_->size() ? (*yaml_)[index] : YAML::Node(),
-              file_, *diagnostics_, path_ + "[" + std::to_string(index) + "]", unit_key_);
+  return Node(
+      present() && yaml_->IsSequence() && index < yaml_->size() ? (*yaml_)[index] : YAML::Node(),
+      file_, *diagnostics_, path_ + "[" + std::to_string(index) + "]", unit_key_);
 }
 
 bool Node::present() const { return yaml_->IsDefined() && !yaml_->IsNull(); }
@@ -149,7 +151,9 @@ std::string_view angle_unit_of(std::string_view key) {
   return "rad";
 }
 
-void Node::log(const std::string& value) const { diagnostics_->resolved(file_, path_, value, false); }
+void Node::log(const std::string& value) const {
+  diagnostics_->resolved(file_, path_, value, false);
+}
 void Node::log_default(const std::string& value) const {
   diagnostics_->resolved(file_, path_, value, true);
 }
@@ -312,7 +316,8 @@ std::optional<std::string> Node::required_text() const {
   return text();
 }
 
-// ---- Files ---------------------------------------------------------------------------------------
+// ---- Files
+// ---------------------------------------------------------------------------------------
 
 Node load_file(const std::string& path, Diagnostics& diagnostics) {
   if (!fs::exists(path)) {

@@ -279,8 +279,8 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     root.problem("expected a mapping at the top level");
     return std::nullopt;
   }
-  root.map_of({"plant", "domain_id", "qos_profiles", "historian", "scheduler", "clock",
-               "machines"});
+  root.map_of(
+      {"plant", "domain_id", "qos_profiles", "historian", "scheduler", "clock", "machines"});
   PlantConfig p;
   p.source_path = fs::absolute(path).lexically_normal().string();
   p.plant = root["plant"].text("plant");
@@ -316,7 +316,8 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     } else {
       clock.map_of({"mode", "start"});
       const std::string mode = clock["mode"].text("wall");
-      if (mode != "wall" && mode != "simulated") clock["mode"].problem("expected wall or simulated");
+      if (mode != "wall" && mode != "simulated")
+        clock["mode"].problem("expected wall or simulated");
       p.simulated_clock = mode == "simulated";
       if (p.simulated_clock) {
         const Node start = clock["start"];
@@ -380,7 +381,7 @@ const MachineConfig* PlantConfig::find_machine(const std::string& machine_id) co
 }
 
 std::vector<MachineConfig> PlantConfig::machines_named(const std::string& list,
-                                                      const std::string& what) const {
+                                                       const std::string& what) const {
   std::vector<MachineConfig> out;
   std::set<std::string> seen;
   std::size_t from = 0;

@@ -136,45 +136,52 @@ TrackerModel read_tracker(const Node& node) {
     return t;
   }
   t.position_mm = node["position_mm"].lengths(3, t.position_mm);
-  t.ypr_rad = Eigen::Vector3d(node["yaw_deg"].angle(t.ypr_rad[0]),
-                              node["pitch_deg"].angle(t.ypr_rad[1]),
-                              node["roll_deg"].angle(t.ypr_rad[2]));
+  t.ypr_rad =
+      Eigen::Vector3d(node["yaw_deg"].angle(t.ypr_rad[0]), node["pitch_deg"].angle(t.ypr_rad[1]),
+                      node["roll_deg"].angle(t.ypr_rad[2]));
   auto sigma = [&](const char* key, double value) { return non_negative(node[key], value); };
   t.angular_sigma_rad =
       sigma("angular_sigma_urad", node["angular_sigma_urad"].angle(t.angular_sigma_rad));
   t.radial_sigma_mm = sigma("radial_sigma_um", node["radial_sigma_um"].length(t.radial_sigma_mm));
-  t.radial_sigma_mm_per_m = sigma(
-      "radial_sigma_um_per_m",
-      node["radial_sigma_um_per_m"].number(t.radial_sigma_mm_per_m * 1000) / 1000);
+  t.radial_sigma_mm_per_m =
+      sigma("radial_sigma_um_per_m",
+            node["radial_sigma_um_per_m"].number(t.radial_sigma_mm_per_m * 1000) / 1000);
   t.samples_per_point = node["samples_per_point"].integer(1, 100000, 1);
-  t.linear_run_standoff_mm = sigma(
-      "linear_run_standoff_mm", node["linear_run_standoff_mm"].length(t.linear_run_standoff_mm));
+  t.linear_run_standoff_mm = sigma("linear_run_standoff_mm",
+                                   node["linear_run_standoff_mm"].length(t.linear_run_standoff_mm));
   t.ifm_sigma_mm = sigma("ifm_sigma_um", node["ifm_sigma_um"].length(t.ifm_sigma_mm));
-  t.ifm_sigma_mm_per_m =
-      sigma("ifm_sigma_um_per_m",
-            node["ifm_sigma_um_per_m"].number(t.ifm_sigma_mm_per_m * 1000) / 1000);
+  t.ifm_sigma_mm_per_m = sigma(
+      "ifm_sigma_um_per_m", node["ifm_sigma_um_per_m"].number(t.ifm_sigma_mm_per_m * 1000) / 1000);
   return t;
 }
 
 // Two angles under one key (e.g. c_axis_tilt_urad: [about X, about Y]); zero when absent.
-Eigen::Vector2d angle_pair(const Node& v) {
-  return v.angles(2).value_or(Eigen::Vector2d::Zero());
-}
+Eigen::Vector2d angle_pair(const Node& v) { return v.angles(2).value_or(Eigen::Vector2d::Zero()); }
 
 VolumetricTruth read_volumetric(const Node& node) {
   VolumetricTruth v;
-  std::set<std::string> known = {"repeatability_sigma_mm", "backlash_mm", "expansion_ppm_per_K",
-                                 "temperature_C", "range_mm", "c_axis_tilt_urad",
-                                 "c_periodic_arcsec", "c_periodic_phase_deg", "a_axis_tilt_urad",
-                                 "a_periodic_arcsec", "w_scale_ppm", "w_misalignment_urad",
-                                 "EC(0X)Y_urad", "EB(0X)Z_urad", "EA(0Y)Z_urad"};
+  std::set<std::string> known = {"repeatability_sigma_mm",
+                                 "backlash_mm",
+                                 "expansion_ppm_per_K",
+                                 "temperature_C",
+                                 "range_mm",
+                                 "c_axis_tilt_urad",
+                                 "c_periodic_arcsec",
+                                 "c_periodic_phase_deg",
+                                 "a_axis_tilt_urad",
+                                 "a_periodic_arcsec",
+                                 "w_scale_ppm",
+                                 "w_misalignment_urad",
+                                 "EC(0X)Y_urad",
+                                 "EB(0X)Z_urad",
+                                 "EA(0Y)Z_urad"};
   auto function_key = [](int i) {
     return std::string(volumetric::function_name(i)) + (i % 6 < 3 ? "_um" : "_urad");
   };
   for (int i = 0; i < 18; ++i) known.insert(function_key(i));
   if (!node.map_of(known)) return v;
-  v.repeatability_sigma_mm = non_negative(node["repeatability_sigma_mm"],
-                                          node["repeatability_sigma_mm"].length(0.0));
+  v.repeatability_sigma_mm =
+      non_negative(node["repeatability_sigma_mm"], node["repeatability_sigma_mm"].length(0.0));
   v.backlash_mm = node["backlash_mm"].lengths(3, v.backlash_mm);
   if (const auto ppm = node["expansion_ppm_per_K"].numbers(3)) v.expansion_per_K = *ppm * 1e-6;
   v.temperature_C = node["temperature_C"].numbers(3).value_or(v.temperature_C);
@@ -238,8 +245,8 @@ std::int64_t read_since(const Node& v) {
     return 0;
   }
   const std::string text = v.scalar();
-  if (text.size() < 4 || !std::all_of(text.begin(), text.begin() + 4,
-                                      [](char c) { return c >= '0' && c <= '9'; })) {
+  if (text.size() < 4 ||
+      !std::all_of(text.begin(), text.begin() + 4, [](char c) { return c >= '0' && c <= '9'; })) {
     v.problem(expected);
     return 0;
   }
@@ -309,8 +316,8 @@ SimulatorConfig read_simulator(const Node& node, const MachineConfig& machine) {
   config.plate_thickness_mm = node["plate_thickness_mm"].length(config.plate_thickness_mm);
   if (config.plate_thickness_mm <= 0) node["plate_thickness_mm"].problem("must be positive");
   config.errors = read_errors(node["errors"], machine);
-  config.part_seating_sigma_mm = non_negative(node["part_seating_sigma_mm"],
-                                              node["part_seating_sigma_mm"].length(0.0));
+  config.part_seating_sigma_mm =
+      non_negative(node["part_seating_sigma_mm"], node["part_seating_sigma_mm"].length(0.0));
   config.fixture = read_fixture_errors(node["fixture"], machine);
   config.tracker = read_tracker(node["tracker"]);
   config.volumetric = read_volumetric(node["volumetric"]);

@@ -147,12 +147,13 @@ void print_iso230_2(const solver::Iso230_2Result& r, const std::string& file) {
   axis_row("B  reversal", r.B_mm, std::nullopt, std::nullopt);
   axis_row("B_mean mean reversal", r.B_mean_mm, std::nullopt, std::nullopt);
 
-  fmt::print("\nPer target (mm): mean = mean deviation, s = standard uncertainty, R = 4 s;\n"
-              "  B_i = reversal, R_i = bidirectional repeatability, x_i = mean bidirectional "
-             "deviation\n");
+  fmt::print(
+      "\nPer target (mm): mean = mean deviation, s = standard uncertainty, R = 4 s;\n"
+      "  B_i = reversal, R_i = bidirectional repeatability, x_i = mean bidirectional "
+      "deviation\n");
   const std::vector<std::pair<std::string, std::size_t>> cols{
-      {"target", 12}, {"n↑", 4},  {"mean↑", 9}, {"s↑", 8},   {"R↑", 8}, {"n↓", 4},
-      {"mean↓", 9},   {"s↓", 8},  {"R↓", 8},    {"B_i", 9},  {"R_i", 8}, {"x_i", 9}};
+      {"target", 12}, {"n↑", 4}, {"mean↑", 9}, {"s↑", 8},  {"R↑", 8},  {"n↓", 4},
+      {"mean↓", 9},   {"s↓", 8}, {"R↓", 8},    {"B_i", 9}, {"R_i", 8}, {"x_i", 9}};
   std::string header = " ";
   // The arrows are 3 bytes and one column wide: fmt pads by columns.
   for (const auto& [name, width] : cols) header += fmt::format("{:>{}}", name, width);
@@ -173,10 +174,10 @@ void print_iso230_2(const solver::Iso230_2Result& r, const std::string& file) {
 struct Options {
   std::string file;  // iso230-2 and circle
   bool json = false;
-  std::optional<std::string> plane;           // circle
-  std::optional<double> nominal_radius_mm;    // circle
-  std::optional<std::string> centre_mm;       // circle
-  std::string x_run, y_run, grid;             // grid
+  std::optional<std::string> plane;         // circle
+  std::optional<double> nominal_radius_mm;  // circle
+  std::optional<std::string> centre_mm;     // circle
+  std::string x_run, y_run, grid;           // grid
 };
 
 int run_iso230_2(const Options& o) {
@@ -246,8 +247,8 @@ json to_json(const solver::CircularTestResult& r, const solver::CircleFile& data
 }
 
 std::string reference_text(const solver::RadialReference& ref) {
-  return (ref.nominal_centre ? "nominal centre (" : "LSC centre (") + mm(ref.centre_mm.x()) +
-         ", " + mm(ref.centre_mm.y()) + ") mm, " +
+  return (ref.nominal_centre ? "nominal centre (" : "LSC centre (") + mm(ref.centre_mm.x()) + ", " +
+         mm(ref.centre_mm.y()) + ") mm, " +
          (ref.nominal_radius ? "nominal radius R0 " : "LSC radius ") + mm(ref.radius_mm) + " mm";
 }
 
@@ -298,8 +299,9 @@ void print_circle(const solver::CircularTestResult& r, const solver::CircleFile&
       path_value(r.ccw, [](const P& p) { return fixed(p.max_gap_rad * 180.0 / kPi, 1); }),
       path_value(r.cw, [](const P& p) { return fixed(p.max_gap_rad * 180.0 / kPi, 1); }), "-");
   if (r.ccw && r.cw) {
-    fmt::print("\n  The scale mismatch and squareness of one direction include its reversal "
-               "errors;\n  those of both directions together cancel them.\n");
+    fmt::print(
+        "\n  The scale mismatch and squareness of one direction include its reversal "
+        "errors;\n  those of both directions together cancel them.\n");
   }
 }
 
@@ -308,8 +310,8 @@ int run_circle(const Options& o) {
   const std::optional<solver::Plane> plane = plane_option(o.plane);
   const std::optional<double> nominal_radius = o.nominal_radius_mm;
   if (nominal_radius && !(std::isfinite(*nominal_radius) && *nominal_radius > 0)) {
-    throw UsageError(fmt::format("--nominal-radius-mm {}: expected a radius > 0 (mm)",
-                                 *nominal_radius));
+    throw UsageError(
+        fmt::format("--nominal-radius-mm {}: expected a radius > 0 (mm)", *nominal_radius));
   }
   std::optional<Eigen::Vector2d> centre;
   if (o.centre_mm) {
@@ -396,31 +398,30 @@ int run_grid(const Options& o) {
                         {"worst_deviation_mm", pl.worst_deviation_mm},
                         {"rms_deviation_mm", pl.rms_deviation_mm}});
     }
-    const json out = {
-        {"unit", "mm"},
-        {"grid_file", g_file},
-        {"points", r.points.size()},
-        {"max_deviation_mm", r.max_deviation_mm},
-        {"max_deviation_point", r.max_deviation_label},
-        {"rms_deviation_mm", r.rms_deviation_mm},
-        {"max_abs_dx_mm", r.max_abs_dx_mm},
-        {"max_abs_dy_mm", r.max_abs_dy_mm},
-        {"max_abs_dz_mm", r.max_abs_dz_mm},
-        {"squareness_xy_urad", r.affine.squareness_xy_urad},
-        {"squareness_yz_urad", r.affine.squareness_yz_urad},
-        {"squareness_zx_urad", r.affine.squareness_zx_urad},
-        {"scale_x_um_per_m", r.affine.scale_x_um_per_m},
-        {"scale_y_um_per_m", r.affine.scale_y_um_per_m},
-        {"scale_z_um_per_m", r.affine.scale_z_um_per_m},
-        {"affine_residual_rms_mm", r.affine.residual_rms_mm},
-        {"master_frame",
-         {{"orthogonality_urad", frame.orthogonality_urad},
-          {"origin_rms_mm", frame.origin_rms_mm},
-          {"x_run", run_json(frame.x_run, x_file)},
-          {"y_run", run_json(frame.y_run, y_file)}}},
-        {"worst_points", worst},
-        {"planes", planes},
-        {"per_point", points}};
+    const json out = {{"unit", "mm"},
+                      {"grid_file", g_file},
+                      {"points", r.points.size()},
+                      {"max_deviation_mm", r.max_deviation_mm},
+                      {"max_deviation_point", r.max_deviation_label},
+                      {"rms_deviation_mm", r.rms_deviation_mm},
+                      {"max_abs_dx_mm", r.max_abs_dx_mm},
+                      {"max_abs_dy_mm", r.max_abs_dy_mm},
+                      {"max_abs_dz_mm", r.max_abs_dz_mm},
+                      {"squareness_xy_urad", r.affine.squareness_xy_urad},
+                      {"squareness_yz_urad", r.affine.squareness_yz_urad},
+                      {"squareness_zx_urad", r.affine.squareness_zx_urad},
+                      {"scale_x_um_per_m", r.affine.scale_x_um_per_m},
+                      {"scale_y_um_per_m", r.affine.scale_y_um_per_m},
+                      {"scale_z_um_per_m", r.affine.scale_z_um_per_m},
+                      {"affine_residual_rms_mm", r.affine.residual_rms_mm},
+                      {"master_frame",
+                       {{"orthogonality_urad", frame.orthogonality_urad},
+                        {"origin_rms_mm", frame.origin_rms_mm},
+                        {"x_run", run_json(frame.x_run, x_file)},
+                        {"y_run", run_json(frame.y_run, y_file)}}},
+                      {"worst_points", worst},
+                      {"planes", planes},
+                      {"per_point", points}};
     std::cout << out.dump(2) << "\n";
     return kExitOk;
   }
@@ -476,14 +477,17 @@ void add_analyze(CLI::App& app, Commands& commands) {
       "u_mm,v_mm, optional direction ccw/cw) per ISO 230-4: G, G(b), H, F, scale mismatch\n"
       "and squareness of the two axes");
   circle->add_option("FILE", o->file, "the test's CSV file")->required();
-  circle->add_option("--plane", o->plane,
-                     "the plane (needed for angle_deg,radius_mm and u_mm,v_mm files)")
+  circle
+      ->add_option("--plane", o->plane,
+                   "the plane (needed for angle_deg,radius_mm and u_mm,v_mm files)")
       ->type_name("XY|YZ|XZ");
-  circle->add_option("--nominal-radius-mm", o->nominal_radius_mm,
-                     "F about this radius (default: the least-squares circle's)")
+  circle
+      ->add_option("--nominal-radius-mm", o->nominal_radius_mm,
+                   "F about this radius (default: the least-squares circle's)")
       ->type_name("R");
-  circle->add_option("--centre-mm", o->centre_mm,
-                     "F about this centre in the plane's u, v (default: the least-squares one)")
+  circle
+      ->add_option("--centre-mm", o->centre_mm,
+                   "F about this centre in the plane's u, v (default: the least-squares one)")
       ->type_name("U,V");
   add_json_flag(circle, o->json);
   commands.push_back({circle, [o] { return refusing(o->file, run_circle, *o); }});
@@ -493,8 +497,12 @@ void add_analyze(CLI::App& app, Commands& commands) {
       "the monthly tracker grid (point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas; commanded in\n"
       "machine axes, measured in the tracker frame): master frame from the X and Y runs,\n"
       "per-point deviations, squareness and scale of the axes");
-  grid->add_option("--x-run", o->x_run, "the X run of the master frame")->type_name("F")->required();
-  grid->add_option("--y-run", o->y_run, "the Y run of the master frame")->type_name("F")->required();
+  grid->add_option("--x-run", o->x_run, "the X run of the master frame")
+      ->type_name("F")
+      ->required();
+  grid->add_option("--y-run", o->y_run, "the Y run of the master frame")
+      ->type_name("F")
+      ->required();
   grid->add_option("--grid", o->grid, "the grid's points")->type_name("F")->required();
   add_json_flag(grid, o->json);
   commands.push_back({grid, [o] { return refusing("", run_grid, *o); }});

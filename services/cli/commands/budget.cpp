@@ -217,7 +217,9 @@ nlohmann::json to_json(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
 // ---- Table --------------------------------------------------------------------------------------
 
 // "0.2540 mm (0.0100 in)"
-std::string mm_in(double mm) { return fmt::format("{:.4f} mm ({:.4f} in)", mm, units::mm_to_inch(mm)); }
+std::string mm_in(double mm) {
+  return fmt::format("{:.4f} mm ({:.4f} in)", mm, units::mm_to_inch(mm));
+}
 
 // A value in a metric's unit with sensible decimals: 4 for mm and in, 1 for arcsec, else 4
 // significant.
@@ -251,10 +253,11 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
                  const MachineConfig& machine, const std::optional<std::string>& database,
                  int last) {
   fmt::print("Error budget of {} ({})\n", machine.machine_id, machine.source_path);
-  fmt::print("  allowable ΔS {} on a panel of R {:.1f} mm ({:.1f} in), holes at θ {:.1f} .. {:.1f} "
-             "deg\n",
-             mm_in(c.allowable_total_mm), c.panel_radius_mm, units::mm_to_inch(c.panel_radius_mm),
-             deg(c.theta_min_rad), deg(c.theta_max_rad));
+  fmt::print(
+      "  allowable ΔS {} on a panel of R {:.1f} mm ({:.1f} in), holes at θ {:.1f} .. {:.1f} "
+      "deg\n",
+      mm_in(c.allowable_total_mm), c.panel_radius_mm, units::mm_to_inch(c.panel_radius_mm),
+      deg(c.theta_min_rad), deg(c.theta_max_rad));
   const std::string from =
       database ? "the newest " + std::to_string(last) + " values of each metric in " + *database
                : "the configured defaults (no historian file)";
@@ -263,49 +266,62 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
   if (!r.allocation.feasible) {
     fmt::print("  ALLOCATION IMPOSSIBLE: {}\n", r.allocation.why);
   } else {
-    fmt::print("  allowance = {:.3f} × capability for every measured source (binding at θ = {:.1f} "
-               "deg)\n",
-               r.allocation.scale, deg(r.allocation.theta_rad));
+    fmt::print(
+        "  allowance = {:.3f} × capability for every measured source (binding at θ = {:.1f} "
+        "deg)\n",
+        r.allocation.scale, deg(r.allocation.theta_rad));
   }
 
-  fmt::print("\nSources, largest consumer today first (ΔS of capability and allowance at "
-             "θ = {:.1f} deg, today's at θ = {:.1f} deg)\n",
-             deg(r.allocation.theta_rad), deg(r.today.theta_rad));
+  fmt::print(
+      "\nSources, largest consumer today first (ΔS of capability and allowance at "
+      "θ = {:.1f} deg, today's at θ = {:.1f} deg)\n",
+      deg(r.allocation.theta_rad), deg(r.today.theta_rad));
   const std::vector<std::size_t> sw{3, 20, 3, 8, 11, 11, 22, 7};
-  fmt::print("{}\n", row({{"#", sw[0]}, {"source", sw[1]}, {"dir", sw[2]}, {"basis", sw[3]},
-                           {"capab. ΔS", sw[4]}, {"allow. ΔS", sw[5]}, {"today ΔS", sw[6]},
-                          {"share", sw[7]}, {"", 0}}));
+  fmt::print("{}\n", row({{"#", sw[0]},
+                          {"source", sw[1]},
+                          {"dir", sw[2]},
+                          {"basis", sw[3]},
+                          {"capab. ΔS", sw[4]},
+                          {"allow. ΔS", sw[5]},
+                          {"today ΔS", sw[6]},
+                          {"share", sw[7]},
+                          {"", 0}}));
   int rank = 0;
   for (const auto& s : r.sources) {
     fmt::print("{}\n",
                row({{std::to_string(++rank), sw[0]},
-                     {s.name, sw[1]},
-                     {std::string(to_string(s.direction)), sw[2]},
-                     {std::string(to_string(s.capability_basis)), sw[3]},
-                     {fmt::format("{:.4f} mm", s.capability_contribution_mm), sw[4]},
-                     {fmt::format("{:.4f} mm", s.allocation_contribution_mm), sw[5]},
-                     {mm_in(s.today_contribution_mm), sw[6]},
-                     {fmt::format("{:5.1f} %", 100 * s.share), sw[7]},
-                     {s.fixed ? "fixed allowance" : (s.today_measured ? "" : "no value yet"), 0}}));
+                    {s.name, sw[1]},
+                    {std::string(to_string(s.direction)), sw[2]},
+                    {std::string(to_string(s.capability_basis)), sw[3]},
+                    {fmt::format("{:.4f} mm", s.capability_contribution_mm), sw[4]},
+                    {fmt::format("{:.4f} mm", s.allocation_contribution_mm), sw[5]},
+                    {mm_in(s.today_contribution_mm), sw[6]},
+                    {fmt::format("{:5.1f} %", 100 * s.share), sw[7]},
+                    {s.fixed ? "fixed allowance" : (s.today_measured ? "" : "no value yet"), 0}}));
   }
 
   fmt::print("\nCheck metrics (derived tolerance: the source's allowance in the metric's unit)\n");
   const std::vector<std::size_t> mw{22, 19, 4, 4, 12, 13, 13, 12};
-  fmt::print("{}\n", row({{"metric", mw[0]}, {"source", mw[1]}, {"axis", mw[2]}, {"n", mw[3]},
-                           {"capability", mw[4]}, {"derived tol.", mw[5]}, {"configured", mw[6]},
-                          {"today", mw[7]}, {"", 0}}));
+  fmt::print("{}\n", row({{"metric", mw[0]},
+                          {"source", mw[1]},
+                          {"axis", mw[2]},
+                          {"n", mw[3]},
+                          {"capability", mw[4]},
+                          {"derived tol.", mw[5]},
+                          {"configured", mw[6]},
+                          {"today", mw[7]},
+                          {"", 0}}));
   for (const auto& s : r.sources) {
     for (const auto& m : s.metrics) {
-      fmt::print("{}\n",
-                 row({{m.name, mw[0]},
-                       {s.name, mw[1]},
-                       {std::string(to_string(m.axis)), mw[2]},
-                       {std::to_string(m.capability.samples), mw[3]},
-                       {in_unit(m.capability.capability, m.unit), mw[4]},
-                       {"±" + in_unit(m.derived_tolerance, m.unit), mw[5]},
-                       {tolerance_text(configured_tolerance(machine, m), m.unit), mw[6]},
-                       {m.today_value ? in_unit(*m.today_value, m.unit) : "-", mw[7]},
-                       {m.today_within_tolerance ? "" : "OVER ITS ALLOWANCE", 0}}));
+      fmt::print("{}\n", row({{m.name, mw[0]},
+                              {s.name, mw[1]},
+                              {std::string(to_string(m.axis)), mw[2]},
+                              {std::to_string(m.capability.samples), mw[3]},
+                              {in_unit(m.capability.capability, m.unit), mw[4]},
+                              {"±" + in_unit(m.derived_tolerance, m.unit), mw[5]},
+                              {tolerance_text(configured_tolerance(machine, m), m.unit), mw[6]},
+                              {m.today_value ? in_unit(*m.today_value, m.unit) : "-", mw[7]},
+                              {m.today_within_tolerance ? "" : "OVER ITS ALLOWANCE", 0}}));
     }
   }
 
@@ -316,13 +332,11 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
   total("allowable", c.allowable_total_mm, "");
   total("today (RSS of the newest values)", r.today.rss_total_mm,
         fmt::format("at θ = {:.1f} deg: {}, {:.1f} % of the allowable squared",
-                    deg(r.today.theta_rad),
-                    r.today.within_budget ? "WITHIN BUDGET" : "OVER BUDGET",
+                    deg(r.today.theta_rad), r.today.within_budget ? "WITHIN BUDGET" : "OVER BUDGET",
                     100 * std::pow(r.today.rss_total_mm / c.allowable_total_mm, 2)));
   total("capability (RSS)", r.capability_rss.total_mm,
         fmt::format("at θ = {:.1f} deg", deg(r.capability_rss.theta_rad)));
-  total("capability (Monte Carlo, " + std::to_string(r.capability_monte_carlo.samples) +
-            " draws)",
+  total("capability (Monte Carlo, " + std::to_string(r.capability_monte_carlo.samples) + " draws)",
         r.capability_monte_carlo.total_mm,
         fmt::format("at θ = {:.1f} deg", deg(r.capability_monte_carlo.theta_rad)));
   total("allowances (RSS)", r.allocation_rss.total_mm, "");

@@ -42,8 +42,9 @@ int run(const Options& o) {
   const std::string kind_name(to_string(*o.kind));
 
   const WallClock clock;
-  const CheckCommand cmd{machine, new_sample_id("op", machine), *o.kind,
-                         "operator:" + operator_name(), clock.now_ns(), {}};
+  const CheckCommand cmd{machine,        new_sample_id("op", machine),
+                         *o.kind,        "operator:" + operator_name(),
+                         clock.now_ns(), {}};
 
   const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
   ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});

@@ -49,19 +49,24 @@ int print_bash(const CLI::App& root) {
   std::map<std::string, Path> paths;
   walk(root, root.get_name(), paths);
   std::string kinds;
-  for (CheckKind k : all_check_kinds()) kinds += (kinds.empty() ? "" : " ") + std::string(to_string(k));
-  std::cout << "# bash completion of " << root.get_name()
-            << ", written by `" << root.get_name() << " completion bash` from its command line.\n"
+  for (CheckKind k : all_check_kinds())
+    kinds += (kinds.empty() ? "" : " ") + std::string(to_string(k));
+  std::cout << "# bash completion of " << root.get_name() << ", written by `" << root.get_name()
+            << " completion bash` from its command line.\n"
             << "_" << root.get_name() << "() {\n"
             << "  local -A subcommands=(";
-  for (const auto& [path, p] : paths) std::cout << " [\"" << path << "\"]=\"" << joined(p.subcommands) << "\"";
+  for (const auto& [path, p] : paths)
+    std::cout << " [\"" << path << "\"]=\"" << joined(p.subcommands) << "\"";
   std::cout << " )\n  local -A flags=(";
-  for (const auto& [path, p] : paths) std::cout << " [\"" << path << "\"]=\"" << joined(p.flags) << "\"";
+  for (const auto& [path, p] : paths)
+    std::cout << " [\"" << path << "\"]=\"" << joined(p.flags) << "\"";
   std::cout << " )\n  local -A valued=(";
-  for (const auto& [path, p] : paths) std::cout << " [\"" << path << "\"]=\"" << joined(p.valued) << "\"";
+  for (const auto& [path, p] : paths)
+    std::cout << " [\"" << path << "\"]=\"" << joined(p.valued) << "\"";
   std::cout << " )\n"
             << "  local kinds=\"" << kinds << "\"\n"
-            << R"(  local cur=${COMP_WORDS[COMP_CWORD]} prev= path=)" << root.get_name() << R"( word i
+            << R"(  local cur=${COMP_WORDS[COMP_CWORD]} prev= path=)" << root.get_name()
+            << R"( word i
   ((COMP_CWORD > 0)) && prev=${COMP_WORDS[COMP_CWORD - 1]}
   # The command path: the words before the cursor that name a subcommand where one is expected
   # (the value of a flag never does).

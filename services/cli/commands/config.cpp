@@ -45,8 +45,8 @@ int run_check(const Options& o) {
   const std::string path = plant_file(o.plant);
   const ConfigReport report = check_plant_config(path);
   if (o.json) {
-    nlohmann::json doc{{"plant_file", path}, {"ok", report.problems.empty()},
-                       {"problems", report.problems}};
+    nlohmann::json doc{
+        {"plant_file", path}, {"ok", report.problems.empty()}, {"problems", report.problems}};
     if (report.plant) {
       nlohmann::json machines = nlohmann::json::array();
       for (const auto& m : report.plant->machines) {
@@ -84,8 +84,9 @@ void add_config(CLI::App& app, Commands& commands) {
   config->require_subcommand(1);
   auto o = std::make_shared<Options>();
   CLI::App* check = config->add_subcommand(
-      "check", "load the whole plant and print every problem (file, key, value), not only the "
-               "first; exit 4 when there is any");
+      "check",
+      "load the whole plant and print every problem (file, key, value), not only the "
+      "first; exit 4 when there is any");
   add_plant_option(check, o->plant);
   check->add_flag("--print", o->print,
                   "also print every value as resolved: mm and rad, as written, defaults taken");

@@ -116,8 +116,11 @@ void add_history(CLI::App& app, Commands& commands) {
   add_db_option(cmd, o->db);
   add_machine_option(cmd, o->machine, "only this machine's checks");
   add_kind_option(cmd, "--kind", o->kind, "only checks of this kind");
-  cmd->add_option("--limit", o->limit, "at most N checks (0: all)")->type_name("N")->capture_default_str();
-  cmd->add_option("--since-ns", o->since_ns, "only checks from this time on (ns since the epoch, UTC)")
+  cmd->add_option("--limit", o->limit, "at most N checks (0: all)")
+      ->type_name("N")
+      ->capture_default_str();
+  cmd->add_option("--since-ns", o->since_ns,
+                  "only checks from this time on (ns since the epoch, UTC)")
       ->type_name("T");
   add_json_flag(cmd, o->json);
   commands.push_back({cmd, [o] { return run(*o); }});

@@ -65,14 +65,16 @@ int run(const Options& o) {
     const std::string& file = o.file;
     int axis = gc.linear_run.axis;
     if (const auto& a = o.axis) {
-      if (*a != "x" && *a != "y" && *a != "z") throw UsageError("--axis '" + *a + "': expected x, y or z");
+      if (*a != "x" && *a != "y" && *a != "z")
+        throw UsageError("--axis '" + *a + "': expected x, y or z");
       axis = (*a)[0] - 'x';
     }
     const solver::Iso230_2File run = solver::read_iso230_2_csv(read_csv_file(file));
     set.kind = CheckKind::LinearAxisRun;
     set.frame = "machine";
     set.parameters.push_back({"axis", static_cast<double>(axis), ""});
-    set.tracker_points = solver::tracker_points_for_linear_run(run, axis, gc.linear_run.at_mm, target);
+    set.tracker_points =
+        solver::tracker_points_for_linear_run(run, axis, gc.linear_run.at_mm, target);
   } else if (o.what == "circle") {
     const std::string& file = o.file;
     const std::optional<solver::Plane> plane = plane_option(o.plane);
@@ -93,27 +95,27 @@ int run(const Options& o) {
     centre.x_mm = gc.circle.centre_mm.x();
     centre.y_mm = gc.circle.centre_mm.y();
     centre.z_mm = gc.circle.centre_mm.z();
-    set.tracker_points = solver::tracker_points_for_circle(
-        circle, stylus_ball_centre(centre, target), target);
+    set.tracker_points =
+        solver::tracker_points_for_circle(circle, stylus_ball_centre(centre, target), target);
   } else {
     auto read = [](const std::string& f) { return solver::read_grid_csv(read_csv_file(f)); };
     set.kind = CheckKind::GlobalGrid;
-    set.tracker_points = solver::tracker_points_for_grid(
-        read(o.x_run), read(o.y_run), read(o.grid), target);
+    set.tracker_points =
+        solver::tracker_points_for_grid(read(o.x_run), read(o.y_run), read(o.grid), target);
   }
 
   const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
   ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-import"});
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   // The solver and the historian both read measurement sets: wait for both.
-  if (!publish(sets, set, 2, "import",
-               "the solver and the historian are not both listening on domain " +
-                   std::to_string(domain),
-               "the measurement set was not acknowledged")) {
+  if (!publish(
+          sets, set, 2, "import",
+          "the solver and the historian are not both listening on domain " + std::to_string(domain),
+          "the measurement set was not acknowledged")) {
     return kExitError;
   }
-  std::cerr << "imported " << set.tracker_points.size() << " points as "
-            << to_string(set.kind) << " of " << machine_id << "\n";
+  std::cerr << "imported " << set.tracker_points.size() << " points as " << to_string(set.kind)
+            << " of " << machine_id << "\n";
   std::cout << set.request_id << "\n";
   return kExitOk;
 }
@@ -139,18 +141,24 @@ void add_import(CLI::App& app, Commands& commands) {
     return std::make_pair(cmd, o);
   };
   const auto [iso, iso_o] = add("iso230-2", "as kind linear_axis_run, along --axis", true);
-  iso->add_option("--axis", iso_o->axis, "the axis of the run (default: the machine's linear_run axis)")
+  iso->add_option("--axis", iso_o->axis,
+                  "the axis of the run (default: the machine's linear_run axis)")
       ->type_name("x|y|z");
   const auto [circle, circle_o] = add("circle", "as kind circle_xy|yz|xz", true);
   circle->add_option("--plane", circle_o->plane, "the plane of the test")->type_name("XY|YZ|XZ");
-  circle->add_option("--nominal-radius-mm", circle_o->nominal_radius_mm,
-                     "F about this radius (default: the least-squares circle's)")
+  circle
+      ->add_option("--nominal-radius-mm", circle_o->nominal_radius_mm,
+                   "F about this radius (default: the least-squares circle's)")
       ->type_name("R");
   circle->add_option("--centre-mm", circle_o->centre_mm, "F about this centre (plane's u, v)")
       ->type_name("U,V");
   const auto [grid, grid_o] = add("grid", "as kind global_grid with its master-frame runs", false);
-  grid->add_option("--x-run", grid_o->x_run, "the X run of the master frame")->type_name("F")->required();
-  grid->add_option("--y-run", grid_o->y_run, "the Y run of the master frame")->type_name("F")->required();
+  grid->add_option("--x-run", grid_o->x_run, "the X run of the master frame")
+      ->type_name("F")
+      ->required();
+  grid->add_option("--y-run", grid_o->y_run, "the Y run of the master frame")
+      ->type_name("F")
+      ->required();
   grid->add_option("--grid", grid_o->grid, "the grid's points")->type_name("F")->required();
 }
 

@@ -35,8 +35,8 @@ int run(const Options& o) {
     throw UsageError("--note is empty: say what was done (e.g. \"stylus replaced\")");
   }
   const std::string who = o.who.value_or(operator_name());
-  const Intervention iv{machine, new_sample_id("iv", machine), *o.kind, o.note, who,
-                        WallClock().now_ns()};
+  const Intervention iv{machine, new_sample_id("iv", machine), *o.kind, o.note,
+                        who,     WallClock().now_ns()};
   const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
   ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
   ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
@@ -47,7 +47,8 @@ int run(const Options& o) {
                "the intervention was not acknowledged")) {
     return kExitError;
   }
-  std::cerr << "recorded intervention on " << machine << " for " << kind_name << " by " << who << "\n";
+  std::cerr << "recorded intervention on " << machine << " for " << kind_name << " by " << who
+            << "\n";
   std::cout << iv.intervention_id << "\n";
   return kExitOk;
 }

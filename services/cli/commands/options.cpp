@@ -22,8 +22,7 @@ CLI::Option* add_plant_option(CLI::App* command, std::string& plant) {
 }
 
 CLI::Option* add_db_option(CLI::App* command, std::optional<std::string>& db) {
-  return command->add_option("--db", db,
-                             "the historian database, read only (default: the plant's)")
+  return command->add_option("--db", db, "the historian database, read only (default: the plant's)")
       ->type_name("FILE");
 }
 
@@ -57,8 +56,10 @@ CLI::Option* add_kind_option(CLI::App* command, const std::string& name,
             kind = parse_check_kind(text);
             if (!kind) {
               std::string names;
-              for (const auto& row : check_kinds()) names += (names.empty() ? "" : ", ") + std::string(row.name);
-              throw CLI::ValidationError(name, "'" + text + "' is not a check kind (" + names + ")");
+              for (const auto& row : check_kinds())
+                names += (names.empty() ? "" : ", ") + std::string(row.name);
+              throw CLI::ValidationError(name,
+                                         "'" + text + "' is not a check kind (" + names + ")");
             }
           },
           description)
@@ -86,7 +87,8 @@ std::string database_path(const std::optional<std::string>& db, const std::strin
   const char* var = std::getenv("NCQUAL_VAR");
   const std::string fallback = std::string(var && *var ? var : "var") + "/historian.db";
   if (std::filesystem::exists(fallback)) return fallback;
-  throw UsageError("pass --db FILE or --plant FILE (or set NCQUAL_PLANT); no " + fallback + " here");
+  throw UsageError("pass --db FILE or --plant FILE (or set NCQUAL_PLANT); no " + fallback +
+                   " here");
 }
 
 std::optional<solver::Plane> plane_option(const std::optional<std::string>& text) {

@@ -63,12 +63,14 @@ int run(const Options& o) {
     const std::int64_t now =
         plant.simulated_clock ? (status ? status->time_ns : plant.simulated_start_ns) : plant_now;
     nlohmann::json jm{{"machine_id", m.machine_id}};
-    jm["state"] = status ? std::string(to_string(status->state)) : std::string(to_string(MachineState::Unknown));
+    jm["state"] = status ? std::string(to_string(status->state))
+                         : std::string(to_string(MachineState::Unknown));
     jm["detail"] = status ? status->detail : "no status stored yet";
     jm["status_time_ns"] = status ? nlohmann::json(status->time_ns) : nlohmann::json(nullptr);
     jm["periods"] = nlohmann::json::array();
     for (const auto& period : calendar.config().periods) {
-      nlohmann::json jp{{"name", period.name}, {"every", std::string(to_string(period.unit))},
+      nlohmann::json jp{{"name", period.name},
+                        {"every", std::string(to_string(period.unit))},
                         {"checks", nlohmann::json::array()}};
       std::optional<std::int64_t> oldest;
       bool all = true, any = false;
@@ -82,7 +84,8 @@ int run(const Options& o) {
           const auto t = db.last_pass_ns(m.machine_id, passing);
           if (t && (!last || *t > *last)) last = t;
         }
-        jp["checks"].push_back({{"kind", std::string(to_string(k))}, {"last_pass_ns", time_or_null(last)}});
+        jp["checks"].push_back(
+            {{"kind", std::string(to_string(k))}, {"last_pass_ns", time_or_null(last)}});
         if (!last) {
           all = false;
         } else if (!oldest || *last < *oldest) {
@@ -119,7 +122,9 @@ int run(const Options& o) {
       const bool due = jp["due"].get<bool>();
       fmt::print(kRow, jp["name"].get<std::string>(), jp["every"].get<std::string>(),
                  when(jp["last_pass_ns"]), due ? std::string("now") : when(jp["next_due_ns"]),
-                 jp["overdue"].get<bool>() ? "OVERDUE" : due ? "due" : "");
+                 jp["overdue"].get<bool>() ? "OVERDUE"
+                 : due                     ? "due"
+                                           : "");
     }
   }
   return kExitOk;

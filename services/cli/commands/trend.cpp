@@ -108,11 +108,11 @@ int run(const Options& o) {
                                      fmt::format("{}/{}/{}", b.pass, b.fail, b.invalid));
       for (const auto& [use, name] : ranked) {
         auto it = b.worst.find(name);
-        line += fmt::format(
-            "{:<26}", it == b.worst.end()
-                          ? std::string()
-                          : fmt::format("{:.4g} {}{}", it->second.value, it->second.unit,
-                                        band_use(it->second) > 1 ? " (!)" : ""));
+        line += fmt::format("{:<26}",
+                            it == b.worst.end()
+                                ? std::string()
+                                : fmt::format("{:.4g} {}{}", it->second.value, it->second.unit,
+                                              band_use(it->second) > 1 ? " (!)" : ""));
       }
       fmt::print("{}\n", line);
     }
@@ -121,7 +121,6 @@ int run(const Options& o) {
 }
 
 }  // namespace
-
 
 void add_trend(CLI::App& app, Commands& commands) {
   auto o = std::make_shared<Options>();

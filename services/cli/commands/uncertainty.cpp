@@ -207,7 +207,8 @@ json candidate_json(const solver::TrackerCandidate& c, const solver::Verificatio
 json search_json(const Search& s, const Inputs& in, const solver::VerificationUncertainty& u) {
   const TrackerSearchConfig& c = *in.config->search;
   json candidates = json::array();
-  for (const auto& cand : s.result.candidates) candidates.push_back(candidate_json(cand, in.design));
+  for (const auto& cand : s.result.candidates)
+    candidates.push_back(candidate_json(cand, in.design));
   const auto& best = s.result.candidates.front();
   return {{"x_mm", json::array({c.lo_mm.x(), c.hi_mm.x()})},
           {"y_mm", json::array({c.lo_mm.y(), c.hi_mm.y()})},
@@ -289,31 +290,36 @@ void print_report(const Inputs& in, const solver::VerificationUncertainty& u,
   const GlobalCheckConfig& g = *in.global;
   const solver::TrackerUncertaintyModel& t = in.tracker;
   const solver::UncertaintySources& s = in.sources;
-  fmt::print("Verification uncertainty of {} ({}):\n  the monthly tracker grid check, Monte "
-             "Carlo (GUM S1)\n",
-             in.machine->machine_id, in.machine->source_path);
-  fmt::print("  design: {} points ({} x {} x {} grid x {} targets), {} observations;\n    "
-             "{} candidate parameters, {:.1f} kept on average by the BIC\n",
-             u.points.size(), g.grid_x_mm.size(), g.grid_y_mm.size(), g.grid_z_mm.size(),
-             g.targets.size(), u.observations, u.candidate_parameters, u.mean_kept_parameters);
+  fmt::print(
+      "Verification uncertainty of {} ({}):\n  the monthly tracker grid check, Monte "
+      "Carlo (GUM S1)\n",
+      in.machine->machine_id, in.machine->source_path);
+  fmt::print(
+      "  design: {} points ({} x {} x {} grid x {} targets), {} observations;\n    "
+      "{} candidate parameters, {:.1f} kept on average by the BIC\n",
+      u.points.size(), g.grid_x_mm.size(), g.grid_y_mm.size(), g.grid_z_mm.size(), g.targets.size(),
+      u.observations, u.candidate_parameters, u.mean_kept_parameters);
   if (!u.unidentifiable.empty()) {
     fmt::print("  the design cannot determine: {}\n", fmt::join(u.unidentifiable, ", "));
   }
-  fmt::print("  machine errors: zero (the machine verified as it is nominally: what is left is\n"
-             "  what the tracker, the repeatability and the thermal correction leave)\n");
+  fmt::print(
+      "  machine errors: zero (the machine verified as it is nominally: what is left is\n"
+      "  what the tracker, the repeatability and the thermal correction leave)\n");
   fmt::print("  {} trials, seed {}, {} identification\n", u.trials, in.options.seed,
              u.method == solver::IdentificationMethod::Linearised ? "linearised" : "full");
-  fmt::print("  tracker at {} mm, yaw {:.2f} pitch {:.2f} roll {:.2f} deg\n    noise {:.1f} urad per "
-             "angle, range {:.2f} um + {:.2f} um/m, {} readings a point\n    placement {:.2f} mm, "
-             "{:.1f} urad (1 sigma)\n",
-             triple(0, t.position_mm), deg(t.ypr_rad[0]), deg(t.ypr_rad[1]), deg(t.ypr_rad[2]),
-             urad(t.angular_sigma_rad), um(t.radial_sigma_mm), um(t.radial_sigma_mm_per_m),
-             t.samples_per_point, t.position_sigma_mm, urad(t.orientation_sigma_rad));
-  fmt::print("  sources (X Y Z): repeatability {} um\n    expansion {} +- {} um/(m K)\n"
-             "    temperature deviation {} +- {} K\n",
-             three(s.repeatability_sigma_mm * 1e3), three(s.expansion_per_K * 1e6),
-             three(s.expansion_sigma_per_K * 1e6), three(s.temperature_deviation_K),
-             three(s.temperature_sigma_K));
+  fmt::print(
+      "  tracker at {} mm, yaw {:.2f} pitch {:.2f} roll {:.2f} deg\n    noise {:.1f} urad per "
+      "angle, range {:.2f} um + {:.2f} um/m, {} readings a point\n    placement {:.2f} mm, "
+      "{:.1f} urad (1 sigma)\n",
+      triple(0, t.position_mm), deg(t.ypr_rad[0]), deg(t.ypr_rad[1]), deg(t.ypr_rad[2]),
+      urad(t.angular_sigma_rad), um(t.radial_sigma_mm), um(t.radial_sigma_mm_per_m),
+      t.samples_per_point, t.position_sigma_mm, urad(t.orientation_sigma_rad));
+  fmt::print(
+      "  sources (X Y Z): repeatability {} um\n    expansion {} +- {} um/(m K)\n"
+      "    temperature deviation {} +- {} K\n",
+      three(s.repeatability_sigma_mm * 1e3), three(s.expansion_per_K * 1e6),
+      three(s.expansion_sigma_per_K * 1e6), three(s.temperature_deviation_K),
+      three(s.temperature_sigma_K));
 
   fmt::print("\nResidual error after the identification, |e| over the grid in each trial (um)\n");
   fmt::print("  {:<12} {:>8} {:>8} {:>8} {:>8}\n", "", "mean", "sigma", "95 %", "largest");
@@ -335,22 +341,23 @@ void print_report(const Inputs& in, const solver::VerificationUncertainty& u,
   }
 
   const std::size_t tw = tracker_worst_point(u);
-  fmt::print("\nTracker alone (eq. 24, the configured pose): max u_p {:.2f} um at {} {} mm,\n"
-             "  mean {:.2f} um\n",
-             um(u.tracker_max_u_mm), u.points[tw].label,
-             triple(0, u.points[tw].commanded_mm + u.points[tw].tool_offset_mm),
-             um(u.tracker_mean_u_mm));
+  fmt::print(
+      "\nTracker alone (eq. 24, the configured pose): max u_p {:.2f} um at {} {} mm,\n"
+      "  mean {:.2f} um\n",
+      um(u.tracker_max_u_mm), u.points[tw].label,
+      triple(0, u.points[tw].commanded_mm + u.points[tw].tool_offset_mm), um(u.tracker_mean_u_mm));
 
   if (!search) return;
   const TrackerSearchConfig& c = *in.config->search;
   const auto& r = search->result;
   fmt::print("\nTracker location (eq. 24 over the grid, facing the envelope's centre)\n");
-  fmt::print("  searched x {:.0f}..{:.0f}, y {:.0f}..{:.0f}, z {:.0f}..{:.0f} mm, {} x {} x {} "
-             "positions:\n    {} tried, {} excluded (envelope + {:.0f} mm, range {:.0f}..{:.0f} "
-             "mm)\n",
-             c.lo_mm.x(), c.hi_mm.x(), c.lo_mm.y(), c.hi_mm.y(), c.lo_mm.z(), c.hi_mm.z(),
-             c.steps.x(), c.steps.y(), c.steps.z(), r.tried, r.excluded, c.envelope_clearance_mm,
-             c.min_range_mm, c.max_range_mm);
+  fmt::print(
+      "  searched x {:.0f}..{:.0f}, y {:.0f}..{:.0f}, z {:.0f}..{:.0f} mm, {} x {} x {} "
+      "positions:\n    {} tried, {} excluded (envelope + {:.0f} mm, range {:.0f}..{:.0f} "
+      "mm)\n",
+      c.lo_mm.x(), c.hi_mm.x(), c.lo_mm.y(), c.hi_mm.y(), c.lo_mm.z(), c.hi_mm.z(), c.steps.x(),
+      c.steps.y(), c.steps.z(), r.tried, r.excluded, c.envelope_clearance_mm, c.min_range_mm,
+      c.max_range_mm);
   fmt::print("  best       {} mm, yaw {:7.2f} deg: max u_p {:.2f} um, mean {:.2f} um\n",
              triple(0, r.best.position_mm), deg(r.best.ypr_rad[0]), um(r.max_u_mm),
              um(r.mean_u_mm));
@@ -451,8 +458,9 @@ void add_uncertainty(CLI::App& app, Commands& commands) {
       "the tracker location in global_check.uncertainty.search beside the configured one");
   add_machine_option(cmd, o->machine, "the machine whose global_check: section to assess");
   add_plant_option(cmd, o->plant);
-  cmd->add_option("--trials", o->trials,
-                  "Monte Carlo trials, 1 to " + std::to_string(kMaxTrials) + " (default: the config's)")
+  cmd->add_option(
+         "--trials", o->trials,
+         "Monte Carlo trials, 1 to " + std::to_string(kMaxTrials) + " (default: the config's)")
       ->type_name("N")
       ->check(CLI::Range(1, kMaxTrials).description(""));
   cmd->add_option("--seed", o->seed, "the random seed, >= 0 (default: the config's)")

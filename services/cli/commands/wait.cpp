@@ -56,8 +56,7 @@ int run(const Options& o) {
           // NEEDS_INTERVENTION and the check that decided it is stored whole.
           const auto status = db.latest_status(*o.machine);
           if (status && status->time_ns >= o.since_ns &&
-              (status->state == MachineState::Qualified ||
-               status->state == MachineState::Overdue ||
+              (status->state == MachineState::Qualified || status->state == MachineState::Overdue ||
                status->state == MachineState::NeedsIntervention) &&
               (status->request_id.empty() || complete(db.find_check(status->request_id)))) {
             std::cout << to_string(status->state) << "\n";
@@ -88,8 +87,7 @@ void add_wait(CLI::App& app, Commands& commands) {
   add_db_option(cmd, o->db);
   cmd->add_option("--request", o->request, "until this request's check is stored whole")
       ->type_name("ID");
-  cmd->add_option("--count", o->count, "until N results are stored (of --machine)")
-      ->type_name("N");
+  cmd->add_option("--count", o->count, "until N results are stored (of --machine)")->type_name("N");
   cmd->add_flag("--settled", o->settled,
                 "until --machine's cycle is over (QUALIFIED, OVERDUE or NEEDS_INTERVENTION)");
   add_machine_option(cmd, o->machine, "the machine of --count or --settled");

@@ -151,8 +151,8 @@ TEST(Contact, FirstContactIsTheNearestOfSeveral) {
     move.ball_radius_mm = uniform(rng, 0.5, 4);
     const double angle = uniform(rng, 0, 6.3);
     move.start = Eigen::Vector3d(1200, 800, uniform(rng, 131, 149));
-    move.direction = Eigen::Vector3d(std::cos(angle), std::sin(angle), uniform(rng, -0.05, 0.05))
-                         .normalized();
+    move.direction =
+        Eigen::Vector3d(std::cos(angle), std::sin(angle), uniform(rng, -0.05, 0.05)).normalized();
     move.travel_mm = 40;
     const auto c = first_contact(plate, move);
     if (!c) {
@@ -170,8 +170,8 @@ TEST(Contact, FirstContactIsTheNearestOfSeveral) {
 TEST(Contact, OverlapDetectsBallInsideMaterial) {
   const RingGaugePlate plate = test_plate();
   EXPECT_FALSE(plate.overlaps_ball(Eigen::Vector3d(1200, 800, 145), 3));
-  EXPECT_TRUE(plate.overlaps_ball(Eigen::Vector3d(1223, 800, 145), 3));   // cuts the wall
-  EXPECT_TRUE(plate.overlaps_ball(Eigen::Vector3d(1250, 800, 152), 3));   // cuts the face
+  EXPECT_TRUE(plate.overlaps_ball(Eigen::Vector3d(1223, 800, 145), 3));  // cuts the wall
+  EXPECT_TRUE(plate.overlaps_ball(Eigen::Vector3d(1250, 800, 152), 3));  // cuts the face
   EXPECT_FALSE(plate.overlaps_ball(Eigen::Vector3d(1250, 800, 153.5), 3));
   EXPECT_FALSE(plate.overlaps_ball(Eigen::Vector3d(1350, 800, 145), 3));  // beside the plate
 }

@@ -103,7 +103,8 @@ TEST(FixtureConfigurations, PreCalibrationRotatesOddAndEvenRowsThroughThePlanes)
     for (const auto& p : placements) {
       EXPECT_EQ(p.row % 2, k < 5 ? 1 : 0) << "k " << k << " " << p.pogo;
       EXPECT_EQ(p.pogo, pogo_label(p.column, p.row));
-      EXPECT_DOUBLE_EQ(p.commanded_mm.x(), f.column_home_x_mm[static_cast<std::size_t>(p.column - 1)]);
+      EXPECT_DOUBLE_EQ(p.commanded_mm.x(),
+                       f.column_home_x_mm[static_cast<std::size_t>(p.column - 1)]);
       EXPECT_DOUBLE_EQ(p.commanded_mm.y(), f.row_home_y_mm[static_cast<std::size_t>(p.row - 1)]);
       EXPECT_DOUBLE_EQ(p.commanded_mm.z(), units::inch_to_mm(6.0 * (k % 5)));
     }
@@ -137,17 +138,19 @@ TEST(FixtureConfigurations, PostCalibrationCoversTwoZTwoYThreeX) {
         EXPECT_EQ(odd[j].size(), 12u);
         EXPECT_EQ(even[j].size(), 12u);
         for (const auto& p : all[j]) {
-          EXPECT_DOUBLE_EQ(p.commanded_mm.z(), f.postcalibration.z_mm[static_cast<std::size_t>(iz)]);
-          EXPECT_DOUBLE_EQ(p.commanded_mm.y() - f.row_home_y_mm[static_cast<std::size_t>(p.row - 1)],
-                           f.postcalibration.y_offsets_mm[static_cast<std::size_t>(iy)]);
+          EXPECT_DOUBLE_EQ(p.commanded_mm.z(),
+                           f.postcalibration.z_mm[static_cast<std::size_t>(iz)]);
+          EXPECT_DOUBLE_EQ(
+              p.commanded_mm.y() - f.row_home_y_mm[static_cast<std::size_t>(p.row - 1)],
+              f.postcalibration.y_offsets_mm[static_cast<std::size_t>(iy)]);
           EXPECT_DOUBLE_EQ(
               p.commanded_mm.x() - f.column_home_x_mm[static_cast<std::size_t>(p.column - 1)],
               f.postcalibration.x_offsets_mm[static_cast<std::size_t>(ix)]);
         }
         for (const auto& p : odd[j]) EXPECT_EQ(p.row % 2, 1);
         for (const auto& p : even[j]) EXPECT_EQ(p.row % 2, 0);
-        offsets.insert({all[j][0].commanded_mm.x(), all[j][0].commanded_mm.y(),
-                        all[j][0].commanded_mm.z()});
+        offsets.insert(
+            {all[j][0].commanded_mm.x(), all[j][0].commanded_mm.y(), all[j][0].commanded_mm.z()});
       }
     }
   }
@@ -197,7 +200,8 @@ TEST(FixtureSimulator, PerfectFixtureTouchesLandOnTheCommandedFaces) {
       const Eigen::Vector3d n = outward_normal(feature->face);
       EXPECT_NEAR((t.approach + n).norm(), 0, 1e-15) << t.feature;
       // The nominal ball centre sits one radius off the commanded face, on its outside.
-      const Eigen::Vector3d face = f.to_machine(it->second.commanded_mm) + face_offset(f, feature->face);
+      const Eigen::Vector3d face =
+          f.to_machine(it->second.commanded_mm) + face_offset(f, feature->face);
       const Eigen::Vector3d b = stylus_ball_centre(t.axes, m.probe);
       EXPECT_NEAR((b - (face + r * n)).norm(), 0, 1e-9) << t.feature;
     }
@@ -221,7 +225,8 @@ TEST(FixtureSimulator, TouchesFollowTheTrueFixtureAndTheTrueMachine) {
       // Some zero offsets in force: the actuators are driven to c - o.
       Correction zero{"fixture:" + f.fixture_id, {}};
       for (const auto& p : precalibration_configuration(f, k)) {
-        for (int a = 0; a < 3; ++a) zero.offsets.push_back({zero_offset_name(p.pogo, a), uniform(rng, -0.2, 0.2), "mm"});
+        for (int a = 0; a < 3; ++a)
+          zero.offsets.push_back({zero_offset_name(p.pogo, a), uniform(rng, -0.2, 0.2), "mm"});
       }
       fixture.apply_zero_offsets(zero);
     }
@@ -249,9 +254,12 @@ TEST(FixtureSimulator, TriggerNoiseIsReproducibleAndAlongTheApproach) {
   const double sigma = 0.002;
   const MachineSimulator machine(m, simulator_config(sigma, 99));
   const FixtureSimulator fixture(f, FixtureErrors{});
-  const auto a = perform_fixture_check(machine, fixture, fixture_request("pm1", "n-1", kPost, 3), 1);
-  const auto b = perform_fixture_check(machine, fixture, fixture_request("pm1", "n-1", kPost, 3), 2);
-  const auto c = perform_fixture_check(machine, fixture, fixture_request("pm1", "n-2", kPost, 3), 1);
+  const auto a =
+      perform_fixture_check(machine, fixture, fixture_request("pm1", "n-1", kPost, 3), 1);
+  const auto b =
+      perform_fixture_check(machine, fixture, fixture_request("pm1", "n-1", kPost, 3), 2);
+  const auto c =
+      perform_fixture_check(machine, fixture, fixture_request("pm1", "n-2", kPost, 3), 1);
   ASSERT_EQ(a.touches.size(), 12u * 12u * 5u);
   ASSERT_EQ(a.touches.size(), b.touches.size());
   int differing = 0;
@@ -267,7 +275,8 @@ TEST(FixtureSimulator, TriggerNoiseIsReproducibleAndAlongTheApproach) {
     // the approach is the noise (positive: the probe triggered late, past the face).
     const auto feature = parse_pogo_touch_feature(a.touches[i].feature);
     const PogoPlacement& placement = placements.at({feature->configuration, feature->pogo});
-    const Eigen::Vector3d truth = f.to_machine(placement.commanded_mm) + face_offset(f, feature->face);
+    const Eigen::Vector3d truth =
+        f.to_machine(placement.commanded_mm) + face_offset(f, feature->face);
     const Eigen::Vector3d error = face_point(a.touches[i], m.probe) - truth;
     const Eigen::Vector3d u = a.touches[i].approach;
     EXPECT_NEAR((error - error.dot(u) * u).norm(), 0, 1e-9);
@@ -278,7 +287,8 @@ TEST(FixtureSimulator, TriggerNoiseIsReproducibleAndAlongTheApproach) {
   EXPECT_NEAR(std::sqrt(sum_sq / a.touches.size()), 1.0, 0.1);
 }
 
-// ---- Zero offsets --------------------------------------------------------------------------------
+// ---- Zero offsets
+// --------------------------------------------------------------------------------
 
 // The correction the pre-calibration would issue with a perfect probe: each pogo's true delta.
 Correction true_zero_offsets(const FixtureSimulator& fixture, int k) {
@@ -321,7 +331,8 @@ TEST(FixtureSimulator, ZeroOffsetsCancelPureOffsetsAtEveryConfiguration) {
       }
     }
     for (const auto& configuration : postcalibration_configurations(f, rows)) {
-      for (const auto& p : configuration) EXPECT_LT(fixture.true_delta_mm(p).norm(), 1e-9) << p.pogo;
+      for (const auto& p : configuration)
+        EXPECT_LT(fixture.true_delta_mm(p).norm(), 1e-9) << p.pogo;
     }
     fixture.clear_zero_offsets();
     EXPECT_TRUE(fixture.zero_offsets().empty());
@@ -335,7 +346,7 @@ TEST(FixtureSimulator, ZeroOffsetsLeaveScaleMisalignmentAndNonlinearity) {
   const FixtureConfig f = pm1_fixture();
   FixtureErrors e;
   e.column_x.offset_mm = 0.05;
-  e.column_x.scale_ppm = 200;                  // dx grows 200 um/m with X
+  e.column_x.scale_ppm = 200;                                 // dx grows 200 um/m with X
   e.pogo_z.misalignment_rad = Eigen::Vector3d(300e-6, 0, 0);  // X moves 300 urad with Z
   e.pogo_y.curvature_um_per_m2 = 100;
   FixtureSimulator fixture(f, e);
@@ -348,8 +359,8 @@ TEST(FixtureSimulator, ZeroOffsetsLeaveScaleMisalignmentAndNonlinearity) {
   double largest = 0;
   for (const auto& configuration : postcalibration_configurations(f, RowSelection::Odd)) {
     for (const auto& p : configuration) {
-      const PogoPlacement& pre = *std::find_if(home.begin(), home.end(),
-                                               [&](const PogoPlacement& h) { return h.pogo == p.pogo; });
+      const PogoPlacement& pre = *std::find_if(
+          home.begin(), home.end(), [&](const PogoPlacement& h) { return h.pogo == p.pogo; });
       const Eigen::Vector3d dc = p.commanded_mm - pre.commanded_mm;
       const Eigen::Vector3d d = fixture.true_delta_mm(p);
       // To first order: dx = scale dX + tilt dZ; dy = curvature (y^2 - y0^2); dz = 0. The second
@@ -425,8 +436,8 @@ TEST(FixtureSimulator, WearScattersEveryPlacement) {
   double sum_sq = 0;
   int n = 0;
   for (int i = 0; i < 3; ++i) {
-    const auto set = perform_fixture_check(machine, fixture,
-                                           fixture_request("pm1", "wear-" + std::to_string(i), kPost, 0), 1);
+    const auto set = perform_fixture_check(
+        machine, fixture, fixture_request("pm1", "wear-" + std::to_string(i), kPost, 0), 1);
     ASSERT_TRUE(set.error.empty()) << set.error;
     for (const Touch& t : set.touches) {
       const auto feature = parse_pogo_touch_feature(t.feature);
@@ -442,7 +453,8 @@ TEST(FixtureSimulator, WearScattersEveryPlacement) {
   EXPECT_NEAR(std::sqrt(sum_sq / n), 0.02, 0.002);
 }
 
-// ---- Bad requests and alarms ---------------------------------------------------------------------
+// ---- Bad requests and alarms
+// ---------------------------------------------------------------------
 
 TEST(FixtureSimulator, BadRequestsYieldNoTouchesAndSayWhy) {
   const MachineConfig m = pm1_with_fixture();
@@ -468,10 +480,12 @@ TEST(FixtureSimulator, BadRequestsYieldNoTouchesAndSayWhy) {
   }
   CheckRequest fractional = fixture_request("pm1", "f", kPre, std::nullopt);
   fractional.parameters.push_back({"fixture_configuration", 2.5, ""});
-  EXPECT_NE(perform_fixture_check(machine, fixture, fractional, 1).error.find("= 2.5 is not an integer"),
-            std::string::npos);
+  EXPECT_NE(
+      perform_fixture_check(machine, fixture, fractional, 1).error.find("= 2.5 is not an integer"),
+      std::string::npos);
   // Post-calibration without a configuration probes every row.
-  const auto all = perform_fixture_check(machine, fixture, fixture_request("pm1", "g", kPost, std::nullopt), 1);
+  const auto all =
+      perform_fixture_check(machine, fixture, fixture_request("pm1", "g", kPost, std::nullopt), 1);
   EXPECT_TRUE(all.error.empty()) << all.error;
   EXPECT_EQ(all.touches.size(), 12u * 24u * 5u);
 }
@@ -500,7 +514,6 @@ TEST(FixtureSimulator, AMisplacedPogoRaisesAProbeAlarmNamingTheMove) {
   for (const Touch& t : down.touches) EXPECT_EQ(t.feature.find("C2R3"), std::string::npos);
 }
 
-
 // ---- The simulator's `fixture:` section ---------------------------------------------------------
 
 MachineConfig machine_yaml(const std::string& tail) {
@@ -527,7 +540,8 @@ simulator:
     pogo_z: {misalignment_x_rad: 0.0002, misalignment_y_deg: 0.01}
     pogo_offsets_mm: {C3R4: [0.01, "-2 um", 0], C1R1: [0, 0, 0.02]}
     wear_sigma_mm: "3 um"
-)").simulator;
+)")
+                                .simulator;
   const FixtureErrors& e = c.fixture;
   EXPECT_DOUBLE_EQ(e.column_x.offset_mm, 0.0254);
   EXPECT_DOUBLE_EQ(e.column_x.scale_ppm, 12);
@@ -545,7 +559,8 @@ simulator:
   EXPECT_NEAR(e.wear_sigma_mm, 0.003, 1e-15);
   // error(u) = offset + scale u + curvature (u/1000)^2 + amplitude sin(2 pi u / period + phase)
   EXPECT_NEAR(e.column_x.error_mm(2000), 0.0254 + 12e-6 * 2000, 1e-12);
-  EXPECT_NEAR(e.pogo_y.error_mm(100), 50e-3 * 0.01 + 0.005 * std::sin(units::kPi / 2 + units::kPi / 2), 1e-12);
+  EXPECT_NEAR(e.pogo_y.error_mm(100),
+              50e-3 * 0.01 + 0.005 * std::sin(units::kPi / 2 + units::kPi / 2), 1e-12);
   EXPECT_TRUE(e.pogo_z.direction(2).isApprox(Eigen::Vector3d(0.0002, units::deg_to_rad(0.01), 1)));
 }
 
@@ -563,17 +578,22 @@ TEST(SimulatorConfigFixture, RefusesUnknownKeysAndBadValuesNamingThem) {
     std::string yaml;
     std::string message;
   } cases[] = {
-      {"simulator:\n  fixture:\n    colum_x: {offset_mm: 1}\n", "colum_x = (not a single value): unknown key"},
+      {"simulator:\n  fixture:\n    colum_x: {offset_mm: 1}\n",
+       "colum_x = (not a single value): unknown key"},
       {"simulator:\n  fixture:\n    column_x: {misalignment_x_urad: 1}\n",
        "simulator.fixture.column_x.misalignment_x_urad = '1': unknown key"},
-      {"simulator:\n  fixture:\n    pogo_z: {scale_ppm: lots}\n", "scale_ppm = 'lots': expected a number"},
+      {"simulator:\n  fixture:\n    pogo_z: {scale_ppm: lots}\n",
+       "scale_ppm = 'lots': expected a number"},
       {"simulator:\n  fixture:\n    pogo_y: {sine_amplitude_mm: 0.01}\n",
        "sine_period_mm = (missing): must be positive when sine_amplitude_mm is not zero"},
       {"simulator:\n  fixture:\n    pogo_offsets_mm: {C4R1: [0, 0, 0]}\n",
        "pogo_offsets_mm.C4R1 = (not a single value): not a pogo of fixture 'F1' (C1R1 to C3R4)"},
-      {"simulator:\n  fixture:\n    pogo_offsets_mm: {pogo1: [0, 0, 0]}\n", "pogo_offsets_mm.pogo1"},
-      {"simulator:\n  fixture:\n    pogo_offsets_mm: {C1R1: [0, 0]}\n", "expected a list of 3 lengths"},
-      {"simulator:\n  fixture:\n    wear_sigma_mm: -1\n", "wear_sigma_mm = '-1': must not be negative"},
+      {"simulator:\n  fixture:\n    pogo_offsets_mm: {pogo1: [0, 0, 0]}\n",
+       "pogo_offsets_mm.pogo1"},
+      {"simulator:\n  fixture:\n    pogo_offsets_mm: {C1R1: [0, 0]}\n",
+       "expected a list of 3 lengths"},
+      {"simulator:\n  fixture:\n    wear_sigma_mm: -1\n",
+       "wear_sigma_mm = '-1': must not be negative"},
       {"simulator:\n  fixture:\n    pogo_z: {misalignment_x_urad: 1, misalignment_x_deg: 1}\n",
        "misalignment_x_urad = '1': also given as misalignment_x_deg; give one"},
   };
@@ -593,7 +613,8 @@ TEST(SimulatorConfigFixture, RefusesUnknownKeysAndBadValuesNamingThem) {
     parse_simulator_config("simulator:\n  fixture:\n    wear_sigma_mm: 0\n", no_fixture);
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("the machine has no `fixture:` section"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("the machine has no `fixture:` section"),
+              std::string::npos)
         << e.what();
   }
   EXPECT_THROW(FixtureSimulator::for_machine(no_fixture, SimulatorConfig{}), ConfigError);

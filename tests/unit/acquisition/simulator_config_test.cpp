@@ -57,12 +57,13 @@ simulator:
     tool_length_error_mm: "0.0005 in"
     c_angle_error_arcsec: 30
     a_home_error_deg: 0.01
-)").simulator;
+)")
+                                .simulator;
   EXPECT_EQ(c.seed, 1234u);
   EXPECT_NEAR(c.trigger_noise_sigma_mm, 0.002, 1e-15);
   EXPECT_DOUBLE_EQ(c.plate_thickness_mm, 12.5);
-  EXPECT_TRUE(c.errors.machine_shift_mm.isApprox(
-      Eigen::Vector3d(0.01, units::inch_to_mm(0.001), -0.02)));
+  EXPECT_TRUE(
+      c.errors.machine_shift_mm.isApprox(Eigen::Vector3d(0.01, units::inch_to_mm(0.001), -0.02)));
   EXPECT_TRUE(c.errors.monument_shift_mm.isApprox(Eigen::Vector3d(0, 0.005, -0.003)));
   EXPECT_TRUE(c.errors.stylus_offset_mm.isApprox(Eigen::Vector2d(0.004, -0.002)));
   EXPECT_DOUBLE_EQ(c.errors.tool_length_error_mm, units::inch_to_mm(0.0005));
@@ -76,7 +77,8 @@ simulator:
   errors:
     c_angle_error_rad: 0.0001
     a_home_error_arcsec: "0.5 deg"
-)").simulator;
+)")
+                                .simulator;
   EXPECT_DOUBLE_EQ(c.errors.c_angle_error_rad, 0.0001);
   EXPECT_DOUBLE_EQ(c.errors.a_home_error_rad, units::deg_to_rad(0.5));
 }
@@ -100,8 +102,7 @@ TEST(SimulatorConfig, RefusesBadValuesNamingFileKeyAndValue) {
       {"simulator: {errors: [1, 2]}\n", {"errors", "mapping"}},
       {"simulator: {errors: {machine_shift_mm: [0.1, 0.2]}}\n",
        {"simulator.errors", "machine_shift_mm", "list of 3"}},
-      {"simulator: {errors: {machine_shift_mm: [0.1, x, 0]}}\n",
-       {"machine_shift_mm[1]", "'x'"}},
+      {"simulator: {errors: {machine_shift_mm: [0.1, x, 0]}}\n", {"machine_shift_mm[1]", "'x'"}},
       {"simulator: {errors: {stylus_offset_mm: [0.1, 0.2, 0.3]}}\n",
        {"stylus_offset_mm", "list of 2"}},
       {"simulator: {errors: {machine_shift: [0, 0, 0]}}\n", {"machine_shift", "unknown key"}},

@@ -56,8 +56,9 @@ CheckRequest request(const std::string& id, std::int64_t time_ns = kNow,
 class StationTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    path_ = fs::temp_directory_path() / ("ncqual-station-" + std::to_string(::getpid()) + "-" +
-                                         ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db");
+    path_ = fs::temp_directory_path() /
+            ("ncqual-station-" + std::to_string(::getpid()) + "-" +
+             ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".db");
     fs::remove(path_);
     state_ = std::make_unique<storage::StateFile>(storage::StateFile::open(path_.string()));
   }
@@ -184,7 +185,8 @@ TEST_F(StationTest, AMalformedRequestIsAnsweredWithAnErrorAndOtherMachinesAreNot
   s->on_request(theirs, "", kNow);
   EXPECT_TRUE(recorder_.measured.empty());
   ASSERT_EQ(published_.size(), 1u);
-  EXPECT_EQ(published_[0].error, "malformed CheckRequest: CheckRequest.kind = 99 is not a check kind");
+  EXPECT_EQ(published_[0].error,
+            "malformed CheckRequest: CheckRequest.kind = 99 is not a check kind");
 }
 
 // The simulated instruments behind a station: the example machine's fixture and tracker
@@ -196,7 +198,8 @@ TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
     CheckRequest r = request(std::string("r-") + std::string(row.name), kNow, row.kind);
     r.machine_id = "pm1";
     if (row.kind == CheckKind::FixturePostCalibration) continue;  // needs its pre-calibration's set
-    if (row.kind == CheckKind::FixturePreCalibration) r.parameters.push_back({"fixture_configuration", 0, ""});
+    if (row.kind == CheckKind::FixturePreCalibration)
+      r.parameters.push_back({"fixture_configuration", 0, ""});
     const MeasurementSet set = full.measure(r, kNow);
     EXPECT_TRUE(set.error.empty()) << row.name << ": " << set.error;
     EXPECT_FALSE(set.touches.empty() && set.tracker_points.empty()) << row.name;
@@ -211,7 +214,8 @@ TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
             "machine 'pm1' has no global_check: section for the laser tracker");
   Correction zero;
   zero.target = "fixture:UHF1";
-  EXPECT_EQ(monument_only.apply(zero), "zero offsets for fixture:UHF1 but machine 'pm1' has no fixture");
+  EXPECT_EQ(monument_only.apply(zero),
+            "zero offsets for fixture:UHF1 but machine 'pm1' has no fixture");
   zero.target = "machine:work_offset";
   EXPECT_EQ(monument_only.apply(zero), "");  // not the instruments' to apply
 }

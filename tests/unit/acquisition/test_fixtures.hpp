@@ -43,7 +43,8 @@ inline MachineConfig pm1_with_fixture() {
 inline FixtureConfig random_fixture(std::mt19937_64& rng) {
   FixtureConfig f;
   f.fixture_id = "F" + std::to_string(std::uniform_int_distribution<int>(1, 99)(rng));
-  f.origin_mm = Eigen::Vector3d(uniform(rng, -100, 100), uniform(rng, -100, 100), uniform(rng, 0, 300));
+  f.origin_mm =
+      Eigen::Vector3d(uniform(rng, -100, 100), uniform(rng, -100, 100), uniform(rng, 0, 300));
   const int columns = std::uniform_int_distribution<int>(2, 5)(rng);
   const int rows = std::uniform_int_distribution<int>(2, 7)(rng);
   const double x0 = uniform(rng, 1500, 2000), x_pitch = uniform(rng, 450, 700);

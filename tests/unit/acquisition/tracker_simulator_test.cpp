@@ -49,7 +49,9 @@ TEST(TrackerSimulator, NoiselessReadingsAreTheTrueTargetInTheTrackerFrame) {
     double closest = 1e9;
     for (int d = 0; d < 8; ++d) {
       const Eigen::Vector3i dir(d & 1 ? 1 : -1, d & 2 ? 1 : -1, d & 4 ? 1 : -1);
-      closest = std::min(closest, (machine - t.true_target(p.commanded, m.global_check->targets[target], dir)).norm());
+      closest = std::min(
+          closest,
+          (machine - t.true_target(p.commanded, m.global_check->targets[target], dir)).norm());
     }
     EXPECT_LT(closest, 1e-9) << p.label;
   }
@@ -78,8 +80,8 @@ TEST(TrackerSimulator, ReversalThermalAndSquarenessMoveTheTargetAsConfigured) {
 
   SimulatorConfig th = c;
   th.volumetric.temperature_C = Eigen::Vector3d(22, 20, 20);
-  EXPECT_NEAR(TrackerSimulator(m, th).true_target(at, target).x() - nominal.x(),
-              1000 * 11.5e-6 * 2, 1e-9);
+  EXPECT_NEAR(TrackerSimulator(m, th).true_target(at, target).x() - nominal.x(), 1000 * 11.5e-6 * 2,
+              1e-9);
 
   SimulatorConfig sq = c;
   sq.volumetric.rigid_body.ec0xy_rad = 100e-6;  // Y leans towards -X
@@ -90,8 +92,8 @@ TEST(TrackerSimulator, ReversalThermalAndSquarenessMoveTheTargetAsConfigured) {
   cz.errors.c_angle_error_rad = 1e-4;
   AxisPosition tilted = at;
   tilted.a_rad = units::deg_to_rad(90);
-  const Eigen::Vector3d moved = TrackerSimulator(m, cz).true_target(tilted, target) -
-                                stylus_ball_centre(tilted, target);
+  const Eigen::Vector3d moved =
+      TrackerSimulator(m, cz).true_target(tilted, target) - stylus_ball_centre(tilted, target);
   // A = 90 deg puts the target 300 mm off the C axis: the C error moves it 0.03 mm sideways.
   EXPECT_NEAR(moved.norm(), 300 * 1e-4, 1e-6);
 }
@@ -110,7 +112,8 @@ TEST(TrackerSimulator, NoiseHasTheConfiguredSigmaInRangeAndAngles) {
     const auto req = request(CheckKind::GlobalGrid, "noise" + std::to_string(k));
     const MeasurementSet a = clean.perform(req, 0), b = t.perform(req, 0);
     for (std::size_t i = 0; i < a.tracker_points.size(); ++i) {
-      const Eigen::Vector3d p = a.tracker_points[i].measured_mm, q = b.tracker_points[i].measured_mm;
+      const Eigen::Vector3d p = a.tracker_points[i].measured_mm,
+                            q = b.tracker_points[i].measured_mm;
       const double r = p.norm();
       const double sigma_r = (0.004 + 0.0008 * r / 1000) / 2;
       const double sigma_t = 20e-6 * r / 2;
@@ -138,7 +141,8 @@ TEST(TrackerSimulator, IsReproduciblePerRequestAndRefusesProbeChecks) {
   EXPECT_NE(a.tracker_points[30].measured_mm, c.tracker_points[30].measured_mm);
   const auto probe = t.perform(request(CheckKind::MonumentPositioning, "p"), 0);
   EXPECT_TRUE(probe.tracker_points.empty());
-  EXPECT_NE(probe.error.find("cannot perform check kind 'monument_positioning'"), std::string::npos);
+  EXPECT_NE(probe.error.find("cannot perform check kind 'monument_positioning'"),
+            std::string::npos);
   MachineConfig none = m;
   none.global_check.reset();
   EXPECT_THROW(TrackerSimulator(none, m.simulator), std::invalid_argument);
@@ -147,8 +151,11 @@ TEST(TrackerSimulator, IsReproduciblePerRequestAndRefusesProbeChecks) {
 TEST(TrackerSimulator, ConfigRefusesUnknownVolumetricKeysAndMissingRanges) {
   // pm1 with one thing of its simulator section changed (the file extends pm1).
   auto pm1_with = [](const std::string& simulator) {
-    return parse_machine_config("extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\n"
-                                "simulator:\n" + simulator, "t1.yaml");
+    return parse_machine_config("extends: " NCQUAL_SOURCE_DIR
+                                "/deploy/machines/pm1.yaml\n"
+                                "simulator:\n" +
+                                    simulator,
+                                "t1.yaml");
   };
   EXPECT_THROW(pm1_with("  volumetric: {EXX_mm: [0, 1]}\n"), ConfigError);
   try {

@@ -127,10 +127,13 @@ TEST(Calendar, MonthlyCheckFallsDueAtLocalMidnightAndIsOverdueAtTheFirstShiftOfT
   EXPECT_FALSE(cal.overdue(monthly, passed, utc("2026-02-02T11:59:00Z")));
   // Monday 2 February 06:00 CST = 12:00Z: the first shift of February has started.
   EXPECT_TRUE(cal.overdue(monthly, passed, utc("2026-02-02T12:00:00Z")));
-  EXPECT_EQ(cal.next_due(monthly, passed, utc("2026-01-20T00:00:00Z")), utc("2026-02-01T06:00:00Z"));
+  EXPECT_EQ(cal.next_due(monthly, passed, utc("2026-01-20T00:00:00Z")),
+            utc("2026-02-01T06:00:00Z"));
   // December to January crosses the year; February of a leap year has 29 days.
-  EXPECT_EQ(cal.next_period_start(monthly, utc("2026-12-15T00:00:00Z")), utc("2027-01-01T06:00:00Z"));
-  EXPECT_EQ(cal.next_period_start(monthly, utc("2028-02-29T12:00:00Z")), utc("2028-03-01T06:00:00Z"));
+  EXPECT_EQ(cal.next_period_start(monthly, utc("2026-12-15T00:00:00Z")),
+            utc("2027-01-01T06:00:00Z"));
+  EXPECT_EQ(cal.next_period_start(monthly, utc("2028-02-29T12:00:00Z")),
+            utc("2028-03-01T06:00:00Z"));
   // A month that starts in CDT: 1 April 00:00 CDT = 05:00Z.
   EXPECT_EQ(cal.period_start(monthly, utc("2026-04-15T00:00:00Z")), utc("2026-04-01T05:00:00Z"));
 }
@@ -210,7 +213,8 @@ periods:
 parts: {cycle_min: 90}
 check_timeout_min: 45
 retries: 1
-)"), "plant.yaml");
+)"),
+                                                 "plant.yaml");
   EXPECT_EQ(c.time_zone, "Europe/Berlin");
   EXPECT_EQ(c.week_start, 6);
   ASSERT_EQ(c.shifts.size(), 2u);
@@ -249,14 +253,16 @@ TEST(CalendarConfig, RefusesBadValuesNamingKeyAndValue) {
   expect_refused("shifts: [{name: a, start: '06:00'}]", "shifts[0].end", "missing");
   expect_refused("shifts: [{name: a, start: '06:00', end: '14:00', days: [mon, funday]}]",
                  "shifts[0].days[1]", "funday");
-  expect_refused("shifts: [{name: a, start: '06:00', end: '14:00', dayz: mon}]", "dayz", "unknown key");
+  expect_refused("shifts: [{name: a, start: '06:00', end: '14:00', dayz: mon}]", "dayz",
+                 "unknown key");
   expect_refused("periods: [{name: p, every: fortnight, checks: [monument_positioning]}]",
                  "periods[0].every", "fortnight");
-  expect_refused("periods: [{name: p, every: day, checks: [part_setpoints]}]", "periods[0].checks[0]",
-                 "per part");
-  expect_refused("periods: [{every: day, checks: [monument_positioning]}, {every: week, checks: "
-                 "[monument_positioning]}]",
-                 "periods[1].checks[0]", "another period");
+  expect_refused("periods: [{name: p, every: day, checks: [part_setpoints]}]",
+                 "periods[0].checks[0]", "per part");
+  expect_refused(
+      "periods: [{every: day, checks: [monument_positioning]}, {every: week, checks: "
+      "[monument_positioning]}]",
+      "periods[1].checks[0]", "another period");
   expect_refused("periods: [{every: day, count: 0, checks: [monument_positioning]}]", "count", "0");
   expect_refused("retries: -1", "retries", "-1");
   expect_refused("check_timeout_min: 0", "check_timeout_min", "0");
@@ -278,9 +284,7 @@ TEST(CalendarConfig, PlantConfigCarriesCalendarStateFileAndSimulatedClock) {
   EXPECT_EQ(p.simulated_start_ns, utc("2026-01-05T00:00:00Z"));
   EXPECT_EQ(std::filesystem::path(p.scheduler_state_database).filename(), "scheduler.db");
   EXPECT_EQ(std::filesystem::path(p.scheduler_state_database).parent_path().filename(), "var");
-  {
-    std::ofstream(path) << "plant: p\nclock: {mode: simulated, start: 'monday'}\n";
-  }
+  { std::ofstream(path) << "plant: p\nclock: {mode: simulated, start: 'monday'}\n"; }
   try {
     (void)load_plant_config(path);
     ADD_FAILURE() << "a bad clock.start was accepted";

@@ -56,9 +56,10 @@ budget:
 simulator:
   errors: {machine_shift: [0, 0, 0]}
 )");
-  const std::string plant = write("plant.yaml", "plant: p\ndomian_id: 7\nqos_profile: qos.xml\n"
-                                                "historian: {database: h.db}\nmachines: [" +
-                                                    machine + "]\n");
+  const std::string plant = write("plant.yaml",
+                                  "plant: p\ndomian_id: 7\nqos_profile: qos.xml\n"
+                                  "historian: {database: h.db}\nmachines: [" +
+                                      machine + "]\n");
   try {
     load_plant_config(plant);
     FAIL() << "loaded a plant full of misspellings";
@@ -128,7 +129,8 @@ monument: {hole_diameter_mm: wide}
   }
 }
 
-// ---- The table of check kinds --------------------------------------------------------------------
+// ---- The table of check kinds
+// --------------------------------------------------------------------
 
 // The IDL's enum CheckKind, in order, as the table's names (MONUMENT_C_ALIGNMENT ->
 // monument_c_alignment).
@@ -168,7 +170,8 @@ TEST(CheckKindTable, OneRowPerKindOfTheWireContractInItsOrder) {
     EXPECT_GT(row.duration_min, 0) << row.name;
     EXPECT_FALSE(row.tolerances.empty()) << row.name;
     // A kind re-run after an intervention must be one that can be ordered on its own.
-    EXPECT_NE(check_kind_info(rerun_after_intervention(row.kind)).cadence, Cadence::AfterCorrection);
+    EXPECT_NE(check_kind_info(rerun_after_intervention(row.kind)).cadence,
+              Cadence::AfterCorrection);
     for (auto key : row.tolerances) tolerance_keys.insert(key);
   }
   EXPECT_EQ(to_string(static_cast<CheckKind>(kCheckKindCount)), "unknown");
@@ -194,10 +197,9 @@ TEST(CheckKindTable, TheExampleMachineLoadsAndItsDefaultCalendarFollowsTheCadenc
   EXPECT_EQ(kinds_passing(CheckKind::FixturePreCalibration),
             (std::vector<CheckKind>{CheckKind::FixturePreCalibration,
                                     CheckKind::FixturePostCalibration}));
-  EXPECT_TRUE(intervention_matches(CheckKind::FixturePreCalibration,
-                                   CheckKind::FixturePostCalibration));
-  EXPECT_FALSE(intervention_matches(CheckKind::MonumentPositioning,
-                                    CheckKind::MonumentCAlignment));
+  EXPECT_TRUE(
+      intervention_matches(CheckKind::FixturePreCalibration, CheckKind::FixturePostCalibration));
+  EXPECT_FALSE(intervention_matches(CheckKind::MonumentPositioning, CheckKind::MonumentCAlignment));
 }
 
 // docs/architecture.md lists the table for people; it must say what the code says.
@@ -220,11 +222,10 @@ TEST(CheckKindTable, TheDocsListEveryRow) {
     for (auto key : row.tolerances) keys += (keys.empty() ? "" : ", ") + std::string(key);
     std::ostringstream minutes;
     minutes << row.duration_min;
-    const std::string expected = "| `" + std::string(row.name) + "` | " +
-                                 std::string(to_string(row.cadence)) + " | " +
-                                 std::string(to_string(row.instrument)) + " | " +
-                                 std::string(to_string(row.needs)) + " | " + minutes.str() +
-                                 " | " + keys + " |";
+    const std::string expected =
+        "| `" + std::string(row.name) + "` | " + std::string(to_string(row.cadence)) + " | " +
+        std::string(to_string(row.instrument)) + " | " + std::string(to_string(row.needs)) + " | " +
+        minutes.str() + " | " + keys + " |";
     EXPECT_EQ(rows[i], expected);
   }
 }

@@ -55,7 +55,10 @@ TEST(Csv, ReadsHeaderAndRowsWithTheirLineNumbers) {
 }
 
 TEST(Csv, AcceptsCrlfAndAByteOrderMark) {
-  const CsvTable t = read_csv("\xEF\xBB\xBF" "a,b\r\n1,2\r\n\r\n3,4\r\n", "w.csv");
+  const CsvTable t = read_csv(
+      "\xEF\xBB\xBF"
+      "a,b\r\n1,2\r\n\r\n3,4\r\n",
+      "w.csv");
   ASSERT_EQ(t.header.size(), 2u);
   EXPECT_EQ(t.header[0], "a");
   EXPECT_EQ(t.header[1], "b");
@@ -132,7 +135,9 @@ TEST(Csv, WordsAreMatchedWithoutCaseAndReturnedAsListed) {
   const CsvTable t = read_csv("n,direction\n1,Up\n2,DOWN\n3,sideways\n", "w.csv");
   EXPECT_EQ(t.word(t.rows[0], 1, {"up", "down"}), "up");
   EXPECT_EQ(t.word(t.rows[1], 1, {"up", "down"}), "down");
-  EXPECT_EQ(error_of([&] { t.word(t.rows[2], 1, {"up", "down"}); }),
+  EXPECT_EQ(error_of([&] {
+              t.word(t.rows[2], 1, {"up", "down"});
+            }),
             "w.csv:4:2: column 'direction' = 'sideways': expected one of up, down");
 }
 
@@ -179,8 +184,8 @@ TEST(Csv, CsvErrorKeepsItsParts) {
 }
 
 TEST(Csv, ReadsFilesAndNamesAnUnreadablePath) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("ncqual-csv-test-" + std::to_string(getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("ncqual-csv-test-" + std::to_string(getpid()));
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "ok.csv").string();
   std::ofstream(path) << "a,b\n1,2\n";

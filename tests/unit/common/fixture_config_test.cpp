@@ -56,7 +56,8 @@ TEST(FixtureConfig, ReadsCountFirstPitchAndDefaults) {
   EXPECT_EQ(f.row_home_y_mm, (std::vector<double>{250, 550, 850, 1150, 1450, 1750}));
   // Default planes: 0, 6, 12, 18, 24 in.
   ASSERT_EQ(f.z_planes_mm.size(), 5u);
-  for (int k = 0; k < 5; ++k) EXPECT_DOUBLE_EQ(f.z_planes_mm[static_cast<std::size_t>(k)], 6 * 25.4 * k);
+  for (int k = 0; k < 5; ++k)
+    EXPECT_DOUBLE_EQ(f.z_planes_mm[static_cast<std::size_t>(k)], 6 * 25.4 * k);
   EXPECT_EQ(f.precalibration_configuration_count(), 10);
   EXPECT_DOUBLE_EQ(f.block_half_size_mm(), 50);
   EXPECT_DOUBLE_EQ(f.block_height_mm, 40);
@@ -100,8 +101,8 @@ fixture:
 }
 
 TEST(FixtureConfig, ThreePlanesOrFewerPostCalibrateAtTheFirstAndLast) {
-  const MachineConfig m = parse(fixture_with("  probe_depth_mm: 10\n",
-                                             "  probe_depth_mm: 10\n  z_planes_mm: [10, 20, 30]\n"));
+  const MachineConfig m = parse(fixture_with(
+      "  probe_depth_mm: 10\n", "  probe_depth_mm: 10\n  z_planes_mm: [10, 20, 30]\n"));
   EXPECT_EQ(m.fixture->postcalibration.z_mm, (std::vector<double>{10, 30}));
 }
 
@@ -111,7 +112,8 @@ TEST(FixtureConfig, BadValuesAreRefusedNamingFileKeyAndValue) {
   } cases[] = {
       {"fixture_id: UHF1", "fixture_id: UHF 1", "fixture.fixture_id = 'UHF 1': use letters"},
       {"  fixture_id: UHF1\n", "", "fixture.fixture_id = (missing): required"},
-      {"probe_depth_mm: 10", "probe_depth_mm: 10\n  colour: red", "fixture.colour = 'red': unknown key"},
+      {"probe_depth_mm: 10", "probe_depth_mm: 10\n  colour: red",
+       "fixture.colour = 'red': unknown key"},
       {"count: 4,", "count: 0,", "fixture.columns.count = '0': must be an integer from 1 to 999"},
       {"count: 4,", "count: 2.5,", "fixture.columns.count = '2.5'"},
       {"count: 6,", "count: 1,", "fixture.rows.count = '1': must be an integer from 2"},
@@ -131,14 +133,18 @@ TEST(FixtureConfig, BadValuesAreRefusedNamingFileKeyAndValue) {
       {"  columns: {count: 4, first_x_mm: 1800, pitch_mm: 600}\n", "",
        "fixture.columns = (missing): required section"},
       {"size_mm: 100", "size_mm: 0", "fixture.reference_block.size_mm = '0': must be positive"},
-      {"height_mm: 40", "height_mm: 40, depth_mm: 3", "fixture.reference_block.depth_mm = '3': unknown key"},
+      {"height_mm: 40", "height_mm: 40, depth_mm: 3",
+       "fixture.reference_block.depth_mm = '3': unknown key"},
       {"probe_depth_mm: 10", "probe_depth_mm: 40",
-       "fixture.probe_depth_mm = '40': must be positive and less than reference_block.height_mm (40 mm)"},
-      {"origin_mm: [0, 0, \"4 in\"]", "origin_mm: [0, 0]", "fixture.origin_mm = (not a single value): expected a list of 3"},
+       "fixture.probe_depth_mm = '40': must be positive and less than reference_block.height_mm "
+       "(40 mm)"},
+      {"origin_mm: [0, 0, \"4 in\"]", "origin_mm: [0, 0]",
+       "fixture.origin_mm = (not a single value): expected a list of 3"},
       {"probe_depth_mm: 10", "probe_depth_mm: 10\n  z_planes_in: [0, 12, 6]",
        "fixture.z_planes_in = (not a single value): values must be strictly increasing"},
       {"probe_depth_mm: 10", "probe_depth_mm: 10\n  postcalibration: {z_in: [6, 30]}",
-       "fixture.postcalibration.z_in[1] = '30': outside the Z travel of the planes (0 to 609.6 mm)"},
+       "fixture.postcalibration.z_in[1] = '30': outside the Z travel of the planes (0 to 609.6 "
+       "mm)"},
       {"probe_depth_mm: 10", "probe_depth_mm: 10\n  postcalibration: {x_offsets_mm: [0, 0]}",
        "fixture.postcalibration.x_offsets_mm = (not a single value): values must be distinct"},
       {"probe_depth_mm: 10", "probe_depth_mm: 10\n  postcalibration: {x_offsets_mm: []}",
@@ -153,7 +159,8 @@ TEST(FixtureConfig, BadValuesAreRefusedNamingFileKeyAndValue) {
     } catch (const ConfigError& e) {
       const std::string msg = e.what();
       EXPECT_EQ(msg.rfind("t1.yaml: ", 0), 0u) << msg;
-      EXPECT_NE(msg.find(c.message), std::string::npos) << "got: " << msg << "\nwanted: " << c.message;
+      EXPECT_NE(msg.find(c.message), std::string::npos)
+          << "got: " << msg << "\nwanted: " << c.message;
     }
   }
   try {
@@ -229,9 +236,10 @@ TEST(FixtureNames, TouchFeaturesRoundTripAndRejectMalformed) {
   }
   EXPECT_EQ(pogo_touch_feature("C2R3", 4, PogoFace::XMinus), "pogo:C2R3:cfg4:x-");
   EXPECT_EQ(pogo_touch_feature("C1R1", 0, PogoFace::Top), "pogo:C1R1:cfg0:top");
-  for (const char* bad : {"", "pogo", "pogo:C2R3", "pogo:C2R3:cfg4", "pogo:C2R3:cfg4:", "pogo:C2R3:cfg4:z-",
-                          "pogo:C2R3:cfg04:x-", "pogo:C2R3:cfg-1:x-", "pogo:C2R3:4:x-", "pogo:C2R3:cfg4:x-:",
-                          "pogo:X2R3:cfg4:x-", "hole_edge", "pogo::cfg4:x-", "Pogo:C2R3:cfg4:x-"}) {
+  for (const char* bad :
+       {"", "pogo", "pogo:C2R3", "pogo:C2R3:cfg4", "pogo:C2R3:cfg4:", "pogo:C2R3:cfg4:z-",
+        "pogo:C2R3:cfg04:x-", "pogo:C2R3:cfg-1:x-", "pogo:C2R3:4:x-", "pogo:C2R3:cfg4:x-:",
+        "pogo:X2R3:cfg4:x-", "hole_edge", "pogo::cfg4:x-", "Pogo:C2R3:cfg4:x-"}) {
     EXPECT_FALSE(parse_pogo_touch_feature(bad)) << bad;
   }
   // The faces' normals and offsets from the top-face centre.

@@ -75,9 +75,7 @@ TEST(GlobalCheckConfig, ParsesRangesListsUnitsAndTargets) {
   EXPECT_EQ(g.linear_run.cycles, 3);
 }
 
-TEST(GlobalCheckConfig, NoSectionMeansNoTrackerCheck) {
-  EXPECT_FALSE(parse("").global_check);
-}
+TEST(GlobalCheckConfig, NoSectionMeansNoTrackerCheck) { EXPECT_FALSE(parse("").global_check); }
 
 TEST(GlobalCheckConfig, RefusesBadValuesNamingTheKey) {
   auto refused = [](const std::string& text, const std::string& key) {
@@ -89,13 +87,15 @@ TEST(GlobalCheckConfig, RefusesBadValuesNamingTheKey) {
     }
     ADD_FAILURE() << "accepted: " << key;
   };
-  refused(with("- {tool_length_mm: 300}", "- {tool_length_mm: 0}"), "global_check.targets[0].tool_length_mm");
+  refused(with("- {tool_length_mm: 300}", "- {tool_length_mm: 0}"),
+          "global_check.targets[0].tool_length_mm");
   refused(with("points: 9}", "points: 1}"), "global_check.grid.x.points");
   refused(with("a_deg: 45", "a_deg: 0"), "global_check.rotary.c.a_deg");
   refused(with("axis: y", "axis: w"), "global_check.linear_run.axis");
   refused(with("cycles: 3", "cycles: 1"), "global_check.linear_run.cycles");
   refused(with("radius_mm: 300", "radius_mm: -3"), "global_check.circles.radius_mm");
-  refused(with("at_mm: [2200, 900]", "at_mm: [2200, 901]"), "global_check.master_frame.y_run.at_mm");
+  refused(with("at_mm: [2200, 900]", "at_mm: [2200, 901]"),
+          "global_check.master_frame.y_run.at_mm");
   refused(with("y_mm: [200, 500,", "y_mm: [500, 200,"), "global_check.master_frame.y_run.y");
   refused(with("  grid:", "  gird: {}\n  grid:"), "global_check.gird");
 }
@@ -150,7 +150,7 @@ TEST(GlobalCheckProgram, CircleRunsBothWaysFromTheSameSideAndRotaryHoldsXyz) {
     EXPECT_DOUBLE_EQ(m.commanded.x_mm, 2200);  // the YZ plane
   }
   ASSERT_EQ(at.size(), 17u + 72u);
-  EXPECT_NEAR(at["ccw:9"].y_mm, 950, 1e-9);        // 90 degrees: +v
+  EXPECT_NEAR(at["ccw:9"].y_mm, 950, 1e-9);  // 90 degrees: +v
   EXPECT_NEAR(at["ccw:9"].z_mm, 900 + 300, 1e-9);
   EXPECT_NEAR(at["cw:9"].z_mm, at["ccw:9"].z_mm, 1e-12);
   for (CheckKind kind : {CheckKind::RotaryA, CheckKind::RotaryC, CheckKind::RotaryW}) {
@@ -180,7 +180,6 @@ TEST(GlobalCheckProgram, LinearRunApproachesEveryTargetFromBothSidesWithOverrun)
   }
   EXPECT_EQ(measured, 3 * 2 * 4);
 }
-
 
 // ---- global_check.uncertainty ------------------------------------------------------------------
 
@@ -248,7 +247,8 @@ TEST(GlobalCheckUncertainty, MinimalBlockTakesTheSolversDefaults) {
   const GlobalCheckConfig g = *parse(kGlobal + R"(
   uncertainty:
     tracker: {position_mm: [0, -2000, 500]}
-)").global_check;
+)")
+                                   .global_check;
   ASSERT_TRUE(g.uncertainty);
   const VerificationUncertaintyConfig& u = *g.uncertainty;
   EXPECT_EQ(u.tracker.ypr_rad, Eigen::Vector3d::Zero());
@@ -293,7 +293,8 @@ TEST(GlobalCheckUncertainty, RefusesBadValuesNamingFileKeyAndValue) {
           p + "sources.temperature_deviation_K[1] = 'inf': must be finite");
   refused("temperature_sigma_K: [0.1, 0.1, 0.2]", "temperature_sigma_K: [0.1, -0.1, 0.2]",
           p + "sources.temperature_sigma_K[1] = '-0.1': a sigma must be >= 0");
-  refused("repeatability_sigma_mm: [0.001, 0.002, 0.0015]", "repeatability_sigma_mm: [0.001, 0.002]",
+  refused("repeatability_sigma_mm: [0.001, 0.002, 0.0015]",
+          "repeatability_sigma_mm: [0.001, 0.002]",
           p + "sources.repeatability_sigma_mm = (not a single value): expected a list of 3");
   refused("trials: 500", "trials: 0", p + "trials = '0': must be an integer from 1 to 1000000");
   refused("trials: 500", "trials: 2.5", p + "trials = '2.5': must be an integer");
@@ -305,10 +306,13 @@ TEST(GlobalCheckUncertainty, RefusesBadValuesNamingFileKeyAndValue) {
   refused("step_mm: 400", "step_mm: 0.1", p + "search.step_mm = '0.1': gives more than 1e6");
   refused("max_range_mm: 9000", "max_range_mm: 400",
           p + "search.max_range_mm = '400': must exceed min_range_mm");
-  refused("ypr_deg: [90, 0.3, -0.2]", "ypr_deg: [90, 0.3, \"1 furlong\"]", p + "tracker.ypr_deg[2] = ");
-  refused("      position_mm: [2200, -1200, 900]\n", "", p + "tracker.position_mm = (missing): required");
+  refused("ypr_deg: [90, 0.3, -0.2]", "ypr_deg: [90, 0.3, \"1 furlong\"]",
+          p + "tracker.ypr_deg[2] = ");
+  refused("      position_mm: [2200, -1200, 900]\n", "",
+          p + "tracker.position_mm = (missing): required");
   refused("    trials: 500", "    trails: 500", p + "trails = '500': unknown key");
-  refused("      samples_per_point: 16", "      samples: 16", p + "tracker.samples = '16': unknown key");
+  refused("      samples_per_point: 16", "      samples: 16",
+          p + "tracker.samples = '16': unknown key");
   refused("    tracker:\n", "    tracer: {}\n    tracker:\n", p + "tracer");
 }
 

@@ -21,8 +21,10 @@ TEST(Units, ParsesQuantitiesWithAndWithoutUnits) {
   EXPECT_DOUBLE_EQ(units::parse_quantity(Dimension::Length, "1 in", "mm"), 25.4);
   EXPECT_DOUBLE_EQ(units::parse_quantity(Dimension::Length, "3 um", "mm"), 0.003);
   EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "180 deg", "rad"), units::kPi, 1e-15);
-  EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "3600 arcsec", "rad"), units::kPi / 180, 1e-15);
-  EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "10", "arcsec"), 10 * units::kRadPerArcsec, 1e-18);
+  EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "3600 arcsec", "rad"), units::kPi / 180,
+              1e-15);
+  EXPECT_NEAR(units::parse_quantity(Dimension::Angle, "10", "arcsec"), 10 * units::kRadPerArcsec,
+              1e-18);
   try {
     units::parse_quantity(Dimension::Length, "5 furlongs", "mm");
     FAIL() << "accepted an unknown unit";
@@ -104,16 +106,17 @@ TEST_F(ConfigFile, TolerancesAreInTheUnitTheMetricNameEndsIn) {
     load_machine_config(path);
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("tolerances.center_dx_mm.uper"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tolerances.center_dx_mm.uper"), std::string::npos)
+        << e.what();
   }
 }
 
 TEST_F(ConfigFile, AMachineFileExtendsAnotherAndOverridesNestedKeys) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                    ("ncqual-extends-" + std::to_string(::getpid()));
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("ncqual-extends-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir / "scenarios");
-  std::ofstream(dir / "base.yaml") << kMachine
-                                   << "simulator: {seed: 3, errors: {tool_length_error_mm: 0}}\n";
+  std::ofstream(dir / "base.yaml")
+      << kMachine << "simulator: {seed: 3, errors: {tool_length_error_mm: 0}}\n";
   std::ofstream(dir / "scenarios" / "long.yaml")
       << "extends: ../base.yaml\n"
          "description: too long\n"
@@ -133,7 +136,8 @@ TEST_F(ConfigFile, AMachineFileExtendsAnotherAndOverridesNestedKeys) {
     load_machine_config((dir / "c.yaml").string());
     FAIL() << "expected ConfigError";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("extends = 'missing.yaml'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("extends = 'missing.yaml'"), std::string::npos)
+        << e.what();
   }
   std::filesystem::remove_all(dir);
 }
@@ -215,7 +219,9 @@ TEST(CommandLine, UnknownFlagsMissingAndBadValuesAreUsageErrorsNamingTheFlag) {
   EXPECT_EQ(options.log_level, "info");
   EXPECT_EQ(limit, 5);
   for (const auto& [words, flag] : std::vector<std::pair<std::vector<std::string>, std::string>>{
-           {{"--plnt", "x"}, "--plnt"}, {{"--plant"}, "--plant"}, {{"--limit", "five"}, "--limit"}}) {
+           {{"--plnt", "x"}, "--plnt"},
+           {{"--plant"}, "--plant"},
+           {{"--limit", "five"}, "--limit"}}) {
     std::string message;
     EXPECT_EQ(std::get<0>(parse(words, &message)), command_line::kUsageExit) << flag;
     EXPECT_NE(message.find(flag), std::string::npos) << message;

@@ -134,7 +134,8 @@ TEST(VolumetricModel, AngularErrorsTurnEverythingDownstreamOfTheirAxis) {
   {
     RigidBodyErrors e = only(3, a);
     e.functions[8] = series(0, 1000, {0.05});  // EZY = 0.05 mm
-    const Eigen::Vector3d p = actual_position(e, Eigen::Vector3d(0, 400, 0), Eigen::Vector3d::Zero());
+    const Eigen::Vector3d p =
+        actual_position(e, Eigen::Vector3d(0, 400, 0), Eigen::Vector3d::Zero());
     EXPECT_NEAR(p.y(), 400 * ca - 0.05 * sa, 1e-10);
     EXPECT_NEAR(p.z(), 400 * sa + 0.05 * ca, 1e-10);
   }

@@ -73,7 +73,7 @@ struct Driver {
   std::set<std::string> issued_ids;
   std::vector<MachineStatus> statuses;
   std::deque<CheckRequest> inbox;
-  std::set<std::string> performed;      // request ids already answered (the acquisition dedupes)
+  std::set<std::string> performed;  // request ids already answered (the acquisition dedupes)
   std::function<Answer(const CheckRequest&)> answer = [](const CheckRequest&) { return Answer{}; };
   std::int64_t duration = 10 * kMinute;
 
@@ -219,7 +219,8 @@ TEST(CalendarFlow, MissedShiftsRunWhatIsDueOnceWhenTheMachineIsBack) {
   Scheduler s(p, d.clock, d.outputs(), &state);
   s.start({});
   d.run(s, utc("2026-01-19T20:00:00Z"));
-  const std::vector<CheckRequest> after(d.requests.begin() + static_cast<long>(before), d.requests.end());
+  const std::vector<CheckRequest> after(d.requests.begin() + static_cast<long>(before),
+                                        d.requests.end());
   std::vector<CheckKind> kinds;
   for (const auto& r : after) kinds.push_back(r.kind);
   // Back in the middle of Monday's early shift: the weekly and daily checks once, not once per
@@ -249,8 +250,10 @@ TEST(CalendarFlow, AFailureHoldsTheMachineUntilAnInterventionReArmsTheCheck) {
   EXPECT_EQ(s.state("m1"), MachineState::NeedsIntervention);
   const std::string detail = d.statuses.back().detail;
   EXPECT_NE(detail.find("monument_tool_length FAIL"), std::string::npos) << detail;
-  EXPECT_NE(detail.find("first likely cause: tool length offset wrong"), std::string::npos) << detail;
-  EXPECT_NE(detail.find("ncqual intervene --machine m1 --check monument_tool_length"), std::string::npos)
+  EXPECT_NE(detail.find("first likely cause: tool length offset wrong"), std::string::npos)
+      << detail;
+  EXPECT_NE(detail.find("ncqual intervene --machine m1 --check monument_tool_length"),
+            std::string::npos)
       << detail;
   EXPECT_EQ(d.statuses.back().last_kind, CheckKind::MonumentToolLength);
 
@@ -258,23 +261,27 @@ TEST(CalendarFlow, AFailureHoldsTheMachineUntilAnInterventionReArmsTheCheck) {
   EXPECT_NE(s.intervention({"m1", "iv-0", CheckKind::MonumentPositioning, "wrong one", "ann", 0})
                 .find("does not match the held check 'monument_tool_length'"),
             std::string::npos);
-  EXPECT_NE(s.intervention({"m9", "iv-0", CheckKind::MonumentToolLength, "", "ann", 0}).find("'m9'"),
-            std::string::npos);
+  EXPECT_NE(
+      s.intervention({"m9", "iv-0", CheckKind::MonumentToolLength, "", "ann", 0}).find("'m9'"),
+      std::string::npos);
   EXPECT_EQ(s.state("m1"), MachineState::NeedsIntervention);
 
   // Wednesday 08:00: the operator reset the tool length offset. The check runs again at once and
   // the sequence resumes from there; the same intervention delivered twice does it once.
   d.clock.set_ns(utc("2026-01-07T08:00:00Z"));
   const std::size_t before = d.requests.size();
-  EXPECT_EQ(s.intervention({"m1", "iv-1", CheckKind::MonumentToolLength, "offset reset", "ann", 0}), "");
-  EXPECT_EQ(s.intervention({"m1", "iv-1", CheckKind::MonumentToolLength, "offset reset", "ann", 0}), "");
+  EXPECT_EQ(s.intervention({"m1", "iv-1", CheckKind::MonumentToolLength, "offset reset", "ann", 0}),
+            "");
+  EXPECT_EQ(s.intervention({"m1", "iv-1", CheckKind::MonumentToolLength, "offset reset", "ann", 0}),
+            "");
   ASSERT_EQ(d.requests.size(), before + 1);
   EXPECT_EQ(d.requests.back().kind, CheckKind::MonumentToolLength);
   EXPECT_EQ(d.requests.back().requested_by, "intervention:iv-1");
   d.run(s, utc("2026-01-07T13:00:00Z"));
   // Re-armed check 2, then 3 and 4. The plan of Wednesday's shift (made at the re-arm: the whole
   // daily set is due again on a new day) puts check 1 after them.
-  std::vector<CheckKind> wednesday = d.kinds_between(utc("2026-01-07T08:00:00Z"), utc("2026-01-08T00:00:00Z"));
+  std::vector<CheckKind> wednesday =
+      d.kinds_between(utc("2026-01-07T08:00:00Z"), utc("2026-01-08T00:00:00Z"));
   ASSERT_GE(wednesday.size(), 3u);
   EXPECT_EQ(std::vector<CheckKind>(wednesday.begin(), wednesday.begin() + 3),
             (std::vector<CheckKind>{CheckKind::MonumentToolLength, CheckKind::MonumentPositioning,
@@ -284,17 +291,20 @@ TEST(CalendarFlow, AFailureHoldsTheMachineUntilAnInterventionReArmsTheCheck) {
 
 TEST(CalendarFlow, FixtureLoopCorrectsAndTheWeekIsDone) {
   PlantConfig p = plant({machine("m1", "F")});
-  p.calendar->periods = {default_calendar_config().periods[1], default_calendar_config().periods[2]};
+  p.calendar->periods = {default_calendar_config().periods[1],
+                         default_calendar_config().periods[2]};
   Driver d(utc("2026-01-05T00:00:00Z"));
   d.answer = [&](const CheckRequest& r) {
-    if (r.kind == CheckKind::FixturePreCalibration) return Answer{Verdict::Fail, {"zero drift"}, true};
+    if (r.kind == CheckKind::FixturePreCalibration)
+      return Answer{Verdict::Fail, {"zero drift"}, true};
     return Answer{};
   };
   Scheduler s(p, d.clock, d.outputs());
   s.start({});
   d.run(s, utc("2026-01-07T00:00:00Z"));
   const auto monday = d.kinds_between(0, utc("2026-01-06T00:00:00Z"));
-  EXPECT_EQ(monday, concat({{CheckKind::FixturePreCalibration, CheckKind::FixturePostCalibration}, kDaily}));
+  EXPECT_EQ(monday, concat({{CheckKind::FixturePreCalibration, CheckKind::FixturePostCalibration},
+                            kDaily}));
   const CheckRequest* pre = nullptr;
   const CheckRequest* post = nullptr;
   for (const auto& r : d.requests) {
@@ -320,7 +330,8 @@ TEST(CalendarFlow, ConfigurationRotationIsPerFixtureAndSurvivesRestarts) {
     used.clear();
     for (const auto& r : d.requests) {
       if (r.kind == CheckKind::FixturePreCalibration) {
-        used[r.machine_id].push_back(static_cast<int>(find_value(r.parameters, "fixture_configuration")->value));
+        used[r.machine_id].push_back(
+            static_cast<int>(find_value(r.parameters, "fixture_configuration")->value));
       }
     }
   };
@@ -330,11 +341,13 @@ TEST(CalendarFlow, ConfigurationRotationIsPerFixtureAndSurvivesRestarts) {
     Scheduler s(p, d.clock, d.outputs(), &state);
     s.start({});
     d.run(s, utc("2026-01-06T00:00:00Z"));
-    EXPECT_EQ(s.command({"m2", "op-1", CheckKind::FixturePreCalibration, "operator:ann", 0, {}}), "");
+    EXPECT_EQ(s.command({"m2", "op-1", CheckKind::FixturePreCalibration, "operator:ann", 0, {}}),
+              "");
     d.run(s, utc("2026-01-20T00:00:00Z"));
   }
   // Restarted three times over ten more weeks, each time from the file.
-  for (const char* until : {"2026-02-10T00:00:00Z", "2026-03-03T00:00:00Z", "2026-03-31T00:00:00Z"}) {
+  for (const char* until :
+       {"2026-02-10T00:00:00Z", "2026-03-03T00:00:00Z", "2026-03-31T00:00:00Z"}) {
     auto state = storage::StateFile::open(file);
     Scheduler s(p, d.clock, d.outputs(), &state);
     s.start({});
@@ -344,8 +357,10 @@ TEST(CalendarFlow, ConfigurationRotationIsPerFixtureAndSurvivesRestarts) {
   // Mondays 5 January .. 30 March: 13 weeks; m2 once more.
   ASSERT_EQ(used["m1"].size(), 13u);
   ASSERT_EQ(used["m2"].size(), 14u);
-  for (std::size_t i = 0; i < used["m1"].size(); ++i) EXPECT_EQ(used["m1"][i], static_cast<int>(i % 10)) << i;
-  for (std::size_t i = 0; i < used["m2"].size(); ++i) EXPECT_EQ(used["m2"][i], static_cast<int>(i % 10)) << i;
+  for (std::size_t i = 0; i < used["m1"].size(); ++i)
+    EXPECT_EQ(used["m1"][i], static_cast<int>(i % 10)) << i;
+  for (std::size_t i = 0; i < used["m2"].size(); ++i)
+    EXPECT_EQ(used["m2"][i], static_cast<int>(i % 10)) << i;
 }
 
 TEST(CalendarFlow, ACheckWithoutResultIsRetriedThenReportedNeverDropped) {
@@ -376,8 +391,9 @@ TEST(CalendarFlow, ACheckWithoutResultIsRetriedThenReportedNeverDropped) {
   EXPECT_NE(detail.find("monument_positioning MISSED"), std::string::npos) << detail;
   EXPECT_NE(detail.find(check3[2].request_id), std::string::npos) << detail;
   // Check 4 never ran: the missed check holds the machine.
-  EXPECT_TRUE(std::none_of(d.requests.begin(), d.requests.end(),
-                           [](const CheckRequest& r) { return r.kind == CheckKind::MonumentCRotation; }));
+  EXPECT_TRUE(std::none_of(d.requests.begin(), d.requests.end(), [](const CheckRequest& r) {
+    return r.kind == CheckKind::MonumentCRotation;
+  }));
 }
 
 TEST(CalendarFlow, ALateAnswerToAnEarlierAttemptCompletesTheCheck) {
@@ -467,7 +483,8 @@ TEST(CalendarFlow, RestartsAtRandomPointsChangeNothing) {
   ASSERT_GT(plain.requests.size(), 100u);
 
   for (int seed = 1; seed <= 3; ++seed) {
-    const std::string file = ::testing::TempDir() + "ncqual-sched-restarts-" + std::to_string(seed) + ".db";
+    const std::string file =
+        ::testing::TempDir() + "ncqual-sched-restarts-" + std::to_string(seed) + ".db";
     std::filesystem::remove(file);
     std::mt19937 rng(static_cast<unsigned>(seed));
     Driver d(start);

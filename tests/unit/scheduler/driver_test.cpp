@@ -58,8 +58,9 @@ TEST(ReaderHandshake, ARestartWaitsForTheReadersOfTheLastRunAndLearnsAChangedPla
 }
 
 TEST(SchedulerCommandLine, CycleListsAndRunEndsAreReadOrRefusedByName) {
-  EXPECT_EQ(check_kind_list("monument_c_alignment,fixture_precal"),
-            (std::vector<CheckKind>{CheckKind::MonumentCAlignment, CheckKind::FixturePreCalibration}));
+  EXPECT_EQ(
+      check_kind_list("monument_c_alignment,fixture_precal"),
+      (std::vector<CheckKind>{CheckKind::MonumentCAlignment, CheckKind::FixturePreCalibration}));
   EXPECT_TRUE(check_kind_list("").empty());
   try {
     check_kind_list("monument_c_alignment,grid");

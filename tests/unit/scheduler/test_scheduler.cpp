@@ -47,14 +47,16 @@ TEST(Scheduler, RunsTheCycleInOrderAndAFailureStopsTheRest) {
   Recorder rec;
   Scheduler s(plant, clock, rec.outputs());
   s.start({CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
-                 CheckKind::MonumentPositioning});
+           CheckKind::MonumentPositioning});
   ASSERT_EQ(rec.requests.size(), 2u);  // the first check of each machine, nothing more yet
   EXPECT_EQ(rec.requests[0].kind, CheckKind::MonumentCAlignment);
   EXPECT_NE(rec.requests[0].request_id, rec.requests[1].request_id);
 
   // m1 passes check 1: check 2 follows. m2 fails check 1: nothing follows, intervention needed.
-  const CheckRequest m1_first = rec.requests[0].machine_id == "m1" ? rec.requests[0] : rec.requests[1];
-  const CheckRequest m2_first = rec.requests[0].machine_id == "m2" ? rec.requests[0] : rec.requests[1];
+  const CheckRequest m1_first =
+      rec.requests[0].machine_id == "m1" ? rec.requests[0] : rec.requests[1];
+  const CheckRequest m2_first =
+      rec.requests[0].machine_id == "m2" ? rec.requests[0] : rec.requests[1];
   s.result(result_of(m1_first, Verdict::Pass));
   ASSERT_EQ(rec.requests.size(), 3u);
   EXPECT_EQ(rec.requests[2].kind, CheckKind::MonumentToolLength);
@@ -136,8 +138,8 @@ TEST(Scheduler, FailedPostCalibrationOrPreCalibrationWithoutOffsetsHoldsTheMachi
   failed.correction = Correction{"fixture:UHF1", {}};
   s.result(failed);
   ASSERT_EQ(rec.requests.size(), 2u);
-  s.result(result_of(rec.requests[1], Verdict::Fail,
-                     {"fixture axes misaligned with the machine axes"}));
+  s.result(
+      result_of(rec.requests[1], Verdict::Fail, {"fixture axes misaligned with the machine axes"}));
   EXPECT_EQ(rec.requests.size(), 2u);  // no daily checks after a failed fixture
   EXPECT_EQ(s.state("m1"), MachineState::NeedsIntervention);
   EXPECT_NE(rec.statuses.back().detail.find("fixture_postcal FAIL"), std::string::npos)

@@ -19,8 +19,8 @@ namespace ncqual::solver {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kUm = 1e-3;       // mm per µm
-constexpr double kExact = 1e-9;    // mm; hand-worked figures, up to the fit's convergence
+constexpr double kUm = 1e-3;     // mm per µm
+constexpr double kExact = 1e-9;  // mm; hand-worked figures, up to the fit's convergence
 
 double rad(double deg) { return deg * kPi / 180; }
 
@@ -170,12 +170,12 @@ TEST(CircularTest, UnidirectionalDataHasNoBidirectionalFigures) {
 struct Machine {
   Eigen::Vector2d nominal_centre{500, -300};
   double nominal_radius = 150;
-  double radius_error = 0;                         // commanded radius - nominal (e.g. compensation)
+  double radius_error = 0;  // commanded radius - nominal (e.g. compensation)
   Eigen::Vector2d centre_offset = Eigen::Vector2d::Zero();
-  double scale_u = 0, scale_v = 0;                 // actual / commanded travel - 1
-  double squareness = 0;                           // rad; v moves along (-ε, 1)
-  double backlash_u = 0, backlash_v = 0;           // mm; the axis lags its command by b/2
-  double sigma = 0;                                // radial noise, mm
+  double scale_u = 0, scale_v = 0;        // actual / commanded travel - 1
+  double squareness = 0;                  // rad; v moves along (-ε, 1)
+  double backlash_u = 0, backlash_v = 0;  // mm; the axis lags its command by b/2
+  double sigma = 0;                       // radial noise, mm
 };
 
 // N points per direction at θ_k = (k + 1/2) 360°/N, so none sits exactly at an axis reversal.
@@ -188,8 +188,8 @@ CircularTestInput simulate(const Machine& m, int n, bool ccw, bool cw, std::mt19
     const double sense = d == PathDirection::Ccw ? 1 : -1;
     for (int k = 0; k < n; ++k) {
       const double t = (k + 0.5) * 2 * kPi / n;
-      const Eigen::Vector2d q = (m.nominal_radius + m.radius_error) *
-                                Eigen::Vector2d(std::cos(t), std::sin(t));
+      const Eigen::Vector2d q =
+          (m.nominal_radius + m.radius_error) * Eigen::Vector2d(std::cos(t), std::sin(t));
       Eigen::Vector2d p((1 + m.scale_u) * q.x() - m.squareness * q.y(), (1 + m.scale_v) * q.y());
       const double du = -sense * std::sin(t), dv = sense * std::cos(t);  // direction of travel
       p.x() -= m.backlash_u / 2 * (du > 0 ? 1 : -1);
@@ -241,7 +241,9 @@ TEST(CircularTest, RecoversScaleMismatchAndSquarenessWithTheirSigns) {
 // G, F and H from the noiseless simulated points about the true centre.
 TEST(CircularTest, SimulatedMachinesRecoverTheTruthWithinTheNoise) {
   std::mt19937_64 rng(2304);
-  auto u = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  auto u = [&](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
   const int n = 360;
   for (int run = 0; run < 6; ++run) {
     Machine m;
@@ -281,8 +283,8 @@ TEST(CircularTest, SimulatedMachinesRecoverTheTruthWithinTheNoise) {
         << run;
     EXPECT_NEAR(res.cw->squareness_urad, m.squareness * 1e6 + backlash_urad, 5 * shape_sd_one)
         << run;
-    EXPECT_NEAR(res.ccw->scale_mismatch_um_per_m, (m.scale_u - m.scale_v) * 1e6,
-                5 * shape_sd_one) << run;
+    EXPECT_NEAR(res.ccw->scale_mismatch_um_per_m, (m.scale_u - m.scale_v) * 1e6, 5 * shape_sd_one)
+        << run;
 
     // Noiseless figures from the simulated points about the true centre.
     double g_ccw_hi = -1e9, g_ccw_lo = 1e9, f_hi = -1e9, f_lo = 1e9, h = 0;
@@ -292,8 +294,8 @@ TEST(CircularTest, SimulatedMachinesRecoverTheTruthWithinTheNoise) {
       g_ccw_hi = std::max(g_ccw_hi, r_ccw);
       g_ccw_lo = std::min(g_ccw_lo, r_ccw);
       h = std::max(h, std::abs(r_ccw - r_cw));
-      for (const auto& p : {truth_pts[static_cast<std::size_t>(k)],
-                            truth_pts[static_cast<std::size_t>(n + k)]}) {
+      for (const auto& p :
+           {truth_pts[static_cast<std::size_t>(k)], truth_pts[static_cast<std::size_t>(n + k)]}) {
         const double f = (p - m.nominal_centre).norm() - R;
         f_hi = std::max(f_hi, f);
         f_lo = std::min(f_lo, f);
@@ -402,8 +404,7 @@ TEST(CircularTest, RefusesDuplicateAnglesInOneDirection) {
   EXPECT_EQ(p->index, std::optional<std::size_t>(16));
   EXPECT_EQ(p->first_index, std::optional<std::size_t>(10));
   EXPECT_TRUE(contains(refusal(in), "points[16]: direction cw: ")) << refusal(in);
-  EXPECT_TRUE(contains(refusal(in), "the same angle as another point (points[10])"))
-      << refusal(in);
+  EXPECT_TRUE(contains(refusal(in), "the same angle as another point (points[10])")) << refusal(in);
   // The same angle in the other direction is no duplicate.
   EXPECT_FALSE(find_circular_test_problem(hand_case()));
 }

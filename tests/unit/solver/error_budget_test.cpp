@@ -91,8 +91,8 @@ TEST(ErrorBudgetGeometry, BothComponentsOfOneSourceAddAsRootSumSquare) {
   // Pogos and vacuum cups: ΔS = sqrt((ΔY cos θ)² + (ΔZ sin θ)²).
   const double theta = deg_to_rad(25);
   const SourceError e{0.2, 0.3, 0};
-  EXPECT_NEAR(contribution_mm(e, theta),
-              std::hypot(0.2 * std::cos(theta), 0.3 * std::sin(theta)), 1e-15);
+  EXPECT_NEAR(contribution_mm(e, theta), std::hypot(0.2 * std::cos(theta), 0.3 * std::sin(theta)),
+              1e-15);
 }
 
 TEST(ErrorBudgetGeometry, CriticalAnglesAreTheEndsAndZeroWhenSpanned) {
@@ -168,11 +168,11 @@ TEST(ErrorBudgetAllocation, OnlyYSourcesGiveThePlainFormula) {
 
 TEST(ErrorBudgetAllocation, FixedAllowancesComeOffFirst) {
   // T' = sqrt(T² - Σ f²), then a_i = T' c_i / sqrt(Σ c²).
-  const auto c = config(1.0, 25,
-                        {measured("a", BudgetDirection::Y, y(0.3), BudgetAxis::Y, "a_mm"),
-                         measured("b", BudgetDirection::Y, y(0.4), BudgetAxis::Y, "b_mm"),
-                         fixed("pin", BudgetDirection::Y, y(0.6)),
-                         fixed("wander", BudgetDirection::S, s(0.0))});
+  const auto c = config(
+      1.0, 25,
+      {measured("a", BudgetDirection::Y, y(0.3), BudgetAxis::Y, "a_mm"),
+       measured("b", BudgetDirection::Y, y(0.4), BudgetAxis::Y, "b_mm"),
+       fixed("pin", BudgetDirection::Y, y(0.6)), fixed("wander", BudgetDirection::S, s(0.0))});
   const Allocation a = allocate_budget(c, bounds_of(c));
   const double t_prime = std::sqrt(1.0 - 0.36);  // 0.8
   EXPECT_NEAR(a.allowances[0].y_mm, t_prime * 0.3 / 0.5, 1e-12);
@@ -192,7 +192,7 @@ TEST(ErrorBudgetAllocation, RssOfAllowancesEqualsTheAllowableAtTheWorstInclinati
                           dir == BudgetDirection::Z || dir == BudgetDirection::YZ ? u(rng) : 0,
                           dir == BudgetDirection::S ? u(rng) : 0};
       sources.push_back(measured("m" + std::to_string(i), dir, b,
-                                 dir == BudgetDirection::Z ? BudgetAxis::Z
+                                 dir == BudgetDirection::Z   ? BudgetAxis::Z
                                  : dir == BudgetDirection::S ? BudgetAxis::S
                                                              : BudgetAxis::Y,
                                  "m" + std::to_string(i) + "_mm"));
@@ -311,9 +311,8 @@ TEST(ErrorBudgetMonteCarlo, NormalSourcesInYAndZConvergeToTheRssAtTheWorstAngle)
   const WorstTotal rss = worst_rss_total(bounds_of(c), c.theta_min_rad, c.theta_max_rad);
   EXPECT_DOUBLE_EQ(rss.theta_rad, deg_to_rad(25));
   const MonteCarloTotal mc = monte_carlo_total(c, bounds_of(c));
-  const double se =
-      quantile_standard_error(rss.total_mm / normal_coverage_factor(c.coverage), c.coverage,
-                              c.samples);
+  const double se = quantile_standard_error(rss.total_mm / normal_coverage_factor(c.coverage),
+                                            c.coverage, c.samples);
   // The maximum over several (strongly correlated) angles may sit slightly above the quantile at
   // the worst one: allow 5 standard errors.
   EXPECT_NEAR(mc.total_mm, rss.total_mm, 5 * se);
@@ -421,8 +420,8 @@ TEST(ErrorBudgetCapability, DefaultsUntilEnoughValuesAndUsesOnlyTheNewest) {
   EXPECT_EQ(newest.samples, 5);
   EXPECT_LT(newest.capability, 0.02);
   // A run of identical values does not claim better than a quarter of the default.
-  const MetricCapability flat = capability_from_history(std::vector<double>(10, 0.0), 30, 0.05,
-                                                        0.9973);
+  const MetricCapability flat =
+      capability_from_history(std::vector<double>(10, 0.0), 30, 0.05, 0.9973);
   EXPECT_DOUBLE_EQ(flat.capability, kCapabilityFloorFraction * 0.05);
 }
 
@@ -459,8 +458,7 @@ TEST(ErrorBudgetConsumption, LargestConsumerFirstAndSharesOfTheSquare) {
 
 TEST(ErrorBudgetReport, CapabilityTodayAndToleranceFromHistory) {
   auto c = config(0.762, 25,
-                  {measured("machine_y", BudgetDirection::Y, y(0.1), BudgetAxis::Y,
-                            "center_dy_mm"),
+                  {measured("machine_y", BudgetDirection::Y, y(0.1), BudgetAxis::Y, "center_dy_mm"),
                    measured("machine_z", BudgetDirection::Z, z(0.1), BudgetAxis::Z, "face_dz_mm"),
                    fixed("wander", BudgetDirection::S, s(0.127))});
   c.samples = 5000;
@@ -595,7 +593,8 @@ TEST(ErrorBudgetConfig, RefusesBadValuesNamingFileKeyAndValue) {
       {"~", {"m.yaml", "budget", "no error budget"}},
       {"[1, 2]", {"budget", "mapping"}},
       {"{allowable: 1}", {"budget.allowable", "unknown key"}},
-      {"{part: {panel_radius: 1, theta_max: 0.1}, sources: []}", {"budget.allowable_total", "required"}},
+      {"{part: {panel_radius: 1, theta_max: 0.1}, sources: []}",
+       {"budget.allowable_total", "required"}},
       {"{allowable_total: -1}", {"budget.allowable_total", "'-1'", "positive"}},
       {"{allowable_total: 1 furlong}", {"budget.allowable_total", "'1 furlong'", "furlong"}},
       {"{allowable_total: 1, sources: []}", {"budget.part", "required"}},
@@ -606,7 +605,8 @@ TEST(ErrorBudgetConfig, RefusesBadValuesNamingFileKeyAndValue) {
        {"budget.part.theta_min", "'30 deg'"}},
       {"{allowable_total: 1, part: {panel_radius: 1, theta_max: 0.1, radius: 1}}",
        {"budget.part.radius", "unknown key"}},
-      {"{allowable_total: 1, part: {panel_radius: 1, theta_max: 0.1}, statistics: {method: weibull}}",
+      {"{allowable_total: 1, part: {panel_radius: 1, theta_max: 0.1}, statistics: {method: "
+       "weibull}}",
        {"budget.statistics.method", "'weibull'", "rss or monte_carlo"}},
       {"{allowable_total: 1, part: {panel_radius: 1, theta_max: 0.1}, statistics: {coverage: 1.5}}",
        {"budget.statistics.coverage", "'1.5'"}},

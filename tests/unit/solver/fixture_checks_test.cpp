@@ -21,11 +21,11 @@ namespace ncqual::solver {
 namespace {
 
 using testing::fixture_request;
+using testing::metric;
 using testing::pm1_fixture;
 using testing::pm1_with_fixture;
 using testing::random_fixture;
 using testing::random_machine;
-using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 
@@ -47,12 +47,13 @@ MachineConfig with_fixture(MachineConfig m, const FixtureConfig& f) {
 
 MeasurementSet run(const sim::MachineSimulator& machine, const sim::FixtureSimulator& fixture,
                    CheckKind kind, const std::string& id, std::optional<int> k) {
-  return sim::perform_fixture_check(machine, fixture,
-                                    fixture_request(machine.machine().machine_id, id, kind, k), 1000);
+  return sim::perform_fixture_check(
+      machine, fixture, fixture_request(machine.machine().machine_id, id, kind, k), 1000);
 }
 
 // The three post-calibration causes, each once.
-void expect_all_three_causes(const CheckResult& r, const std::string& first, const std::string& context) {
+void expect_all_three_causes(const CheckResult& r, const std::string& first,
+                             const std::string& context) {
   ASSERT_EQ(r.likely_causes.size(), 3u) << context;
   EXPECT_EQ(r.likely_causes[0], first) << context << ": " << r.reason;
   EXPECT_EQ(std::set<std::string>(r.likely_causes.begin(), r.likely_causes.end()),
@@ -156,10 +157,12 @@ TEST(FixturePreCalibration, RecoversInjectedOffsetsWithinTheTriggerNoise) {
       const auto name = parse_zero_offset_name(offset.name);
       ASSERT_TRUE(name) << offset.name;
       EXPECT_EQ(offset.unit, "mm");
-      EXPECT_EQ(offset.value, metric(r, fixture_checks::pogo_metric_name(name->pogo, name->axis)).value);
+      EXPECT_EQ(offset.value,
+                metric(r, fixture_checks::pogo_metric_name(name->pogo, name->axis)).value);
     }
     EXPECT_NE(r.reason.find("metrics out of tolerance"), std::string::npos) << r.reason;
-    EXPECT_NE(r.reason.find("zero offsets to fixture:" + f.fixture_id), std::string::npos) << r.reason;
+    EXPECT_NE(r.reason.find("zero offsets to fixture:" + f.fixture_id), std::string::npos)
+        << r.reason;
   }
   EXPECT_GT(passes, 10);
   EXPECT_GT(fails, 30);
@@ -240,7 +243,8 @@ TEST(FixtureCalibration, PureOffsetsFailPreAndPassPostOnceZeroed) {
     const int k = std::uniform_int_distribution<int>(0, 9)(rng);
     const std::string id = "offsets-" + std::to_string(i);
 
-    const CheckResult pre = check_fixture_precalibration(run(machine, fixture, kPre, id + "-pre", k), m);
+    const CheckResult pre =
+        check_fixture_precalibration(run(machine, fixture, kPre, id + "-pre", k), m);
     ASSERT_EQ(pre.verdict, Verdict::Fail) << pre.reason;
     ASSERT_TRUE(pre.correction);
     EXPECT_EQ(pre.likely_causes, std::vector<std::string>{kZeroDrift});
@@ -252,7 +256,8 @@ TEST(FixtureCalibration, PureOffsetsFailPreAndPassPostOnceZeroed) {
     EXPECT_EQ(unzeroed.likely_causes.size(), 3u);
 
     fixture.apply_zero_offsets(*pre.correction);
-    const CheckResult post = check_fixture_postcalibration(run(machine, fixture, kPost, id + "-post", k), m);
+    const CheckResult post =
+        check_fixture_postcalibration(run(machine, fixture, kPost, id + "-post", k), m);
     ASSERT_EQ(post.verdict, Verdict::Pass) << "case " << i << ": " << post.reason;
     EXPECT_TRUE(post.likely_causes.empty());
     EXPECT_FALSE(post.correction);
@@ -292,12 +297,15 @@ void run_post_cases(const std::vector<PostCase>& kinds, std::uint64_t seed, int 
     sim::FixtureSimulator fixture = sim::FixtureSimulator::for_machine(m, c);
     const int k = std::uniform_int_distribution<int>(0, 9)(rng);
     const std::string id = kind.name + "-" + std::to_string(i);
-    const std::string context = "case " + std::to_string(i) + " (" + kind.name + ", k " + std::to_string(k) + ")";
+    const std::string context =
+        "case " + std::to_string(i) + " (" + kind.name + ", k " + std::to_string(k) + ")";
 
-    const CheckResult pre = check_fixture_precalibration(run(machine, fixture, kPre, id + "-pre", k), m);
+    const CheckResult pre =
+        check_fixture_precalibration(run(machine, fixture, kPre, id + "-pre", k), m);
     ASSERT_NE(pre.verdict, Verdict::Invalid) << context << ": " << pre.reason;
     if (pre.correction) fixture.apply_zero_offsets(*pre.correction);
-    const CheckResult post = check_fixture_postcalibration(run(machine, fixture, kPost, id + "-post", k), m);
+    const CheckResult post =
+        check_fixture_postcalibration(run(machine, fixture, kPost, id + "-post", k), m);
     ASSERT_NE(post.verdict, Verdict::Invalid) << context << ": " << post.reason;
     // Must fail when a perfect probe would see a delta beyond the tolerance by more than the
     // noise of the pre- and post-calibration touches together (sqrt 2 sigma_t, 6 of them).
@@ -308,7 +316,8 @@ void run_post_cases(const std::vector<PostCase>& kinds, std::uint64_t seed, int 
     if (post.verdict != Verdict::Fail) continue;
     ++failed;
     expect_all_three_causes(post, kind.first_cause, context);
-    EXPECT_NE(post.reason.find("fit of the deltas against the commanded positions"), std::string::npos);
+    EXPECT_NE(post.reason.find("fit of the deltas against the commanded positions"),
+              std::string::npos);
   }
   // The injected errors are large enough to fail nearly always.
   EXPECT_GE(failed, cases * 9 / 10);
@@ -316,13 +325,18 @@ void run_post_cases(const std::vector<PostCase>& kinds, std::uint64_t seed, int 
 
 TEST(FixtureCalibration, ScaleOrNonlinearityFailsPostWithNonlinearityFirst) {
   const std::vector<PostCase> kinds = {
-      {"x-scale", [](auto& rng, auto& e) { e.column_x.scale_ppm = signed_uniform(rng, 300, 600); }, kNonlinear},
-      {"y-scale", [](auto& rng, auto& e) { e.pogo_y.scale_ppm = signed_uniform(rng, 500, 900); }, kNonlinear},
-      {"z-scale", [](auto& rng, auto& e) { e.pogo_z.scale_ppm = signed_uniform(rng, 300, 600); }, kNonlinear},
+      {"x-scale", [](auto& rng, auto& e) { e.column_x.scale_ppm = signed_uniform(rng, 300, 600); },
+       kNonlinear},
+      {"y-scale", [](auto& rng, auto& e) { e.pogo_y.scale_ppm = signed_uniform(rng, 500, 900); },
+       kNonlinear},
+      {"z-scale", [](auto& rng, auto& e) { e.pogo_z.scale_ppm = signed_uniform(rng, 300, 600); },
+       kNonlinear},
       {"x-curvature",
-       [](auto& rng, auto& e) { e.column_x.curvature_um_per_m2 = signed_uniform(rng, 80, 150); }, kNonlinear},
+       [](auto& rng, auto& e) { e.column_x.curvature_um_per_m2 = signed_uniform(rng, 80, 150); },
+       kNonlinear},
       {"z-curvature",
-       [](auto& rng, auto& e) { e.pogo_z.curvature_um_per_m2 = signed_uniform(rng, 400, 800); }, kNonlinear},
+       [](auto& rng, auto& e) { e.pogo_z.curvature_um_per_m2 = signed_uniform(rng, 400, 800); },
+       kNonlinear},
       {"y-sine",
        [](auto& rng, auto& e) {
          e.pogo_y.sine_amplitude_mm = signed_uniform(rng, 0.04, 0.08);
@@ -343,21 +357,35 @@ TEST(FixtureCalibration, ScaleOrNonlinearityFailsPostWithNonlinearityFirst) {
 
 TEST(FixtureCalibration, MisalignedFixtureFailsPostWithMisalignmentFirst) {
   const std::vector<PostCase> kinds = {
-      {"z-tilt-x", [](auto& rng, auto& e) { e.pogo_z.misalignment_rad.x() = signed_uniform(rng, 300e-6, 600e-6); },
+      {"z-tilt-x",
+       [](auto& rng, auto& e) {
+         e.pogo_z.misalignment_rad.x() = signed_uniform(rng, 300e-6, 600e-6);
+       },
        kMisaligned},
-      {"z-tilt-y", [](auto& rng, auto& e) { e.pogo_z.misalignment_rad.y() = signed_uniform(rng, 300e-6, 600e-6); },
+      {"z-tilt-y",
+       [](auto& rng, auto& e) {
+         e.pogo_z.misalignment_rad.y() = signed_uniform(rng, 300e-6, 600e-6);
+       },
        kMisaligned},
       {"x-travel-y",
-       [](auto& rng, auto& e) { e.column_x.misalignment_rad.y() = signed_uniform(rng, 300e-6, 500e-6); },
+       [](auto& rng, auto& e) {
+         e.column_x.misalignment_rad.y() = signed_uniform(rng, 300e-6, 500e-6);
+       },
        kMisaligned},
       {"x-travel-z",
-       [](auto& rng, auto& e) { e.column_x.misalignment_rad.z() = signed_uniform(rng, 300e-6, 500e-6); },
+       [](auto& rng, auto& e) {
+         e.column_x.misalignment_rad.z() = signed_uniform(rng, 300e-6, 500e-6);
+       },
        kMisaligned},
       {"y-travel-x",
-       [](auto& rng, auto& e) { e.pogo_y.misalignment_rad.x() = signed_uniform(rng, 600e-6, 1000e-6); },
+       [](auto& rng, auto& e) {
+         e.pogo_y.misalignment_rad.x() = signed_uniform(rng, 600e-6, 1000e-6);
+       },
        kMisaligned},
       {"y-travel-z",
-       [](auto& rng, auto& e) { e.pogo_y.misalignment_rad.z() = signed_uniform(rng, 600e-6, 1000e-6); },
+       [](auto& rng, auto& e) {
+         e.pogo_y.misalignment_rad.z() = signed_uniform(rng, 600e-6, 1000e-6);
+       },
        kMisaligned},
   };
   run_post_cases(kinds, 404, 60);
@@ -380,7 +408,8 @@ TEST(FixtureCalibration, PerfectFixturePassesBoth) {
     const auto fixture = sim::FixtureSimulator::for_machine(m, c);
     const int k = std::uniform_int_distribution<int>(0, 9)(rng);
     const std::string id = "perfect-" + std::to_string(i);
-    const CheckResult pre = check_fixture_precalibration(run(machine, fixture, kPre, id + "-pre", k), m);
+    const CheckResult pre =
+        check_fixture_precalibration(run(machine, fixture, kPre, id + "-pre", k), m);
     EXPECT_EQ(pre.verdict, Verdict::Pass) << pre.reason;
     EXPECT_FALSE(pre.correction);
     EXPECT_TRUE(pre.reason.empty());
@@ -391,11 +420,13 @@ TEST(FixtureCalibration, PerfectFixturePassesBoth) {
           check_fixture_postcalibration(run(machine, fixture, kPost, id + "-post", rows), m);
       EXPECT_EQ(post.verdict, Verdict::Pass) << post.reason;
       EXPECT_TRUE(post.likely_causes.empty());
-      const std::size_t pogos = rows ? precalibration_configuration(*m.fixture, k).size()
-                                     : static_cast<std::size_t>(m.fixture->columns() * m.fixture->rows());
+      const std::size_t pogos =
+          rows ? precalibration_configuration(*m.fixture, k).size()
+               : static_cast<std::size_t>(m.fixture->columns() * m.fixture->rows());
       EXPECT_EQ(post.metrics.size(), 3 * pogos * 12 + 3);
-      EXPECT_NE(find_metric(post, "cfg11_pogo_C1R" + std::string(rows && k >= 5 ? "2" : "1") + "_dz_mm"),
-                nullptr);
+      EXPECT_NE(
+          find_metric(post, "cfg11_pogo_C1R" + std::string(rows && k >= 5 ? "2" : "1") + "_dz_mm"),
+          nullptr);
     }
   }
 }
@@ -412,10 +443,12 @@ TEST(FixtureCalibration, PostFailureReportsTheFittedMisalignment) {
   c.fixture.pogo_z.offset_mm = 0.04;
   const sim::MachineSimulator machine(m, c);
   auto fixture = sim::FixtureSimulator::for_machine(m, c);
-  const CheckResult pre = check_fixture_precalibration(run(machine, fixture, kPre, "tilt-pre", 0), m);
+  const CheckResult pre =
+      check_fixture_precalibration(run(machine, fixture, kPre, "tilt-pre", 0), m);
   ASSERT_EQ(pre.verdict, Verdict::Fail);
   fixture.apply_zero_offsets(*pre.correction);
-  const CheckResult post = check_fixture_postcalibration(run(machine, fixture, kPost, "tilt-post", 0), m);
+  const CheckResult post =
+      check_fixture_postcalibration(run(machine, fixture, kPost, "tilt-post", 0), m);
   ASSERT_EQ(post.verdict, Verdict::Fail);
   EXPECT_EQ(post.likely_causes, (std::vector<std::string>{kMisaligned, kNonlinear, kWear}));
   // (less 400e-6 x 0.04 mm: the X zero offset took the tilt of the 0.04 mm Z offset at plane 0)
@@ -428,18 +461,19 @@ TEST(FixtureCalibration, PostFailureReportsTheFittedMisalignment) {
   EXPECT_TRUE(metric(post, "fixture_fit_dz_per_z_ppm").pass);
   EXPECT_TRUE(metric(post, "fixture_fit_systematic_residual_mm").pass);
   EXPECT_EQ(find_metric(post, "fixture_fit_dy_per_x_urad"), nullptr);  // not configured
-  EXPECT_NE(post.reason.find("significant: dx/dZ = 400 urad moves dx by 0.12192 mm over the 304.8 mm "
-                             "of Z travel probed (misalignment)"),
-            std::string::npos)
+  EXPECT_NE(
+      post.reason.find("significant: dx/dZ = 400 urad moves dx by 0.12192 mm over the 304.8 mm "
+                       "of Z travel probed (misalignment)"),
+      std::string::npos)
       << post.reason;
   EXPECT_NE(post.reason.find("144 points, 12 pogos"), std::string::npos) << post.reason;
 }
 
 // ---- The fit on synthetic data ------------------------------------------------------------------
 
-std::vector<PogoDelta> factorial_points(std::mt19937_64& rng, const Eigen::Matrix3d& M,
-                                        const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& extra,
-                                        double noise) {
+std::vector<PogoDelta> factorial_points(
+    std::mt19937_64& rng, const Eigen::Matrix3d& M,
+    const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& extra, double noise) {
   std::vector<PogoDelta> points;
   std::normal_distribution<double> normal(0, 1);
   for (int p = 0; p < 10; ++p) {
@@ -465,7 +499,8 @@ TEST(FixtureDeltaFit, RecoversSlopesWithPerPogoIntercepts) {
   for (int i = 0; i < 50; ++i) {
     Eigen::Matrix3d M;
     for (int a = 0; a < 9; ++a) M(a / 3, a % 3) = uniform(rng, -1e-3, 1e-3);
-    const auto points = factorial_points(rng, M, [](const Eigen::Vector3d&) { return Eigen::Vector3d::Zero(); }, 0);
+    const auto points = factorial_points(
+        rng, M, [](const Eigen::Vector3d&) { return Eigen::Vector3d::Zero(); }, 0);
     const FixtureDeltaFit fit = fit_fixture_deltas(points);
     ASSERT_TRUE(fit.error.empty()) << fit.error;
     EXPECT_EQ(fit.points, 120);
@@ -486,10 +521,12 @@ TEST(FixtureDeltaFit, StandardErrorsMatchTheScatterOfTheSlopes) {
   double sum_sq = 0;
   int n = 0;
   for (int i = 0; i < 200; ++i) {
-    const auto points = factorial_points(rng, M, [](const Eigen::Vector3d&) { return Eigen::Vector3d::Zero(); }, 0.002);
+    const auto points = factorial_points(
+        rng, M, [](const Eigen::Vector3d&) { return Eigen::Vector3d::Zero(); }, 0.002);
     const FixtureDeltaFit fit = fit_fixture_deltas(points);
     for (int a = 0; a < 9; ++a) {
-      const double z = (fit.slope(a / 3, a % 3) - M(a / 3, a % 3)) / fit.slope_standard_error(a / 3, a % 3);
+      const double z =
+          (fit.slope(a / 3, a % 3) - M(a / 3, a % 3)) / fit.slope_standard_error(a / 3, a % 3);
       sum_sq += z * z;
       ++n;
     }
@@ -505,7 +542,8 @@ TEST(FixtureDeltaFit, ResidualSharedAlongOneAxisIsSystematic) {
   // dx follows a sine of the commanded X: a nonlinearity of the X travel.
   const auto points = factorial_points(
       rng, Eigen::Matrix3d::Zero(),
-      [](const Eigen::Vector3d& c) { return Eigen::Vector3d(0.03 * std::sin(c.x() / 90), 0, 0); }, 0.0005);
+      [](const Eigen::Vector3d& c) { return Eigen::Vector3d(0.03 * std::sin(c.x() / 90), 0, 0); },
+      0.0005);
   const FixtureDeltaFit fit = fit_fixture_deltas(points);
   ASSERT_TRUE(fit.error.empty());
   EXPECT_EQ(fit.systematic_axis[0], 0);
@@ -515,13 +553,16 @@ TEST(FixtureDeltaFit, ResidualSharedAlongOneAxisIsSystematic) {
 }
 
 TEST(FixtureDeltaFit, DegenerateDesignsSayWhy) {
-  std::vector<PogoDelta> one_configuration = {{"P1", 0, {1, 2, 3}, {0, 0, 0}}, {"P2", 0, {5, 2, 3}, {1, 0, 0}}};
-  EXPECT_NE(fit_fixture_deltas(one_configuration).error.find("do not change within any pogo"), std::string::npos);
+  std::vector<PogoDelta> one_configuration = {{"P1", 0, {1, 2, 3}, {0, 0, 0}},
+                                              {"P2", 0, {5, 2, 3}, {1, 0, 0}}};
+  EXPECT_NE(fit_fixture_deltas(one_configuration).error.find("do not change within any pogo"),
+            std::string::npos);
   EXPECT_NE(fit_fixture_deltas({}).error.find("no points"), std::string::npos);
   // X and Y always move together: their slopes cannot be told apart.
   std::vector<PogoDelta> together;
   for (int j = 0; j < 4; ++j) together.push_back({"P1", j, {10.0 * j, 10.0 * j, 0}, {0, 0, 0}});
-  EXPECT_NE(fit_fixture_deltas(together).error.find("do not change independently"), std::string::npos);
+  EXPECT_NE(fit_fixture_deltas(together).error.find("do not change independently"),
+            std::string::npos);
   // Only Z varies: only the Z column is fitted.
   std::vector<PogoDelta> z_only;
   for (int j = 0; j < 4; ++j) z_only.push_back({"P1", j, {0, 0, 100.0 * j}, {0.001 * j, 0, 0}});
@@ -553,9 +594,11 @@ TEST(FixtureChecks, InvalidInputsGiveInvalidWithAReasonNamingTheField) {
   using M = MachineConfig;
   const std::vector<InvalidCase> cases = {
       {"empty set", kPre, [](S& s, M&) { s.touches.clear(); }, "MeasurementSet.touches is empty"},
-      {"instrument error", kPost, [](S& s, M&) { s.error = "probe alarm: x"; }, "MeasurementSet.error: probe alarm: x"},
+      {"instrument error", kPost, [](S& s, M&) { s.error = "probe alarm: x"; },
+       "MeasurementSet.error: probe alarm: x"},
       {"wrong kind", kPre, [](S& s, M&) { s.kind = kPost; },
-       "MeasurementSet.kind = 'fixture_postcal': the fixture pre-calibration needs 'fixture_precal'"},
+       "MeasurementSet.kind = 'fixture_postcal': the fixture pre-calibration needs "
+       "'fixture_precal'"},
       {"no fixture", kPre, [](S&, M& m) { m.fixture.reset(); },
        "machine 'pm1' (test:pm1): has no `fixture:` section"},
       {"no tolerance", kPost, [](S&, M& m) { m.tolerances.erase("fixture_delta_mm"); },
@@ -571,17 +614,21 @@ TEST(FixtureChecks, InvalidInputsGiveInvalidWithAReasonNamingTheField) {
       {"garbled feature", kPre, [](S& s, M&) { s.touches[3].feature = "pogo:C1R1:x-"; },
        "MeasurementSet.touches[3].feature = 'pogo:C1R1:x-': expected 'pogo:<C#R#>:cfg<index>:"},
       {"unknown pogo", kPre, [](S& s, M&) { s.touches[0].feature = "pogo:C9R1:cfg3:top"; },
-       "MeasurementSet.touches[0].feature = 'pogo:C9R1:cfg3:top': fixture 'UHF1' has no pogo C9R1 (C1R1 to C4R6)"},
+       "MeasurementSet.touches[0].feature = 'pogo:C9R1:cfg3:top': fixture 'UHF1' has no pogo C9R1 "
+       "(C1R1 to C4R6)"},
       {"other configuration", kPre, [](S& s, M&) { s.touches[0].feature = "pogo:C1R1:cfg2:top"; },
        "configuration 2, but the set is of pre-calibration configuration 3"},
       {"row not probed", kPre, [](S& s, M&) { s.touches[0].feature = "pogo:C1R2:cfg3:top"; },
        "pogo C1R2 is not probed in the fixture pre-calibration configuration 3 (odd rows)"},
-      {"post configuration out of range", kPost, [](S& s, M&) { s.touches[0].feature = "pogo:C1R1:cfg12:top"; },
+      {"post configuration out of range", kPost,
+       [](S& s, M&) { s.touches[0].feature = "pogo:C1R1:cfg12:top"; },
        "configuration 12 is not a post-calibration configuration of fixture 'UHF1' (0..11)"},
       {"post row not probed", kPost, [](S& s, M&) { s.touches[0].feature = "pogo:C1R4:cfg0:top"; },
        "pogo C1R4 is not probed in the fixture post-calibration configuration 0 (odd rows)"},
-      {"missing face", kPre, [](S& s, M&) { s.touches.erase(s.touches.begin() + index_of(s, "pogo:C3R5:cfg3:y+")); },
-       "MeasurementSet.touches: pogo C3R5 of the fixture pre-calibration configuration 3 has no 'y+' touch"},
+      {"missing face", kPre,
+       [](S& s, M&) { s.touches.erase(s.touches.begin() + index_of(s, "pogo:C3R5:cfg3:y+")); },
+       "MeasurementSet.touches: pogo C3R5 of the fixture pre-calibration configuration 3 has no "
+       "'y+' touch"},
       {"missing pogo", kPost,
        [](S& s, M&) {
          const std::size_t at = index_of(s, "pogo:C2R3:cfg7:top");
@@ -593,22 +640,28 @@ TEST(FixtureChecks, InvalidInputsGiveInvalidWithAReasonNamingTheField) {
       {"infinite W", kPost, [](S& s, M&) { s.touches[2].axes.w_mm = INFINITY; },
        "MeasurementSet.touches[2].axes.w_mm = inf"},
       {"head turned", kPre, [](S& s, M&) { s.touches[4].axes.c_rad = 0.5; },
-       "MeasurementSet.touches[4].axes: head at A = 0 rad, C = 0.5 rad; the fixture is probed with the head at home"},
-      {"head tilted", kPost, [](S& s, M&) { s.touches[1].axes.a_rad = -1e-5; }, "touches[1].axes: head at A = -1e-05 rad"},
-      {"approach reversed", kPre, [](S& s, M&) { s.touches[1].approach = Eigen::Vector3d(-1, 0, 0); },
-       "MeasurementSet.touches[1].approach = (-1, 0, 0): a 'x-' touch must approach along (1, 0, 0)"},
+       "MeasurementSet.touches[4].axes: head at A = 0 rad, C = 0.5 rad; the fixture is probed with "
+       "the head at home"},
+      {"head tilted", kPost, [](S& s, M&) { s.touches[1].axes.a_rad = -1e-5; },
+       "touches[1].axes: head at A = -1e-05 rad"},
+      {"approach reversed", kPre,
+       [](S& s, M&) { s.touches[1].approach = Eigen::Vector3d(-1, 0, 0); },
+       "MeasurementSet.touches[1].approach = (-1, 0, 0): a 'x-' touch must approach along (1, 0, "
+       "0)"},
       {"approach not unit", kPre, [](S& s, M&) { s.touches[0].approach *= 3; },
        "MeasurementSet.touches[0].approach = (0, 0, -3) has length 3"},
       {"touch off the block", kPre,
        [](S& s, M&) { s.touches[index_of(s, "pogo:C2R1:cfg3:x+")].axes.x_mm += 5; },
-       "pogo C2R1 of the fixture pre-calibration configuration 3: its 'x-' and 'x+' faces are 105 mm apart"},
+       "pogo C2R1 of the fixture pre-calibration configuration 3: its 'x-' and 'x+' faces are 105 "
+       "mm apart"},
   };
   for (const auto& c : cases) {
     MachineConfig m = pm1_with_fixture();
     const sim::MachineSimulator machine(m, simulator_config(0.0));
     const auto fixture = sim::FixtureSimulator::for_machine(m, sim::SimulatorConfig{});
     MeasurementSet set = run(machine, fixture, c.kind, "invalid", 3);
-    const auto check = c.kind == kPre ? check_fixture_precalibration : check_fixture_postcalibration;
+    const auto check =
+        c.kind == kPre ? check_fixture_precalibration : check_fixture_postcalibration;
     ASSERT_EQ(check(set, m).verdict, Verdict::Pass) << c.name;
     c.spoil(set, m);
     CheckResult r;
@@ -630,9 +683,11 @@ TEST(FixtureChecks, RandomGarbageIsNeverPass) {
   const double poison[] = {kNaN, INFINITY, -INFINITY};
   for (int i = 0; i < 300; ++i) {
     MeasurementSet set = clean;
-    Touch& t = set.touches[std::uniform_int_distribution<std::size_t>(0, set.touches.size() - 1)(rng)];
-    double* fields[] = {&t.axes.x_mm, &t.axes.y_mm, &t.axes.z_mm, &t.axes.w_mm, &t.axes.a_rad,
-                        &t.axes.c_rad, &t.approach.x(), &t.approach.y(), &t.approach.z()};
+    Touch& t =
+        set.touches[std::uniform_int_distribution<std::size_t>(0, set.touches.size() - 1)(rng)];
+    double* fields[] = {&t.axes.x_mm,    &t.axes.y_mm,    &t.axes.z_mm,
+                        &t.axes.w_mm,    &t.axes.a_rad,   &t.axes.c_rad,
+                        &t.approach.x(), &t.approach.y(), &t.approach.z()};
     *fields[std::uniform_int_distribution<int>(0, 8)(rng)] = poison[i % 3];
     CheckResult r;
     ASSERT_NO_THROW(r = check_fixture_precalibration(set, m));

@@ -19,12 +19,11 @@ namespace {
 
 using testing::metric;
 
-MachineConfig pm1() {
-  return load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
-}
+MachineConfig pm1() { return load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml"); }
 
 // A perfect machine (no volumetric, rotary or thermal error) seen by a tracker of the given noise.
-sim::SimulatorConfig perfect(const MachineConfig& m, double angular_sigma_rad, double radial_sigma_mm) {
+sim::SimulatorConfig perfect(const MachineConfig& m, double angular_sigma_rad,
+                             double radial_sigma_mm) {
   sim::SimulatorConfig c = m.simulator;
   c.volumetric = sim::VolumetricTruth{};
   c.volumetric.temperature_C = Eigen::Vector3d::Constant(20);
@@ -84,9 +83,9 @@ TEST(GlobalChecks, PerfectMachineWithoutNoiseMeasuresZeroEverywhere) {
   const CheckResult grid = run(m, c, CheckKind::GlobalGrid, "g");
   ASSERT_EQ(grid.verdict, Verdict::Pass) << grid.reason;
   EXPECT_NEAR(metric(grid, "grid_max_deviation_mm").value, 0, 1e-9);
-  for (const char* name : {"grid_squareness_xy_urad", "grid_squareness_yz_urad",
-                           "grid_squareness_zx_urad", "grid_scale_x_um_per_m",
-                           "grid_scale_z_um_per_m"}) {
+  for (const char* name :
+       {"grid_squareness_xy_urad", "grid_squareness_yz_urad", "grid_squareness_zx_urad",
+        "grid_scale_x_um_per_m", "grid_scale_z_um_per_m"}) {
     EXPECT_NEAR(metric(grid, name).value, 0, 1e-6) << name;
   }
   const CheckResult linear = run(m, c, CheckKind::LinearAxisRun, "l");

@@ -70,9 +70,9 @@ Measurement measure(const TruthMachine& m, double sigma, std::mt19937_64& rng) {
       for (int i = 0; i < 9; ++i) {
         const Eigen::Vector3d c(-2000 + 500 * i, -1000 + 400 * j, 200 * k);
         out.truth_grid.push_back(m.position(c));
-        out.grid.push_back({"Z" + std::to_string(k) + "Y" + std::to_string(j) + "X" +
-                                std::to_string(i),
-                            c, out.truth_grid.back() + n3()});
+        out.grid.push_back(
+            {"Z" + std::to_string(k) + "Y" + std::to_string(j) + "X" + std::to_string(i), c,
+             out.truth_grid.back() + n3()});
       }
     }
   }
@@ -124,8 +124,8 @@ double frame_error_bound(const Measurement& meas, double sigma, const Eigen::Vec
   for (const auto& p : meas.truth_runs) centroid += p;
   const double n = static_cast<double>(meas.truth_runs.size());
   centroid /= n;
-  return 5 * sigma * std::sqrt(3 / n) + 5 * std::sqrt(1.25 * (sx * sx + sy * sy)) *
-                                            (q - centroid).norm();
+  return 5 * sigma * std::sqrt(3 / n) +
+         5 * std::sqrt(1.25 * (sx * sx + sy * sy)) * (q - centroid).norm();
 }
 
 // sqrt(sum over the grid of (c_k - mean c_k)^2): the lever of the affine fit's column k.
@@ -155,10 +155,10 @@ std::string refusal(const MasterFrame& f, const std::vector<FramePoint>& grid,
 // plane z = 0 worst "B", plane z = 100 worst "F" (0.4).
 TEST(GlobalGrid, HandWorkedDeviationsAndWorstRegions) {
   const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> cd = {
-      {{0, 0, 0}, {0, 0, 0}},         {{100, 0, 0}, {0, 0.3, 0.4}},
-      {{0, 100, 0}, {0.1, 0, 0}},     {{100, 100, 0}, {-0.3, 0, 0.1}},
-      {{0, 0, 100}, {0, 0.02, 0}},    {{100, 0, 100}, {0, 0, -0.4}},
-      {{0, 100, 100}, {0, 0, 0.03}},  {{100, 100, 100}, {0.1, 0, 0}},
+      {{0, 0, 0}, {0, 0, 0}},        {{100, 0, 0}, {0, 0.3, 0.4}},
+      {{0, 100, 0}, {0.1, 0, 0}},    {{100, 100, 0}, {-0.3, 0, 0.1}},
+      {{0, 0, 100}, {0, 0.02, 0}},   {{100, 0, 100}, {0, 0, -0.4}},
+      {{0, 100, 100}, {0, 0, 0.03}}, {{100, 100, 100}, {0.1, 0, 0}},
   };
   const char* labels[] = {"A", "B", "C", "D", "E", "F", "G", "H"};
   std::vector<FramePoint> grid;
@@ -380,8 +380,7 @@ TEST_F(GlobalGridRefusals, DuplicateLabels) {
 TEST_F(GlobalGridRefusals, AllPointsOnOnePlane) {
   std::vector<FramePoint> grid(meas_.grid.begin(), meas_.grid.begin() + 54);  // plane z = 0
   const std::string why = refusal(frame_, grid);
-  EXPECT_NE(why.find("all 54 grid points lie on the one plane z = 0 mm"), std::string::npos)
-      << why;
+  EXPECT_NE(why.find("all 54 grid points lie on the one plane z = 0 mm"), std::string::npos) << why;
   EXPECT_NE(why.find("Z scale and the YZ and ZX squareness would be undefined"), std::string::npos)
       << why;
   // One constant X column is named too.

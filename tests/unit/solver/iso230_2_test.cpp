@@ -16,7 +16,7 @@
 namespace ncqual::solver {
 namespace {
 
-constexpr double kUm = 1e-3;     // mm per µm
+constexpr double kUm = 1e-3;      // mm per µm
 constexpr double kExact = 1e-12;  // mm; the hand-worked figures are exact up to rounding
 constexpr double kPi = 3.14159265358979323846;
 
@@ -224,7 +224,8 @@ TEST(Iso230_2, SimulatedRunsRecoverTheSystematicCurveAndReversal) {
     // Pooled variance (1/2m) Σ s_i² estimates σ² with relative standard deviation
     // sqrt(2 / (2m (n-1))) = 0.10; within 5 of those.
     double pooled = 0;
-    for (const auto& t : res.targets) pooled += t.up->s_mm * t.up->s_mm + t.down->s_mm * t.down->s_mm;
+    for (const auto& t : res.targets)
+      pooled += t.up->s_mm * t.up->s_mm + t.down->s_mm * t.down->s_mm;
     pooled /= 2 * m;
     EXPECT_NEAR(pooled / (sigma * sigma), 1.0, 5 * std::sqrt(2.0 / (2 * m * (n - 1)))) << run;
   }

@@ -23,7 +23,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 // ---- Truth, written independently of the code under test ------------------------------------
 
-
 using testing::Placement;
 using testing::TruthMachine;
 
@@ -65,7 +64,7 @@ Runs make_runs(const TruthMachine& m, const Placement& tracker, double sigma, st
 // machine coordinates). master = Rz(exy/2)^T machine + t', with t' from the definition of the
 // origin (mean over both runs of commanded - Rz(exy/2)^T true position).
 Eigen::Isometry3d expected_tracker_to_master(const TruthMachine& m, const Placement& tracker,
-                                            const Runs& runs) {
+                                             const Runs& runs) {
   const Eigen::Matrix3d rt =
       Eigen::AngleAxisd(m.exy / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix().transpose();
   Eigen::Vector3d t = Eigen::Vector3d::Zero();

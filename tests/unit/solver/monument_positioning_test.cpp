@@ -17,10 +17,10 @@
 namespace ncqual::solver {
 namespace {
 
+using testing::metric;
 using testing::pm1_like_machine;
 using testing::random_machine;
 using testing::request;
-using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 

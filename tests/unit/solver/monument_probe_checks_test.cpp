@@ -23,10 +23,10 @@
 namespace ncqual::solver {
 namespace {
 
+using testing::metric;
 using testing::pm1_like_machine;
 using testing::random_machine;
 using testing::request;
-using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 
@@ -172,10 +172,10 @@ TEST(CAxisAlignment, ABodyOffItsHomeLooksLikeAnOffsetAcrossTheAAxis) {
   MachineConfig m = with_probe_tolerances(pm1_like_machine());
   sim::SimulatorConfig c = simulator_config(0.0);
   c.errors.a_home_error_rad = units::arcsec_to_rad(20);
-  const CheckResult r = check_c_axis_alignment(
-      sim::MachineSimulator(m, c).perform(
-          request("pm1", "a-home", CheckKind::MonumentCAlignment), 1),
-      m);
+  const CheckResult r =
+      check_c_axis_alignment(sim::MachineSimulator(m, c).perform(
+                                 request("pm1", "a-home", CheckKind::MonumentCAlignment), 1),
+                             m);
   EXPECT_NEAR(metric(r, c_alignment::kDx).value, 0, 1e-9);
   EXPECT_NEAR(metric(r, c_alignment::kDy).value, 350.0 * std::sin(units::arcsec_to_rad(20)), 1e-9);
   EXPECT_EQ(r.verdict, Verdict::Fail);
@@ -219,8 +219,8 @@ TEST(CAxisAlignment, ConsistencyFollowsTheTriggerNoise) {
   const int n = 400;
   for (int i = 0; i < n; ++i) {
     const CheckResult r = check_c_axis_alignment(
-        simulator.perform(request("pm1", "noise-" + std::to_string(i),
-                                  CheckKind::MonumentCAlignment), 1),
+        simulator.perform(
+            request("pm1", "noise-" + std::to_string(i), CheckKind::MonumentCAlignment), 1),
         m);
     const double c = metric(r, c_alignment::kConsistency).value / 0.001;
     sum_sq += c * c;
@@ -257,17 +257,17 @@ TEST(CompositeToolLength, LengthBandFollowsTheErrorBandUnlessConfigured) {
   MachineConfig m = with_probe_tolerances(pm1_like_machine());
   sim::SimulatorConfig c = simulator_config(0.0);
   c.errors.tool_length_error_mm = 0.04;
-  const MeasurementSet set = sim::MachineSimulator(m, c).perform(
-      request("pm1", "len", CheckKind::MonumentToolLength), 1);
+  const MeasurementSet set =
+      sim::MachineSimulator(m, c).perform(request("pm1", "len", CheckKind::MonumentToolLength), 1);
   CheckResult r = check_composite_tool_length(set, m);
   EXPECT_NEAR(metric(r, tool_length::kLength).value, 350.04, 1e-9);
   EXPECT_DOUBLE_EQ(metric(r, tool_length::kLength).lower, 350.0 - 0.025);
   EXPECT_DOUBLE_EQ(metric(r, tool_length::kLength).upper, 350.0 + 0.025);
   EXPECT_EQ(r.verdict, Verdict::Fail);
-  EXPECT_EQ(r.likely_causes, (std::vector<std::string>{
-                                 "body (spindle housing) shifted",
-                                 "W-axis servo drive not at its home position",
-                                 "probe (stylus length or seating in the spindle)"}));
+  EXPECT_EQ(r.likely_causes,
+            (std::vector<std::string>{"body (spindle housing) shifted",
+                                      "W-axis servo drive not at its home position",
+                                      "probe (stylus length or seating in the spindle)"}));
   m.tolerances["tool_length_mm"] = {349.9, 350.1};
   r = check_composite_tool_length(set, m);
   EXPECT_TRUE(metric(r, tool_length::kLength).pass);
@@ -291,11 +291,11 @@ TEST(CRotation, RecoversTheCAngleErrorWithAllErrorsInjected) {
     const CheckResult result = check_c_rotation(set, m);
     const sim::SimulatorErrors& e = simulator.ground_truth();
     const double L = m.probe.tool_length_mm;
-    const double truth = units::rad_to_arcsec(std::asin(simulator.true_probe().tool_length_mm / L *
-                                                        std::cos(e.a_home_error_rad) *
-                                                        std::sin(e.c_angle_error_rad)));
-    const double sigma = units::rad_to_arcsec(simulator.config().trigger_noise_sigma_mm *
-                                              std::sqrt(2.0) / (2 * L));
+    const double truth = units::rad_to_arcsec(
+        std::asin(simulator.true_probe().tool_length_mm / L * std::cos(e.a_home_error_rad) *
+                  std::sin(e.c_angle_error_rad)));
+    const double sigma =
+        units::rad_to_arcsec(simulator.config().trigger_noise_sigma_mm * std::sqrt(2.0) / (2 * L));
     tally.check(result, m, {{c_rotation::kAngleError, truth, sigma}}, i);
     EXPECT_EQ(metric(result, c_rotation::kAngleError).unit, "arcsec");
   }

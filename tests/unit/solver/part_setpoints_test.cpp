@@ -20,9 +20,9 @@
 namespace ncqual::solver {
 namespace {
 
+using testing::metric;
 using testing::pm1_like_machine;
 using testing::request;
-using testing::metric;
 using testing::simulator_config;
 using testing::uniform;
 
@@ -46,9 +46,8 @@ TEST(PartSetPoints, RecoversBlockShiftsAndSeatingWithMachineErrors) {
     sim::SimulatorConfig c = simulator_config(uniform(rng, 0.0005, 0.002), rng());
     c.part_seating_sigma_mm = 0.01;
     for (const char* name : {"primary", "secondary"}) {
-      c.errors.setpoint_shift_mm[name] =
-          Eigen::Vector3d(uniform(rng, -0.05, 0.05), uniform(rng, -0.05, 0.05),
-                          uniform(rng, -0.05, 0.05));
+      c.errors.setpoint_shift_mm[name] = Eigen::Vector3d(
+          uniform(rng, -0.05, 0.05), uniform(rng, -0.05, 0.05), uniform(rng, -0.05, 0.05));
     }
     for (int k = 0; k < 3; ++k) c.errors.machine_shift_mm[k] = uniform(rng, -0.01, 0.01);
     c.errors.tool_length_error_mm = uniform(rng, -0.01, 0.01);
@@ -63,8 +62,7 @@ TEST(PartSetPoints, RecoversBlockShiftsAndSeatingWithMachineErrors) {
     ASSERT_NE(r.verdict, Verdict::Invalid) << r.reason;
 
     AxisPosition home;
-    const Eigen::Vector3d v =
-        simulator.true_ball_centre(home) - stylus_ball_centre(home, m.probe);
+    const Eigen::Vector3d v = simulator.true_ball_centre(home) - stylus_ball_centre(home, m.probe);
     const auto blocks = simulator.true_setpoint_blocks(id);
     const double sigma = c.trigger_noise_sigma_mm;
     double largest_truth = 0;
@@ -88,10 +86,8 @@ TEST(PartSetPoints, RecoversBlockShiftsAndSeatingWithMachineErrors) {
       ASSERT_TRUE(r.correction.has_value());
       EXPECT_EQ(r.correction->target, "work_offset:pm1");
       ASSERT_EQ(r.correction->offsets.size(), 3u);
-      EXPECT_DOUBLE_EQ(r.correction->offsets[0].value,
-                       metric(r, "setpoint_primary_dx_mm").value);
-      EXPECT_DOUBLE_EQ(r.correction->offsets[2].value,
-                       metric(r, "setpoint_primary_dz_mm").value);
+      EXPECT_DOUBLE_EQ(r.correction->offsets[0].value, metric(r, "setpoint_primary_dx_mm").value);
+      EXPECT_DOUBLE_EQ(r.correction->offsets[2].value, metric(r, "setpoint_primary_dz_mm").value);
     } else {
       ++fails;
       EXPECT_FALSE(r.correction.has_value());
@@ -112,8 +108,8 @@ TEST(PartSetPoints, SeatingIsReproduciblePerRequestAndDiffersBetweenParts) {
   EXPECT_EQ(s.part_seating_mm("a"), s.part_seating_mm("a"));
   EXPECT_NE(s.part_seating_mm("a"), s.part_seating_mm("b"));
   // The seating moves every set point alike: what the check sees of it on a perfect machine.
-  const CheckResult r = check_part_setpoints(
-      s.perform(request("pm1", "a", CheckKind::PartSetPoints), 1), m);
+  const CheckResult r =
+      check_part_setpoints(s.perform(request("pm1", "a", CheckKind::PartSetPoints), 1), m);
   const Eigen::Vector3d seat = s.part_seating_mm("a");
   EXPECT_NEAR(metric(r, "setpoint_secondary_dy_mm").value, seat.y(), 1e-9);
   EXPECT_NEAR(metric(r, "setpoint_primary_dz_mm").value, seat.z(), 1e-9);
@@ -125,19 +121,24 @@ TEST(PartSetPoints, BadInputIsInvalidWithTheFieldNamed) {
     std::function<void(MeasurementSet&, MachineConfig&)> spoil;
     const char* reason_contains;
   } cases[] = {
-      {"missing z touch", [](MeasurementSet& s, MachineConfig&) { s.touches.erase(s.touches.begin()); },
+      {"missing z touch",
+       [](MeasurementSet& s, MachineConfig&) { s.touches.erase(s.touches.begin()); },
        "no 'setpoint:primary:z' touch"},
       {"wrong head", [](MeasurementSet& s, MachineConfig&) { s.touches[4].axes.c_rad = 1; },
        "MeasurementSet.touches[4].axes: head at A = 0 rad, C = 1 rad"},
-      {"unknown set point", [](MeasurementSet& s, MachineConfig&) { s.touches[1].feature = "setpoint:tertiary:x"; },
+      {"unknown set point",
+       [](MeasurementSet& s, MachineConfig&) { s.touches[1].feature = "setpoint:tertiary:x"; },
        "'tertiary' is not a set point"},
-      {"malformed feature", [](MeasurementSet& s, MachineConfig&) { s.touches[1].feature = "setpoint:primary"; },
+      {"malformed feature",
+       [](MeasurementSet& s, MachineConfig&) { s.touches[1].feature = "setpoint:primary"; },
        "MeasurementSet.touches[1].feature = 'setpoint:primary'"},
       {"approach reversed", [](MeasurementSet& s, MachineConfig&) { s.touches[2].approach *= -1; },
        "MeasurementSet.touches[2].approach"},
-      {"no set points configured", [](MeasurementSet&, MachineConfig& m) { m.setpoints.points.clear(); },
+      {"no set points configured",
+       [](MeasurementSet&, MachineConfig& m) { m.setpoints.points.clear(); },
        "setpoints.points is empty"},
-      {"tolerance missing", [](MeasurementSet&, MachineConfig& m) { m.tolerances.erase("setpoint_max_dev_mm"); },
+      {"tolerance missing",
+       [](MeasurementSet&, MachineConfig& m) { m.tolerances.erase("setpoint_max_dev_mm"); },
        "tolerances.setpoint_max_dev_mm is not configured"},
   };
   for (const auto& bad : cases) {
@@ -148,7 +149,8 @@ TEST(PartSetPoints, BadInputIsInvalidWithTheFieldNamed) {
     bad.spoil(set, m);
     const CheckResult r = solve(set, m, 1);
     EXPECT_EQ(r.verdict, Verdict::Invalid) << bad.name;
-    EXPECT_NE(r.reason.find(bad.reason_contains), std::string::npos) << bad.name << ": " << r.reason;
+    EXPECT_NE(r.reason.find(bad.reason_contains), std::string::npos)
+        << bad.name << ": " << r.reason;
   }
 }
 

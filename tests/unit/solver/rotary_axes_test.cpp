@@ -133,8 +133,8 @@ CircleSigmas circle_sigmas(const std::vector<double>& t, double radius, double s
     tau_bar += tau / static_cast<double>(t.size());
     s.dA_max = std::max(s.dA_max, std::sqrt(sigma * sigma + tau.dot(cc * tau)) / radius);
   }
-  s.dA_mean = std::sqrt(sigma * sigma / static_cast<double>(t.size()) + tau_bar.dot(cc * tau_bar)) /
-              radius;
+  s.dA_mean =
+      std::sqrt(sigma * sigma / static_cast<double>(t.size()) + tau_bar.dot(cc * tau_bar)) / radius;
   return s;
 }
 
@@ -164,8 +164,8 @@ std::vector<RotaryPoint> c_points(const TruthWrist& truth, double sigma, std::ui
 }
 
 TEST(RotaryAxes, PerfectCAxisGivesZero) {
-  const RotaryCircleResult r = analyze_circle_axis(RotaryAxis::C, c_points(TruthWrist{}, 0, 1),
-                                                   nominal_geometry());
+  const RotaryCircleResult r =
+      analyze_circle_axis(RotaryAxis::C, c_points(TruthWrist{}, 0, 1), nominal_geometry());
   // Nominal by hand: Rx(45) (8, -5, -250) = (8, -5 cos45 + 250 sin45, -5 sin45 - 250 cos45);
   // radius = |(8, 173.24)|, centre = P + (0, 0, -180.31).
   const double y = -5 * std::cos(kPi / 4) + 250 * std::sin(kPi / 4);
@@ -271,8 +271,8 @@ std::vector<RotaryPoint> a_points(const TruthWrist& truth, double sigma, std::ui
 }
 
 TEST(RotaryAxes, PerfectAAxisGivesZero) {
-  const RotaryCircleResult r = analyze_circle_axis(RotaryAxis::A, a_points(TruthWrist{}, 0, 1),
-                                                   nominal_geometry());
+  const RotaryCircleResult r =
+      analyze_circle_axis(RotaryAxis::A, a_points(TruthWrist{}, 0, 1), nominal_geometry());
   // Nominal by hand: axis Rz(30) X through P, centre P + 8 Rz(30) X, radius |(-5, -270)|.
   const Eigen::Vector3d k(std::cos(30 * kDeg), std::sin(30 * kDeg), 0);
   EXPECT_NEAR((r.nominal_axis_direction - k).norm(), 0, 1e-12);
@@ -313,8 +313,8 @@ TEST(RotaryAxes, AAxisRecoversTiltLocationZeroOffsetAndRadiusWithinNoiseBounds) 
 
   const Eigen::Vector3d k(std::cos(c), std::sin(c), 0);
   const Eigen::Vector3d centre_nom = kPivot + 8 * k;
-  const Eigen::Vector3d centre_true = kPivot + truth.pivot_offset +
-                                      rotation_by(truth.tilt) * rz(c) * Eigen::Vector3d(8.0, 0, 0);
+  const Eigen::Vector3d centre_true =
+      kPivot + truth.pivot_offset + rotation_by(truth.tilt) * rz(c) * Eigen::Vector3d(8.0, 0, 0);
   const double radius_nom = std::hypot(5.0, 250 + w);
   const double radius_true = std::hypot(truth.offset.y(), truth.length + w);
   const double zero_turn =
@@ -325,8 +325,8 @@ TEST(RotaryAxes, AAxisRecoversTiltLocationZeroOffsetAndRadiusWithinNoiseBounds) 
   const CircleSigmas s = circle_sigmas(t, radius_nom, sigma);
 
   for (std::uint64_t seed : {201u, 202u, 203u, 204u, 205u}) {
-    const RotaryCircleResult r = analyze_circle_axis(RotaryAxis::A, a_points(truth, sigma, seed),
-                                                     nominal);
+    const RotaryCircleResult r =
+        analyze_circle_axis(RotaryAxis::A, a_points(truth, sigma, seed), nominal);
     EXPECT_NEAR((r.tilt_reference_1 - head_y).norm(), 0, 1e-12);
     EXPECT_NEAR(r.tilt_urad(0), 80, 5 * s.tilt * 1e6) << seed;
     EXPECT_NEAR(r.tilt_urad(1), -50, 5 * s.tilt * 1e6) << seed;
@@ -472,14 +472,15 @@ TEST(RotaryAxesRefusals, AxesNotHeld) {
   EXPECT_NE(why.find("point 'C7' commanded.a_rad"), std::string::npos) << why;
   pts = c_points(TruthWrist{}, 0, 1);
   pts[2].commanded.w_mm = 5;  // and W
-  EXPECT_NE(refusal([&] { analyze_circle_axis(RotaryAxis::C, pts, g); })
-                .find("point 'C2' commanded.w_mm = 5"),
+  EXPECT_NE(refusal([&] {
+              analyze_circle_axis(RotaryAxis::C, pts, g);
+            }).find("point 'C2' commanded.w_mm = 5"),
             std::string::npos);
   auto a = a_points(TruthWrist{}, 0, 1);
   a[3].commanded.c_rad += 1e-3;  // A check: C must be held
-  EXPECT_NE(refusal([&] { analyze_circle_axis(RotaryAxis::A, a, g); })
-                .find("point 'A3' commanded.c_rad"),
-            std::string::npos);
+  EXPECT_NE(
+      refusal([&] { analyze_circle_axis(RotaryAxis::A, a, g); }).find("point 'A3' commanded.c_rad"),
+      std::string::npos);
   auto w = w_points(TruthW{}, 0, 1);
   w[4].commanded.c_rad += 1e-3;  // W check: A and C held
   EXPECT_NE(refusal([&] { analyze_w_axis(w, g); }).find("point 'W4' commanded.c_rad"),
@@ -506,8 +507,9 @@ TEST(RotaryAxesRefusals, NonFiniteValues) {
   EXPECT_NE(why.find("point 'C9' commanded.c_rad = inf"), std::string::npos) << why;
   ProbeGeometry bad = g;
   bad.tool_length_mm = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_NE(refusal([&] { analyze_w_axis(w_points(TruthW{}, 0, 1), bad); })
-                .find("geometry.tool_length_mm = nan"),
+  EXPECT_NE(refusal([&] {
+              analyze_w_axis(w_points(TruthW{}, 0, 1), bad);
+            }).find("geometry.tool_length_mm = nan"),
             std::string::npos);
 }
 
@@ -521,8 +523,7 @@ TEST(RotaryAxesRefusals, DuplicatePositions) {
   auto w = w_points(TruthW{}, 0, 1);
   w[5].commanded.w_mm = w[2].commanded.w_mm;
   why = refusal([&] { analyze_w_axis(w, g); });
-  EXPECT_NE(why.find("points 'W2' and 'W5' have the same commanded.w_mm = 100"),
-            std::string::npos)
+  EXPECT_NE(why.find("points 'W2' and 'W5' have the same commanded.w_mm = 100"), std::string::npos)
       << why;
 }
 

@@ -92,8 +92,7 @@ TEST(Solve, TrackerCheckOfAMachineWithoutGlobalCheckSectionIsInvalidSayingSo) {
 
 TEST(Solve, SimulatorRefusalBecomesInvalidCarryingItsMessage) {
   const sim::MachineSimulator simulator(pm1_like_machine(), simulator_config(0.001));
-  const MeasurementSet set =
-      simulator.perform(request("pm1", "r-grid", CheckKind::GlobalGrid), 3);
+  const MeasurementSet set = simulator.perform(request("pm1", "r-grid", CheckKind::GlobalGrid), 3);
   const CheckResult r = solve(set, plant_with({pm1_like_machine()}), 4);
   EXPECT_EQ(r.verdict, Verdict::Invalid);
   EXPECT_NE(r.reason.find("the simulator cannot perform check kind 'global_grid' yet"),

@@ -41,7 +41,8 @@ VerificationDesign small_design() {
           const int idx[3] = {ix, iy, iz};
           Vector3d c;
           for (int a = 0; a < 3; ++a) c[a] = kLo[a] + (kHi[a] - kLo[a]) * idx[a] / (steps[a] - 1);
-          d.points.push_back({"p" + std::to_string(d.points.size()) + ":t" + std::to_string(k), c, offsets[k]});
+          d.points.push_back(
+              {"p" + std::to_string(d.points.size()) + ":t" + std::to_string(k), c, offsets[k]});
         }
       }
     }
@@ -145,17 +146,19 @@ TEST(VerificationUncertainty, ZeroNoiseLeavesZeroResidual) {
       MonteCarloOptions o;
       o.trials = 2;
       o.method = method;
-      const VerificationUncertainty u =
-          evaluate_verification_uncertainty(design, quiet_tracker(), quiet_sources(out_of_gauge), o);
+      const VerificationUncertainty u = evaluate_verification_uncertainty(
+          design, quiet_tracker(), quiet_sources(out_of_gauge), o);
       // Linearised: second order in the errors, (40 urad)^2 / 2 x 2.5 m + 40 urad x 20 um
       // ~ 3e-6 mm at most. The full identification solves the exact model; out-of-gauge terms
       // (20 urad, 20 um) are absorbed by the frame and the gauge's terms to second order only:
       // (20 urad)^2 x 1 m ~ 4e-7 mm.
-      const double bound = method == IdentificationMethod::Full ? (out_of_gauge ? 5e-7 : 1e-9) : 5e-6;
+      const double bound =
+          method == IdentificationMethod::Full ? (out_of_gauge ? 5e-7 : 1e-9) : 5e-6;
       std::printf("zero noise, out of gauge %d, %s: largest |e| %.3g mm\n", out_of_gauge,
-                  method == IdentificationMethod::Full ? "full" : "linearised", largest(u.trial_max_mm));
-      EXPECT_LT(largest(u.trial_max_mm), bound) << "out_of_gauge " << out_of_gauge << " method "
-                                                << static_cast<int>(method);
+                  method == IdentificationMethod::Full ? "full" : "linearised",
+                  largest(u.trial_max_mm));
+      EXPECT_LT(largest(u.trial_max_mm), bound)
+          << "out_of_gauge " << out_of_gauge << " method " << static_cast<int>(method);
       EXPECT_EQ(u.points.size(), design.points.size());
       EXPECT_EQ(u.observations, 3 * static_cast<int>(design.points.size()));
       EXPECT_TRUE(u.unidentifiable.empty());
@@ -183,7 +186,9 @@ TEST(VerificationUncertainty, ResidualIsLinearInTrackerNoise) {
   ASSERT_GT(a.mean_residual_mm.mean, 1e-4);  // noise reaches the residual
   for (int k = 0; k < o.trials; ++k) {
     // Spherical noise of tens of urad: nonlinearity ~ 1e-5 relative.
-    EXPECT_NEAR(b.trial_mean_mm[static_cast<std::size_t>(k)] / a.trial_mean_mm[static_cast<std::size_t>(k)], 2.0, 1e-3);
+    EXPECT_NEAR(
+        b.trial_mean_mm[static_cast<std::size_t>(k)] / a.trial_mean_mm[static_cast<std::size_t>(k)],
+        2.0, 1e-3);
   }
   for (std::size_t i = 0; i < a.points.size(); i += 37) {
     EXPECT_NEAR(b.points[i].sigma_mm.norm() / a.points[i].sigma_mm.norm(), 2.0, 1e-3);
@@ -198,9 +203,10 @@ TEST(VerificationUncertainty, ResidualIsLinearInTrackerNoise) {
                               4 * std::pow(sample_sd(a.trial_mean_mm), 2) / n);
   EXPECT_LT(std::abs(mean(c.trial_mean_mm) - 2 * mean(a.trial_mean_mm)), 5 * se);
   EXPECT_GT(mean(c.trial_mean_mm), 1.5 * mean(a.trial_mean_mm));
-  std::printf("noise x2: mean |e| %.3f -> %.3f um (same draws), %.3f um (other draws, 5 SE = %.3f um)\n",
-              mean(a.trial_mean_mm) * 1e3, mean(b.trial_mean_mm) * 1e3, mean(c.trial_mean_mm) * 1e3,
-              5 * se * 1e3);
+  std::printf(
+      "noise x2: mean |e| %.3f -> %.3f um (same draws), %.3f um (other draws, 5 SE = %.3f um)\n",
+      mean(a.trial_mean_mm) * 1e3, mean(b.trial_mean_mm) * 1e3, mean(c.trial_mean_mm) * 1e3,
+      5 * se * 1e3);
 }
 
 TEST(VerificationUncertainty, ThermalCorrectionErrorIsAScaleAboutTheRangeMiddle) {
@@ -214,7 +220,8 @@ TEST(VerificationUncertainty, ThermalCorrectionErrorIsAScaleAboutTheRangeMiddle)
   s.expansion_sigma_per_K = Vector3d(expansion_uncertainty_per_K(11.5e-6), 0, 0);
   MonteCarloOptions o;
   o.trials = 100;
-  const VerificationUncertainty u = evaluate_verification_uncertainty(design, quiet_tracker(), s, o);
+  const VerificationUncertainty u =
+      evaluate_verification_uncertainty(design, quiet_tracker(), s, o);
   const double mid = (kLo[0] + kHi[0]) / 2;
   const PointUncertainty* far = nullptr;
   for (const auto& p : u.points) {
@@ -311,10 +318,12 @@ TEST(VerificationUncertainty, TrackerErrorGrowsWithRange) {
   MonteCarloOptions o;
   o.trials = 1;
   const VerificationDesign d = small_design();
-  const VerificationUncertainty v = evaluate_verification_uncertainty(d, t, quiet_sources(false), o);
+  const VerificationUncertainty v =
+      evaluate_verification_uncertainty(d, t, quiet_sources(false), o);
   for (std::size_t i = 0; i < d.points.size(); i += 23) {
-    EXPECT_DOUBLE_EQ(v.points[i].tracker_u_mm,
-                     tracker_point_uncertainty(t, d.points[i].commanded_mm + d.points[i].tool_offset_mm).u_p_mm);
+    EXPECT_DOUBLE_EQ(
+        v.points[i].tracker_u_mm,
+        tracker_point_uncertainty(t, d.points[i].commanded_mm + d.points[i].tool_offset_mm).u_p_mm);
   }
 }
 
@@ -353,11 +362,14 @@ TEST(VerificationUncertainty, LocationSearchFindsTheBestCandidate) {
   poor.position_mm = Vector3d(4000, -4000, 2000);
   double poor_max = 0;
   for (const auto& p : design.points) {
-    poor_max = std::max(poor_max, tracker_point_uncertainty(poor, p.commanded_mm + p.tool_offset_mm).u_p_mm);
+    poor_max = std::max(poor_max,
+                        tracker_point_uncertainty(poor, p.commanded_mm + p.tool_offset_mm).u_p_mm);
   }
-  std::printf("location: best (%.0f, %.0f, %.0f) max u_p %.2f um of %d candidates (%d excluded); "
-              "far corner %.2f um\n", s.best.position_mm.x(), s.best.position_mm.y(), s.best.position_mm.z(),
-              s.max_u_mm * 1e3, s.tried, s.excluded, poor_max * 1e3);
+  std::printf(
+      "location: best (%.0f, %.0f, %.0f) max u_p %.2f um of %d candidates (%d excluded); "
+      "far corner %.2f um\n",
+      s.best.position_mm.x(), s.best.position_mm.y(), s.best.position_mm.z(), s.max_u_mm * 1e3,
+      s.tried, s.excluded, poor_max * 1e3);
   EXPECT_LT(s.max_u_mm, 0.8 * poor_max);
   // Reported best first, no more than asked.
   options.report = 3;
@@ -376,13 +388,16 @@ TEST(VerificationUncertainty, LinearisedAgreesWithFullIdentification) {
   s.temperature_sigma_K = Vector3d::Constant(0.2);
   MonteCarloOptions o;
   o.trials = 12;
-  const VerificationUncertainty lin = evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
+  const VerificationUncertainty lin =
+      evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
   o.method = IdentificationMethod::Full;
-  const VerificationUncertainty full = evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
+  const VerificationUncertainty full =
+      evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
   ASSERT_EQ(full.method, IdentificationMethod::Full);
   for (int k = 0; k < o.trials; ++k) {
     const auto i = static_cast<std::size_t>(k);
-    EXPECT_NEAR(lin.trial_mean_mm[i], full.trial_mean_mm[i], 1e-3 * full.trial_mean_mm[i] + 1e-7) << k;
+    EXPECT_NEAR(lin.trial_mean_mm[i], full.trial_mean_mm[i], 1e-3 * full.trial_mean_mm[i] + 1e-7)
+        << k;
     EXPECT_NEAR(lin.trial_max_mm[i], full.trial_max_mm[i], 1e-3 * full.trial_max_mm[i] + 1e-7) << k;
   }
   double worst_mean = 0, worst_max = 0;
@@ -391,11 +406,12 @@ TEST(VerificationUncertainty, LinearisedAgreesWithFullIdentification) {
     worst_mean = std::max(worst_mean, std::abs(lin.trial_mean_mm[i] / full.trial_mean_mm[i] - 1));
     worst_max = std::max(worst_max, std::abs(lin.trial_max_mm[i] / full.trial_max_mm[i] - 1));
   }
-  std::printf("linearised vs full, %d trials: mean |e| %.3f vs %.3f um (worst relative difference of a "
-              "trial %.2g), max |e| %.3f vs %.3f um (%.2g); %.1f vs %.1f parameters kept\n",
-              o.trials, lin.mean_residual_mm.mean * 1e3, full.mean_residual_mm.mean * 1e3, worst_mean,
-              lin.max_residual_mm.mean * 1e3, full.max_residual_mm.mean * 1e3, worst_max,
-              lin.mean_kept_parameters, full.mean_kept_parameters);
+  std::printf(
+      "linearised vs full, %d trials: mean |e| %.3f vs %.3f um (worst relative difference of a "
+      "trial %.2g), max |e| %.3f vs %.3f um (%.2g); %.1f vs %.1f parameters kept\n",
+      o.trials, lin.mean_residual_mm.mean * 1e3, full.mean_residual_mm.mean * 1e3, worst_mean,
+      lin.max_residual_mm.mean * 1e3, full.max_residual_mm.mean * 1e3, worst_max,
+      lin.mean_kept_parameters, full.mean_kept_parameters);
   EXPECT_NEAR(lin.mean_kept_parameters, full.mean_kept_parameters, 1e-9);
   for (std::size_t i = 0; i < design.points.size(); i += 17) {
     EXPECT_NEAR((lin.points[i].mean_mm - full.points[i].mean_mm).norm(), 0, 1e-6) << i;
@@ -410,10 +426,13 @@ TEST(VerificationUncertainty, ReproducibleWithASeedWhateverTheThreads) {
   MonteCarloOptions o;
   o.trials = 120;  // more than two accumulation blocks
   o.seed = 5;
-  const VerificationUncertainty a = evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
-  const VerificationUncertainty b = evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
+  const VerificationUncertainty a =
+      evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
+  const VerificationUncertainty b =
+      evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
   o.threads = 2;
-  const VerificationUncertainty c = evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
+  const VerificationUncertainty c =
+      evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
   EXPECT_EQ(a.trial_mean_mm, b.trial_mean_mm);
   EXPECT_EQ(a.trial_mean_mm, c.trial_mean_mm);
   EXPECT_EQ(a.trial_max_mm, c.trial_max_mm);
@@ -424,7 +443,8 @@ TEST(VerificationUncertainty, ReproducibleWithASeedWhateverTheThreads) {
   }
   EXPECT_EQ(a.max_residual_mm.quantile95, c.max_residual_mm.quantile95);
   o.seed = 6;
-  const VerificationUncertainty d = evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
+  const VerificationUncertainty d =
+      evaluate_verification_uncertainty(design, noisy_tracker(), s, o);
   EXPECT_NE(a.trial_mean_mm, d.trial_mean_mm);
   // Summaries are those of the per-trial values; the 95 % bound is an order statistic.
   EXPECT_NEAR(a.mean_residual_mm.mean, mean(a.trial_mean_mm), 1e-15);
@@ -436,7 +456,8 @@ TEST(VerificationUncertainty, ReproducibleWithASeedWhateverTheThreads) {
 }
 
 TEST(VerificationUncertainty, Pm1GridDesign) {
-  const MachineConfig m = load_machine_config(std::string(NCQUAL_SOURCE_DIR) + "/deploy/machines/pm1.yaml");
+  const MachineConfig m =
+      load_machine_config(std::string(NCQUAL_SOURCE_DIR) + "/deploy/machines/pm1.yaml");
   ASSERT_TRUE(m.global_check.has_value());
   const VerificationDesign d = grid_verification_design(*m.global_check);
   ASSERT_EQ(d.points.size(), 864u);  // 9 x 6 x 4 grid x 4 targets
@@ -534,8 +555,9 @@ TEST(VerificationUncertainty, Refusals) {
         try {
           (void)best_tracker_location(design, t, r);
         } catch (const std::invalid_argument& e) {
-          EXPECT_NE(std::string(e.what()).find("TrackerRegion: all 75 candidate positions are excluded"),
-                    std::string::npos)
+          EXPECT_NE(
+              std::string(e.what()).find("TrackerRegion: all 75 candidate positions are excluded"),
+              std::string::npos)
               << e.what();
           throw;
         }

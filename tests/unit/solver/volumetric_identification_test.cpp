@@ -29,14 +29,14 @@ constexpr double kHi[3] = {3200, 1000, 600};
 constexpr double kCubeLo = 0, kCubeHi = 600;
 constexpr int kSteps[3] = {9, 6, 4};  // grid positions per axis
 
-const std::vector<Vector3d> kFourOffsets = {
-    Vector3d(0, 0, -350), Vector3d(0, 0, -550), Vector3d(150, 0, -350), Vector3d(0, 150, -350)};
+const std::vector<Vector3d> kFourOffsets = {Vector3d(0, 0, -350), Vector3d(0, 0, -550),
+                                            Vector3d(150, 0, -350), Vector3d(0, 150, -350)};
 
 struct TruthSpec {
   std::array<int, 3> degree{{4, 3, 3}};  // highest Legendre order per axis
   std::array<double, 3> lo{{kLo[0], kLo[1], kLo[2]}}, hi{{kHi[0], kHi[1], kHi[2]}};  // axis ranges
-  bool angular = true;                     // angular errors at all
-  bool out_of_gauge = false;               // add constants and linear straightness
+  bool angular = true;        // angular errors at all
+  bool out_of_gauge = false;  // add constants and linear straightness
 };
 
 double signed_uniform(std::mt19937& rng, double scale) {
@@ -94,12 +94,14 @@ Eigen::Isometry3d random_frame(std::mt19937& rng) {
   std::normal_distribution<double> n(0, 1);
   std::uniform_real_distribution<double> angle(0.1, 3.0), shift(-3000, 3000);
   Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
-  f.linear() = Eigen::AngleAxisd(angle(rng), Vector3d(n(rng), n(rng), n(rng)).normalized()).toRotationMatrix();
+  f.linear() = Eigen::AngleAxisd(angle(rng), Vector3d(n(rng), n(rng), n(rng)).normalized())
+                   .toRotationMatrix();
   f.translation() = Vector3d(shift(rng), shift(rng), shift(rng));
   return f;
 }
 
-std::vector<VolumetricPoint> tracker_grid(const RigidBodyErrors& truth, const Eigen::Isometry3d& frame,
+std::vector<VolumetricPoint> tracker_grid(const RigidBodyErrors& truth,
+                                          const Eigen::Isometry3d& frame,
                                           const std::vector<Vector3d>& offsets, double sigma,
                                           std::mt19937& rng) {
   std::normal_distribution<double> noise(0, sigma);
@@ -113,9 +115,11 @@ std::vector<VolumetricPoint> tracker_grid(const RigidBodyErrors& truth, const Ei
                                     kLo[1] + (kHi[1] - kLo[1]) * j / (kSteps[1] - 1),
                                     kLo[2] + (kHi[2] - kLo[2]) * k / (kSteps[2] - 1));
           p.tool_offset_mm = offsets[o];
-          p.label = "T" + std::to_string(o) + "_" + std::to_string(i) + std::to_string(j) + std::to_string(k);
-          p.measured_mm = frame * volumetric::actual_position(truth, p.commanded_mm, p.tool_offset_mm) +
-                          Vector3d(noise(rng), noise(rng), noise(rng));
+          p.label = "T" + std::to_string(o) + "_" + std::to_string(i) + std::to_string(j) +
+                    std::to_string(k);
+          p.measured_mm =
+              frame * volumetric::actual_position(truth, p.commanded_mm, p.tool_offset_mm) +
+              Vector3d(noise(rng), noise(rng), noise(rng));
           p.sigma_mm = sigma;
           pts.push_back(p);
         }
@@ -139,9 +143,12 @@ void expect_function_within_5_sigma(const IdentifiedErrors& id, int f, const Err
 }
 
 void expect_squareness_within_5_sigma(const IdentifiedErrors& id, const RigidBodyErrors& truth) {
-  EXPECT_LE(std::abs(id.errors.ec0xy_rad - truth.ec0xy_rad), 5 * id.squareness_sigma_rad(0)) << "EC(0X)Y";
-  EXPECT_LE(std::abs(id.errors.eb0xz_rad - truth.eb0xz_rad), 5 * id.squareness_sigma_rad(1)) << "EB(0X)Z";
-  EXPECT_LE(std::abs(id.errors.ea0yz_rad - truth.ea0yz_rad), 5 * id.squareness_sigma_rad(2)) << "EA(0Y)Z";
+  EXPECT_LE(std::abs(id.errors.ec0xy_rad - truth.ec0xy_rad), 5 * id.squareness_sigma_rad(0))
+      << "EC(0X)Y";
+  EXPECT_LE(std::abs(id.errors.eb0xz_rad - truth.eb0xz_rad), 5 * id.squareness_sigma_rad(1))
+      << "EB(0X)Z";
+  EXPECT_LE(std::abs(id.errors.ea0yz_rad - truth.ea0yz_rad), 5 * id.squareness_sigma_rad(2))
+      << "EA(0Y)Z";
 }
 
 // The chi-square of `value` with `dof` degrees of freedom lies within 5 of its standard deviations.
@@ -189,10 +196,13 @@ TEST(VolumetricIdentification, RecoversTheTruthFromATrackerGridWithFourToolOffse
   for (int run = 0; run < 3; ++run) {
     const auto t0 = std::chrono::steady_clock::now();
     id = identify_rigid_body_errors(pts);
-    ms = std::min(ms, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    ms = std::min(
+        ms,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
-  std::printf("[ timing   ] %zu points x 3, %zu parameters: identified in %.1f ms (Ceres %d iterations)\n",
-              pts.size(), id.parameters.size(), ms, id.iterations);
+  std::printf(
+      "[ timing   ] %zu points x 3, %zu parameters: identified in %.1f ms (Ceres %d iterations)\n",
+      pts.size(), id.parameters.size(), ms, id.iterations);
 
   EXPECT_TRUE(id.unidentifiable.empty()) << id.unidentifiable.front();
   EXPECT_TRUE(id.converged);
@@ -205,7 +215,8 @@ TEST(VolumetricIdentification, RecoversTheTruthFromATrackerGridWithFourToolOffse
   for (int i = 0; i < 3; ++i) {
     EXPECT_LE(std::abs(err.angle() * err.axis()(i)), 5 * id.frame_sigma(i)) << "rotation " << i;
     EXPECT_LE(std::abs(frame.translation()(i) - id.instrument_from_machine.translation()(i)),
-              5 * id.frame_sigma(3 + i)) << "translation " << i;
+              5 * id.frame_sigma(3 + i))
+        << "translation " << i;
   }
   // Honest sigmas: the residual chi-square follows its degrees of freedom.
   EXPECT_EQ(id.observations, 3 * 864);
@@ -222,13 +233,17 @@ TEST(VolumetricIdentification, RecoversTheTruthFromATrackerGridWithFourToolOffse
   EXPECT_EQ(id.point_residuals[5].label, pts[5].label);
   // The residual after compensation is measured - the model's prediction of that point.
   const VolumetricPrediction pr5 = predict_position(id, pts[5].commanded_mm, pts[5].tool_offset_mm);
-  EXPECT_LT((pts[5].measured_mm - pr5.in_instrument_mm - id.point_residuals[5].after_mm).norm(), 1e-9);
-  std::printf("[ result   ] rms before %.1f um, after %.2f um (noise %.1f um), chi2 %.0f / dof %d\n",
-              id.rms_before_mm * 1e3, id.rms_after_mm * 1e3, sigma * 1e3, id.chi_square, id.degrees_of_freedom);
+  EXPECT_LT((pts[5].measured_mm - pr5.in_instrument_mm - id.point_residuals[5].after_mm).norm(),
+            1e-9);
+  std::printf(
+      "[ result   ] rms before %.1f um, after %.2f um (noise %.1f um), chi2 %.0f / dof %d\n",
+      id.rms_before_mm * 1e3, id.rms_after_mm * 1e3, sigma * 1e3, id.chi_square,
+      id.degrees_of_freedom);
   // Orders: every true top coefficient is >= 7 sigma, so the BIC keeps at least the true order.
   for (int f = 0; f < volumetric::kFunctionCount; ++f) {
-    EXPECT_GE(id.degree[static_cast<std::size_t>(f)],
-              static_cast<int>(truth.functions[static_cast<std::size_t>(f)].coefficients.size()) - 1)
+    EXPECT_GE(
+        id.degree[static_cast<std::size_t>(f)],
+        static_cast<int>(truth.functions[static_cast<std::size_t>(f)].coefficients.size()) - 1)
         << volumetric::function_name(f);
   }
   EXPECT_THROW(id.sigma_at(21, 0), std::invalid_argument);
@@ -261,7 +276,8 @@ TEST(VolumetricIdentification, CovarianceIsHonestOverSeeds) {
     total += chi2;
     parameters += p;
   }
-  std::printf("[ result   ] parameter chi2 %.1f for %d parameters over 6 seeds\n", total, parameters);
+  std::printf("[ result   ] parameter chi2 %.1f for %d parameters over 6 seeds\n", total,
+              parameters);
   expect_chi_square(total, parameters, "parameter chi-square over seeds");
 }
 
@@ -273,8 +289,12 @@ TEST(VolumetricIdentification, OneToolOffsetLeavesEcyAndZAngularUnidentifiable) 
   for (std::size_t k = 0; k < truth.functions[16].coefficients.size(); ++k) {
     auto& ebz = truth.functions[16].coefficients[k];
     auto& eaz = truth.functions[15].coefficients[k];
-    if (k < truth.functions[12].coefficients.size() && ebz * truth.functions[12].coefficients[k] > 0) ebz = -ebz;
-    if (k < truth.functions[13].coefficients.size() && eaz * truth.functions[13].coefficients[k] < 0) eaz = -eaz;
+    if (k < truth.functions[12].coefficients.size() &&
+        ebz * truth.functions[12].coefficients[k] > 0)
+      ebz = -ebz;
+    if (k < truth.functions[13].coefficients.size() &&
+        eaz * truth.functions[13].coefficients[k] < 0)
+      eaz = -eaz;
   }
   const Eigen::Isometry3d frame = random_frame(rng);
   const double tz = -350;
@@ -300,8 +320,8 @@ TEST(VolumetricIdentification, OneToolOffsetLeavesEcyAndZAngularUnidentifiable) 
     eyz[k] -= tz * eaz[k];
   }
   const double per_mm = 2.0 / (kHi[2] - kLo[2]);  // dP1/dz
-  lumped.eb0xz_rad += tz * ebz[1] * per_mm;         // x += EB(0X)Z z
-  lumped.ea0yz_rad += tz * eaz[1] * per_mm;         // y -= EA(0Y)Z z
+  lumped.eb0xz_rad += tz * ebz[1] * per_mm;       // x += EB(0X)Z z
+  lumped.ea0yz_rad += tz * eaz[1] * per_mm;       // y -= EA(0Y)Z z
   for (int f = 0; f < volumetric::kFunctionCount; ++f) {
     if (f == 11 || f >= 15) continue;
     expect_function_within_5_sigma(id, f, lumped.functions[static_cast<std::size_t>(f)]);
@@ -338,22 +358,26 @@ TEST(VolumetricIdentification, TruthOutsideTheGaugePredictsTheFieldAtNewPoints) 
       worst_z = std::max(worst_z, std::abs(err(k)) / s);
       worst_um = std::max(worst_um, std::abs(err(k)) * 1e3);
     }
-    // The error field itself (actual - commanded - t) is tens of um, far above the prediction error.
+    // The error field itself (actual - commanded - t) is tens of um, far above the prediction
+    // error.
     EXPECT_GT(pr.actual_covariance_mm2.trace(), 0.0);
   }
-  std::printf("[ result   ] 200 new points: worst prediction error %.2f um (%.1f sigma); before %.1f um rms\n",
-              worst_um, worst_z, id.rms_before_mm * 1e3);
+  std::printf(
+      "[ result   ] 200 new points: worst prediction error %.2f um (%.1f sigma); before %.1f um "
+      "rms\n",
+      worst_um, worst_z, id.rms_before_mm * 1e3);
   EXPECT_GT(id.rms_before_mm, 5 * id.rms_after_mm);
 }
 
 // Sequential-diagonal readings: the four body diagonals of the cube [kCubeLo, kCubeHi]^3, X, Y, Z
 // moved one at a time, `steps` single moves of each axis per diagonal.
-std::vector<DiagonalReading> diagonal_readings(const RigidBodyErrors& truth, const Eigen::Matrix3d& beams,
-                                               int steps, double sigma, std::mt19937& rng) {
+std::vector<DiagonalReading> diagonal_readings(const RigidBodyErrors& truth,
+                                               const Eigen::Matrix3d& beams, int steps,
+                                               double sigma, std::mt19937& rng) {
   std::normal_distribution<double> noise(0, sigma);
   const Vector3d lo = Vector3d::Constant(kCubeLo), hi = Vector3d::Constant(kCubeHi);
-  const Vector3d starts[4] = {lo, Vector3d(hi.x(), lo.y(), lo.z()), Vector3d(lo.x(), hi.y(), lo.z()),
-                              Vector3d(lo.x(), lo.y(), hi.z())};
+  const Vector3d starts[4] = {lo, Vector3d(hi.x(), lo.y(), lo.z()),
+                              Vector3d(lo.x(), hi.y(), lo.z()), Vector3d(lo.x(), lo.y(), hi.z())};
   std::vector<DiagonalReading> out;
   for (int d = 0; d < 4; ++d) {
     const Vector3d start = starts[d];
@@ -373,7 +397,9 @@ std::vector<DiagonalReading> diagonal_readings(const RigidBodyErrors& truth, con
       for (int axis = 0; axis < 3; ++axis) {
         c(axis) += step(axis);
         r.commanded_mm = c;
-        r.displacement_mm = (beams * dir).dot(volumetric::actual_position(truth, c, Vector3d::Zero()) - p0) + noise(rng);
+        r.displacement_mm =
+            (beams * dir).dot(volumetric::actual_position(truth, c, Vector3d::Zero()) - p0) +
+            noise(rng);
         out.push_back(r);
       }
     }
@@ -404,7 +430,8 @@ TEST(VolumetricIdentification, SequentialDiagonalsRecoverTranslationalErrorsAndS
 
   const auto t0 = std::chrono::steady_clock::now();
   const IdentifiedErrors id = identify_from_diagonals(readings);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   std::printf("[ timing   ] %zu diagonal readings, %zu parameters: identified in %.1f ms\n",
               readings.size(), id.parameters.size(), ms);
 
@@ -421,11 +448,13 @@ TEST(VolumetricIdentification, SequentialDiagonalsRecoverTranslationalErrorsAndS
   expect_squareness_within_5_sigma(id, truth);
   // The beam-set rotation is the one simulated.
   const Eigen::AngleAxisd err(id.instrument_from_machine.linear().transpose() * beams);
-  for (int i = 0; i < 3; ++i) EXPECT_LE(std::abs(err.angle() * err.axis()(i)), 5 * id.frame_sigma(i));
+  for (int i = 0; i < 3; ++i)
+    EXPECT_LE(std::abs(err.angle() * err.axis()(i)), 5 * id.frame_sigma(i));
   EXPECT_EQ(id.observations, 4 * 36);
   expect_chi_square(id.chi_square, id.degrees_of_freedom, "residual chi-square");
   EXPECT_EQ(id.reading_residuals.size(), 144u);
-  const double expected_rms = sigma * std::sqrt(static_cast<double>(id.degrees_of_freedom) / id.observations);
+  const double expected_rms =
+      sigma * std::sqrt(static_cast<double>(id.degrees_of_freedom) / id.observations);
   EXPECT_NEAR(id.rms_after_mm, expected_rms, 0.35 * expected_rms);  // 144 readings: 6 % spread
   EXPECT_GT(id.rms_before_mm, 5 * id.rms_after_mm);
   std::printf("[ result   ] diagonals: rms before %.1f um, after %.2f um (noise %.1f um)\n",
@@ -443,7 +472,9 @@ std::string refusal(F f) {
   return "";
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 TEST(VolumetricIdentification, RefusesBadTrackerData) {
   std::mt19937 rng(5);
@@ -455,23 +486,28 @@ TEST(VolumetricIdentification, RefusesBadTrackerData) {
     auto pts = good;
     pts[3].measured_mm.y() = std::nan("");
     const std::string msg = refusal([&] { identify_rigid_body_errors(pts); });
-    EXPECT_TRUE(contains(msg, "points[3]") && contains(msg, "measured_mm") && contains(msg, "nan")) << msg;
+    EXPECT_TRUE(contains(msg, "points[3]") && contains(msg, "measured_mm") && contains(msg, "nan"))
+        << msg;
   }
   {
     auto pts = good;
     pts[7].tool_offset_mm.x() = INFINITY;
-    EXPECT_TRUE(contains(refusal([&] { identify_rigid_body_errors(pts); }), "points[7] ('" + pts[7].label + "').tool_offset_mm"));
+    EXPECT_TRUE(contains(refusal([&] { identify_rigid_body_errors(pts); }),
+                         "points[7] ('" + pts[7].label + "').tool_offset_mm"));
   }
   {
     auto pts = good;
     pts[9].sigma_mm = 0;
-    EXPECT_TRUE(contains(refusal([&] { identify_rigid_body_errors(pts); }), "points[9] ('" + pts[9].label + "').sigma_mm = 0"));
+    EXPECT_TRUE(contains(refusal([&] { identify_rigid_body_errors(pts); }),
+                         "points[9] ('" + pts[9].label + "').sigma_mm = 0"));
   }
   {
     auto pts = good;
     pts[20].commanded_mm = pts[2].commanded_mm;  // same offset group: a duplicate pair
     const std::string msg = refusal([&] { identify_rigid_body_errors(pts); });
-    EXPECT_TRUE(contains(msg, "duplicate") && contains(msg, "points[2]") && contains(msg, "points[20]")) << msg;
+    EXPECT_TRUE(contains(msg, "duplicate") && contains(msg, "points[2]") &&
+                contains(msg, "points[20]"))
+        << msg;
   }
   {
     std::vector<VolumetricPoint> pts;
@@ -485,7 +521,8 @@ TEST(VolumetricIdentification, RefusesBadTrackerData) {
     // Five points, 3 distinct positions per axis: 15 observations; candidate model with orders
     // up to 2: frame 6 + squareness 3 + X 10 + Y 10 + Z 13 (EAZ, EBZ, ECZ keep P0) = 42.
     std::vector<VolumetricPoint> pts;
-    const Vector3d cs[5] = {{0, 0, 0}, {100, 100, 100}, {200, 200, 200}, {0, 100, 200}, {200, 0, 100}};
+    const Vector3d cs[5] = {
+        {0, 0, 0}, {100, 100, 100}, {200, 200, 200}, {0, 100, 200}, {200, 0, 100}};
     for (int i = 0; i < 5; ++i) {
       VolumetricPoint p;
       p.label = "P" + std::to_string(i);
@@ -495,7 +532,8 @@ TEST(VolumetricIdentification, RefusesBadTrackerData) {
       pts.push_back(p);
     }
     const std::string msg = refusal([&] { identify_rigid_body_errors(pts); });
-    EXPECT_TRUE(contains(msg, "5 points give 15 observations") && contains(msg, "42 unknowns")) << msg;
+    EXPECT_TRUE(contains(msg, "5 points give 15 observations") && contains(msg, "42 unknowns"))
+        << msg;
   }
   {
     IdentificationOptions o;
@@ -503,7 +541,8 @@ TEST(VolumetricIdentification, RefusesBadTrackerData) {
     EXPECT_TRUE(contains(refusal([&] { identify_rigid_body_errors(good, o); }), "max_degree = 0"));
     o = IdentificationOptions{};
     o.axis_range_mm = std::array<std::array<double, 2>, 3>{{{0, 3200}, {5, 5}, {0, 600}}};
-    EXPECT_TRUE(contains(refusal([&] { identify_rigid_body_errors(good, o); }), "axis_range_mm[Y] = [5, 5]"));
+    EXPECT_TRUE(contains(refusal([&] { identify_rigid_body_errors(good, o); }),
+                         "axis_range_mm[Y] = [5, 5]"));
   }
 }
 
@@ -530,17 +569,20 @@ TEST(VolumetricIdentification, RefusesBadDiagonalData) {
     auto r = good;
     r[0].displacement_mm = 0.003;  // the start reading of diagonal 0
     const std::string msg = refusal([&] { identify_from_diagonals(r); });
-    EXPECT_TRUE(contains(msg, "readings[0].displacement_mm = 0.003") && contains(msg, "start")) << msg;
+    EXPECT_TRUE(contains(msg, "readings[0].displacement_mm = 0.003") && contains(msg, "start"))
+        << msg;
   }
   {
     auto r = good;
     r[6].sigma_mm = -1;
-    EXPECT_TRUE(contains(refusal([&] { identify_from_diagonals(r); }), "readings[6].sigma_mm = -1"));
+    EXPECT_TRUE(
+        contains(refusal([&] { identify_from_diagonals(r); }), "readings[6].sigma_mm = -1"));
   }
   {
     auto r = good;
     r[7].displacement_mm = std::nan("");
-    EXPECT_TRUE(contains(refusal([&] { identify_from_diagonals(r); }), "readings[7].displacement_mm"));
+    EXPECT_TRUE(
+        contains(refusal([&] { identify_from_diagonals(r); }), "readings[7].displacement_mm"));
   }
   {
     auto r = good;
@@ -553,7 +595,9 @@ TEST(VolumetricIdentification, RefusesBadDiagonalData) {
     const auto few = diagonal_readings(truth, Eigen::Matrix3d::Identity(), 3, 0.001, rng);
     std::vector<DiagonalReading> r(few.begin(), few.begin() + 20);
     const std::string msg = refusal([&] { identify_from_diagonals(r); });
-    EXPECT_TRUE(contains(msg, "18 moved readings give 18 observations") && contains(msg, "27 unknowns")) << msg;
+    EXPECT_TRUE(contains(msg, "18 moved readings give 18 observations") &&
+                contains(msg, "27 unknowns"))
+        << msg;
   }
 }
 

@@ -140,7 +140,7 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
   std::vector<std::string> ids;
   for (const CheckRecord& r : db.history(all)) ids.push_back(r.request_id);
   EXPECT_EQ(ids, (std::vector<std::string>{"pm1-late-1", "pm2-master-2", "pm2-master-1",
-                                            "pm1-precal-1", "pm1-c-align-1"}));
+                                           "pm1-precal-1", "pm1-c-align-1"}));
   EXPECT_EQ(db.count_results(), 4);
   EXPECT_EQ(db.count_results("pm1"), 3);
 

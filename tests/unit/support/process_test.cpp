@@ -37,7 +37,8 @@ TEST(Process, MergedKeepsTheOrderAndStdoutOnlyDropsStderr) {
 }
 
 TEST(Process, ArgumentsArriveAsTheyAreWithNoShell) {
-  const Outcome r = run(Launch({"printf", "[%s]\\n", "two words", "it's \"quoted\"", "$HOME", "*", ""}));
+  const Outcome r =
+      run(Launch({"printf", "[%s]\\n", "two words", "it's \"quoted\"", "$HOME", "*", ""}));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.out, "[two words]\n[it's \"quoted\"]\n[$HOME]\n[*]\n[]\n");
 }
@@ -46,8 +47,8 @@ TEST(Process, WorkingDirectoryAndEnvironment) {
   const fs::path dir = fs::canonical(fs::temp_directory_path());
   const Outcome pwd = run(Launch({"pwd"}).in(dir.string()));
   EXPECT_EQ(pwd.out, dir.string() + "\n");
-  const Outcome env = run(
-      Launch({"printenv", "NCQUAL_PROCESS_TEST", "PATH"}).with_env("NCQUAL_PROCESS_TEST", "a value"));
+  const Outcome env = run(Launch({"printenv", "NCQUAL_PROCESS_TEST", "PATH"})
+                              .with_env("NCQUAL_PROCESS_TEST", "a value"));
   EXPECT_EQ(env.out, std::string("a value\n") + std::getenv("PATH") + "\n");
 }
 
@@ -58,13 +59,13 @@ TEST(Process, MuchOutputDoesNotBlockTheChild) {
 }
 
 TEST(Process, LogFileIsAppendedTo) {
-  const fs::path log = fs::temp_directory_path() /
-                       ("ncqual-process-test-" + std::to_string(::getpid()) + ".log");
+  const fs::path log =
+      fs::temp_directory_path() / ("ncqual-process-test-" + std::to_string(::getpid()) + ".log");
   std::ofstream(log) << "before\n";
   for (const char* word : {"one", "two"}) {
-    const Outcome r = run(
-        Launch({"sh", "-c", std::string("echo ") + word + "; echo " + word + "-err >&2"})
-            .log_to(log.string()));
+    const Outcome r =
+        run(Launch({"sh", "-c", std::string("echo ") + word + "; echo " + word + "-err >&2"})
+                .log_to(log.string()));
     EXPECT_EQ(r.exit_code, 0);
     EXPECT_EQ(r.out, "");
   }

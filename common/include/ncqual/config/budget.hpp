@@ -60,11 +60,11 @@ struct SourceError {
 
 // A metric published by a check (historian name) and how one unit of it moves the tool tip.
 struct BudgetMetric {
-  std::string name;           // e.g. "center_dy_mm", "c_angle_error_arcsec"
+  std::string name;  // e.g. "center_dy_mm", "c_angle_error_arcsec"
   BudgetAxis axis = BudgetAxis::Y;
-  std::string unit;           // unit of the metric's values: "mm", "um", "in", "arcsec", "deg", ...
-  bool angle = false;         // an angle metric (unit rad, mrad, urad, deg, arcsec)
-  double lever_arm_mm = 0;    // angle metrics: tool-tip displacement = angle (rad) · lever arm
+  std::string unit;         // unit of the metric's values: "mm", "um", "in", "arcsec", "deg", ...
+  bool angle = false;       // an angle metric (unit rad, mrad, urad, deg, arcsec)
+  double lever_arm_mm = 0;  // angle metrics: tool-tip displacement = angle (rad) · lever arm
   // Tool-tip displacement (mm) per unit of the metric: the length factor of `unit`, or the angle
   // factor of `unit` (rad per unit) times the lever arm.
   double mm_per_unit = 1;
@@ -82,21 +82,21 @@ struct BudgetSource {
   // only the components of `direction` are non-zero.
   SourceError bound;
   BudgetDistribution distribution = BudgetDistribution::Normal;
-  double weibull_shape = 0;   // β, weibull only
+  double weibull_shape = 0;  // β, weibull only
 
   bool fixed() const { return metrics.empty(); }
 };
 
 struct ErrorBudgetConfig {
-  std::string where;                 // file it was read from, for messages
-  double allowable_total_mm = 0;     // maximum allowable ΔS_T
-  double panel_radius_mm = 0;        // R, to say where on the panel the worst hole is (S = R θ)
-  double theta_min_rad = 0;          // hole inclinations on the part: θ_min <= θ <= θ_max
+  std::string where;              // file it was read from, for messages
+  double allowable_total_mm = 0;  // maximum allowable ΔS_T
+  double panel_radius_mm = 0;     // R, to say where on the panel the worst hole is (S = R θ)
+  double theta_min_rad = 0;       // hole inclinations on the part: θ_min <= θ <= θ_max
   double theta_max_rad = 0;
   BudgetMethod method = BudgetMethod::Rss;
-  double coverage = 0.9973;          // probability the bounds and totals stand for
-  int samples = 100000;              // Monte Carlo draws
-  std::uint64_t seed = 1;            // Monte Carlo seed (std::mt19937_64)
+  double coverage = 0.9973;  // probability the bounds and totals stand for
+  int samples = 100000;      // Monte Carlo draws
+  std::uint64_t seed = 1;    // Monte Carlo seed (std::mt19937_64)
   std::vector<BudgetSource> sources;
 };
 

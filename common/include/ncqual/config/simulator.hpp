@@ -19,7 +19,8 @@
 //       setpoint_shift_mm:               # set-point blocks moved, by set point name
 //         primary: [0, 0, 0]
 //     part_seating_sigma_mm: 0           # each loaded part seats off by N(0, sigma^2) per axis
-//     fixture:                           # the true holding fixture (ncqual/sim/fixture_simulator.hpp)
+//     fixture:                           # the true holding fixture
+//     (ncqual/sim/fixture_simulator.hpp)
 //       column_x:                        # the columns' X actuators; also pogo_y:, pogo_z:
 //         offset_mm: 0                   # true travel = command + error(command), where
 //         scale_ppm: 0                   #   error(u) = offset + scale 1e-6 u

@@ -35,8 +35,7 @@ MeasurementSet SimulatedInstruments::measure(const CheckRequest& request, std::i
                               "' has no global_check: section for the laser tracker");
       }
       return tracker_->perform(request, time_ns);
-    case Instrument::TouchProbe:
-      break;
+    case Instrument::TouchProbe: break;
   }
   return simulator_.perform(request, time_ns);
 }

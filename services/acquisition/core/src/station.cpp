@@ -20,7 +20,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PerformedEntry, seq)
 
 }  // namespace
 
-// ---- PerformedRequests ---------------------------------------------------------------------------
+// ---- PerformedRequests
+// ---------------------------------------------------------------------------
 
 PerformedRequests::PerformedRequests(storage::StateFile& state, std::string machine_id,
                                      std::size_t capacity)
@@ -68,7 +69,8 @@ void PerformedRequests::record(const std::string& request_id) {
   }
 }
 
-// ---- Station -------------------------------------------------------------------------------------
+// ---- Station
+// -------------------------------------------------------------------------------------
 
 Station::Station(std::string machine_id, std::unique_ptr<Instruments> instruments,
                  PerformedRequests performed, StationOptions options, Publish publish)
@@ -127,8 +129,7 @@ void Station::on_compensation(const Compensation& c, std::int64_t now_ns) {
 
 // On a simulated clock the measurement is taken at the request's time and takes the
 // instrument's time; on the wall clock it is taken now.
-void Station::measure(const CheckRequest& req, const std::string& malformed,
-                      std::int64_t now_ns) {
+void Station::measure(const CheckRequest& req, const std::string& malformed, std::int64_t now_ns) {
   const std::int64_t at =
       options_.simulated_clock
           ? req.time_ns + static_cast<std::int64_t>(check_kind_info(req.kind).duration_min * 60e9)

@@ -31,7 +31,7 @@ std::optional<double> ball_meets_bore(const BallMove& move, const Eigen::Vector2
   const double a = v.squaredNorm();
   const double b = h.dot(v);
   const double c = h.squaredNorm() - rho * rho;
-  if (!(a > 0)) return std::nullopt;                 // vertical move: never meets the wall
+  if (!(a > 0)) return std::nullopt;                       // vertical move: never meets the wall
   if (c > 2 * rho * kOnSurfaceTolMm) return std::nullopt;  // not inside the offset bore
   const double root = std::sqrt(std::max(0.0, b * b - a * c));
   // Larger root (-b + root) / a, written without cancellation when b > 0:

@@ -102,8 +102,8 @@ FixtureProgram fixture_program(const FixtureConfig& f, const ProbeGeometry& nomi
     configurations.assign(static_cast<std::size_t>(*k), {});
     configurations.push_back(precalibration_configuration(f, *k));
   } else if (request.kind == CheckKind::FixturePostCalibration) {
-    configurations = postcalibration_configurations(
-        f, k ? precalibration_rows(f, *k) : RowSelection::All);
+    configurations =
+        postcalibration_configurations(f, k ? precalibration_rows(f, *k) : RowSelection::All);
   } else {
     program.error = "the fixture simulator performs only '" +
                     std::string(to_string(CheckKind::FixturePreCalibration)) + "' and '" +
@@ -130,13 +130,10 @@ bool on_face(const FixtureConfig& f, const Eigen::Vector3d& p, PogoFace face,
   const Eigen::Vector3d d = point - p;
   const bool in_height = d.z() <= kOnFaceTolMm && d.z() >= -f.block_height_mm - kOnFaceTolMm;
   switch (face) {
-    case PogoFace::Top:
-      return std::abs(d.x()) <= h && std::abs(d.y()) <= h;
+    case PogoFace::Top: return std::abs(d.x()) <= h && std::abs(d.y()) <= h;
     case PogoFace::XMinus:
-    case PogoFace::XPlus:
-      return std::abs(d.y()) <= h && in_height;
-    default:
-      return std::abs(d.x()) <= h && in_height;
+    case PogoFace::XPlus: return std::abs(d.y()) <= h && in_height;
+    default: return std::abs(d.x()) <= h && in_height;
   }
 }
 
@@ -248,8 +245,9 @@ Eigen::Vector3d FixtureSimulator::true_delta_mm(const PogoPlacement& placement) 
 
 // ---- The check --------------------------------------------------------------------------------
 
-MeasurementSet perform_fixture_check(const MachineSimulator& machine, const FixtureSimulator& fixture,
-                                     const CheckRequest& request, std::int64_t time_ns) {
+MeasurementSet perform_fixture_check(const MachineSimulator& machine,
+                                     const FixtureSimulator& fixture, const CheckRequest& request,
+                                     std::int64_t time_ns) {
   // A drifting truth: measure on both frozen at the measurement time (no drift there).
   if (machine.config().drift || fixture.drift()) {
     return perform_fixture_check(machine.at(time_ns), fixture.at(time_ns), request, time_ns);
@@ -263,7 +261,8 @@ MeasurementSet perform_fixture_check(const MachineSimulator& machine, const Fixt
                 "' but this simulator is machine '" + machine.machine().machine_id + "'";
     return set;
   }
-  const FixtureProgram program = fixture_program(fixture.fixture(), machine.machine().probe, request);
+  const FixtureProgram program =
+      fixture_program(fixture.fixture(), machine.machine().probe, request);
   if (!program.error.empty()) {
     set.error = program.error;
     return set;

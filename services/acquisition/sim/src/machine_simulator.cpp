@@ -113,8 +113,8 @@ std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double n
 
 std::optional<Touch> MachineSimulator::execute(const ProbingMove& move, double noise_mm,
                                                const ContactFinder& find_contact,
-                                               const StartCheck& cuts_into,
-                                               const std::string& body, std::string* why) const {
+                                               const StartCheck& cuts_into, const std::string& body,
+                                               std::string* why) const {
   // The axes move the readouts along u; the true ball centre then moves along
   //   b(s) = b(start + s u) = b0 + s t,  t = b(start + u) - b(start),
   // exact while the true machine is an affine map of the readouts (the errors modelled so
@@ -167,8 +167,8 @@ MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64
   }
   const auto program = program_for(request.kind, machine_);
   if (!program) {
-    set.error = "the simulator cannot perform check kind '" +
-                std::string(to_string(request.kind)) + "' yet";
+    set.error = "the simulator cannot perform check kind '" + std::string(to_string(request.kind)) +
+                "' yet";
     return set;
   }
 

@@ -41,9 +41,8 @@ void add_hole_edge_touches(const MachineConfig& machine, double c_rad,
   const int n = taught.hole_touches;
   for (int k = 0; k < n; ++k) {
     const double theta = 2 * units::kPi * k / n;
-    program->push_back(
-        {"hole_edge", edge_start, Eigen::Vector3d(std::cos(theta), std::sin(theta), 0),
-         edge_travel});
+    program->push_back({"hole_edge", edge_start,
+                        Eigen::Vector3d(std::cos(theta), std::sin(theta), 0), edge_travel});
   }
 }
 
@@ -106,12 +105,17 @@ std::vector<ProbingMove> part_setpoints_program(const MachineConfig& machine) {
       Eigen::Vector3d direction;
     } touches[] = {
         {"z", {c.x() + sp.inset_mm, c.y() + sp.inset_mm, c.z() + gap}, -Eigen::Vector3d::UnitZ()},
-        {"x", {c.x() - gap, c.y() + sp.inset_mm, c.z() - sp.probe_depth_mm}, Eigen::Vector3d::UnitX()},
-        {"y", {c.x() + sp.inset_mm, c.y() - gap, c.z() - sp.probe_depth_mm}, Eigen::Vector3d::UnitY()},
+        {"x",
+         {c.x() - gap, c.y() + sp.inset_mm, c.z() - sp.probe_depth_mm},
+         Eigen::Vector3d::UnitX()},
+        {"y",
+         {c.x() + sp.inset_mm, c.y() - gap, c.z() - sp.probe_depth_mm},
+         Eigen::Vector3d::UnitY()},
     };
     for (const auto& t : touches) {
-      program.push_back({prefix + t.axis, axes_placing_ball_at(t.ball_start, 0, 0, 0, machine.probe),
-                         t.direction, travel});
+      program.push_back({prefix + t.axis,
+                         axes_placing_ball_at(t.ball_start, 0, 0, 0, machine.probe), t.direction,
+                         travel});
     }
   }
   return program;
@@ -129,26 +133,20 @@ std::vector<ProbingMove> monument_positioning_program(const MachineConfig& machi
                                    taught.hole_center_mm.y(),
                                    taught.face_z_mm + ball_r + kFaceApproachClearanceMm);
   program.push_back({"face", axes_placing_ball_at(above_face, 0, 0, 0, probe),
-                     -Eigen::Vector3d::UnitZ(),
-                     kFaceApproachClearanceMm + kSearchOvertravelMm});
+                     -Eigen::Vector3d::UnitZ(), kFaceApproachClearanceMm + kSearchOvertravelMm});
   return program;
 }
 
 std::optional<std::vector<ProbingMove>> program_for(CheckKind kind, const MachineConfig& machine) {
   switch (kind) {
-    case CheckKind::MonumentCAlignment:
-      return monument_c_alignment_program(machine);
-    case CheckKind::MonumentToolLength:
-      return monument_tool_length_program(machine);
-    case CheckKind::MonumentPositioning:
-      return monument_positioning_program(machine);
-    case CheckKind::MonumentCRotation:
-      return monument_c_rotation_program(machine);
+    case CheckKind::MonumentCAlignment: return monument_c_alignment_program(machine);
+    case CheckKind::MonumentToolLength: return monument_tool_length_program(machine);
+    case CheckKind::MonumentPositioning: return monument_positioning_program(machine);
+    case CheckKind::MonumentCRotation: return monument_c_rotation_program(machine);
     case CheckKind::PartSetPoints:
       if (machine.setpoints.points.empty()) return std::nullopt;
       return part_setpoints_program(machine);
-    default:
-      return std::nullopt;
+    default: return std::nullopt;
   }
 }
 

@@ -63,5 +63,4 @@ SimulatorConfig config_at(const SimulatorConfig& config, std::int64_t now_ns) {
   return c;
 }
 
-
 }  // namespace ncqual::sim

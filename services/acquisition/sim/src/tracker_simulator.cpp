@@ -94,8 +94,10 @@ MeasurementSet TrackerSimulator::perform(const CheckRequest& request, std::int64
     start.z_mm = before.z();
     station = stylus_ball_centre(start, gc.targets.front());
     to_machine = Eigen::Matrix3d::Identity();
-    if (run.axis == 1) to_machine = Eigen::AngleAxisd(units::kPi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    if (run.axis == 2) to_machine = Eigen::AngleAxisd(-units::kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    if (run.axis == 1)
+      to_machine = Eigen::AngleAxisd(units::kPi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    if (run.axis == 2)
+      to_machine = Eigen::AngleAxisd(-units::kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
     range_sigma_0 = tracker.ifm_sigma_mm;
     range_sigma_per_m = tracker.ifm_sigma_mm_per_m;
   }

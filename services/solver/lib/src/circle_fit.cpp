@@ -54,8 +54,8 @@ Normalised normalise(const std::vector<Eigen::Vector2d>& points) {
   for (const auto& p : points) sum_sq += (p - n.mean).squaredNorm();
   n.scale = std::sqrt(sum_sq / static_cast<double>(points.size()));
   n.q.reserve(points.size());
-  for (const auto& p : points) n.q.push_back(n.scale > 0 ? Eigen::Vector2d((p - n.mean) / n.scale)
-                                                         : Eigen::Vector2d::Zero());
+  for (const auto& p : points)
+    n.q.push_back(n.scale > 0 ? Eigen::Vector2d((p - n.mean) / n.scale) : Eigen::Vector2d::Zero());
   return n;
 }
 

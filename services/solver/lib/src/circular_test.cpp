@@ -22,8 +22,8 @@ namespace {
 
 using units::kPi;
 constexpr int kMinPointsPerDirection = 8;
-constexpr double kMaxGapRad = kPi / 3;          // 60°
-constexpr double kGapSlackRad = 1e-9;           // rounding allowance on the gap test
+constexpr double kMaxGapRad = kPi / 3;  // 60°
+constexpr double kGapSlackRad = 1e-9;   // rounding allowance on the gap test
 constexpr double kDuplicateAngleRad = 1e-9;
 
 double deg(double rad) { return rad * 180.0 / kPi; }
@@ -55,9 +55,11 @@ std::vector<Polar> polar_sorted(const std::vector<CircularPoint>& points,
   std::vector<Polar> out;
   out.reserve(indices.size());
   for (std::size_t i : indices) {
-    out.push_back(Polar{angle_about(points[i].uv_mm, centre), (points[i].uv_mm - centre).norm(), i});
+    out.push_back(
+        Polar{angle_about(points[i].uv_mm, centre), (points[i].uv_mm - centre).norm(), i});
   }
-  std::sort(out.begin(), out.end(), [](const Polar& a, const Polar& b) { return a.theta < b.theta; });
+  std::sort(out.begin(), out.end(),
+            [](const Polar& a, const Polar& b) { return a.theta < b.theta; });
   return out;
 }
 
@@ -110,7 +112,8 @@ RadialHarmonics fit_harmonics(const std::vector<Polar>& polar, double radius) {
   if (qr.rank() < 5) {
     throw std::invalid_argument(
         "evaluate_circular_test: the angles of the points do not resolve the 2θ terms of the "
-        "radial deviation (rank " + std::to_string(qr.rank()) + " of 5)");
+        "radial deviation (rank " +
+        std::to_string(qr.rank()) + " of 5)");
   }
   const Eigen::VectorXd c = qr.solve(rhs);
   RadialHarmonics h;
@@ -244,7 +247,8 @@ std::optional<CircularTestProblem> find_circular_test_problem(const CircularTest
     const auto& p = input.points[i].uv_mm;
     if (!p.allFinite()) {
       return P{i, std::nullopt,
-               "u_mm = " + detail::quote_number(p.x()) + ", v_mm = " + detail::quote_number(p.y()) + ": not a finite point"};
+               "u_mm = " + detail::quote_number(p.x()) + ", v_mm = " + detail::quote_number(p.y()) +
+                   ": not a finite point"};
     }
   }
   for (PathDirection d : {PathDirection::Ccw, PathDirection::Cw}) {
@@ -268,8 +272,8 @@ std::optional<CircularTestProblem> find_circular_test_problem(const CircularTest
         const std::size_t later = std::max(a.index, b.index);
         const auto& p = input.points[later].uv_mm;
         return P{later, std::min(a.index, b.index),
-                 pre + "u_mm = " + detail::quote_number(p.x()) + ", v_mm = " + detail::quote_number(p.y()) + " at " +
-                     deg_text(b.theta) +
+                 pre + "u_mm = " + detail::quote_number(p.x()) +
+                     ", v_mm = " + detail::quote_number(p.y()) + " at " + deg_text(b.theta) +
                      " deg about the path's LSC centre: the same angle as another point"};
       }
     }

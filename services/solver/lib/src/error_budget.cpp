@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The error budget (patent: "Math Model Relating Production Part Accuracy to Machine System
 // Parameters"). In the order of the model:
-//   1. the budget as configured (read at load by the configuration layer, ncqual/config/budget.hpp);
+//   1. the budget as configured (read at load by the configuration layer,
+//   ncqual/config/budget.hpp);
 //   2. geometry: the ΔS of each source's error at inclination θ;
 //   3. totals: root sum square, or Monte Carlo with other distributions;
 //   4. capability of each source from the historian;
@@ -37,8 +38,7 @@ class UnitErrorSampler {
       case BudgetDistribution::Normal:
         if (normal_sigma_ <= 0) normal_sigma_ = 1.0 / normal_coverage_factor(coverage_);
         return normal_sigma_ * normal_(rng);
-      case BudgetDistribution::Uniform:
-        return uniform_(rng);
+      case BudgetDistribution::Uniform: return uniform_(rng);
       case BudgetDistribution::Weibull: {
         std::weibull_distribution<double> weibull(
             weibull_shape, weibull_scale_for_bound(1.0, weibull_shape, coverage_));
@@ -238,9 +238,8 @@ MonteCarloTotal monte_carlo_total(const ErrorBudgetConfig& config,
 
 // ---- Step 4: capability from the historian ------------------------------------------------------
 
-MetricCapability capability_from_history(const std::vector<double>& values_newest_first,
-                                         int last_n, double default_capability,
-                                         double coverage) {
+MetricCapability capability_from_history(const std::vector<double>& values_newest_first, int last_n,
+                                         double default_capability, double coverage) {
   MetricCapability c;
   std::size_t n = values_newest_first.size();
   if (last_n > 0) n = std::min(n, static_cast<std::size_t>(last_n));
@@ -265,8 +264,8 @@ MetricCapability capability_from_history(const std::vector<double>& values_newes
   }
   if (c.samples >= kMinHistorySamples) {
     const double k = normal_coverage_factor(coverage);
-    c.capability = std::max({std::abs(c.mean) + k * c.sigma, c.max_abs,
-                             kCapabilityFloorFraction * default_capability});
+    c.capability = std::max(
+        {std::abs(c.mean) + k * c.sigma, c.max_abs, kCapabilityFloorFraction * default_capability});
     c.basis = CapabilityBasis::History;
   } else {
     c.capability = std::max(default_capability, c.max_abs);
@@ -275,7 +274,8 @@ MetricCapability capability_from_history(const std::vector<double>& values_newes
   return c;
 }
 
-// ---- Step 5: allocation and derived tolerances ----------------------------------------------------
+// ---- Step 5: allocation and derived tolerances
+// ----------------------------------------------------
 
 Allocation allocate_budget(const ErrorBudgetConfig& config,
                            const std::vector<SourceError>& capabilities) {
@@ -297,8 +297,8 @@ Allocation allocate_budget(const ErrorBudgetConfig& config,
     const double C = rss_total_mm(measured, t);
     if (F > T) {
       a.feasible = false;
-      a.why = "the fixed allowances alone total " + std::to_string(F) + " mm at θ = " +
-              std::to_string(units::rad_to_deg(t)) + " deg, over the allowable " +
+      a.why = "the fixed allowances alone total " + std::to_string(F) +
+              " mm at θ = " + std::to_string(units::rad_to_deg(t)) + " deg, over the allowable " +
               std::to_string(T) + " mm";
       k = 0;
       a.theta_rad = t;
@@ -339,7 +339,8 @@ Allocation allocate_budget(const ErrorBudgetConfig& config,
 
   a.scale = k;
   for (std::size_t i = 0; i < config.sources.size(); ++i) {
-    a.allowances.push_back(config.sources[i].fixed() ? capabilities[i] : scaled(capabilities[i], k));
+    a.allowances.push_back(config.sources[i].fixed() ? capabilities[i]
+                                                     : scaled(capabilities[i], k));
   }
   return a;
 }
@@ -354,7 +355,8 @@ double derived_tolerance(const BudgetMetric& metric, const SourceError& allowanc
   return allowance.along(metric.axis) / metric.mm_per_unit;
 }
 
-// ---- Step 6: consumption ---------------------------------------------------------------------------
+// ---- Step 6: consumption
+// ---------------------------------------------------------------------------
 
 Consumption budget_consumption(const ErrorBudgetConfig& config,
                                const std::vector<SourceError>& today) {
@@ -375,7 +377,8 @@ Consumption budget_consumption(const ErrorBudgetConfig& config,
   return c;
 }
 
-// ---- Everything at once ---------------------------------------------------------------------------
+// ---- Everything at once
+// ---------------------------------------------------------------------------
 
 ErrorBudgetReport evaluate_error_budget(const ErrorBudgetConfig& config,
                                         const MetricHistories& histories, int last_n) {
@@ -459,7 +462,8 @@ ErrorBudgetReport evaluate_error_budget(const ErrorBudgetConfig& config,
     for (std::size_t k = 0; k < s.metrics.size(); ++k) {
       MetricReport& mr = sr.metrics[k];
       mr.derived_tolerance = derived_tolerance(s.metrics[k], sr.allocation);
-      mr.today_within_tolerance = !mr.today_value || std::abs(*mr.today_value) <= mr.derived_tolerance;
+      mr.today_within_tolerance =
+          !mr.today_value || std::abs(*mr.today_value) <= mr.derived_tolerance;
     }
   }
   for (const ConsumptionItem& item : r.today.items) {

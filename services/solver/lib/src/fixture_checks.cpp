@@ -99,9 +99,9 @@ std::optional<std::string> why_fixture_unusable(const MachineConfig& m, Stage st
            " must be positive";
   }
   const PostCalibrationPattern& p = f.postcalibration;
-  if (stage == Stage::Post && (p.z_mm.empty() || p.y_offsets_mm.empty() || p.x_offsets_mm.empty() ||
-                               !all_finite(p.z_mm) || !all_finite(p.y_offsets_mm) ||
-                               !all_finite(p.x_offsets_mm))) {
+  if (stage == Stage::Post &&
+      (p.z_mm.empty() || p.y_offsets_mm.empty() || p.x_offsets_mm.empty() || !all_finite(p.z_mm) ||
+       !all_finite(p.y_offsets_mm) || !all_finite(p.x_offsets_mm))) {
     return where + "fixture.postcalibration: z, y_offsets and x_offsets need finite values";
   }
   return std::nullopt;
@@ -115,7 +115,8 @@ struct AxisTolerances {
   }
 };
 
-std::optional<std::string> read_tolerances(const MachineConfig& m, Stage stage, AxisTolerances* out) {
+std::optional<std::string> read_tolerances(const MachineConfig& m, Stage stage,
+                                           AxisTolerances* out) {
   const std::string_view per_axis[] = {kToleranceDx, kToleranceDy, kToleranceDz};
   for (int a = 0; a < 3; ++a) {
     const Tolerance* band = detail::find_tolerance(m, per_axis[a]);
@@ -139,8 +140,8 @@ std::optional<int> read_configuration(const MeasurementSet& set, const FixtureCo
   const int count = f.precalibration_configuration_count();
   const double k = value->value;
   if (!std::isfinite(k) || k != std::floor(k) || k < 0 || k > count - 1) {
-    *error = "MeasurementSet.parameters['" + std::string(kConfigurationParameter) + "'] = " +
-             format_number(k) + " is not an integer in 0.." + std::to_string(count - 1) +
+    *error = "MeasurementSet.parameters['" + std::string(kConfigurationParameter) +
+             "'] = " + format_number(k) + " is not an integer in 0.." + std::to_string(count - 1) +
              " (the pre-calibration configurations of fixture '" + f.fixture_id + "')";
     return std::nullopt;
   }
@@ -171,13 +172,10 @@ struct ProbedPogo {
 int normal_axis(PogoFace face) {
   switch (face) {
     case PogoFace::XMinus:
-    case PogoFace::XPlus:
-      return 0;
+    case PogoFace::XPlus: return 0;
     case PogoFace::YMinus:
-    case PogoFace::YPlus:
-      return 1;
-    default:
-      return 2;
+    case PogoFace::YPlus: return 1;
+    default: return 2;
   }
 }
 
@@ -304,8 +302,7 @@ double face_mean(const ProbedPogo& pogo, PogoFace face) {
 std::vector<PogoDelta> pogo_deltas(const Probed& probed, const FixtureConfig& f, Stage stage,
                                    std::string* error) {
   std::vector<PogoDelta> deltas;
-  const double limit =
-      std::min(kBlockSizeOffLimitMm, kBlockSizeOffLimitFraction * f.block_size_mm);
+  const double limit = std::min(kBlockSizeOffLimitMm, kBlockSizeOffLimitFraction * f.block_size_mm);
   for (const ProbedPogo& pogo : probed.pogos) {
     const double x_minus = face_mean(pogo, PogoFace::XMinus);
     const double x_plus = face_mean(pogo, PogoFace::XPlus);
@@ -404,8 +401,8 @@ struct Diagnosis {
 std::string slope_text(const FixtureDeltaFit& fit, int i, int j) {
   const double v = fit.slope(i, j) * 1e6;
   return std::string("d") + kAxisLower[i] + "/d" + kAxisUpper[j] + " " + format_number(v) +
-         (i == j ? " ppm" : " urad") + " (+-" + format_number(fit.slope_standard_error(i, j) * 1e6) +
-         ")";
+         (i == j ? " ppm" : " urad") + " (+-" +
+         format_number(fit.slope_standard_error(i, j) * 1e6) + ")";
 }
 
 // Judges the fit: a slope M(i, j) matters when its effect over the probed travel of axis j,
@@ -416,10 +413,10 @@ std::string slope_text(const FixtureDeltaFit& fit, int i, int j) {
 // the tolerance is a nonlinearity (curvature over travel).
 Diagnosis diagnose(const FixtureDeltaFit& fit, const AxisTolerances& tol) {
   Diagnosis d;
-  std::string text = "fit of the deltas against the commanded positions (common slopes, one "
-                     "intercept per pogo; " +
-                     std::to_string(fit.points) + " points, " + std::to_string(fit.pogos) +
-                     " pogos): ";
+  std::string text =
+      "fit of the deltas against the commanded positions (common slopes, one "
+      "intercept per pogo; " +
+      std::to_string(fit.points) + " points, " + std::to_string(fit.pogos) + " pogos): ";
   if (!fit.error.empty()) {
     d.text = text + fit.error;
     return d;
@@ -442,8 +439,8 @@ Diagnosis diagnose(const FixtureDeltaFit& fit, const AxisTolerances& tol) {
                         format_number(fit.slope(i, j) * 1e6) + (i == j ? " ppm" : " urad") +
                         " moves d" + kAxisLower[i] + " by " + format_number(effect) +
                         " mm over the " + format_number(fit.span_mm[j]) + " mm of " +
-                        kAxisUpper[j] + " travel probed (" +
-                        (i == j ? "scale" : "misalignment") + ")");
+                        kAxisUpper[j] + " travel probed (" + (i == j ? "scale" : "misalignment") +
+                        ")");
     }
   }
   text += "slopes " + (slopes.empty() ? std::string("none (no commanded axis varied)") : slopes);
@@ -461,11 +458,10 @@ Diagnosis diagnose(const FixtureDeltaFit& fit, const AxisTolerances& tol) {
         fit.systematic_residual_mm[i] >= kSignificantFractionOfTolerance * half) {
       d.nonlinearity.significant = true;
       d.nonlinearity.ratio = std::max(d.nonlinearity.ratio, fit.systematic_residual_mm[i] / half);
-      d.nonlinearity.terms.push_back(std::string("a residual of ") +
-                                     format_number(fit.systematic_residual_mm[i]) + " mm in d" +
-                                     kAxisLower[i] + " follows the commanded " +
-                                     kAxisUpper[fit.systematic_axis[i]] +
-                                     " (curvature over travel)");
+      d.nonlinearity.terms.push_back(
+          std::string("a residual of ") + format_number(fit.systematic_residual_mm[i]) +
+          " mm in d" + kAxisLower[i] + " follows the commanded " +
+          kAxisUpper[fit.systematic_axis[i]] + " (curvature over travel)");
     }
   }
   text += residuals;
@@ -631,8 +627,9 @@ FixtureDeltaFit fit_fixture_deltas(const std::vector<PogoDelta>& points) {
     Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(Xs);
     qr.setThreshold(kRankThreshold);
     if (qr.rank() < k) {
-      fit.error = "the commanded X, Y and Z do not change independently within the pogos: their "
-                  "slopes cannot be told apart";
+      fit.error =
+          "the commanded X, Y and Z do not change independently within the pogos: their "
+          "slopes cannot be told apart";
     } else {
       const Eigen::MatrixXd B = qr.solve(Y);  // k x 3
       R = Y - Xs * B;

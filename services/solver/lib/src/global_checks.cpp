@@ -38,11 +38,11 @@ constexpr double kAssumedPointSigmaMm = 0.01;
 // A tracker point with its label taken apart: "<group>:<index>[:t<k>]", or for the linear run
 // "run:<cycle>:<up|down>:<index>".
 struct LabelledPoint {
-  std::string group;   // x_run, y_run, grid, c, a, w, ccw, cw, run
+  std::string group;  // x_run, y_run, grid, c, a, w, ccw, cw, run
   int index = 0;
   int target = 0;
-  int cycle = 0;       // run only
-  bool up = true;      // run only
+  int cycle = 0;   // run only
+  bool up = true;  // run only
   const TrackerPoint* point = nullptr;
   std::size_t position = 0;  // in set.tracker_points
 };
@@ -105,8 +105,7 @@ std::optional<std::string> sort_points(const MeasurementSet& set, const GlobalCh
                lp.group == "cw") {
       ok = (parts.size() == 2 || parts.size() == 3) && parse_int(parts[1], &lp.index);
       if (ok && parts.size() == 3) {
-        ok = parts[2].size() > 1 && parts[2][0] == 't' &&
-             parse_int(parts[2].substr(1), &lp.target);
+        ok = parts[2].size() > 1 && parts[2][0] == 't' && parse_int(parts[2].substr(1), &lp.target);
       }
     }
     if (!ok) {
@@ -148,8 +147,10 @@ std::optional<std::string> prepare(const MeasurementSet& set, const MachineConfi
                                    std::string_view check, std::vector<LabelledPoint>* points) {
   if (auto why = detail::why_not_a_set_of(set, set.kind, check)) return why;
   if (!machine.global_check) {
-    return machine_where(machine) + " has no global_check: section: the targets of its tracker "
-           "check " + std::string(to_string(set.kind)) + " are unknown";
+    return machine_where(machine) +
+           " has no global_check: section: the targets of its tracker "
+           "check " +
+           std::string(to_string(set.kind)) + " are unknown";
   }
   if (auto why = detail::why_tolerances_missing(machine, metrics, check)) return why;
   if (set.tracker_points.empty()) {
@@ -185,10 +186,10 @@ std::optional<MasterFrame> master_frame_of(const std::vector<LabelledPoint>& poi
 CheckResult check_global_master_frame(const MeasurementSet& set, const MachineConfig& machine) {
   CheckResult result = detail::result_for(set);
   std::vector<LabelledPoint> points;
-  if (auto why = prepare(set, machine,
-                         {"master_orthogonality_urad", "master_x_straightness_mm",
-                          "master_y_straightness_mm"},
-                         "the master frame check", &points)) {
+  if (auto why = prepare(
+          set, machine,
+          {"master_orthogonality_urad", "master_x_straightness_mm", "master_y_straightness_mm"},
+          "the master frame check", &points)) {
     return detail::invalid(result, *why);
   }
   std::string why;
@@ -212,12 +213,12 @@ CheckResult check_global_master_frame(const MeasurementSet& set, const MachineCo
 CheckResult check_global_grid(const MeasurementSet& set, const MachineConfig& machine) {
   CheckResult result = detail::result_for(set);
   std::vector<LabelledPoint> points;
-  if (auto why = prepare(set, machine,
-                         {"grid_max_deviation_mm", "grid_rms_deviation_mm",
-                          "grid_squareness_xy_urad", "grid_squareness_yz_urad",
-                          "grid_squareness_zx_urad", "grid_scale_x_um_per_m",
-                          "grid_scale_y_um_per_m", "grid_scale_z_um_per_m"},
-                         "the grid check", &points)) {
+  if (auto why =
+          prepare(set, machine,
+                  {"grid_max_deviation_mm", "grid_rms_deviation_mm", "grid_squareness_xy_urad",
+                   "grid_squareness_yz_urad", "grid_squareness_zx_urad", "grid_scale_x_um_per_m",
+                   "grid_scale_y_um_per_m", "grid_scale_z_um_per_m"},
+                  "the grid check", &points)) {
     return detail::invalid(result, *why);
   }
   const GlobalCheckConfig& gc = *machine.global_check;
@@ -273,16 +274,19 @@ CheckResult check_global_grid(const MeasurementSet& set, const MachineConfig& ma
     scale_failed |= failed(result, std::string("grid_scale_") + axis + "_um_per_m");
   }
   if (scale_failed) {
-    causes.push_back("axis scale: machine temperature away from 20 C or the scale (pitch) "
-                     "compensation out of date");
+    causes.push_back(
+        "axis scale: machine temperature away from 20 C or the scale (pitch) "
+        "compensation out of date");
   }
   if (failed(result, "volumetric_residual_after_mm")) {
-    causes.push_back("errors a rigid-body model cannot hold: non-repeatable positioning, loose "
-                     "gibs or a deforming structure (or the tracker disturbed)");
+    causes.push_back(
+        "errors a rigid-body model cannot hold: non-repeatable positioning, loose "
+        "gibs or a deforming structure (or the tracker disturbed)");
   }
   if (failed(result, "grid_max_deviation_mm") || failed(result, "grid_rms_deviation_mm")) {
-    causes.push_back("straightness or angular errors of an axis (worn or damaged ways, settled "
-                     "foundation): see where the worst points are");
+    causes.push_back(
+        "straightness or angular errors of an axis (worn or damaged ways, settled "
+        "foundation): see where the worst points are");
   }
   detail::decide_verdict(result, causes);
   if (result.verdict == Verdict::Pass && identified) {
@@ -292,9 +296,10 @@ CheckResult check_global_grid(const MeasurementSet& set, const MachineConfig& ma
     c.target = "volumetric:" + machine.machine_id;
     for (const auto& p : identified->parameters) {
       if (p.frame >= 0) continue;  // the tracker's placement is not the machine's
-      c.offsets.push_back({p.name, p.value, p.function >= 0 && volumetric::is_angular(p.function)
-                                                ? "rad"
-                                                : p.squareness >= 0 ? "rad" : "mm"});
+      c.offsets.push_back({p.name, p.value,
+                           p.function >= 0 && volumetric::is_angular(p.function) ? "rad"
+                           : p.squareness >= 0                                   ? "rad"
+                                                                                 : "mm"});
     }
     result.correction = std::move(c);
   }
@@ -335,8 +340,8 @@ CheckResult check_rotary_axis(const MeasurementSet& set, const MachineConfig& ma
   std::vector<RotaryPoint> rotary;
   for (const auto& p : points) {
     if (p.group != group_name) continue;
-    rotary.push_back({p.point->label, p.point->commanded,
-                      frame->instrument_to_master * p.point->measured_mm});
+    rotary.push_back(
+        {p.point->label, p.point->commanded, frame->instrument_to_master * p.point->measured_mm});
   }
   RotaryAxisResult r;
   try {
@@ -366,17 +371,20 @@ CheckResult check_rotary_axis(const MeasurementSet& set, const MachineConfig& ma
       causes.push_back(A + " axis zero (reference mark or encoder offset) shifted");
     }
     if (failed(result, names[1])) {
-      causes.push_back(A + " axis angular positioning error (encoder, drive gear or its "
-                           "compensation table)");
+      causes.push_back(A +
+                       " axis angular positioning error (encoder, drive gear or its "
+                       "compensation table)");
     }
     if (failed(result, names[3])) {
-      causes.push_back(A + (axis == RotaryAxis::A ? " axis not parallel to the head's X axis"
-                                                  : " axis not parallel to machine Z") +
+      causes.push_back(A +
+                       (axis == RotaryAxis::A ? " axis not parallel to the head's X axis"
+                                              : " axis not parallel to machine Z") +
                        " (head mounting, bearing)");
     }
     if (failed(result, names[2])) {
-      causes.push_back(A + " axis centre of rotation off the pivot, or the target holder length "
-                           "wrong (fitted centre off by " +
+      causes.push_back(A +
+                       " axis centre of rotation off the pivot, or the target holder length "
+                       "wrong (fitted centre off by " +
                        detail::format_vector(c.centre_offset_mm) + " mm, radius by " +
                        format_number(c.radius_error_mm) + " mm)");
     }
@@ -414,8 +422,8 @@ CheckResult check_circle(const MeasurementSet& set, const MachineConfig& machine
   for (const auto& lp : points) {
     if (lp.group != "ccw" && lp.group != "cw") continue;
     const Eigen::Vector3d m = to_master * lp.point->measured_mm;
-    input.points.push_back({Eigen::Vector2d(m[u], m[v]),
-                            lp.group == "ccw" ? PathDirection::Ccw : PathDirection::Cw});
+    input.points.push_back(
+        {Eigen::Vector2d(m[u], m[v]), lp.group == "ccw" ? PathDirection::Ccw : PathDirection::Cw});
   }
   AxisPosition centre;
   centre.x_mm = gc.circle.centre_mm.x();
@@ -439,10 +447,10 @@ CheckResult check_circle(const MeasurementSet& set, const MachineConfig& machine
     return detail::invalid(result, check + ": " + e.what());
   }
   const bool both = r.G_b_mm.has_value();
-  if (auto why = detail::why_tolerances_missing(
-          machine, both ? std::vector<std::string_view>{g_name, h_name}
-                        : std::vector<std::string_view>{g_name},
-          check)) {
+  if (auto why = detail::why_tolerances_missing(machine,
+                                                both ? std::vector<std::string_view>{g_name, h_name}
+                                                     : std::vector<std::string_view>{g_name},
+                                                check)) {
     return detail::invalid(result, *why);
   }
   add(result, machine, g_name, both ? *r.G_b_mm : r.G_mm, "mm");
@@ -450,18 +458,20 @@ CheckResult check_circle(const MeasurementSet& set, const MachineConfig& machine
   std::vector<std::string> causes;
   if (failed(result, g_name)) {
     // The shape says which: an ellipse at 45 degrees is squareness, along the axes scale mismatch.
-    const bool square_first = std::abs(r.squareness_urad) * 1e-6 > std::abs(r.scale_mismatch_um_per_m) * 1e-6;
+    const bool square_first =
+        std::abs(r.squareness_urad) * 1e-6 > std::abs(r.scale_mismatch_um_per_m) * 1e-6;
     const std::string square = "axes " + p.substr(0, 1) + " and " + p.substr(1) +
                                " out of square (" + format_number(r.squareness_urad) +
                                " urad from the shape)";
-    const std::string scale = "scale mismatch of " + p.substr(0, 1) + " and " + p.substr(1) +
-                              " (" + format_number(r.scale_mismatch_um_per_m) + " um/m)";
+    const std::string scale = "scale mismatch of " + p.substr(0, 1) + " and " + p.substr(1) + " (" +
+                              format_number(r.scale_mismatch_um_per_m) + " um/m)";
     causes.push_back(square_first ? square : scale);
     causes.push_back(square_first ? scale : square);
     causes.push_back("servo mismatch or straightness of the axes in the plane");
   }
   if (both && failed(result, h_name)) {
-    causes.insert(causes.begin(), "reversal: backlash of the axes (hysteresis of the two directions)");
+    causes.insert(causes.begin(),
+                  "reversal: backlash of the axes (hysteresis of the two directions)");
   }
   detail::decide_verdict(result, causes);
   return result;
@@ -507,7 +517,8 @@ CheckResult check_linear_axis_run(const MeasurementSet& set, const MachineConfig
   const Eigen::Vector3d& centroid = line.centroid;
   Eigen::Vector3d oriented = Eigen::Vector3d::Zero();
   for (const auto* p : run_points) {
-    oriented += (p->point->measured_mm - centroid) * (commanded_target(*p, gc)[axis] - commanded_mean);
+    oriented +=
+        (p->point->measured_mm - centroid) * (commanded_target(*p, gc)[axis] - commanded_mean);
   }
   Eigen::Vector3d direction = line.vectors.col(2);
   if (direction.dot(oriented) < 0) direction = -direction;
@@ -539,8 +550,9 @@ CheckResult check_linear_axis_run(const MeasurementSet& set, const MachineConfig
     causes.push_back("repeatability: friction or stick-slip of the ways, servo tuning");
   }
   if (failed(result, "linear_E_mm") || failed(result, "linear_A_mm")) {
-    causes.push_back("systematic positioning error: pitch error compensation out of date or the "
-                     "axis warmer than 20 C");
+    causes.push_back(
+        "systematic positioning error: pitch error compensation out of date or the "
+        "axis warmer than 20 C");
   }
   detail::decide_verdict(result, causes);
   return result;

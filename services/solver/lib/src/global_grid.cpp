@@ -44,13 +44,15 @@ void validate(const MasterFrame& frame, const std::vector<FramePoint>& grid,
   const Eigen::Matrix3d r = frame.instrument_to_master.linear();
   const Eigen::Vector3d t = frame.instrument_to_master.translation();
   if (!r.allFinite() || !t.allFinite()) {
-    refuse("frame.instrument_to_master is not finite (translation " + detail::quote_vector(t) + ")");
+    refuse("frame.instrument_to_master is not finite (translation " + detail::quote_vector(t) +
+           ")");
   }
-  const double orthonormal_error = (r.transpose() * r - Eigen::Matrix3d::Identity())
-                                       .cwiseAbs().maxCoeff();
+  const double orthonormal_error =
+      (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (orthonormal_error > global_grid::kOrthonormalTolerance || r.determinant() < 0) {
     refuse("frame.instrument_to_master is not a rotation (|R^T R - I| = " +
-           detail::quote_number(orthonormal_error) + ", det = " + detail::quote_number(r.determinant()) + ")");
+           detail::quote_number(orthonormal_error) +
+           ", det = " + detail::quote_number(r.determinant()) + ")");
   }
   if (static_cast<int>(grid.size()) < global_grid::kMinPoints) {
     refuse("grid has " + std::to_string(grid.size()) + " points; at least " +
@@ -82,14 +84,18 @@ void validate(const MasterFrame& frame, const std::vector<FramePoint>& grid,
     }
     if (hi - lo <= options.plane_tolerance_mm) {
       std::string why = "all " + std::to_string(grid.size()) +
-                        " grid points lie on the one plane " + names[k] + " = " + detail::quote_number(lo) +
-                        " mm (spread " + detail::quote_number(hi - lo) + " mm)";
+                        " grid points lie on the one plane " + names[k] + " = " +
+                        detail::quote_number(lo) + " mm (spread " + detail::quote_number(hi - lo) +
+                        " mm)";
       if (axis == 2) {
-        why += ": the Z scale and the YZ and ZX squareness would be undefined; measure at least "
-               "two constant-Z planes";
+        why +=
+            ": the Z scale and the YZ and ZX squareness would be undefined; measure at least "
+            "two constant-Z planes";
       } else {
-        why += std::string(": the ") + (axis == 0 ? "X" : "Y") + " scale and the squareness "
-               "with " + (axis == 0 ? "X" : "Y") + " would be undefined";
+        why += std::string(": the ") + (axis == 0 ? "X" : "Y") +
+               " scale and the squareness "
+               "with " +
+               (axis == 0 ? "X" : "Y") + " would be undefined";
       }
       refuse(why);
     }
@@ -183,8 +189,8 @@ GridAnalysis analyze_grid(const MasterFrame& frame, const std::vector<FramePoint
   });
   out.max_deviation_mm = out.points[order.front()].deviation_norm_mm;
   out.max_deviation_label = out.points[order.front()].label;
-  const std::size_t worst = std::min(order.size(),
-                                     static_cast<std::size_t>(options.worst_point_count));
+  const std::size_t worst =
+      std::min(order.size(), static_cast<std::size_t>(options.worst_point_count));
   out.worst_points.assign(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(worst));
 
   // Step 3: the constant-Z planes and the worst point of each.
@@ -196,9 +202,9 @@ GridAnalysis analyze_grid(const MasterFrame& frame, const std::vector<FramePoint
   std::size_t start = 0;
   while (start < by_z.size()) {
     std::size_t end = start + 1;
-    while (end < by_z.size() && out.points[by_z[end]].commanded_mm.z() -
-                                        out.points[by_z[end - 1]].commanded_mm.z() <=
-                                    options.plane_tolerance_mm) {
+    while (end < by_z.size() &&
+           out.points[by_z[end]].commanded_mm.z() - out.points[by_z[end - 1]].commanded_mm.z() <=
+               options.plane_tolerance_mm) {
       ++end;
     }
     GridPlaneSummary plane;
@@ -229,8 +235,8 @@ GridAnalysis analyze_grid(const MasterFrame& frame, const std::vector<FramePoint
 }
 
 GridAnalysis analyze_grid(const std::vector<FramePoint>& x_run,
-                          const std::vector<FramePoint>& y_run,
-                          const std::vector<FramePoint>& grid, const GridOptions& options) {
+                          const std::vector<FramePoint>& y_run, const std::vector<FramePoint>& grid,
+                          const GridOptions& options) {
   return analyze_grid(fit_master_frame(x_run, y_run), grid, options);
 }
 

@@ -96,7 +96,8 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
   out.polar = polar;
   std::size_t c_a = 0, c_b = 0;  // angle/radius or u/v
   if (polar && coordinates) {
-    fail_header(t, "both polar (angle_deg, radius_mm) and coordinate columns; a circle file has "
+    fail_header(t,
+                "both polar (angle_deg, radius_mm) and coordinate columns; a circle file has "
                 "one layout");
   }
   if (polar) {
@@ -107,7 +108,7 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
   } else if (has_uv) {
     if (!pairs.empty()) {
       fail_header(t, "both u_mm, v_mm and " + std::string(pairs.front()->u) + ", " +
-                  pairs.front()->v + "; a circle file has one coordinate pair");
+                         pairs.front()->v + "; a circle file has one coordinate pair");
     }
     if (!plane) fail_header(t, "u_mm, v_mm do not name the plane: " + plane_needed);
     c_a = *t.find_column("u_mm");
@@ -122,8 +123,8 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
       if (!chosen) {
         const CoordinatePair* named = pairs.front();
         throw CsvError(t.file, t.header_line, static_cast<int>(*t.find_column(named->u)) + 1,
-                       std::string("the header's ") + named->u + ", " + named->v +
-                           " name plane " + std::string(to_string(named->plane)) + ", but plane " +
+                       std::string("the header's ") + named->u + ", " + named->v + " name plane " +
+                           std::string(to_string(named->plane)) + ", but plane " +
                            std::string(to_string(*plane)) + " was asked for");
       }
     } else if (pairs.size() > 1) {
@@ -135,7 +136,8 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
     c_b = *t.find_column(chosen->v);
     out.input.plane = chosen->plane;
   } else {
-    fail_header(t, "no circle columns: expected angle_deg,radius_mm or a coordinate pair x_mm,y_mm "
+    fail_header(t,
+                "no circle columns: expected angle_deg,radius_mm or a coordinate pair x_mm,y_mm "
                 "| y_mm,z_mm | x_mm,z_mm | u_mm,v_mm");
   }
 
@@ -144,22 +146,25 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
   std::map<std::pair<PathDirection, double>, int> angles_seen;
   for (const CsvRow& row : t.rows) {
     PathDirection d = PathDirection::Ccw;
-    if (c_direction) d = t.word(row, *c_direction, {"ccw", "cw"}) == "ccw" ? PathDirection::Ccw
-                                                                          : PathDirection::Cw;
+    if (c_direction)
+      d = t.word(row, *c_direction, {"ccw", "cw"}) == "ccw" ? PathDirection::Ccw
+                                                            : PathDirection::Cw;
     const double a = t.number(row, c_a);
     const double b = t.number(row, c_b);
     CircularPoint p;
     if (polar) {
-      if (!(b > 0)) t.fail(row.line, c_b, "column 'radius_mm' = '" + t.cell(row, c_b) +
-                                              "': a radius must be > 0");
+      if (!(b > 0))
+        t.fail(row.line, c_b,
+               "column 'radius_mm' = '" + t.cell(row, c_b) + "': a radius must be > 0");
       double wrapped = std::fmod(a, 360.0);
       if (wrapped < 0) wrapped += 360.0;
       if (wrapped == 0) wrapped = 0;  // -0 and 360 are 0
       const auto [it, fresh] = angles_seen.emplace(std::make_pair(d, wrapped), row.line);
       if (!fresh) {
         t.fail(row.line, c_a,
-               "angle_deg = " + detail::quote_number(a) + ", direction " + std::string(to_string(d)) +
-                   ": the same angle as line " + std::to_string(it->second));
+               "angle_deg = " + detail::quote_number(a) + ", direction " +
+                   std::string(to_string(d)) + ": the same angle as line " +
+                   std::to_string(it->second));
       }
       p = circular_point_from_polar(a * kPi / 180.0, b, d);
     } else {
@@ -208,8 +213,10 @@ std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
     const auto [pos_it, fresh_pos] = positions.emplace(key, std::make_pair(g.point, row.line));
     if (!fresh_pos) {
       t.fail(row.line, c_cmd[0],
-             "point '" + g.point + "': commanded position (" + detail::quote_number(g.commanded_mm.x()) + ", " +
-                 detail::quote_number(g.commanded_mm.y()) + ", " + detail::quote_number(g.commanded_mm.z()) + ") repeats point '" +
+             "point '" + g.point + "': commanded position (" +
+                 detail::quote_number(g.commanded_mm.x()) + ", " +
+                 detail::quote_number(g.commanded_mm.y()) + ", " +
+                 detail::quote_number(g.commanded_mm.z()) + ") repeats point '" +
                  pos_it->second.first + "' on line " + std::to_string(pos_it->second.second));
     }
     out.push_back(g);
@@ -230,8 +237,8 @@ TrackerPoint tracker_point(std::string label, const Eigen::Vector3d& commanded_t
                            const Eigen::Vector3d& measured, const ProbeGeometry& target) {
   // stylus_ball_centre at A = C = W = 0 is pivot + (ox, oy, -L).
   const Eigen::Vector3d pivot =
-      commanded_target -
-      Eigen::Vector3d(target.stylus_offset_mm.x(), target.stylus_offset_mm.y(), -target.tool_length_mm);
+      commanded_target - Eigen::Vector3d(target.stylus_offset_mm.x(), target.stylus_offset_mm.y(),
+                                         -target.tool_length_mm);
   TrackerPoint p;
   p.label = std::move(label);
   p.commanded.x_mm = pivot.x();
@@ -266,19 +273,22 @@ std::vector<TrackerPoint> tracker_points_for_grid(const std::vector<GridFilePoin
 std::vector<TrackerPoint> tracker_points_for_linear_run(const Iso230_2File& run, int axis,
                                                         const Eigen::Vector3d& at_mm,
                                                         const ProbeGeometry& target) {
-  if (axis < 0 || axis > 2) throw std::invalid_argument("axis " + std::to_string(axis) + ": expected 0, 1 or 2");
+  if (axis < 0 || axis > 2)
+    throw std::invalid_argument("axis " + std::to_string(axis) + ": expected 0, 1 or 2");
   std::vector<double> targets;
   for (const auto& r : run.readings) targets.push_back(r.target_mm);
   std::sort(targets.begin(), targets.end());
   targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
   std::vector<TrackerPoint> out;
   for (const auto& r : run.readings) {
-    const auto rank = std::lower_bound(targets.begin(), targets.end(), r.target_mm) - targets.begin();
+    const auto rank =
+        std::lower_bound(targets.begin(), targets.end(), r.target_mm) - targets.begin();
     Eigen::Vector3d commanded = at_mm, measured = at_mm;
     commanded[axis] = r.target_mm;
     measured[axis] = r.measured_mm;
     out.push_back(tracker_point("run:" + std::to_string(r.cycle) + ":" +
-                                    std::string(to_string(r.direction)) + ":" + std::to_string(rank),
+                                    std::string(to_string(r.direction)) + ":" +
+                                    std::to_string(rank),
                                 commanded, measured, target));
   }
   return out;

@@ -80,31 +80,34 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
   if (r.empty()) return ReadingProblem{std::nullopt, std::nullopt, "no readings"};
   for (std::size_t i = 0; i < r.size(); ++i) {
     if (!std::isfinite(r[i].target_mm)) {
-      return ReadingProblem{i, std::nullopt, "target_mm = " + detail::quote_number(r[i].target_mm) +
-                                                 " is not a finite number"};
+      return ReadingProblem{
+          i, std::nullopt,
+          "target_mm = " + detail::quote_number(r[i].target_mm) + " is not a finite number"};
     }
     if (!std::isfinite(r[i].measured_mm)) {
-      return ReadingProblem{i, std::nullopt, "measured_mm = " + detail::quote_number(r[i].measured_mm) +
-                                                 " is not a finite number"};
+      return ReadingProblem{
+          i, std::nullopt,
+          "measured_mm = " + detail::quote_number(r[i].measured_mm) + " is not a finite number"};
     }
   }
   std::map<std::tuple<double, int, Approach>, std::size_t> seen;
   for (std::size_t i = 0; i < r.size(); ++i) {
-    const auto [it, fresh] = seen.emplace(std::make_tuple(r[i].target_mm, r[i].cycle,
-                                                          r[i].direction), i);
+    const auto [it, fresh] =
+        seen.emplace(std::make_tuple(r[i].target_mm, r[i].cycle, r[i].direction), i);
     if (!fresh) {
       return ReadingProblem{i, it->second,
                             "target_mm = " + detail::quote_number(r[i].target_mm) +
-                                ", cycle = " + std::to_string(r[i].cycle) + ", direction = " +
-                                std::string(to_string(r[i].direction)) +
+                                ", cycle = " + std::to_string(r[i].cycle) +
+                                ", direction = " + std::string(to_string(r[i].direction)) +
                                 ": a second reading of the same target, cycle and direction"};
     }
   }
   const auto targets = group(r);
   if (targets.size() < 2) {
-    return ReadingProblem{std::nullopt, std::nullopt,
-                          "only 1 target (target_mm = " + detail::quote_number(targets.begin()->first) +
-                              "); ISO 230-2 needs at least 2 targets"};
+    return ReadingProblem{
+        std::nullopt, std::nullopt,
+        "only 1 target (target_mm = " + detail::quote_number(targets.begin()->first) +
+            "); ISO 230-2 needs at least 2 targets"};
   }
   bool any_up = false, any_down = false;
   for (const auto& [target, t] : targets) {
@@ -116,8 +119,8 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
       const auto& idx = t.of(a);
       if (idx.size() == 1) {
         return ReadingProblem{idx.front(), std::nullopt,
-                              "target_mm = " + detail::quote_number(target) + ", direction = " +
-                                  std::string(to_string(a)) +
+                              "target_mm = " + detail::quote_number(target) +
+                                  ", direction = " + std::string(to_string(a)) +
                                   ": 1 cycle; at least 2 are needed for the standard "
                                   "uncertainty s (n - 1 in its denominator)"};
       }
@@ -176,8 +179,8 @@ Iso230_2Result evaluate_iso230_2(const std::vector<PositioningReading>& readings
     }
     if (f.up && f.down) {
       f.B_mm = f.up->mean_mm - f.down->mean_mm;
-      f.R_mm = std::max({2 * f.up->s_mm + 2 * f.down->s_mm + std::abs(*f.B_mm), f.up->R_mm,
-                         f.down->R_mm});
+      f.R_mm = std::max(
+          {2 * f.up->s_mm + 2 * f.down->s_mm + std::abs(*f.B_mm), f.up->R_mm, f.down->R_mm});
       f.mean_mm = (f.up->mean_mm + f.down->mean_mm) / 2;
       m_range.add(*f.mean_mm);
       r_both.add(*f.R_mm);

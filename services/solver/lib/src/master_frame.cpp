@@ -34,8 +34,8 @@ void validate_run(const std::vector<FramePoint>& points, const std::string& run,
   }
   for (const auto& p : points) {
     if (!p.commanded_mm.allFinite()) {
-      refuse(run + " point '" + p.label + "' commanded_mm = " + detail::quote_vector(p.commanded_mm) +
-             " is not finite");
+      refuse(run + " point '" + p.label +
+             "' commanded_mm = " + detail::quote_vector(p.commanded_mm) + " is not finite");
     }
     if (!p.measured_mm.allFinite()) {
       refuse(run + " point '" + p.label + "' measured_mm = " + detail::quote_vector(p.measured_mm) +
@@ -49,24 +49,26 @@ void validate_run(const std::vector<FramePoint>& points, const std::string& run,
       const double diff = p.commanded_mm(k) - first.commanded_mm(k);
       if (std::abs(diff) > master_frame::kSameCommandedMm) {
         refuse(run + " point '" + p.label + "' commanded " + kAxisNames[k] + " = " +
-               detail::quote_number(p.commanded_mm(k)) + " mm differs from that of its first point '" +
-               first.label + "' (" + detail::quote_number(first.commanded_mm(k)) + " mm) by " + detail::quote_number(diff) +
-               " mm: an " + kAxisNames[axis] + " run moves " + kAxisNames[axis] + " only");
+               detail::quote_number(p.commanded_mm(k)) +
+               " mm differs from that of its first point '" + first.label + "' (" +
+               detail::quote_number(first.commanded_mm(k)) + " mm) by " +
+               detail::quote_number(diff) + " mm: an " + kAxisNames[axis] + " run moves " +
+               kAxisNames[axis] + " only");
       }
     }
   }
   std::vector<const FramePoint*> sorted;
   for (const auto& p : points) sorted.push_back(&p);
-  std::stable_sort(sorted.begin(), sorted.end(),
-                   [axis](const FramePoint* a, const FramePoint* b) {
-                     return a->commanded_mm(axis) < b->commanded_mm(axis);
-                   });
+  std::stable_sort(sorted.begin(), sorted.end(), [axis](const FramePoint* a, const FramePoint* b) {
+    return a->commanded_mm(axis) < b->commanded_mm(axis);
+  });
   for (std::size_t i = 1; i < sorted.size(); ++i) {
     const double gap = sorted[i]->commanded_mm(axis) - sorted[i - 1]->commanded_mm(axis);
     if (gap <= master_frame::kSameCommandedMm) {
       refuse(run + " points '" + sorted[i - 1]->label + "' and '" + sorted[i]->label +
              "' have the same commanded " + kAxisNames[axis] + " = " +
-             detail::quote_number(sorted[i]->commanded_mm(axis)) + " mm (duplicate commanded position)");
+             detail::quote_number(sorted[i]->commanded_mm(axis)) +
+             " mm (duplicate commanded position)");
     }
   }
 }
@@ -109,8 +111,9 @@ Line fit_run_line(const std::vector<FramePoint>& points, const std::string& run,
     line.slope = -line.slope;
   }
   if (!std::isfinite(line.slope) || std::abs(line.slope - 1) > master_frame::kMaxScaleDeviation) {
-    refuse(run + ": the measured travel along the fitted line is " + detail::quote_number(line.slope) +
-           " times the commanded travel (allowed 1 +- " + detail::quote_number(master_frame::kMaxScaleDeviation) +
+    refuse(run + ": the measured travel along the fitted line is " +
+           detail::quote_number(line.slope) + " times the commanded travel (allowed 1 +- " +
+           detail::quote_number(master_frame::kMaxScaleDeviation) +
            "): wrong unit, wrong points, or the target did not move");
   }
   return line;
@@ -167,9 +170,9 @@ MasterFrame fit_master_frame(const std::vector<FramePoint>& x_run,
   const double zx = x_run.front().commanded_mm.z();
   const double zy = y_run.front().commanded_mm.z();
   if (std::abs(zx - zy) > master_frame::kSameCommandedMm) {
-    refuse("x_run is at commanded z = " + detail::quote_number(zx) + " mm (point '" + x_run.front().label +
-           "'), y_run at z = " + detail::quote_number(zy) + " mm (point '" + y_run.front().label +
-           "'): both runs must be at one commanded Z");
+    refuse("x_run is at commanded z = " + detail::quote_number(zx) + " mm (point '" +
+           x_run.front().label + "'), y_run at z = " + detail::quote_number(zy) + " mm (point '" +
+           y_run.front().label + "'): both runs must be at one commanded Z");
   }
 
   // Step 1: the two lines.
@@ -181,7 +184,8 @@ MasterFrame fit_master_frame(const std::vector<FramePoint>& x_run,
   const double non_orthogonality = angle - kPi / 2;
   if (std::abs(non_orthogonality) > master_frame::kMaxNonOrthogonalityRad) {
     refuse("the fitted x_run and y_run lines are " + detail::quote_number(angle * 180 / kPi) +
-           " degrees apart (directions " + detail::quote_vector(u) + " and " + detail::quote_vector(v) +
+           " degrees apart (directions " + detail::quote_vector(u) + " and " +
+           detail::quote_vector(v) +
            "): (nearly) parallel lines cannot define a frame; allowed 90 +- " +
            detail::quote_number(master_frame::kMaxNonOrthogonalityRad * 180 / kPi) + " degrees");
   }

@@ -247,8 +247,8 @@ CheckResult check_repeatable_positioning(const MeasurementSet& set, const Machin
   // Step 0: is the input usable?
   if (auto why = why_set_unusable(set)) return detail::invalid(result, *why);
   if (auto why = why_config_unusable(machine)) return detail::invalid(result, *why);
-  if (auto why = detail::why_tolerances_missing(machine, {kCenterDx, kCenterDy, kFaceDz},
-                                                "check 3")) {
+  if (auto why =
+          detail::why_tolerances_missing(machine, {kCenterDx, kCenterDy, kFaceDz}, "check 3")) {
     return detail::invalid(result, *why);
   }
 

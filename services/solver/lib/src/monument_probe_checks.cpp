@@ -63,7 +63,7 @@ std::optional<std::string> why_gauge_unusable(const MachineConfig& m, std::strin
 struct HoleEdgeTouches {
   std::vector<Eigen::Vector2d> rough;  // ball centres (XY) with the head at C = 0
   std::vector<std::size_t> rough_index;
-  std::vector<Eigen::Vector2d> fine;   // with the head at C = 180 deg
+  std::vector<Eigen::Vector2d> fine;  // with the head at C = 180 deg
   std::vector<std::size_t> fine_index;
 };
 
@@ -100,8 +100,8 @@ std::optional<std::string> sort_c_alignment_touches(const MeasurementSet& set,
              ": check 1 takes its touches at A = 0 with C = 0 or C = 180 deg";
     }
   }
-  for (const auto& [count, head] : {std::pair{out->rough.size(), "C = 0"},
-                                    std::pair{out->fine.size(), "C = 180 deg"}}) {
+  for (const auto& [count, head] :
+       {std::pair{out->rough.size(), "C = 0"}, std::pair{out->fine.size(), "C = 180 deg"}}) {
     if (count < 3) {
       return "MeasurementSet.touches: " + std::to_string(count) + " '" + std::string(kHoleEdge) +
              "' touches with the head at " + head + ", check 1 needs at least 3";
@@ -158,8 +158,7 @@ std::optional<std::string> measure_hole_centre(const std::vector<Eigen::Vector2d
   if (out->consistency_mm > kGrossInconsistencyMm) {
     return "MeasurementSet.touches: the hole-edge touches at " + std::string(head) +
            " disagree: touches[" + std::to_string(index[worst]) + "] lies " +
-           format_number(out->consistency_mm) +
-           " mm from the circle through the others (limit " +
+           format_number(out->consistency_mm) + " mm from the circle through the others (limit " +
            format_number(kGrossInconsistencyMm) + " mm): one of them did not land on the hole edge";
   }
   return std::nullopt;
@@ -179,8 +178,7 @@ CheckResult check_c_axis_alignment(const MeasurementSet& set, const MachineConfi
   const double d = machine.monument.hole_diameter_mm;
   if (!std::isfinite(d) || d <= 2 * machine.probe.ball_radius_mm) {
     return detail::invalid(result, machine_where(machine) + ": monument.hole_diameter_mm = " +
-                                       format_number(d) +
-                                       " must exceed the stylus ball diameter");
+                                       format_number(d) + " must exceed the stylus ball diameter");
   }
   if (auto why = detail::why_tolerances_missing(machine, {kDx, kDy, kOffset}, "check 1")) {
     return detail::invalid(result, *why);
@@ -194,12 +192,12 @@ CheckResult check_c_axis_alignment(const MeasurementSet& set, const MachineConfi
 
   // Step 2: rough centre (head at 0 deg) and fine centre (head at 180 deg).
   HoleCentre rough, fine;
-  if (auto why = measure_hole_centre(touches.rough, touches.rough_index, "C = 0", machine,
-                                     &rough)) {
+  if (auto why =
+          measure_hole_centre(touches.rough, touches.rough_index, "C = 0", machine, &rough)) {
     return detail::invalid(result, *why);
   }
-  if (auto why = measure_hole_centre(touches.fine, touches.fine_index, "C = 180 deg", machine,
-                                     &fine)) {
+  if (auto why =
+          measure_hole_centre(touches.fine, touches.fine_index, "C = 180 deg", machine, &fine)) {
     return detail::invalid(result, *why);
   }
 
@@ -219,8 +217,7 @@ CheckResult check_c_axis_alignment(const MeasurementSet& set, const MachineConfi
   // Step 4: verdict. The stylus itself is the likeliest and cheapest to look at, then the
   // probe's switches, then the wrist.
   detail::decide_verdict(result, {std::string(kCauseBentStylus), std::string(kCauseProbeSwitches),
-                                  std::string(kCauseAHome),
-                                  std::string(kCauseANotPerpendicular)});
+                                  std::string(kCauseAHome), std::string(kCauseANotPerpendicular)});
   return result;
 }
 
@@ -268,11 +265,11 @@ CheckResult check_composite_tool_length(const MeasurementSet& set, const Machine
     }
     const Eigen::Vector3d tool = tool_direction(t.axes.a_rad, t.axes.c_rad);
     if (!along(tool, along_x)) {
-      return detail::invalid(result, touch_field(i, "axes") + ": head at " +
-                                         detail::describe_head(t.axes) + " points the probe along " +
-                                         format_vector(tool) + "; a '" + t.feature +
-                                         "' touch needs it along " + format_vector(along_x) +
-                                         " (C = 90 deg, A = " + (plus ? "+" : "-") + "90 deg)");
+      return detail::invalid(
+          result, touch_field(i, "axes") + ": head at " + detail::describe_head(t.axes) +
+                      " points the probe along " + format_vector(tool) + "; a '" + t.feature +
+                      "' touch needs it along " + format_vector(along_x) +
+                      " (C = 90 deg, A = " + (plus ? "+" : "-") + "90 deg)");
     }
     const Eigen::Vector3d p =
         detail::contact_point(stylus_ball_centre(t.axes, machine.probe), t.approach, r);
@@ -300,8 +297,8 @@ CheckResult check_composite_tool_length(const MeasurementSet& set, const Machine
   result.metrics.push_back(detail::judged_metric(kError, length_error, "mm", error_band));
 
   // Step 4: verdict. The patent's three parts that make up the length, outermost first.
-  detail::decide_verdict(result, {std::string(kCauseBody), std::string(kCauseWServo),
-                                  std::string(kCauseProbe)});
+  detail::decide_verdict(
+      result, {std::string(kCauseBody), std::string(kCauseWServo), std::string(kCauseProbe)});
   return result;
 }
 
@@ -340,8 +337,7 @@ CheckResult check_c_rotation(const MeasurementSet& set, const MachineConfig& mac
     if (auto why = detail::why_touch_not_finite(t, i)) return detail::invalid(result, *why);
     if (t.feature != kEdgePlusY) {
       return detail::invalid(result, touch_field(i, "feature") + " = '" + t.feature +
-                                         "': check 4 uses only " + quoted(kEdgePlusY) +
-                                         " touches");
+                                         "': check 4 uses only " + quoted(kEdgePlusY) + " touches");
     }
     if (!along(t.approach, -Eigen::Vector3d::UnitY())) {
       return detail::invalid(result, touch_field(i, "approach") + " = " +
@@ -362,21 +358,22 @@ CheckResult check_c_rotation(const MeasurementSet& set, const MachineConfig& mac
     (minus_x ? y_probe_minus_x : y_probe_plus_x).push_back(p.y());
   }
   if (y_probe_minus_x.empty() || y_probe_plus_x.empty()) {
-    return detail::invalid(result, "MeasurementSet.touches: " +
-                                       std::to_string(y_probe_minus_x.size()) +
-                                       " touches with the probe along -X and " +
-                                       std::to_string(y_probe_plus_x.size()) +
-                                       " along +X; check 4 needs at least one of each");
+    return detail::invalid(result,
+                           "MeasurementSet.touches: " + std::to_string(y_probe_minus_x.size()) +
+                               " touches with the probe along -X and " +
+                               std::to_string(y_probe_plus_x.size()) +
+                               " along +X; check 4 needs at least one of each");
   }
 
   // Step 2 and 3: the edge seen from both sides; half the difference over L is sin e.
   const double difference = mean(y_probe_minus_x) - mean(y_probe_plus_x);
   const double sine = difference / (2 * length);
   if (!(std::abs(sine) <= 1)) {
-    return detail::invalid(result, "MeasurementSet.touches: the upper edge seen with the probe "
-                                   "along -X and +X differs by " +
-                                       format_number(difference) + " mm, more than 2 L = " +
-                                       format_number(2 * length) + " mm");
+    return detail::invalid(result,
+                           "MeasurementSet.touches: the upper edge seen with the probe "
+                           "along -X and +X differs by " +
+                               format_number(difference) +
+                               " mm, more than 2 L = " + format_number(2 * length) + " mm");
   }
   const double angle_error = std::asin(sine);
   result.metrics.push_back(detail::judged_metric(kAngleError, units::rad_to_arcsec(angle_error),

@@ -63,8 +63,9 @@ CheckResult check_part_setpoints(const MeasurementSet& set, const MachineConfig&
     return detail::invalid(result, *why);
   }
   if (set.touches.empty()) {
-    return detail::invalid(result, "MeasurementSet.touches is empty: the set-point check needs "
-                                   "an x, y and z touch of every set point");
+    return detail::invalid(result,
+                           "MeasurementSet.touches is empty: the set-point check needs "
+                           "an x, y and z touch of every set point");
   }
 
   // Step 1: contact points, filed by set point and axis.
@@ -90,19 +91,18 @@ CheckResult check_part_setpoints(const MeasurementSet& set, const MachineConfig&
     }
     const int axis = f.back() - 'x';
     if (!detail::head_at(t.axes, 0, 0)) {
-      return detail::invalid(result, touch_field(i, "axes") + ": head at " +
-                                         detail::describe_head(t.axes) +
-                                         ": set points are probed with the head at home (A = C = 0)");
+      return detail::invalid(result,
+                             touch_field(i, "axes") + ": head at " + detail::describe_head(t.axes) +
+                                 ": set points are probed with the head at home (A = C = 0)");
     }
     if ((t.approach - approach_of(axis)).norm() > 4 * detail::kHeadAngleTolerance) {
-      return detail::invalid(result, touch_field(i, "approach") + " = " +
-                                         format_vector(t.approach) + ": a '" + f +
-                                         "' touch approaches along " +
-                                         format_vector(approach_of(axis)));
+      return detail::invalid(
+          result, touch_field(i, "approach") + " = " + format_vector(t.approach) + ": a '" + f +
+                      "' touch approaches along " + format_vector(approach_of(axis)));
     }
     if (it->second.touches[axis]++ > 0) {
-      return detail::invalid(result, touch_field(i, "feature") + " = '" + f +
-                                         "': a second touch of the same face");
+      return detail::invalid(
+          result, touch_field(i, "feature") + " = '" + f + "': a second touch of the same face");
     }
     const Eigen::Vector3d p = detail::contact_point(stylus_ball_centre(t.axes, machine.probe),
                                                     t.approach, machine.probe.ball_radius_mm);
@@ -132,8 +132,8 @@ CheckResult check_part_setpoints(const MeasurementSet& set, const MachineConfig&
       result.metrics.push_back(detail::judged_metric(
           axis_metric(point.name, static_cast<char>('x' + axis)), d[axis], "mm", axis_band));
     }
-    result.metrics.push_back(detail::judged_metric(deviation_metric(point.name), d.norm(), "mm",
-                                                   max_band));
+    result.metrics.push_back(
+        detail::judged_metric(deviation_metric(point.name), d.norm(), "mm", max_band));
     largest = std::max(largest, d.norm());
   }
   result.metrics.push_back(detail::judged_metric(kMaxDeviation, largest, "mm", max_band));
@@ -145,8 +145,8 @@ CheckResult check_part_setpoints(const MeasurementSet& set, const MachineConfig&
   if (result.verdict == Verdict::Pass) {
     Correction zero;
     zero.target = std::string(kWorkOffsetTarget) + machine.machine_id;
-    zero.offsets = {{"dx_mm", primary.x(), "mm"}, {"dy_mm", primary.y(), "mm"},
-                    {"dz_mm", primary.z(), "mm"}};
+    zero.offsets = {
+        {"dx_mm", primary.x(), "mm"}, {"dy_mm", primary.y(), "mm"}, {"dz_mm", primary.z(), "mm"}};
     result.correction = zero;
   }
   return result;

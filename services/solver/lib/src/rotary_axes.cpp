@@ -38,8 +38,8 @@ struct AxisField {
   bool angle;
 };
 constexpr AxisField kFields[] = {
-    {"x_mm", &AxisPosition::x_mm, false}, {"y_mm", &AxisPosition::y_mm, false},
-    {"z_mm", &AxisPosition::z_mm, false}, {"w_mm", &AxisPosition::w_mm, false},
+    {"x_mm", &AxisPosition::x_mm, false},  {"y_mm", &AxisPosition::y_mm, false},
+    {"z_mm", &AxisPosition::z_mm, false},  {"w_mm", &AxisPosition::w_mm, false},
     {"a_rad", &AxisPosition::a_rad, true}, {"c_rad", &AxisPosition::c_rad, true},
 };
 
@@ -49,22 +49,22 @@ void validate_common(const std::string& who, const std::vector<RotaryPoint>& poi
                      const ProbeGeometry& geometry, double AxisPosition::*moving,
                      const std::string& why_count) {
   if (static_cast<int>(points.size()) < rotary_axes::kMinPoints) {
-    throw std::invalid_argument(who + ": " + std::to_string(points.size()) +
-                                " points given; at least " +
-                                std::to_string(rotary_axes::kMinPoints) + " are needed (" +
-                                why_count + ")");
+    throw std::invalid_argument(
+        who + ": " + std::to_string(points.size()) + " points given; at least " +
+        std::to_string(rotary_axes::kMinPoints) + " are needed (" + why_count + ")");
   }
   if (!std::isfinite(geometry.tool_length_mm) || !geometry.stylus_offset_mm.allFinite()) {
-    throw std::invalid_argument(who + ": geometry.tool_length_mm = " +
-                                detail::quote_number(geometry.tool_length_mm) + ", stylus_offset_mm = (" +
-                                detail::quote_number(geometry.stylus_offset_mm.x()) + ", " +
-                                detail::quote_number(geometry.stylus_offset_mm.y()) + ") must be finite");
+    throw std::invalid_argument(
+        who + ": geometry.tool_length_mm = " + detail::quote_number(geometry.tool_length_mm) +
+        ", stylus_offset_mm = (" + detail::quote_number(geometry.stylus_offset_mm.x()) + ", " +
+        detail::quote_number(geometry.stylus_offset_mm.y()) + ") must be finite");
   }
   for (const auto& p : points) {
     for (const auto& f : kFields) {
       if (!std::isfinite(p.commanded.*(f.member))) {
-        throw std::invalid_argument(who + ": point '" + p.label + "' commanded." + f.name +
-                                    " = " + detail::quote_number(p.commanded.*(f.member)) + " is not finite");
+        throw std::invalid_argument(who + ": point '" + p.label + "' commanded." + f.name + " = " +
+                                    detail::quote_number(p.commanded.*(f.member)) +
+                                    " is not finite");
       }
     }
     if (!p.measured_master_mm.allFinite()) {
@@ -79,11 +79,12 @@ void validate_common(const std::string& who, const std::vector<RotaryPoint>& poi
       const double diff = p.commanded.*(f.member) - first.commanded.*(f.member);
       const double limit = f.angle ? rotary_axes::kHeldRad : rotary_axes::kHeldMm;
       if (std::abs(diff) > limit) {
-        throw std::invalid_argument(
-            who + ": point '" + p.label + "' commanded." + f.name + " = " +
-            detail::quote_number(p.commanded.*(f.member)) + " differs from that of the first point '" +
-            first.label + "' (" + detail::quote_number(first.commanded.*(f.member)) + ") by " + detail::quote_number(diff) +
-            ": this check holds every axis but the one it checks");
+        throw std::invalid_argument(who + ": point '" + p.label + "' commanded." + f.name + " = " +
+                                    detail::quote_number(p.commanded.*(f.member)) +
+                                    " differs from that of the first point '" + first.label +
+                                    "' (" + detail::quote_number(first.commanded.*(f.member)) +
+                                    ") by " + detail::quote_number(diff) +
+                                    ": this check holds every axis but the one it checks");
       }
     }
   }
@@ -122,8 +123,8 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
     throw std::invalid_argument(who + ": axis = " + std::string(rotary_axis_name(axis)) +
                                 " is not a rotary axis (A or C); use analyze_w_axis");
   }
-  double AxisPosition::*moving = axis == RotaryAxis::C ? &AxisPosition::c_rad
-                                                       : &AxisPosition::a_rad;
+  double AxisPosition::*moving =
+      axis == RotaryAxis::C ? &AxisPosition::c_rad : &AxisPosition::a_rad;
   const std::string moving_name = axis == RotaryAxis::C ? "c_rad" : "a_rad";
 
   // Step 0: the points are usable.
@@ -147,17 +148,19 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
           who + ": points '" + angles[i].second->label + "' and '" + angles[j].second->label +
           "' have the same commanded." + moving_name + " (" +
           detail::quote_number(angles[i].second->commanded.*moving) + " and " +
-          detail::quote_number(angles[j].second->commanded.*moving) + ", modulo 2 pi): duplicate angle");
+          detail::quote_number(angles[j].second->commanded.*moving) +
+          ", modulo 2 pi): duplicate angle");
     }
     largest_gap = std::max(largest_gap, gap);
   }
   const double coverage = 2 * kPi - largest_gap;
   if (coverage < rotary_axes::kMinArcRad) {
-    throw std::invalid_argument(
-        who + ": the commanded " + moving_name + " cover an arc of " +
-        detail::quote_number(coverage * 180 / kPi) + " degrees (2 pi minus the largest gap between consecutive " +
-        "angles); at least " + detail::quote_number(rotary_axes::kMinArcRad * 180 / kPi) +
-        " are needed to locate the centre of the circle");
+    throw std::invalid_argument(who + ": the commanded " + moving_name + " cover an arc of " +
+                                detail::quote_number(coverage * 180 / kPi) +
+                                " degrees (2 pi minus the largest gap between consecutive " +
+                                "angles); at least " +
+                                detail::quote_number(rotary_axes::kMinArcRad * 180 / kPi) +
+                                " are needed to locate the centre of the circle");
   }
 
   // Step 1: the nominal circle. Axis through the pivot P: C along +Z, A along Rz(c) +X.
@@ -175,10 +178,12 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
   out.nominal_radius_mm = (p0 - p0.dot(k) * k).norm();
   if (!(out.nominal_radius_mm >= rotary_axes::kMinRadiusMm)) {
     throw std::invalid_argument(
-        who + ": the nominal target is " + detail::quote_number(out.nominal_radius_mm) + " mm from the " +
-        std::string(rotary_axis_name(axis)) + " axis (geometry.tool_length_mm = " +
-        detail::quote_number(geometry.tool_length_mm) + ", point '" + first.label + "'); at least " +
-        detail::quote_number(rotary_axes::kMinRadiusMm) + " mm is needed for the target to sweep a circle" +
+        who + ": the nominal target is " + detail::quote_number(out.nominal_radius_mm) +
+        " mm from the " + std::string(rotary_axis_name(axis)) +
+        " axis (geometry.tool_length_mm = " + detail::quote_number(geometry.tool_length_mm) +
+        ", point '" + first.label + "'); at least " +
+        detail::quote_number(rotary_axes::kMinRadiusMm) +
+        " mm is needed for the target to sweep a circle" +
         (axis == RotaryAxis::C ? " (tilt A or offset the target)" : ""));
   }
   AxisPosition zero = first.commanded;
@@ -204,8 +209,8 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
         who + ": the measured_master_mm of the " + std::string(rotary_axis_name(axis)) +
         " points " +
         (rms_along > rotary_axes::kCoincidentMm ? "are (nearly) collinear" : "all coincide") +
-        " (rms spread " + detail::quote_number(rms_along) + " mm along their line, " + detail::quote_number(rms_across) +
-        " mm across it): they define no circle");
+        " (rms spread " + detail::quote_number(rms_along) + " mm along their line, " +
+        detail::quote_number(rms_across) + " mm across it): they define no circle");
   }
   Eigen::Vector3d n = s.vectors.col(0).normalized();
   if (n.dot(k) < 0) n = -n;
@@ -217,8 +222,10 @@ RotaryCircleResult analyze_circle_axis(RotaryAxis axis, const std::vector<Rotary
   if (!(e1.norm() > 1e-9 * (1 + zero_direction.norm()))) {
     throw std::invalid_argument(who + ": the fitted plane (normal " + detail::quote_vector(n) +
                                 ") is perpendicular to the nominal zero direction " +
-                                detail::quote_vector(zero_direction) + ": the measured points are not a circle "
-                                "about the " + std::string(rotary_axis_name(axis)) + " axis");
+                                detail::quote_vector(zero_direction) +
+                                ": the measured points are not a circle "
+                                "about the " +
+                                std::string(rotary_axis_name(axis)) + " axis");
   }
   e1.normalize();
   const Eigen::Vector3d e2 = n.cross(e1);
@@ -286,9 +293,10 @@ WAxisResult analyze_w_axis(const std::vector<RotaryPoint>& points, const ProbeGe
   });
   for (std::size_t i = 1; i < sorted.size(); ++i) {
     if (sorted[i]->commanded.w_mm - sorted[i - 1]->commanded.w_mm <= rotary_axes::kHeldMm) {
-      throw std::invalid_argument(who + ": points '" + sorted[i - 1]->label + "' and '" +
-                                  sorted[i]->label + "' have the same commanded.w_mm = " +
-                                  detail::quote_number(sorted[i]->commanded.w_mm) + " (duplicate position)");
+      throw std::invalid_argument(
+          who + ": points '" + sorted[i - 1]->label + "' and '" + sorted[i]->label +
+          "' have the same commanded.w_mm = " + detail::quote_number(sorted[i]->commanded.w_mm) +
+          " (duplicate position)");
     }
   }
 
@@ -320,7 +328,8 @@ WAxisResult analyze_w_axis(const std::vector<RotaryPoint>& points, const ProbeGe
   }
   if (!std::isfinite(slope) || std::abs(slope - 1) > rotary_axes::kMaxScaleDeviation) {
     throw std::invalid_argument(who + ": the measured travel along the fitted line is " +
-                                detail::quote_number(slope) + " times the commanded W travel (allowed 1 +- " +
+                                detail::quote_number(slope) +
+                                " times the commanded W travel (allowed 1 +- " +
                                 detail::quote_number(rotary_axes::kMaxScaleDeviation) +
                                 "): wrong unit, wrong points, or the spindle did not move");
   }
@@ -344,8 +353,8 @@ WAxisResult analyze_w_axis(const std::vector<RotaryPoint>& points, const ProbeGe
     e_min = std::min(e_min, r.positioning_error_mm);
     e_max = std::max(e_max, r.positioning_error_mm);
     out.straightness_mm = std::max(out.straightness_mm, r.distance_mm);
-    out.positioning_max_abs_mm = std::max(out.positioning_max_abs_mm,
-                                          std::abs(r.positioning_error_mm));
+    out.positioning_max_abs_mm =
+        std::max(out.positioning_max_abs_mm, std::abs(r.positioning_error_mm));
     out.mean_deviation_mm += r.deviation_mm;
     out.points.push_back(r);
   }

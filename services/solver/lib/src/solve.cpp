@@ -26,34 +26,22 @@ CheckResult stamped(CheckResult result, const MeasurementSet& set, std::int64_t 
 // that the compiler (-Wswitch) names a kind added to the table without its check here.
 CheckResult dispatch(const MeasurementSet& set, const MachineConfig& machine) {
   switch (set.kind) {
-    case CheckKind::MonumentCAlignment:
-      return check_c_axis_alignment(set, machine);
-    case CheckKind::MonumentToolLength:
-      return check_composite_tool_length(set, machine);
-    case CheckKind::MonumentPositioning:
-      return check_repeatable_positioning(set, machine);
-    case CheckKind::MonumentCRotation:
-      return check_c_rotation(set, machine);
-    case CheckKind::FixturePreCalibration:
-      return check_fixture_precalibration(set, machine);
-    case CheckKind::FixturePostCalibration:
-      return check_fixture_postcalibration(set, machine);
-    case CheckKind::PartSetPoints:
-      return check_part_setpoints(set, machine);
-    case CheckKind::GlobalMasterFrame:
-      return check_global_master_frame(set, machine);
-    case CheckKind::GlobalGrid:
-      return check_global_grid(set, machine);
+    case CheckKind::MonumentCAlignment: return check_c_axis_alignment(set, machine);
+    case CheckKind::MonumentToolLength: return check_composite_tool_length(set, machine);
+    case CheckKind::MonumentPositioning: return check_repeatable_positioning(set, machine);
+    case CheckKind::MonumentCRotation: return check_c_rotation(set, machine);
+    case CheckKind::FixturePreCalibration: return check_fixture_precalibration(set, machine);
+    case CheckKind::FixturePostCalibration: return check_fixture_postcalibration(set, machine);
+    case CheckKind::PartSetPoints: return check_part_setpoints(set, machine);
+    case CheckKind::GlobalMasterFrame: return check_global_master_frame(set, machine);
+    case CheckKind::GlobalGrid: return check_global_grid(set, machine);
     case CheckKind::RotaryW:
     case CheckKind::RotaryA:
-    case CheckKind::RotaryC:
-      return check_rotary_axis(set, machine);
+    case CheckKind::RotaryC: return check_rotary_axis(set, machine);
     case CheckKind::CircleXY:
     case CheckKind::CircleYZ:
-    case CheckKind::CircleXZ:
-      return check_circle(set, machine);
-    case CheckKind::LinearAxisRun:
-      return check_linear_axis_run(set, machine);
+    case CheckKind::CircleXZ: return check_circle(set, machine);
+    case CheckKind::LinearAxisRun: return check_linear_axis_run(set, machine);
   }
   return detail::invalid(detail::result_for(set),
                          "check kind '" + std::string(to_string(set.kind)) +
@@ -71,9 +59,9 @@ bool is_implemented(CheckKind kind) {
 CheckResult solve(const MeasurementSet& set, const PlantConfig& plant, std::int64_t time_ns) {
   const MachineConfig* machine = plant.find_machine(set.machine_id);
   if (!machine) {
-    return stamped(detail::invalid(detail::result_for(set),
-                                   "machine_id '" + set.machine_id +
-                                       "' is not configured in plant '" + plant.plant + "'"),
+    return stamped(detail::invalid(detail::result_for(set), "machine_id '" + set.machine_id +
+                                                                "' is not configured in plant '" +
+                                                                plant.plant + "'"),
                    set, time_ns);
   }
   return solve(set, *machine, time_ns);

@@ -52,8 +52,8 @@ std::optional<std::string> why_not_a_set_of(const MeasurementSet& set, CheckKind
                                             std::string_view check) {
   if (!set.error.empty()) return "MeasurementSet.error: " + set.error;
   if (set.kind != expected) {
-    return "MeasurementSet.kind = '" + std::string(to_string(set.kind)) + "': " +
-           std::string(check) + " needs '" + std::string(to_string(expected)) + "'";
+    return "MeasurementSet.kind = '" + std::string(to_string(set.kind)) +
+           "': " + std::string(check) + " needs '" + std::string(to_string(expected)) + "'";
   }
   return std::nullopt;
 }

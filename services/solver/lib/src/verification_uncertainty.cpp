@@ -28,26 +28,27 @@ namespace ncqual::solver {
 
 namespace {
 
+using detail::Kind;
+using detail::Param;
+using detail::skew;
 using Eigen::Matrix3d;
 using Eigen::MatrixXd;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
 using volumetric::kFunctionCount;
-using detail::Kind;
-using detail::Param;
-using detail::skew;
 
 constexpr int kMaxDegree = detail::kMaxOrder;  // as IdentificationOptions accepts
-constexpr double kAtTrackerMm = 1e-6;     // a point this close to the tracker has no direction
+constexpr double kAtTrackerMm = 1e-6;          // a point this close to the tracker has no direction
 constexpr int kMaxThreads = 64;
-constexpr double kMaxSamples = 5e7;       // trials x points stored for the quantiles
+constexpr double kMaxSamples = 5e7;  // trials x points stored for the quantiles
 constexpr double kMaxCandidates = 1e6;
-constexpr int kBlockTrials = 50;          // trials per accumulation block (thread-independent)
+constexpr int kBlockTrials = 50;  // trials per accumulation block (thread-independent)
 
 // ----------------------------------------------------------------------------------------------
 // Messages
 
-[[noreturn]] void refuse(const std::string& field, const std::string& value, const std::string& why) {
+[[noreturn]] void refuse(const std::string& field, const std::string& value,
+                         const std::string& why) {
   throw std::invalid_argument(field + " = " + value + ": " + why);
 }
 
@@ -60,11 +61,13 @@ void need_finite(const std::string& field, const Vector3d& v) {
 }
 
 void need_sigma(const std::string& field, double v) {
-  if (!(std::isfinite(v) && v >= 0)) refuse(field, detail::quote_number(v), "expected a finite value >= 0");
+  if (!(std::isfinite(v) && v >= 0))
+    refuse(field, detail::quote_number(v), "expected a finite value >= 0");
 }
 
 void need_sigma(const std::string& field, const Vector3d& v) {
-  if (!v.allFinite() || (v.array() < 0).any()) refuse(field, detail::quote_vector(v), "expected finite values >= 0");
+  if (!v.allFinite() || (v.array() < 0).any())
+    refuse(field, detail::quote_vector(v), "expected finite values >= 0");
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -97,15 +100,16 @@ void check_design(const VerificationDesign& d) {
     need_finite(point_field(i, d.points[i], "tool_offset_mm"), d.points[i].tool_offset_mm);
   }
   if (!(std::isfinite(d.identification_sigma_mm) && d.identification_sigma_mm > 0)) {
-    refuse("VerificationDesign.identification_sigma_mm", detail::quote_number(d.identification_sigma_mm),
-           "expected a finite value > 0");
+    refuse("VerificationDesign.identification_sigma_mm",
+           detail::quote_number(d.identification_sigma_mm), "expected a finite value > 0");
   }
   if (d.max_degree < 1 || d.max_degree > kMaxDegree) {
     refuse("VerificationDesign.max_degree", std::to_string(d.max_degree),
            "expected 1.." + std::to_string(kMaxDegree));
   }
   if (!(d.rank_tolerance > 0 && d.rank_tolerance < 1)) {
-    refuse("VerificationDesign.rank_tolerance", detail::quote_number(d.rank_tolerance), "expected 0 < tolerance < 1");
+    refuse("VerificationDesign.rank_tolerance", detail::quote_number(d.rank_tolerance),
+           "expected 0 < tolerance < 1");
   }
 }
 
@@ -115,7 +119,8 @@ void check_tracker_sees(const VerificationDesign& d, const TrackerUncertaintyMod
     if ((p.commanded_mm + p.tool_offset_mm - t.position_mm).norm() < kAtTrackerMm) {
       refuse(point_field(i, p, "commanded_mm + tool_offset_mm"),
              detail::quote_vector(p.commanded_mm + p.tool_offset_mm),
-             "at the tracker's position " + detail::quote_vector(t.position_mm) + " (no direction to measure)");
+             "at the tracker's position " + detail::quote_vector(t.position_mm) +
+                 " (no direction to measure)");
     }
   }
 }
@@ -156,8 +161,8 @@ void check_options(const MonteCarloOptions& o, std::size_t points) {
   }
   if (static_cast<double>(o.trials) * static_cast<double>(points) > kMaxSamples) {
     refuse("MonteCarloOptions.trials", std::to_string(o.trials),
-           "times the " + std::to_string(points) + " design points exceeds " + detail::quote_number(kMaxSamples) +
-               " stored residuals");
+           "times the " + std::to_string(points) + " design points exceeds " +
+               detail::quote_number(kMaxSamples) + " stored residuals");
   }
 }
 
@@ -170,7 +175,8 @@ struct NoiseScale {
 
 NoiseScale noise_scale(const TrackerUncertaintyModel& t) {
   const double avg = 1.0 / std::sqrt(static_cast<double>(t.samples_per_point));
-  return {t.radial_sigma_mm * avg, t.radial_sigma_mm_per_m / 1000.0 * avg, t.angular_sigma_rad * avg};
+  return {t.radial_sigma_mm * avg, t.radial_sigma_mm_per_m / 1000.0 * avg,
+          t.angular_sigma_rad * avg};
 }
 
 // u_p^2 of eq. 24 for a point at range r, elevation e.
@@ -193,7 +199,8 @@ TrackerPointUncertainty point_uncertainty(const NoiseScale& n, const Matrix3d& m
       std::sin(e), 0.0, r * std::cos(e);
   const Vector3d var(ur * ur, n.angle * n.angle, n.angle * n.angle);
   const Matrix3d cov_tracker = J * var.asDiagonal() * J.transpose();
-  const Matrix3d cov_machine = machine_from_tracker * cov_tracker * machine_from_tracker.transpose();
+  const Matrix3d cov_machine =
+      machine_from_tracker * cov_tracker * machine_from_tracker.transpose();
   TrackerPointUncertainty out;
   out.range_mm = r;
   out.azimuth_rad = a;
@@ -210,12 +217,12 @@ TrackerPointUncertainty point_uncertainty(const NoiseScale& n, const Matrix3d& m
 // terms, order and identifiability test as identify_rigid_body_errors (volumetric_model.hpp).
 
 struct LinearIdentification {
-  int observations = 0;            // 3 n
-  int candidates = 0;              // candidate parameters before the identifiability test
-  MatrixXd J;                      // 3n x na, accepted columns (machine frame)
-  MatrixXd H_inverse;              // (J'J)^-1
-  MatrixXd covariance;             // sigma^2 (J'J)^-1, the BIC's
-  double penalty = 0;              // ln(observations)
+  int observations = 0;  // 3 n
+  int candidates = 0;    // candidate parameters before the identifiability test
+  MatrixXd J;            // 3n x na, accepted columns (machine frame)
+  MatrixXd H_inverse;    // (J'J)^-1
+  MatrixXd covariance;   // sigma^2 (J'J)^-1, the BIC's
+  double penalty = 0;    // ln(observations)
   // Per function: accepted column indices by increasing order (BIC candidates for dropping).
   std::array<std::vector<int>, kFunctionCount> stacks;
   std::vector<std::string> unidentifiable;
@@ -223,14 +230,16 @@ struct LinearIdentification {
 
 // Refusals shared with the full identification: duplicates, too few positions per axis, too few
 // observations, a frame the design cannot fix.
-LinearIdentification linearise(const VerificationDesign& design, const std::vector<Vector3d>& commanded) {
+LinearIdentification linearise(const VerificationDesign& design,
+                               const std::vector<Vector3d>& commanded) {
   const std::size_t n = design.points.size();
   std::vector<Vector3d> tool_offset;
   for (const DesignPoint& point : design.points) tool_offset.push_back(point.tool_offset_mm);
   if (const auto duplicate = detail::first_duplicate(commanded, tool_offset)) {
     const auto [a, b] = *duplicate;
     refuse(point_field(b, design.points[b], "(commanded_mm, tool_offset_mm)"),
-           "(" + detail::quote_vector(design.points[b].commanded_mm) + ", " + detail::quote_vector(design.points[b].tool_offset_mm) + ")",
+           "(" + detail::quote_vector(design.points[b].commanded_mm) + ", " +
+               detail::quote_vector(design.points[b].tool_offset_mm) + ")",
            "duplicates points[" + std::to_string(a) + "] ('" + design.points[a].label + "')");
   }
   const detail::AxisGauge gauge =
@@ -238,10 +247,12 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
         return "VerificationDesign.points: commanded " + std::string(1, axis) + " = " +
                std::to_string(distinct) + " distinct position(s): at least 3 are needed per axis";
       });
-  const std::vector<Param> params = detail::candidate_parameters(gauge.cap, detail::CandidateSet::TrackerPoints);
+  const std::vector<Param> params =
+      detail::candidate_parameters(gauge.cap, detail::CandidateSet::TrackerPoints);
   const int p = static_cast<int>(params.size());
   const int m = 3 * static_cast<int>(n);
-  detail::refuse_too_few("VerificationDesign.points: " + std::to_string(n) + " points", m, p, design.max_degree);
+  detail::refuse_too_few("VerificationDesign.points: " + std::to_string(n) + " points", m, p,
+                         design.max_degree);
   // Jacobian at zero errors: p = c + t, every rotation the identity.
   MatrixXd J = MatrixXd::Zero(m, p);
   for (std::size_t i = 0; i < n; ++i) {
@@ -252,7 +263,8 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
     for (int a = 0; a < 3; ++a) {
       const auto ua = static_cast<std::size_t>(a);
       const double u = volumetric::normalized_coordinate(c[a], gauge.lo[ua], gauge.hi[ua]);
-      for (int k = 0; k <= gauge.cap[ua]; ++k) leg[ua][static_cast<std::size_t>(k)] = volumetric::legendre(k, u);
+      for (int k = 0; k <= gauge.cap[ua]; ++k)
+        leg[ua][static_cast<std::size_t>(k)] = volumetric::legendre(k, u);
     }
     // Effect of a small rotation of each axis' carriage: -[w]x with w the vector it carries.
     const std::array<Matrix3d, 3> d_ang = {-skew(Vector3d(0, c.y(), c.z()) + t),
@@ -266,7 +278,7 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
         case Kind::FrameTranslation: col = Vector3d::Unit(q.index); break;
         case Kind::FrameRotation: col = frame_rotation.col(q.index); break;
         case Kind::Squareness:
-          col = q.index == 0 ? Vector3d(-c.y(), 0, 0)
+          col = q.index == 0   ? Vector3d(-c.y(), 0, 0)
                 : q.index == 1 ? Vector3d(c.z(), 0, 0)
                                : Vector3d(0, -c.z(), 0);
           break;
@@ -283,9 +295,11 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
   }
   // Identifiability.
   const MatrixXd H = J.transpose() * J;
-  const detail::Identifiability identifiable = detail::identifiable_columns(H, design.rank_tolerance);
+  const detail::Identifiability identifiable =
+      detail::identifiable_columns(H, design.rank_tolerance);
   const std::vector<int>& accepted = identifiable.accepted;
-  detail::refuse_undetermined_frame(params, identifiable.rejected, "VerificationDesign.points: the design");
+  detail::refuse_undetermined_frame(params, identifiable.rejected,
+                                    "VerificationDesign.points: the design");
   LinearIdentification out;
   out.unidentifiable = detail::rejected_terms(params, identifiable.rejected).unidentifiable;
   out.stacks = detail::order_stacks(params, accepted);
@@ -303,12 +317,14 @@ LinearIdentification linearise(const VerificationDesign& design, const std::vect
   MatrixXd Hn(na, na);
   for (int a = 0; a < na; ++a) {
     for (int b = 0; b < na; ++b) {
-      Hn(a, b) = H(accepted[static_cast<std::size_t>(a)], accepted[static_cast<std::size_t>(b)]) * s(a) * s(b);
+      Hn(a, b) = H(accepted[static_cast<std::size_t>(a)], accepted[static_cast<std::size_t>(b)]) *
+                 s(a) * s(b);
     }
   }
   const MatrixXd Hn_inv = Hn.ldlt().solve(MatrixXd::Identity(na, na));
   out.H_inverse = s.asDiagonal() * Hn_inv * s.asDiagonal();
-  out.covariance = out.H_inverse * (design.identification_sigma_mm * design.identification_sigma_mm);
+  out.covariance =
+      out.H_inverse * (design.identification_sigma_mm * design.identification_sigma_mm);
   out.penalty = std::log(static_cast<double>(m));
   return out;
 }
@@ -323,7 +339,7 @@ struct Fixed {
   std::vector<Vector3d> commanded;  // q (design)
   std::vector<Vector3d> analysed;   // q (1 + alpha Delta T): what the analysis identifies with
   std::vector<Vector3d> nominal;    // analysed + tool offset: the nominal targets (machine frame)
-  std::vector<Matrix3d> chain_jacobian;  // d actual_position / d axis positions at analysed
+  std::vector<Matrix3d> chain_jacobian;       // d actual_position / d axis positions at analysed
   Vector3d nominal_scale = Vector3d::Ones();  // 1 + alpha Delta T as the analysis corrects
   Vector3d range_middle = Vector3d::Zero();   // middle of each axis' commanded range
   Matrix3d tracker_rotation = Matrix3d::Identity();
@@ -340,8 +356,10 @@ std::uint64_t splitmix64(std::uint64_t x) {
 // Fills `truth` (where the targets are, noise- and repeatability-free, tracker frame) and
 // `measured` (the readings, tracker frame), 3 per point; returns the true thermal scale
 // 1 + alpha Delta T per axis.
-Vector3d simulate_trial(const Fixed& f, std::uint64_t seed, int trial, VectorXd& truth, VectorXd& measured) {
-  std::mt19937_64 rng(splitmix64(seed ^ splitmix64(static_cast<std::uint64_t>(trial) + 0x5851f42d4c957f2dULL)));
+Vector3d simulate_trial(const Fixed& f, std::uint64_t seed, int trial, VectorXd& truth,
+                        VectorXd& measured) {
+  std::mt19937_64 rng(
+      splitmix64(seed ^ splitmix64(static_cast<std::uint64_t>(trial) + 0x5851f42d4c957f2dULL)));
   std::normal_distribution<double> normal(0.0, 1.0);
   const UncertaintySources& s = *f.sources;
   const TrackerUncertaintyModel& t = *f.tracker;
@@ -369,8 +387,8 @@ Vector3d simulate_trial(const Fixed& f, std::uint64_t seed, int trial, VectorXd&
     // through the chain's Jacobian (its curvature leaves far below 1e-9 mm).
     const Vector3d actual = volumetric::actual_position(s.errors, q.cwiseProduct(scale), tool);
     const Vector3d systematic = tracker_from_machine * (actual - position);
-    const Vector3d landed =
-        tracker_from_machine * (actual + f.chain_jacobian[i] * repeat.cwiseProduct(scale) - position);
+    const Vector3d landed = tracker_from_machine *
+                            (actual + f.chain_jacobian[i] * repeat.cwiseProduct(scale) - position);
     Vector3d sph = tracker_spherical(landed);
     const double r0 = sph[0];
     sph[0] += (f.noise.range0 + f.noise.range1_per_mm * r0) * normal(rng);
@@ -391,11 +409,13 @@ struct Workspace {
 
 // Linearised identification of one trial: residual (machine axes) per point into `residual`;
 // returns the number of parameters kept.
-int linear_trial(const Fixed& f, const LinearIdentification& lin, Workspace& w, VectorXd& residual) {
+int linear_trial(const Fixed& f, const LinearIdentification& lin, Workspace& w,
+                 VectorXd& residual) {
   const std::size_t n = f.nominal.size();
   // Rigid best fit (unweighted): nominal ~ A measured.
   const Eigen::Isometry3d A = detail::rigid_fit(
-      Eigen::Map<const Eigen::Matrix3Xd>(w.measured.data(), 3, static_cast<Eigen::Index>(n)), detail::as_columns(f.nominal));
+      Eigen::Map<const Eigen::Matrix3Xd>(w.measured.data(), 3, static_cast<Eigen::Index>(n)),
+      detail::as_columns(f.nominal));
   for (std::size_t i = 0; i < n; ++i) {
     const auto row = static_cast<Eigen::Index>(3 * i);
     w.e.segment<3>(row) = A * Vector3d(w.measured.segment<3>(row)) - f.nominal[i];
@@ -409,7 +429,8 @@ int linear_trial(const Fixed& f, const LinearIdentification& lin, Workspace& w, 
   w.col.resize(na);
   int kept = na;
   for (int fn = 0; fn < kFunctionCount; ++fn) {
-    w.remaining[static_cast<std::size_t>(fn)] = static_cast<int>(lin.stacks[static_cast<std::size_t>(fn)].size());
+    w.remaining[static_cast<std::size_t>(fn)] =
+        static_cast<int>(lin.stacks[static_cast<std::size_t>(fn)].size());
   }
   for (;;) {
     int best = -1;
@@ -425,7 +446,9 @@ int linear_trial(const Fixed& f, const LinearIdentification& lin, Workspace& w, 
       }
     }
     if (best < 0) break;
-    const int j = lin.stacks[static_cast<std::size_t>(best)][static_cast<std::size_t>(--w.remaining[static_cast<std::size_t>(best)])];
+    const int j =
+        lin.stacks[static_cast<std::size_t>(best)]
+                  [static_cast<std::size_t>(--w.remaining[static_cast<std::size_t>(best)])];
     // Only the lower triangle of C is kept up to date.
     w.col.head(j) = w.C.row(j).head(j).transpose();
     w.col.tail(na - j) = w.C.col(j).tail(na - j);
@@ -475,8 +498,8 @@ int full_trial(const Fixed& f, Workspace& w, VectorXd& residual) {
 // Per-block accumulators (Welford per point and axis), merged in block order.
 struct Block {
   int count = 0;
-  VectorXd mean, m2;   // 3n
-  VectorXd sum_sq;     // n: sum of |e|^2
+  VectorXd mean, m2;  // 3n
+  VectorXd sum_sq;    // n: sum of |e|^2
   double kept = 0;
 };
 
@@ -505,7 +528,8 @@ VerificationDesign grid_verification_design(const GlobalCheckConfig& config) {
   for (const TrackerMove& move : global_check_program(CheckKind::GlobalGrid, config)) {
     if (move.label.rfind("grid:", 0) != 0) continue;
     if (move.target < 0 || move.target >= static_cast<int>(config.targets.size())) {
-      refuse("GlobalCheckConfig.targets: move '" + move.label + "' target", std::to_string(move.target),
+      refuse("GlobalCheckConfig.targets: move '" + move.label + "' target",
+             std::to_string(move.target),
              "not one of the " + std::to_string(config.targets.size()) + " targets");
     }
     AxisPosition at = move.commanded;
@@ -516,12 +540,14 @@ VerificationDesign grid_verification_design(const GlobalCheckConfig& config) {
     DesignPoint p;
     p.label = move.label;
     p.commanded_mm = pivot;
-    p.tool_offset_mm = stylus_ball_centre(at, config.targets[static_cast<std::size_t>(move.target)]) - pivot;
+    p.tool_offset_mm =
+        stylus_ball_centre(at, config.targets[static_cast<std::size_t>(move.target)]) - pivot;
     d.points.push_back(std::move(p));
   }
   if (d.points.empty()) {
-    throw std::invalid_argument("GlobalCheckConfig: the GlobalGrid program has no grid point "
-                                "(grid_x_mm, grid_y_mm, grid_z_mm or targets empty)");
+    throw std::invalid_argument(
+        "GlobalCheckConfig: the GlobalGrid program has no grid point "
+        "(grid_x_mm, grid_y_mm, grid_z_mm or targets empty)");
   }
   return d;
 }
@@ -537,7 +563,8 @@ TrackerPointUncertainty tracker_point_uncertainty(const TrackerUncertaintyModel&
   check_tracker(tracker);
   need_finite("point_mm", point_mm);
   if ((point_mm - tracker.position_mm).norm() < kAtTrackerMm) {
-    refuse("point_mm", detail::quote_vector(point_mm), "at the tracker's position " + detail::quote_vector(tracker.position_mm));
+    refuse("point_mm", detail::quote_vector(point_mm),
+           "at the tracker's position " + detail::quote_vector(tracker.position_mm));
   }
   return point_uncertainty(noise_scale(tracker), tracker.rotation(), tracker.position_mm, point_mm);
 }
@@ -559,7 +586,8 @@ VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesi
   f.sources = &sources;
   f.tracker_rotation = tracker.rotation();
   f.noise = noise_scale(tracker);
-  f.nominal_scale = Vector3d::Ones() + sources.expansion_per_K.cwiseProduct(sources.temperature_deviation_K);
+  f.nominal_scale =
+      Vector3d::Ones() + sources.expansion_per_K.cwiseProduct(sources.temperature_deviation_K);
   Vector3d lo = design.points.front().commanded_mm, hi = lo;
   for (const DesignPoint& p : design.points) {
     lo = lo.cwiseMin(p.commanded_mm);
@@ -574,9 +602,10 @@ VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesi
     for (int k = 0; k < 3; ++k) {
       constexpr double h = 1.0;  // mm; central differences of a polynomial chain
       const Vector3d dq = Vector3d::Unit(k) * h;
-      D.col(k) = (volumetric::actual_position(sources.errors, f.analysed.back() + dq, p.tool_offset_mm) -
-                  volumetric::actual_position(sources.errors, f.analysed.back() - dq, p.tool_offset_mm)) /
-                 (2 * h);
+      D.col(k) =
+          (volumetric::actual_position(sources.errors, f.analysed.back() + dq, p.tool_offset_mm) -
+           volumetric::actual_position(sources.errors, f.analysed.back() - dq, p.tool_offset_mm)) /
+          (2 * h);
     }
     f.chain_jacobian.push_back(D);
   }
@@ -586,7 +615,8 @@ VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesi
   const int trials = options.trials;
   const int blocks = (trials + kBlockTrials - 1) / kBlockTrials;
   std::vector<Block> block(static_cast<std::size_t>(blocks));
-  std::vector<double> trial_mean(static_cast<std::size_t>(trials)), trial_max(static_cast<std::size_t>(trials));
+  std::vector<double> trial_mean(static_cast<std::size_t>(trials)),
+      trial_max(static_cast<std::size_t>(trials));
   std::vector<double> magnitude(n * static_cast<std::size_t>(trials));  // point-major
   std::atomic<int> next{0};
   const int threads = std::min(options.threads, blocks);
@@ -610,8 +640,9 @@ VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesi
         const int first = bi * kBlockTrials, last = std::min(trials, first + kBlockTrials);
         for (int k = first; k < last; ++k) {
           const Vector3d scale = simulate_trial(f, options.seed, k, w.truth, w.measured);
-          const int kept = options.method == IdentificationMethod::Full ? full_trial(f, w, residual)
-                                                                         : linear_trial(f, lin, w, residual);
+          const int kept = options.method == IdentificationMethod::Full
+                               ? full_trial(f, w, residual)
+                               : linear_trial(f, lin, w, residual);
           // From the verification's thermal state to 20 C: the model carries the thermal
           // correction's error as a scale about the middle of each axis' range.
           const Vector3d mis_scale = scale - f.nominal_scale;
@@ -684,15 +715,19 @@ VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesi
     p.tool_offset_mm = d.tool_offset_mm;
     const auto row = static_cast<Eigen::Index>(3 * i);
     p.mean_mm = total.mean.segment<3>(row);
-    p.sigma_mm = trials > 1 ? Vector3d((total.m2.segment<3>(row) / (trials - 1.0)).cwiseMax(0.0).cwiseSqrt())
-                            : Vector3d::Zero();
+    p.sigma_mm =
+        trials > 1 ? Vector3d((total.m2.segment<3>(row) / (trials - 1.0)).cwiseMax(0.0).cwiseSqrt())
+                   : Vector3d::Zero();
     p.rms_mm = std::sqrt(total.sum_sq(static_cast<Eigen::Index>(i)) / trials);
-    std::copy_n(magnitude.begin() + static_cast<std::ptrdiff_t>(i * static_cast<std::size_t>(trials)), trials,
-                column.begin());
+    std::copy_n(
+        magnitude.begin() + static_cast<std::ptrdiff_t>(i * static_cast<std::size_t>(trials)),
+        trials, column.begin());
     const std::size_t k = static_cast<std::size_t>(std::ceil(0.95 * trials)) - 1;
     std::nth_element(column.begin(), column.begin() + static_cast<std::ptrdiff_t>(k), column.end());
     p.bound95_mm = column[k];
-    p.tracker_u_mm = point_uncertainty(f.noise, f.tracker_rotation, tracker.position_mm, d.commanded_mm + d.tool_offset_mm).u_p_mm;
+    p.tracker_u_mm = point_uncertainty(f.noise, f.tracker_rotation, tracker.position_mm,
+                                       d.commanded_mm + d.tool_offset_mm)
+                         .u_p_mm;
     out.tracker_max_u_mm = std::max(out.tracker_max_u_mm, p.tracker_u_mm);
     u_sum += p.tracker_u_mm;
     out.points.push_back(std::move(p));
@@ -714,25 +749,30 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
   }
   for (std::size_t i = 0; i < design.points.size(); ++i) {
     need_finite(point_field(i, design.points[i], "commanded_mm"), design.points[i].commanded_mm);
-    need_finite(point_field(i, design.points[i], "tool_offset_mm"), design.points[i].tool_offset_mm);
+    need_finite(point_field(i, design.points[i], "tool_offset_mm"),
+                design.points[i].tool_offset_mm);
   }
   check_tracker(tracker);
   need_finite("TrackerRegion.lo_mm", region.lo_mm);
   need_finite("TrackerRegion.hi_mm", region.hi_mm);
   for (int k = 0; k < 3; ++k) {
     if (region.lo_mm[k] > region.hi_mm[k]) {
-      refuse("TrackerRegion.lo_mm[" + std::string(1, "xyz"[k]) + "]", detail::quote_number(region.lo_mm[k]),
-             "above hi_mm[" + std::string(1, "xyz"[k]) + "] = " + detail::quote_number(region.hi_mm[k]));
+      refuse("TrackerRegion.lo_mm[" + std::string(1, "xyz"[k]) + "]",
+             detail::quote_number(region.lo_mm[k]),
+             "above hi_mm[" + std::string(1, "xyz"[k]) +
+                 "] = " + detail::quote_number(region.hi_mm[k]));
     }
     if (region.steps[k] < 1) {
-      refuse("TrackerRegion.steps[" + std::string(1, "xyz"[k]) + "]", std::to_string(region.steps[k]),
-             "expected >= 1");
+      refuse("TrackerRegion.steps[" + std::string(1, "xyz"[k]) + "]",
+             std::to_string(region.steps[k]), "expected >= 1");
     }
   }
   const double grid_size = static_cast<double>(region.steps[0]) * region.steps[1] * region.steps[2];
   if (grid_size > kMaxCandidates) {
-    refuse("TrackerRegion.steps", "(" + std::to_string(region.steps[0]) + ", " + std::to_string(region.steps[1]) +
-           ", " + std::to_string(region.steps[2]) + ")", "more than " + detail::quote_number(kMaxCandidates) + " candidates");
+    refuse("TrackerRegion.steps",
+           "(" + std::to_string(region.steps[0]) + ", " + std::to_string(region.steps[1]) + ", " +
+               std::to_string(region.steps[2]) + ")",
+           "more than " + detail::quote_number(kMaxCandidates) + " candidates");
   }
   need_sigma("TrackerRegion.envelope_clearance_mm", region.envelope_clearance_mm);
   need_sigma("TrackerRegion.min_range_mm", region.min_range_mm);
@@ -740,7 +780,8 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
     refuse("TrackerRegion.max_range_mm", detail::quote_number(region.max_range_mm),
            "expected finite and above min_range_mm = " + detail::quote_number(region.min_range_mm));
   }
-  if (options.report < 1) refuse("LocationSearchOptions.report", std::to_string(options.report), "expected >= 1");
+  if (options.report < 1)
+    refuse("LocationSearchOptions.report", std::to_string(options.report), "expected >= 1");
 
   const std::size_t n = design.points.size();
   std::vector<Vector3d> targets;
@@ -811,7 +852,8 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
         c.yaw_rad = (std::abs(to_centre.x()) + std::abs(to_centre.y()) > 0)
                         ? std::atan2(to_centre.y(), to_centre.x())
                         : tracker.ypr_rad[0];
-        evaluate(position, rotation_from_ypr(Vector3d(c.yaw_rad, tracker.ypr_rad[1], tracker.ypr_rad[2])), c);
+        evaluate(position,
+                 rotation_from_ypr(Vector3d(c.yaw_rad, tracker.ypr_rad[1], tracker.ypr_rad[2])), c);
         tried.push_back(c);
       }
     }
@@ -820,15 +862,17 @@ TrackerLocationSearch best_tracker_location(const VerificationDesign& design,
   if (tried.empty()) {
     throw std::invalid_argument(
         "TrackerRegion: all " + std::to_string(out.excluded) +
-        " candidate positions are excluded (inside the working envelope " + detail::quote_vector(env_lo) + " .. " +
-        detail::quote_vector(env_hi) + " grown by envelope_clearance_mm = " + detail::quote_number(region.envelope_clearance_mm) +
+        " candidate positions are excluded (inside the working envelope " +
+        detail::quote_vector(env_lo) + " .. " + detail::quote_vector(env_hi) +
+        " grown by envelope_clearance_mm = " + detail::quote_number(region.envelope_clearance_mm) +
         ", or a design point outside min_range_mm = " + detail::quote_number(region.min_range_mm) +
         " .. max_range_mm = " + detail::quote_number(region.max_range_mm) + ")");
   }
-  std::stable_sort(tried.begin(), tried.end(), [](const TrackerCandidate& a, const TrackerCandidate& b) {
-    if (a.max_u_mm != b.max_u_mm) return a.max_u_mm < b.max_u_mm;
-    return a.mean_u_mm < b.mean_u_mm;
-  });
+  std::stable_sort(tried.begin(), tried.end(),
+                   [](const TrackerCandidate& a, const TrackerCandidate& b) {
+                     if (a.max_u_mm != b.max_u_mm) return a.max_u_mm < b.max_u_mm;
+                     return a.mean_u_mm < b.mean_u_mm;
+                   });
   const TrackerCandidate& best = tried.front();
   out.best = tracker;
   out.best.position_mm = best.position_mm;

@@ -19,16 +19,16 @@ namespace ncqual::solver {
 
 namespace {
 
-using Eigen::Matrix3d;
-using Eigen::MatrixXd;
-using Eigen::Vector3d;
-using Eigen::VectorXd;
-using volumetric::kFunctionCount;
 using detail::Kind;
 using detail::kMaxOrder;
 using detail::Param;
 using detail::param_name;
 using detail::skew;
+using Eigen::Matrix3d;
+using Eigen::MatrixXd;
+using Eigen::Vector3d;
+using Eigen::VectorXd;
+using volumetric::kFunctionCount;
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using Jacobian3 = Eigen::Matrix<double, 3, Eigen::Dynamic>;
 
@@ -61,9 +61,7 @@ struct Layout {
         case Kind::FrameTranslation:
           if (p.index == 0) translation = i;
           break;
-        case Kind::Squareness:
-          squareness[static_cast<std::size_t>(p.index)] = i;
-          break;
+        case Kind::Squareness: squareness[static_cast<std::size_t>(p.index)] = i; break;
         case Kind::Coefficient: {
           terms[static_cast<std::size_t>(p.index)].emplace_back(i, p.order);
           int& top = top_order[static_cast<std::size_t>(p.index / 6)];
@@ -111,20 +109,23 @@ void chain(const Layout& L, const double* th, const Vector3d& c, const Vector3d&
     const int top = L.top_order[static_cast<std::size_t>(a)];
     if (top < 0) continue;
     auto& P = leg[static_cast<std::size_t>(a)];
-    const double u = (2.0 * c[a] - L.lo[static_cast<std::size_t>(a)] - L.hi[static_cast<std::size_t>(a)]) /
-                     (L.hi[static_cast<std::size_t>(a)] - L.lo[static_cast<std::size_t>(a)]);
+    const double u =
+        (2.0 * c[a] - L.lo[static_cast<std::size_t>(a)] - L.hi[static_cast<std::size_t>(a)]) /
+        (L.hi[static_cast<std::size_t>(a)] - L.lo[static_cast<std::size_t>(a)]);
     P[0] = 1.0;
     if (top >= 1) P[1] = u;
     for (int n = 1; n < top; ++n) {
-      P[static_cast<std::size_t>(n + 1)] =
-          ((2.0 * n + 1.0) * u * P[static_cast<std::size_t>(n)] - n * P[static_cast<std::size_t>(n - 1)]) / (n + 1.0);
+      P[static_cast<std::size_t>(n + 1)] = ((2.0 * n + 1.0) * u * P[static_cast<std::size_t>(n)] -
+                                            n * P[static_cast<std::size_t>(n - 1)]) /
+                                           (n + 1.0);
     }
   }
   std::array<double, kFunctionCount> v{};
   for (int f = 0; f < kFunctionCount; ++f) {
     const auto& P = leg[static_cast<std::size_t>(f / 6)];
     double s = 0;
-    for (const auto& [i, k] : L.terms[static_cast<std::size_t>(f)]) s += th[i] * P[static_cast<std::size_t>(k)];
+    for (const auto& [i, k] : L.terms[static_cast<std::size_t>(f)])
+      s += th[i] * P[static_cast<std::size_t>(k)];
     v[static_cast<std::size_t>(f)] = s;
   }
   const auto sq = [&](int i) {
@@ -181,7 +182,8 @@ class Observations {
   virtual ~Observations() = default;
   virtual int count() const = 0;
   virtual int block_size() const = 0;
-  virtual void evaluate(const Model& m, int block, const double* th, double* res, double* jac) const = 0;
+  virtual void evaluate(const Model& m, int block, const double* th, double* res,
+                        double* jac) const = 0;
 };
 
 // A: tracker points, measured = R p + T.
@@ -190,7 +192,8 @@ class TrackerObservations final : public Observations {
   explicit TrackerObservations(const std::vector<VolumetricPoint>& points) : points_(points) {}
   int count() const override { return static_cast<int>(points_.size()); }
   int block_size() const override { return 3; }
-  void evaluate(const Model& m, int block, const double* th, double* res, double* jac) const override {
+  void evaluate(const Model& m, int block, const double* th, double* res,
+                double* jac) const override {
     const VolumetricPoint& pt = points_[static_cast<std::size_t>(block)];
     const Layout& L = m.layout;
     const int n = L.size();
@@ -202,7 +205,8 @@ class TrackerObservations final : public Observations {
     const Matrix3d E = volumetric::rotation_from_vector(delta);
     const Matrix3d R = m.r0 * E;
     Vector3d T = m.t0;
-    if (L.translation >= 0) T += Vector3d(th[L.translation], th[L.translation + 1], th[L.translation + 2]);
+    if (L.translation >= 0)
+      T += Vector3d(th[L.translation], th[L.translation + 1], th[L.translation + 2]);
     const double w = 1.0 / pt.sigma_mm;
     Eigen::Map<Vector3d> out_res(res);
     out_res = (R * p + T - pt.measured_mm) * w;
@@ -231,7 +235,8 @@ class DiagonalObservations final : public Observations {
   explicit DiagonalObservations(const std::vector<MovedReading>& readings) : readings_(readings) {}
   int count() const override { return static_cast<int>(readings_.size()); }
   int block_size() const override { return 1; }
-  void evaluate(const Model& m, int block, const double* th, double* res, double* jac) const override {
+  void evaluate(const Model& m, int block, const double* th, double* res,
+                double* jac) const override {
     const MovedReading& rd = readings_[static_cast<std::size_t>(block)];
     const Layout& L = m.layout;
     const int n = L.size();
@@ -253,7 +258,8 @@ class DiagonalObservations final : public Observations {
     Eigen::Map<Eigen::Matrix<double, 1, Eigen::Dynamic>> out(jac, 1, n);
     out.noalias() = (beam.transpose() * w) * (J1 - J0);
     if (L.rotation >= 0) {
-      out.middleCols(L.rotation, 3) = dp.transpose() * (m.r0 * (-skew(E * rd.direction) * left_jacobian(delta))) * w;
+      out.middleCols(L.rotation, 3) =
+          dp.transpose() * (m.r0 * (-skew(E * rd.direction) * left_jacobian(delta))) * w;
     }
   }
 
@@ -268,7 +274,8 @@ class ObservationCost final : public ceres::CostFunction {
     set_num_residuals(obs->block_size());
     mutable_parameter_block_sizes()->push_back(model->layout.size());
   }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
     double* jac = (jacobians != nullptr) ? jacobians[0] : nullptr;
     obs_->evaluate(*model_, block_, parameters[0], residuals, jac);
     return true;
@@ -287,7 +294,8 @@ void evaluate_all(const Observations& obs, const Model& m, const VectorXd& th, V
   r.resize(obs.count() * bs);
   if (J != nullptr) J->resize(obs.count() * bs, n);
   for (int b = 0; b < obs.count(); ++b) {
-    obs.evaluate(m, b, th.data(), r.data() + b * bs, J != nullptr ? J->data() + static_cast<std::ptrdiff_t>(b) * bs * n : nullptr);
+    obs.evaluate(m, b, th.data(), r.data() + b * bs,
+                 J != nullptr ? J->data() + static_cast<std::ptrdiff_t>(b) * bs * n : nullptr);
   }
 }
 
@@ -331,9 +339,11 @@ Solved run(const Pipeline& in) {
   const VectorXd g = J0.transpose() * r0;
 
   // Identifiability, columns in layout (priority) order.
-  const detail::Identifiability identifiable = detail::identifiable_columns(H, in.options.rank_tolerance);
+  const detail::Identifiability identifiable =
+      detail::identifiable_columns(H, in.options.rank_tolerance);
   const std::vector<int>& accepted = identifiable.accepted;
-  detail::refuse_undetermined_frame(C.params, identifiable.rejected, "volumetric identification: the data");
+  detail::refuse_undetermined_frame(C.params, identifiable.rejected,
+                                    "volumetric identification: the data");
   detail::RejectedTerms rejected = detail::rejected_terms(C.params, identifiable.rejected);
   Solved out;
   out.unidentifiable = std::move(rejected.unidentifiable);
@@ -345,7 +355,8 @@ Solved run(const Pipeline& in) {
   VectorXd ga(na);
   for (int a = 0; a < na; ++a) {
     ga(a) = g(accepted[static_cast<std::size_t>(a)]);
-    for (int b = 0; b < na; ++b) Ha(a, b) = H(accepted[static_cast<std::size_t>(a)], accepted[static_cast<std::size_t>(b)]);
+    for (int b = 0; b < na; ++b)
+      Ha(a, b) = H(accepted[static_cast<std::size_t>(a)], accepted[static_cast<std::size_t>(b)]);
   }
   const Eigen::LDLT<MatrixXd> full(Ha);
   const VectorXd beta = -full.solve(ga);
@@ -387,7 +398,9 @@ Solved run(const Pipeline& in) {
     c_cur.col(j).setZero();
   }
   std::vector<bool> keep(static_cast<std::size_t>(n), false);
-  for (int a = 0; a < na; ++a) keep[static_cast<std::size_t>(accepted[static_cast<std::size_t>(a)])] = active[static_cast<std::size_t>(a)];
+  for (int a = 0; a < na; ++a)
+    keep[static_cast<std::size_t>(accepted[static_cast<std::size_t>(a)])] =
+        active[static_cast<std::size_t>(a)];
 
   // Final layout and its linear start.
   std::vector<int> kept;
@@ -403,7 +416,8 @@ Solved run(const Pipeline& in) {
   VectorXd gk(nk);
   for (int a = 0; a < nk; ++a) {
     gk(a) = g(kept[static_cast<std::size_t>(a)]);
-    for (int b = 0; b < nk; ++b) Hk(a, b) = H(kept[static_cast<std::size_t>(a)], kept[static_cast<std::size_t>(b)]);
+    for (int b = 0; b < nk; ++b)
+      Hk(a, b) = H(kept[static_cast<std::size_t>(a)], kept[static_cast<std::size_t>(b)]);
   }
   VectorXd theta = -Hk.ldlt().solve(gk);
 
@@ -459,17 +473,19 @@ Solved run(const Pipeline& in) {
 
 void check_options(const IdentificationOptions& o) {
   if (o.max_degree < 1 || o.max_degree > kMaxOrder) {
-    throw std::invalid_argument("IdentificationOptions.max_degree = " + std::to_string(o.max_degree) +
-                                ": expected 1.." + std::to_string(kMaxOrder));
+    throw std::invalid_argument(
+        "IdentificationOptions.max_degree = " + std::to_string(o.max_degree) + ": expected 1.." +
+        std::to_string(kMaxOrder));
   }
   if (!(o.rank_tolerance > 0 && o.rank_tolerance < 1)) {
     std::ostringstream os;
-    os << "IdentificationOptions.rank_tolerance = " << o.rank_tolerance << ": expected 0 < tolerance < 1";
+    os << "IdentificationOptions.rank_tolerance = " << o.rank_tolerance
+       << ": expected 0 < tolerance < 1";
     throw std::invalid_argument(os.str());
   }
   if (o.max_iterations < 1) {
-    throw std::invalid_argument("IdentificationOptions.max_iterations = " + std::to_string(o.max_iterations) +
-                                ": expected >= 1");
+    throw std::invalid_argument("IdentificationOptions.max_iterations = " +
+                                std::to_string(o.max_iterations) + ": expected >= 1");
   }
   if (o.initial_instrument_from_machine) {
     const Eigen::Isometry3d& f = *o.initial_instrument_from_machine;
@@ -477,7 +493,8 @@ void check_options(const IdentificationOptions& o) {
     if (!f.matrix().allFinite() || !(R.transpose() * R).isApprox(Matrix3d::Identity(), 1e-9) ||
         R.determinant() < 0) {
       throw std::invalid_argument(
-          "IdentificationOptions.initial_instrument_from_machine: not a finite proper rigid transform");
+          "IdentificationOptions.initial_instrument_from_machine: not a finite proper rigid "
+          "transform");
     }
   }
   if (o.axis_range_mm) {
@@ -485,8 +502,8 @@ void check_options(const IdentificationOptions& o) {
       const auto& r = (*o.axis_range_mm)[static_cast<std::size_t>(a)];
       if (!(std::isfinite(r[0]) && std::isfinite(r[1]) && r[1] > r[0])) {
         std::ostringstream os;
-        os << "IdentificationOptions.axis_range_mm[" << "XYZ"[a] << "] = [" << r[0] << ", " << r[1]
-           << "]: expected finite lo < hi";
+        os << "IdentificationOptions.axis_range_mm["
+           << "XYZ"[a] << "] = [" << r[0] << ", " << r[1] << "]: expected finite lo < hi";
         throw std::invalid_argument(os.str());
       }
     }
@@ -529,7 +546,8 @@ IdentifiedErrors fill(const Solved& s, int observations) {
     MatrixXd cov = MatrixXd::Zero(top + 1, top + 1);
     for (const auto& [i, k] : L.terms[static_cast<std::size_t>(f)]) {
       fn.coefficients[static_cast<std::size_t>(k)] = s.theta(i);
-      for (const auto& [i2, k2] : L.terms[static_cast<std::size_t>(f)]) cov(k, k2) = s.covariance(i, i2);
+      for (const auto& [i2, k2] : L.terms[static_cast<std::size_t>(f)])
+        cov(k, k2) = s.covariance(i, i2);
     }
     out.coefficient_covariance[static_cast<std::size_t>(f)] = cov;
   }
@@ -606,13 +624,20 @@ double IdentifiedErrors::sigma_at(int index, double q_mm) const {
 IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& points,
                                             const IdentificationOptions& options) {
   check_options(options);
-  if (points.empty()) throw std::invalid_argument("points: empty; a grid of tracker points is needed");
+  if (points.empty())
+    throw std::invalid_argument("points: empty; a grid of tracker points is needed");
   for (std::size_t i = 0; i < points.size(); ++i) {
     const VolumetricPoint& p = points[i];
     const std::string where = "points[" + std::to_string(i) + "] ('" + p.label + "')";
-    if (!p.commanded_mm.allFinite()) throw std::invalid_argument(where + ".commanded_mm = " + detail::format_vector(p.commanded_mm) + ": not finite");
-    if (!p.tool_offset_mm.allFinite()) throw std::invalid_argument(where + ".tool_offset_mm = " + detail::format_vector(p.tool_offset_mm) + ": not finite");
-    if (!p.measured_mm.allFinite()) throw std::invalid_argument(where + ".measured_mm = " + detail::format_vector(p.measured_mm) + ": not finite");
+    if (!p.commanded_mm.allFinite())
+      throw std::invalid_argument(
+          where + ".commanded_mm = " + detail::format_vector(p.commanded_mm) + ": not finite");
+    if (!p.tool_offset_mm.allFinite())
+      throw std::invalid_argument(
+          where + ".tool_offset_mm = " + detail::format_vector(p.tool_offset_mm) + ": not finite");
+    if (!p.measured_mm.allFinite())
+      throw std::invalid_argument(where + ".measured_mm = " + detail::format_vector(p.measured_mm) +
+                                  ": not finite");
     if (!(std::isfinite(p.sigma_mm) && p.sigma_mm > 0)) {
       std::ostringstream os;
       os << where << ".sigma_mm = " << p.sigma_mm << ": expected a finite value > 0";
@@ -632,17 +657,20 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
     const auto [i1, i2] = *duplicate;
     throw std::invalid_argument("points[" + std::to_string(i2) + "] ('" + points[i2].label +
                                 "'): duplicate (commanded_mm, tool_offset_mm) = (" +
-                                detail::format_vector(points[i2].commanded_mm) + ", " + detail::format_vector(points[i2].tool_offset_mm) +
-                                ") of points[" + std::to_string(i1) + "] ('" + points[i1].label + "')");
+                                detail::format_vector(points[i2].commanded_mm) + ", " +
+                                detail::format_vector(points[i2].tool_offset_mm) + ") of points[" +
+                                std::to_string(i1) + "] ('" + points[i1].label + "')");
   }
 
   Model candidate;
-  set_candidates(candidate.layout, axis_gauge(commanded, options, "points"), detail::CandidateSet::TrackerPoints);
+  set_candidates(candidate.layout, axis_gauge(commanded, options, "points"),
+                 detail::CandidateSet::TrackerPoints);
   const int observations = 3 * static_cast<int>(points.size());
   detail::refuse_too_few("points: " + std::to_string(points.size()) + " points", observations,
                          candidate.layout.size(), options.max_degree);
 
-  const Eigen::Isometry3d rigid = detail::rigid_fit(detail::as_columns(nominal), detail::as_columns(measured), &weight);
+  const Eigen::Isometry3d rigid =
+      detail::rigid_fit(detail::as_columns(nominal), detail::as_columns(measured), &weight);
   const Eigen::Isometry3d start = options.initial_instrument_from_machine.value_or(rigid);
   candidate.r0 = start.linear();
   candidate.t0 = start.translation();
@@ -671,9 +699,10 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
 IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& readings,
                                          const IdentificationOptions& options) {
   check_options(options);
-  if (readings.empty()) throw std::invalid_argument("readings: empty; sequential-diagonal readings are needed");
-  std::map<int, std::size_t> start_of;                 // diagonal -> index of its start reading
-  std::map<int, int> moves;                            // diagonal -> readings so far
+  if (readings.empty())
+    throw std::invalid_argument("readings: empty; sequential-diagonal readings are needed");
+  std::map<int, std::size_t> start_of;  // diagonal -> index of its start reading
+  std::map<int, int> moves;             // diagonal -> readings so far
   std::map<int, std::vector<std::tuple<long long, long long, long long, std::size_t>>> seen;
   std::vector<MovedReading> moved;
   std::vector<Vector3d> commanded;
@@ -681,11 +710,15 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
     const DiagonalReading& r = readings[i];
     const std::string where = "readings[" + std::to_string(i) + "]";
     if (r.diagonal < 0 || r.diagonal > 3) {
-      throw std::invalid_argument(where + ".diagonal = " + std::to_string(r.diagonal) + ": expected 0..3");
+      throw std::invalid_argument(where + ".diagonal = " + std::to_string(r.diagonal) +
+                                  ": expected 0..3");
     }
-    if (!r.commanded_mm.allFinite()) throw std::invalid_argument(where + ".commanded_mm = " + detail::format_vector(r.commanded_mm) + ": not finite");
+    if (!r.commanded_mm.allFinite())
+      throw std::invalid_argument(
+          where + ".commanded_mm = " + detail::format_vector(r.commanded_mm) + ": not finite");
     if (!r.direction.allFinite() || std::abs(r.direction.norm() - 1.0) > kUnitTolerance) {
-      throw std::invalid_argument(where + ".direction = " + detail::format_vector(r.direction) + ": expected a unit vector");
+      throw std::invalid_argument(where + ".direction = " + detail::format_vector(r.direction) +
+                                  ": expected a unit vector");
     }
     if (!std::isfinite(r.displacement_mm)) {
       std::ostringstream os;
@@ -699,12 +732,15 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
     }
     const auto key = [](double v) { return std::llround(v / detail::kDuplicateMm); };
     auto& s = seen[r.diagonal];
-    const auto k = std::make_tuple(key(r.commanded_mm.x()), key(r.commanded_mm.y()), key(r.commanded_mm.z()), i);
+    const auto k = std::make_tuple(key(r.commanded_mm.x()), key(r.commanded_mm.y()),
+                                   key(r.commanded_mm.z()), i);
     for (const auto& o : s) {
-      if (std::get<0>(o) == std::get<0>(k) && std::get<1>(o) == std::get<1>(k) && std::get<2>(o) == std::get<2>(k)) {
-        throw std::invalid_argument(where + ".commanded_mm = " + detail::format_vector(r.commanded_mm) +
-                                    ": repeats readings[" + std::to_string(std::get<3>(o)) + "] of diagonal " +
-                                    std::to_string(r.diagonal));
+      if (std::get<0>(o) == std::get<0>(k) && std::get<1>(o) == std::get<1>(k) &&
+          std::get<2>(o) == std::get<2>(k)) {
+        throw std::invalid_argument(where +
+                                    ".commanded_mm = " + detail::format_vector(r.commanded_mm) +
+                                    ": repeats readings[" + std::to_string(std::get<3>(o)) +
+                                    "] of diagonal " + std::to_string(r.diagonal));
       }
     }
     s.push_back(k);
@@ -713,8 +749,9 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
     if (it == start_of.end()) {
       if (r.displacement_mm != 0.0) {
         std::ostringstream os;
-        os << where << ".displacement_mm = " << r.displacement_mm << ": the start reading of diagonal "
-           << r.diagonal << " must be 0 (displacements are relative to it)";
+        os << where << ".displacement_mm = " << r.displacement_mm
+           << ": the start reading of diagonal " << r.diagonal
+           << " must be 0 (displacements are relative to it)";
         throw std::invalid_argument(os.str());
       }
       start_of[r.diagonal] = i;
@@ -733,11 +770,13 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
   }
 
   Model candidate;
-  set_candidates(candidate.layout, axis_gauge(commanded, options, "readings"), detail::CandidateSet::DiagonalDisplacements);
+  set_candidates(candidate.layout, axis_gauge(commanded, options, "readings"),
+                 detail::CandidateSet::DiagonalDisplacements);
   const int observations = static_cast<int>(moved.size());
-  detail::refuse_too_few("readings: " + std::to_string(moved.size()) + " moved readings", observations,
-                         candidate.layout.size(), options.max_degree);
-  if (options.initial_instrument_from_machine) candidate.r0 = options.initial_instrument_from_machine->linear();
+  detail::refuse_too_few("readings: " + std::to_string(moved.size()) + " moved readings",
+                         observations, candidate.layout.size(), options.max_degree);
+  if (options.initial_instrument_from_machine)
+    candidate.r0 = options.initial_instrument_from_machine->linear();
 
   const DiagonalObservations obs(moved);
 
@@ -778,14 +817,21 @@ IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& rea
   return out;
 }
 
-VolumetricPrediction predict_position(const IdentifiedErrors& identified, const Eigen::Vector3d& commanded_mm,
+VolumetricPrediction predict_position(const IdentifiedErrors& identified,
+                                      const Eigen::Vector3d& commanded_mm,
                                       const Eigen::Vector3d& tool_offset_mm) {
-  if (!commanded_mm.allFinite()) throw std::invalid_argument("predict_position: commanded_mm = " + detail::format_vector(commanded_mm) + ": not finite");
-  if (!tool_offset_mm.allFinite()) throw std::invalid_argument("predict_position: tool_offset_mm = " + detail::format_vector(tool_offset_mm) + ": not finite");
+  if (!commanded_mm.allFinite())
+    throw std::invalid_argument(
+        "predict_position: commanded_mm = " + detail::format_vector(commanded_mm) + ": not finite");
+  if (!tool_offset_mm.allFinite())
+    throw std::invalid_argument("predict_position: tool_offset_mm = " +
+                                detail::format_vector(tool_offset_mm) + ": not finite");
   Layout L;
   for (int a = 0; a < 3; ++a) {
-    L.lo[static_cast<std::size_t>(a)] = identified.errors.functions[static_cast<std::size_t>(a * 6)].lo_mm;
-    L.hi[static_cast<std::size_t>(a)] = identified.errors.functions[static_cast<std::size_t>(a * 6)].hi_mm;
+    L.lo[static_cast<std::size_t>(a)] =
+        identified.errors.functions[static_cast<std::size_t>(a * 6)].lo_mm;
+    L.hi[static_cast<std::size_t>(a)] =
+        identified.errors.functions[static_cast<std::size_t>(a * 6)].hi_mm;
   }
   VectorXd th(static_cast<Eigen::Index>(identified.parameters.size()));
   for (std::size_t i = 0; i < identified.parameters.size(); ++i) {
@@ -797,7 +843,8 @@ VolumetricPrediction predict_position(const IdentifiedErrors& identified, const 
       L.params.push_back({Kind::Squareness, p.squareness, -1});
       th(static_cast<Eigen::Index>(i)) = p.value;
     } else {
-      L.params.push_back({p.frame < 3 ? Kind::FrameRotation : Kind::FrameTranslation, p.frame % 3, -1});
+      L.params.push_back(
+          {p.frame < 3 ? Kind::FrameRotation : Kind::FrameTranslation, p.frame % 3, -1});
       th(static_cast<Eigen::Index>(i)) = 0.0;  // increments at the identified frame
     }
   }
@@ -807,11 +854,14 @@ VolumetricPrediction predict_position(const IdentifiedErrors& identified, const 
     throw std::invalid_argument("predict_position: identified.covariance is " +
                                 std::to_string(identified.covariance.rows()) + " x " +
                                 std::to_string(identified.covariance.cols()) + ", expected " +
-                                std::to_string(n) + " x " + std::to_string(n) + " (the parameters)");
+                                std::to_string(n) + " x " + std::to_string(n) +
+                                " (the parameters)");
   }
   for (int a = 0; a < 3; ++a) {
-    if (L.top_order[static_cast<std::size_t>(a)] >= 0 && !(L.hi[static_cast<std::size_t>(a)] > L.lo[static_cast<std::size_t>(a)])) {
-      throw std::invalid_argument("predict_position: the axis range of " + std::string(1, "XYZ"[a]) + " is empty");
+    if (L.top_order[static_cast<std::size_t>(a)] >= 0 &&
+        !(L.hi[static_cast<std::size_t>(a)] > L.lo[static_cast<std::size_t>(a)])) {
+      throw std::invalid_argument("predict_position: the axis range of " +
+                                  std::string(1, "XYZ"[a]) + " is empty");
     }
   }
   Jacobian3 J = Jacobian3::Zero(3, n);

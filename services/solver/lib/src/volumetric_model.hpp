@@ -71,18 +71,21 @@ inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 // per point in each vector) agree within kDuplicateMm per component, first in the sorted order
 // of the rounded pairs; none when all differ.
 inline std::optional<std::pair<std::size_t, std::size_t>> first_duplicate(
-    const std::vector<Eigen::Vector3d>& commanded, const std::vector<Eigen::Vector3d>& tool_offset) {
+    const std::vector<Eigen::Vector3d>& commanded,
+    const std::vector<Eigen::Vector3d>& tool_offset) {
   using Key = std::tuple<long long, long long, long long, long long, long long, long long>;
   const auto round = [](double v) { return std::llround(v / kDuplicateMm); };
   std::vector<std::pair<Key, std::size_t>> keys;
   for (std::size_t i = 0; i < commanded.size(); ++i) {
     const Eigen::Vector3d& c = commanded[i];
     const Eigen::Vector3d& t = tool_offset[i];
-    keys.emplace_back(Key(round(c.x()), round(c.y()), round(c.z()), round(t.x()), round(t.y()), round(t.z())), i);
+    keys.emplace_back(
+        Key(round(c.x()), round(c.y()), round(c.z()), round(t.x()), round(t.y()), round(t.z())), i);
   }
   std::sort(keys.begin(), keys.end());
   for (std::size_t i = 1; i < keys.size(); ++i) {
-    if (keys[i - 1].first == keys[i].first) return std::make_pair(keys[i - 1].second, keys[i].second);
+    if (keys[i - 1].first == keys[i].first)
+      return std::make_pair(keys[i - 1].second, keys[i].second);
   }
   return std::nullopt;
 }
@@ -127,12 +130,13 @@ inline AxisGauge axis_gauge(const std::vector<Eigen::Vector3d>& commanded, int m
 
 // Refuses more unknowns than observations: "<what> give <observations> observations, fewer than
 // the <unknowns> unknowns of the candidate model (max_degree = <max_degree>)".
-inline void refuse_too_few(const std::string& what, int observations, int unknowns, int max_degree) {
+inline void refuse_too_few(const std::string& what, int observations, int unknowns,
+                           int max_degree) {
   if (observations < unknowns) {
-    throw std::invalid_argument(what + " give " + std::to_string(observations) +
-                                " observations, fewer than the " + std::to_string(unknowns) +
-                                " unknowns of the candidate model (max_degree = " +
-                                std::to_string(max_degree) + ")");
+    throw std::invalid_argument(
+        what + " give " + std::to_string(observations) + " observations, fewer than the " +
+        std::to_string(unknowns) +
+        " unknowns of the candidate model (max_degree = " + std::to_string(max_degree) + ")");
   }
 }
 
@@ -159,7 +163,8 @@ inline std::vector<Param> candidate_parameters(const std::array<int, 3>& cap, Ca
   for (int comps = 0; comps < (points ? 2 : 1); ++comps) {  // translational, then angular
     for (int axis = 0; axis < 3; ++axis) {
       for (int comp = 3 * comps; comp < 3 * comps + 3; ++comp) {
-        const int first = comps == 1 ? (axis == volumetric::kAxisZ ? 0 : 1) : (comp == axis ? 1 : 2);
+        const int first =
+            comps == 1 ? (axis == volumetric::kAxisZ ? 0 : 1) : (comp == axis ? 1 : 2);
         for (int k = first; k <= cap[static_cast<std::size_t>(axis)]; ++k) {
           params.push_back({Kind::Coefficient, axis * 6 + comp, k});
         }
@@ -211,12 +216,15 @@ inline Identifiability identifiable_columns(const Eigen::MatrixXd& H, double ran
 
 // Refuses a rejected frame parameter: "<subject> cannot determine the instrument frame
 // (<param_name>): the commanded positions (and tool offsets) do not span space".
-inline void refuse_undetermined_frame(const std::vector<Param>& params, const std::vector<bool>& rejected,
+inline void refuse_undetermined_frame(const std::vector<Param>& params,
+                                      const std::vector<bool>& rejected,
                                       const std::string& subject) {
   for (std::size_t j = 0; j < params.size(); ++j) {
-    if (rejected[j] && (params[j].kind == Kind::FrameRotation || params[j].kind == Kind::FrameTranslation)) {
-      throw std::invalid_argument(subject + " cannot determine the instrument frame (" + param_name(params[j]) +
-                                  "): the commanded positions (and tool offsets) do not span space");
+    if (rejected[j] &&
+        (params[j].kind == Kind::FrameRotation || params[j].kind == Kind::FrameTranslation)) {
+      throw std::invalid_argument(
+          subject + " cannot determine the instrument frame (" + param_name(params[j]) +
+          "): the commanded positions (and tool offsets) do not span space");
     }
   }
 }
@@ -229,14 +237,16 @@ struct RejectedTerms {
   std::vector<std::string> fixed_terms;
 };
 
-inline RejectedTerms rejected_terms(const std::vector<Param>& params, const std::vector<bool>& rejected) {
+inline RejectedTerms rejected_terms(const std::vector<Param>& params,
+                                    const std::vector<bool>& rejected) {
   RejectedTerms out;
   for (int f = 0; f < volumetric::kFunctionCount; ++f) {
     std::vector<std::size_t> terms;
     for (std::size_t j = 0; j < params.size(); ++j) {
       if (params[j].kind == Kind::Coefficient && params[j].index == f) terms.push_back(j);
     }
-    if (!terms.empty() && std::all_of(terms.begin(), terms.end(), [&](std::size_t j) { return rejected[j]; })) {
+    if (!terms.empty() &&
+        std::all_of(terms.begin(), terms.end(), [&](std::size_t j) { return rejected[j]; })) {
       out.unidentifiable.emplace_back(volumetric::function_name(f));
       continue;
     }
@@ -245,19 +255,21 @@ inline RejectedTerms rejected_terms(const std::vector<Param>& params, const std:
     }
   }
   for (std::size_t j = 0; j < params.size(); ++j) {
-    if (params[j].kind == Kind::Squareness && rejected[j]) out.unidentifiable.push_back(param_name(params[j]));
+    if (params[j].kind == Kind::Squareness && rejected[j])
+      out.unidentifiable.push_back(param_name(params[j]));
   }
   return out;
 }
 
 // Per function: the positions in `accepted` of its kept coefficient terms, by increasing order
 // (candidate order): the stack the BIC's backward elimination drops from.
-inline std::array<std::vector<int>, volumetric::kFunctionCount> order_stacks(const std::vector<Param>& params,
-                                                                             const std::vector<int>& accepted) {
+inline std::array<std::vector<int>, volumetric::kFunctionCount> order_stacks(
+    const std::vector<Param>& params, const std::vector<int>& accepted) {
   std::array<std::vector<int>, volumetric::kFunctionCount> stacks;
   for (std::size_t a = 0; a < accepted.size(); ++a) {
     const Param& p = params[static_cast<std::size_t>(accepted[a])];
-    if (p.kind == Kind::Coefficient) stacks[static_cast<std::size_t>(p.index)].push_back(static_cast<int>(a));
+    if (p.kind == Kind::Coefficient)
+      stacks[static_cast<std::size_t>(p.index)].push_back(static_cast<int>(a));
   }
   return stacks;
 }
@@ -276,7 +288,9 @@ inline Eigen::Map<const Eigen::Matrix3Xd> as_columns(const std::vector<Eigen::Ve
 inline Eigen::Isometry3d rigid_fit(const Eigen::Ref<const Eigen::Matrix3Xd>& from,
                                    const Eigen::Ref<const Eigen::Matrix3Xd>& to,
                                    const std::vector<double>* weights = nullptr) {
-  const auto w = [&](Eigen::Index i) { return weights ? (*weights)[static_cast<std::size_t>(i)] : 1.0; };
+  const auto w = [&](Eigen::Index i) {
+    return weights ? (*weights)[static_cast<std::size_t>(i)] : 1.0;
+  };
   double sw = 0;
   Eigen::Vector3d mf = Eigen::Vector3d::Zero(), mt = Eigen::Vector3d::Zero();
   for (Eigen::Index i = 0; i < from.cols(); ++i) {
@@ -287,7 +301,8 @@ inline Eigen::Isometry3d rigid_fit(const Eigen::Ref<const Eigen::Matrix3Xd>& fro
   mf /= sw;
   mt /= sw;
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-  for (Eigen::Index i = 0; i < from.cols(); ++i) S += w(i) * (from.col(i) - mf) * (to.col(i) - mt).transpose();
+  for (Eigen::Index i = 0; i < from.cols(); ++i)
+    S += w(i) * (from.col(i) - mf) * (to.col(i) - mt).transpose();
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
   D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;

@@ -28,8 +28,8 @@ class Writer {
 
   explicit Writer(Participant& participant, const char* profile = Topic::kWriterProfile)
       : participant_(participant) {
-    auto* topic = participant.topic(Topic::kName,
-                                    eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
+    auto* topic = participant.topic(
+        Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
     writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
     if (!writer_) {
       // Without our profiles file loaded (e.g. a tool pointed at no deploy/ tree), fall back to
@@ -109,8 +109,8 @@ class Reader {
   explicit Reader(Participant& participant, std::optional<std::string> machine_id = std::nullopt,
                   const char* profile = Topic::kReaderProfile)
       : participant_(participant) {
-    auto* topic = participant.topic(Topic::kName,
-                                    eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
+    auto* topic = participant.topic(
+        Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
     eprosima::fastdds::dds::TopicDescription* description = topic;
     if (machine_id) description = participant.machine_filter(topic, *machine_id);
     reader_ = participant.subscriber()->create_datareader_with_profile(description, profile);

@@ -27,8 +27,9 @@ class DdsError : public Error {
 
 struct ParticipantOptions {
   int domain_id = 0;
-  std::string qos_profiles_file;  // XML profiles; empty: FASTRTPS_DEFAULT_PROFILES_FILE or built-ins
-  std::string name;               // participant name seen by tools, e.g. "ncqual-solver"
+  std::string
+      qos_profiles_file;  // XML profiles; empty: FASTRTPS_DEFAULT_PROFILES_FILE or built-ins
+  std::string name;       // participant name seen by tools, e.g. "ncqual-solver"
 };
 
 // Domain id: the --domain flag when given (>= 0), else NCQUAL_DOMAIN, else the plant config's.
@@ -61,8 +62,8 @@ class Participant {
   eprosima::fastdds::dds::Topic* topic(const std::string& name,
                                        eprosima::fastdds::dds::TypeSupport type);
   // A content-filtered view of `topic` that passes only samples of one machine.
-  eprosima::fastdds::dds::ContentFilteredTopic* machine_filter(
-      eprosima::fastdds::dds::Topic* topic, const std::string& machine_id);
+  eprosima::fastdds::dds::ContentFilteredTopic* machine_filter(eprosima::fastdds::dds::Topic* topic,
+                                                               const std::string& machine_id);
 
  private:
   int domain_id_ = 0;

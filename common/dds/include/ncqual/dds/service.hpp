@@ -17,8 +17,9 @@
 namespace ncqual::dds {
 
 struct ServiceOptions {
-  std::string service;     // "scheduler", "acquisition", "solver", "historian"
-  std::string machine_id;  // for an acquisition service: its machine, or its machines joined by commas
+  std::string service;  // "scheduler", "acquisition", "solver", "historian"
+  std::string
+      machine_id;  // for an acquisition service: its machine, or its machines joined by commas
   int domain_id = 0;
   std::string qos_profiles_file;
   std::chrono::milliseconds heartbeat_period{2000};

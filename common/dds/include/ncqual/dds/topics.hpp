@@ -10,21 +10,21 @@
 namespace ncqual::dds {
 
 #define NCQUAL_TOPIC(TRAITS, NAME, MODEL, WRITER_PROFILE, READER_PROFILE) \
-  struct TRAITS {                                                        \
-    using Model = ::ncqual::MODEL;                                       \
-    using Wire = ::ncqual::msg::MODEL;                                   \
-    using PubSub = ::ncqual::msg::MODEL##PubSubType;                     \
-    static constexpr const char* kName = NAME;                           \
-    static constexpr const char* kWriterProfile = WRITER_PROFILE;        \
-    static constexpr const char* kReaderProfile = READER_PROFILE;        \
+  struct TRAITS {                                                         \
+    using Model = ::ncqual::MODEL;                                        \
+    using Wire = ::ncqual::msg::MODEL;                                    \
+    using PubSub = ::ncqual::msg::MODEL##PubSubType;                      \
+    static constexpr const char* kName = NAME;                            \
+    static constexpr const char* kWriterProfile = WRITER_PROFILE;         \
+    static constexpr const char* kReaderProfile = READER_PROFILE;         \
   }
 
 // Durable topics: a late-joining or restarted historian or solver still gets what it missed
 // (TRANSIENT_LOCAL, KEEP_LAST with a deep history; storing is idempotent on the request id).
 NCQUAL_TOPIC(CheckRequestTopic, "ncqual/CheckRequest", CheckRequest, profiles::kDurableWriter,
              profiles::kDurableReader);
-NCQUAL_TOPIC(MeasurementSetTopic, "ncqual/MeasurementSet", MeasurementSet,
-             profiles::kDurableWriter, profiles::kDurableReader);
+NCQUAL_TOPIC(MeasurementSetTopic, "ncqual/MeasurementSet", MeasurementSet, profiles::kDurableWriter,
+             profiles::kDurableReader);
 NCQUAL_TOPIC(CheckResultTopic, "ncqual/CheckResult", CheckResult, profiles::kDurableWriter,
              profiles::kDurableReader);
 NCQUAL_TOPIC(MachineStatusTopic, "ncqual/MachineStatus", MachineStatus, profiles::kDurableWriter,

@@ -35,8 +35,7 @@ namespace ncqual::acquisition {
 // the durable request history a restart can replay (500 per machine, deploy/qos).
 class PerformedRequests {
  public:
-  PerformedRequests(storage::StateFile& state, std::string machine_id,
-                    std::size_t capacity = 1000);
+  PerformedRequests(storage::StateFile& state, std::string machine_id, std::size_t capacity = 1000);
   // Those recorded by an earlier run, from the state file's documents.
   void load(const std::map<std::string, std::string>& documents);
   // Records one (and forgets the oldest beyond the capacity). A failure to write is logged, not
@@ -89,8 +88,8 @@ class Station {
   PerformedRequests performed_;
   const StationOptions options_;
   const Publish publish_;
-  std::set<std::string> taken_;     // requests taken this run: measured, waiting or ignored
-  std::set<std::string> applied_;   // compensations, by the request id that issued them
+  std::set<std::string> taken_;    // requests taken this run: measured, waiting or ignored
+  std::set<std::string> applied_;  // compensations, by the request id that issued them
   std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
 };
 

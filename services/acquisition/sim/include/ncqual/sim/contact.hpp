@@ -19,7 +19,7 @@
 namespace ncqual::sim {
 
 struct BallMove {
-  Eigen::Vector3d start = Eigen::Vector3d::Zero();      // ball centre at s = 0
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();       // ball centre at s = 0
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // unit vector
   double travel_mm = 0;                                  // longest distance moved
   double ball_radius_mm = 0;

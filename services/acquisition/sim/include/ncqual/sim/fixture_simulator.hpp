@@ -28,8 +28,9 @@
 //   x-:  from q + (-(h + r + 5), 0, -d) along +X;  x+: from q + (h + r + 5, 0, -d) along -X;
 //   y-:  from q + (0, -(h + r + 5), -d) along +Y;  y+: from q + (0, h + r + 5, -d) along -Y;
 //   (h = block half size, d = probe depth, r = nominal ball radius, 5 mm clearance, 5 mm over-
-//   travel). Both sides in X and in Y, so the pogo's centre, the mean of the two side contacts, does
-//   not depend on the ball radius. Features: "pogo:<label>:cfg<index>:<face>" (ncqual/fixture.hpp).
+//   travel). Both sides in X and in Y, so the pogo's centre, the mean of the two side contacts,
+//   does not depend on the ball radius. Features: "pogo:<label>:cfg<index>:<face>"
+//   (ncqual/fixture.hpp).
 // Configurations: pre-calibration (kind FixturePreCalibration) probes configuration k of the
 // request's parameter "fixture_configuration" (required, an integer in 0 .. 2n-1); post-calibration
 // (FixturePostCalibration) probes every post-calibration configuration j in order, with the rows of
@@ -109,9 +110,11 @@ class FixtureSimulator {
 // trigger noise N(0, sigma^2) along the approach from NormalSource(request_seed(seed,
 // request_id)) (one deviate per move, drawn whether or not it triggers), the request's parameters
 // echoed, instrument "touch_probe", frame "machine". The wear scatter comes from a second
-// generator, request_seed(seed, request_id + "/fixture_wear"), three deviates per placement. A move that meets nothing is left out and named in `error` ("probe
-// alarm: move <i> ('<feature>'): ..."); a bad request yields no touches and an `error` saying why.
-MeasurementSet perform_fixture_check(const MachineSimulator& machine, const FixtureSimulator& fixture,
-                                     const CheckRequest& request, std::int64_t time_ns);
+// generator, request_seed(seed, request_id + "/fixture_wear"), three deviates per placement. A move
+// that meets nothing is left out and named in `error` ("probe alarm: move <i> ('<feature>'): ...");
+// a bad request yields no touches and an `error` saying why.
+MeasurementSet perform_fixture_check(const MachineSimulator& machine,
+                                     const FixtureSimulator& fixture, const CheckRequest& request,
+                                     std::int64_t time_ns);
 
 }  // namespace ncqual::sim

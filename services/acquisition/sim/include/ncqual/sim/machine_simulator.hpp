@@ -78,7 +78,6 @@ class MachineSimulator {
                                const std::string& body, std::string* why) const;
 
  private:
-
   MachineConfig machine_;
   SimulatorConfig config_;
   ProbeGeometry true_probe_;

@@ -20,8 +20,8 @@ struct CircleFit {
   // Root mean square of the geometric residuals e_i = |p_i - centre| - radius.
   double rms_residual = 0;
   int point_count = 0;
-  int iterations = 0;      // refinement iterations used (0 for the algebraic fit alone)
-  std::string error;       // non-empty when no circle could be fitted; says why
+  int iterations = 0;  // refinement iterations used (0 for the algebraic fit alone)
+  std::string error;   // non-empty when no circle could be fitted; says why
 
   bool ok() const { return error.empty(); }
 };

@@ -96,8 +96,8 @@ CircularPoint circular_point_from_polar(double theta_rad, double radius_mm,
 
 struct CircularTestInput {
   Plane plane = Plane::XY;
-  std::vector<CircularPoint> points;                // one or both directions, any order
-  std::optional<double> nominal_radius_mm;          // R0
+  std::vector<CircularPoint> points;        // one or both directions, any order
+  std::optional<double> nominal_radius_mm;  // R0
   std::optional<Eigen::Vector2d> nominal_centre_mm;
 };
 
@@ -134,13 +134,13 @@ struct CircularPathFigures {
   int point_count = 0;
   Eigen::Vector2d lsc_centre_mm = Eigen::Vector2d::Zero();
   double lsc_radius_mm = 0;
-  double lsc_rms_mm = 0;        // RMS of |p_i - c| - r about the LSC
-  double G_mm = 0;              // circular deviation about this path's LSC centre
-  double F_max_mm = 0;          // radial deviation, reference in F_reference
+  double lsc_rms_mm = 0;  // RMS of |p_i - c| - r about the LSC
+  double G_mm = 0;        // circular deviation about this path's LSC centre
+  double F_max_mm = 0;    // radial deviation, reference in F_reference
   double F_min_mm = 0;
   RadialReference F_reference;
-  double max_gap_rad = 0;       // largest angular gap between neighbouring points
-  RadialHarmonics harmonics;    // about this path's LSC centre
+  double max_gap_rad = 0;              // largest angular gap between neighbouring points
+  RadialHarmonics harmonics;           // about this path's LSC centre
   double scale_mismatch_um_per_m = 0;  // 2 a2 / R × 1e6 (this path alone; see above)
   double squareness_urad = 0;          // -2 b2 / R × 1e6 (this path alone)
 };
@@ -152,13 +152,13 @@ struct CircularTestResult {
   // LSC of all points (both paths, or the one path).
   Eigen::Vector2d lsc_centre_mm = Eigen::Vector2d::Zero();
   double lsc_radius_mm = 0;
-  double G_mm = 0;                // the larger G of the measured paths
-  std::optional<double> G_b_mm;   // both paths measured only
-  std::optional<double> H_mm;     // both paths measured only
-  double F_max_mm = 0;            // over all points, about F_reference
+  double G_mm = 0;               // the larger G of the measured paths
+  std::optional<double> G_b_mm;  // both paths measured only
+  std::optional<double> H_mm;    // both paths measured only
+  double F_max_mm = 0;           // over all points, about F_reference
   double F_min_mm = 0;
-  RadialReference F_reference;    // nominal centre/R0 when given, else the all-points LSC
-  RadialHarmonics harmonics;      // all points about the all-points LSC centre
+  RadialReference F_reference;         // nominal centre/R0 when given, else the all-points LSC
+  RadialHarmonics harmonics;           // all points about the all-points LSC centre
   double scale_mismatch_um_per_m = 0;  // u scale - v scale, from all points
   double squareness_urad = 0;          // > 0: angle between the u and v motions exceeds 90°
 };

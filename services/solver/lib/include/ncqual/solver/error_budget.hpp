@@ -112,9 +112,9 @@ enum class CapabilityBasis { Default, History, Fixed };
 std::string_view to_string(CapabilityBasis basis);
 
 struct MetricCapability {
-  int samples = 0;       // values used (the newest `last_n`)
-  double mean = 0;       // in the metric's unit
-  double sigma = 0;      // sample standard deviation (n - 1), 0 for one value
+  int samples = 0;   // values used (the newest `last_n`)
+  double mean = 0;   // in the metric's unit
+  double sigma = 0;  // sample standard deviation (n - 1), 0 for one value
   double max_abs = 0;
   // The bound the metric's values stay within at the configured coverage, in the metric's unit:
   //   samples >= kMinHistorySamples:  max(|mean| + k_p σ, max |value|, floor)
@@ -128,8 +128,8 @@ struct MetricCapability {
 };
 // `values_newest_first` in the metric's unit; only the first `last_n` are used (all if <= 0).
 // `default_capability` in the metric's unit.
-MetricCapability capability_from_history(const std::vector<double>& values_newest_first,
-                                         int last_n, double default_capability, double coverage);
+MetricCapability capability_from_history(const std::vector<double>& values_newest_first, int last_n,
+                                         double default_capability, double coverage);
 
 // ---- Allocation and derived tolerances ---------------------------------------------------------
 
@@ -137,10 +137,10 @@ struct Allocation {
   // Per source (config order): its allowance, tool-tip mm. Fixed sources keep their allowance;
   // measured ones get scale · capability.
   std::vector<SourceError> allowances;
-  double scale = 0;        // k: allowance / capability of every measured source
-  double theta_rad = 0;    // where the total of the allowances reaches the allowable
-  bool feasible = true;    // false when the fixed allowances alone exceed the allowable
-  std::string why;         // when not feasible, in words
+  double scale = 0;      // k: allowance / capability of every measured source
+  double theta_rad = 0;  // where the total of the allowances reaches the allowable
+  bool feasible = true;  // false when the fixed allowances alone exceed the allowable
+  std::string why;       // when not feasible, in words
 };
 // Shares the allowable total T among the measured sources in proportion to their capabilities
 // c_i, after the fixed allowances f_j have taken theirs:
@@ -149,9 +149,9 @@ struct Allocation {
 // The RSS of all allowances then equals T at the worst inclination and stays under it elsewhere.
 // Every source gets the same margin k over what it has shown it can hold: a source that holds
 // tightly gets a tight allowance, one that wanders a looser one, and none is asked for an accuracy
-// it has never demonstrated. With only Y sources at θ = 0 this is the plain a_i = T' c_i / sqrt(Σ c_j²)
-// (T'² = T² - Σ f_j²). With method monte_carlo, k is found by bisection instead so that the Monte
-// Carlo total of the allowances equals T (same draws for every k).
+// it has never demonstrated. With only Y sources at θ = 0 this is the plain a_i = T' c_i / sqrt(Σ
+// c_j²) (T'² = T² - Σ f_j²). With method monte_carlo, k is found by bisection instead so that the
+// Monte Carlo total of the allowances equals T (same draws for every k).
 Allocation allocate_budget(const ErrorBudgetConfig& config,
                            const std::vector<SourceError>& capabilities);
 
@@ -169,17 +169,17 @@ double derived_tolerance(const BudgetMetric& metric, const SourceError& allowanc
 // ---- Consumption --------------------------------------------------------------------------------
 
 struct ConsumptionItem {
-  std::size_t source = 0;          // index into config.sources
-  double contribution_mm = 0;      // ΔS_i at the consumption's θ
-  double share = 0;                // ΔS_i² / T²: its part of the allowable (shares add up to
-                                   // (ΔS_T / T)², 1 exactly at the limit)
+  std::size_t source = 0;      // index into config.sources
+  double contribution_mm = 0;  // ΔS_i at the consumption's θ
+  double share = 0;            // ΔS_i² / T²: its part of the allowable (shares add up to
+                               // (ΔS_T / T)², 1 exactly at the limit)
 };
 struct Consumption {
   std::vector<ConsumptionItem> items;  // largest consumer first
   double theta_rad = 0;                // the inclination where today's total is largest
   double rss_total_mm = 0;             // ΔS_T of today's errors there
   double allowable_total_mm = 0;
-  bool within_budget = true;           // rss_total_mm <= allowable_total_mm
+  bool within_budget = true;  // rss_total_mm <= allowable_total_mm
 };
 // How much of the budget today's errors (one per config.sources, tool-tip mm) use. Today is one
 // state, not a distribution, so the total is the patent's RSS whatever the configured method.
@@ -196,29 +196,29 @@ struct MetricReport {
   BudgetAxis axis = BudgetAxis::Y;
   std::string unit;
   double mm_per_unit = 1;
-  AxisWorst sensitivity;              // mm of ΔS per metric unit, and where
-  MetricCapability capability;        // metric unit
-  std::optional<double> today_value;  // the newest value, signed, metric unit
-  double derived_tolerance = 0;       // ±, metric unit
-  bool today_within_tolerance = true; // |today_value| <= derived_tolerance (true without a value)
+  AxisWorst sensitivity;               // mm of ΔS per metric unit, and where
+  MetricCapability capability;         // metric unit
+  std::optional<double> today_value;   // the newest value, signed, metric unit
+  double derived_tolerance = 0;        // ±, metric unit
+  bool today_within_tolerance = true;  // |today_value| <= derived_tolerance (true without a value)
 };
 
 struct SourceReport {
-  std::size_t index = 0;              // into config.sources
+  std::size_t index = 0;  // into config.sources
   std::string name;
   std::string description;
   BudgetDirection direction = BudgetDirection::Y;
   bool fixed = false;
-  SourceError capability;             // tool-tip mm
+  SourceError capability;                                       // tool-tip mm
   CapabilityBasis capability_basis = CapabilityBasis::Default;  // History when any metric has
                                                                 // enough values
-  SourceError allocation;             // tool-tip mm
-  double capability_contribution_mm = 0;  // ΔS at the allocation's θ
-  double allocation_contribution_mm = 0;  // ΔS at the allocation's θ
-  SourceError today;                  // tool-tip mm: newest values, else the capability
-  bool today_measured = false;        // every axis of the source has a newest value
-  double today_contribution_mm = 0;   // ΔS at today's θ
-  double share = 0;                   // today_contribution² / T²
+  SourceError allocation;                                       // tool-tip mm
+  double capability_contribution_mm = 0;                        // ΔS at the allocation's θ
+  double allocation_contribution_mm = 0;                        // ΔS at the allocation's θ
+  SourceError today;                 // tool-tip mm: newest values, else the capability
+  bool today_measured = false;       // every axis of the source has a newest value
+  double today_contribution_mm = 0;  // ΔS at today's θ
+  double share = 0;                  // today_contribution² / T²
   std::vector<MetricReport> metrics;
 };
 
@@ -226,9 +226,9 @@ struct ErrorBudgetReport {
   double allowable_total_mm = 0;
   BudgetMethod method = BudgetMethod::Rss;
   double coverage = 0;
-  WorstTotal capability_rss;          // RSS of the capabilities at their worst θ
+  WorstTotal capability_rss;  // RSS of the capabilities at their worst θ
   MonteCarloTotal capability_monte_carlo;
-  WorstTotal allocation_rss;          // equals the allowable when feasible (method rss)
+  WorstTotal allocation_rss;  // equals the allowable when feasible (method rss)
   MonteCarloTotal allocation_monte_carlo;
   Allocation allocation;
   Consumption today;

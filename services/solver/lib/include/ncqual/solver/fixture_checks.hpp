@@ -79,7 +79,8 @@ std::string fit_metric_name(int delta_axis, int commanded_axis);
 // Likely causes.
 inline constexpr std::string_view kCauseZeroDrift =
     "fixture zero positions drifted (software zero offsets issued)";
-inline constexpr std::string_view kCauseMisaligned = "fixture axes misaligned with the machine axes";
+inline constexpr std::string_view kCauseMisaligned =
+    "fixture axes misaligned with the machine axes";
 inline constexpr std::string_view kCauseNonlinear = "nonlinearity of a fixture axis";
 inline constexpr std::string_view kCauseWear = "wear of fixture components";
 
@@ -125,7 +126,7 @@ struct FixtureDeltaFit {
   std::string error;  // non-empty when the commanded positions cannot support the fit
   Eigen::Matrix3d slope = Eigen::Matrix3d::Zero();  // M(i, j), mm / mm
   Eigen::Matrix3d slope_standard_error = Eigen::Matrix3d::Zero();
-  bool fitted[3] = {false, false, false};  // commanded axis j varies within some pogo
+  bool fitted[3] = {false, false, false};             // commanded axis j varies within some pogo
   Eigen::Vector3d span_mm = Eigen::Vector3d::Zero();  // largest within-pogo range of c_j
   Eigen::Vector3d residual_rms_mm = Eigen::Vector3d::Zero();  // per delta axis, sqrt(|R_i|^2 / N)
   Eigen::Vector3d systematic_residual_mm = Eigen::Vector3d::Zero();  // per delta axis
@@ -146,7 +147,8 @@ CheckResult check_fixture_precalibration(const MeasurementSet& set, const Machin
 // Weekly fixture post-calibration (kind FixturePostCalibration), after the zero offsets: every
 // post-calibration configuration, with the rows of pre-calibration configuration k when the set's
 // parameters hold fixture_configuration = k, else every row. PASS when every delta lies in its
-// tolerance; FAIL otherwise, the likely causes ordered by the fit of the deltas (fit_fixture_deltas):
+// tolerance; FAIL otherwise, the likely causes ordered by the fit of the deltas
+// (fit_fixture_deltas):
 //   significant misalignment slopes (and larger, relative to the tolerance, than the nonlinearity
 //     evidence): misalignment, nonlinearity, wear;
 //   significant scale slopes or a systematic residual: nonlinearity, misalignment, wear;

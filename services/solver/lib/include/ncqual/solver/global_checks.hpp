@@ -14,8 +14,8 @@
 //   grid           grid_max_deviation_mm, grid_rms_deviation_mm, grid_squareness_{xy,yz,zx}_urad,
 //                  grid_scale_{x,y,z}_um_per_m, volumetric_residual_after_mm (when the grid has
 //                  enough targets and points to identify the 21 errors)
-//   rotary C / A   {c,a}_dA_mean_arcsec, {c,a}_dA_range_arcsec, {c,a}_dR_max_mm, {c,a}_axis_tilt_urad
-//   rotary W       w_scale_um_per_m, w_misalignment_urad, w_straightness_mm
+//   rotary C / A   {c,a}_dA_mean_arcsec, {c,a}_dA_range_arcsec, {c,a}_dR_max_mm,
+//   {c,a}_axis_tilt_urad rotary W       w_scale_um_per_m, w_misalignment_urad, w_straightness_mm
 //   circles        circle_{xy,yz,xz}_G_mm, circle_{..}_H_mm (bidirectional runs)
 //   linear run     linear_A_mm, linear_E_mm, linear_R_mm, linear_B_mm
 // INVALID (never a throw) for a machine without a global_check section, a point label the

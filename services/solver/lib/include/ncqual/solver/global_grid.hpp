@@ -66,12 +66,12 @@ struct GridPointResult {
 
 // One constant-Z plane of the grid: the patent's per-plane chart and its "worst region".
 struct GridPlaneSummary {
-  double z_mm = 0;                  // commanded Z of the plane (mean over its points)
+  double z_mm = 0;  // commanded Z of the plane (mean over its points)
   int point_count = 0;
-  std::size_t worst_index = 0;      // index into GridAnalysis::points
+  std::size_t worst_index = 0;  // index into GridAnalysis::points
   std::string worst_label;
-  double worst_deviation_mm = 0;    // largest |deviation| in the plane
-  double rms_deviation_mm = 0;      // sqrt(mean |deviation|^2) over the plane
+  double worst_deviation_mm = 0;  // largest |deviation| in the plane
+  double rms_deviation_mm = 0;    // sqrt(mean |deviation|^2) over the plane
   Eigen::Vector3d max_abs_deviation_mm = Eigen::Vector3d::Zero();  // max |dx|, |dy|, |dz|
 };
 
@@ -102,7 +102,7 @@ struct GridAnalysis {
   std::vector<GridPointResult> points;  // in input order
   double max_deviation_mm = 0;          // largest |deviation|
   std::string max_deviation_label;
-  double rms_deviation_mm = 0;          // sqrt(mean |deviation|^2)
+  double rms_deviation_mm = 0;  // sqrt(mean |deviation|^2)
   double max_abs_dx_mm = 0;
   double max_abs_dy_mm = 0;
   double max_abs_dz_mm = 0;
@@ -130,7 +130,7 @@ GridAnalysis analyze_grid(const MasterFrame& frame, const std::vector<FramePoint
 
 // The same, fitting the master frame first (fit_master_frame, with its refusals).
 GridAnalysis analyze_grid(const std::vector<FramePoint>& x_run,
-                          const std::vector<FramePoint>& y_run,
-                          const std::vector<FramePoint>& grid, const GridOptions& options = {});
+                          const std::vector<FramePoint>& y_run, const std::vector<FramePoint>& grid,
+                          const GridOptions& options = {});
 
 }  // namespace ncqual::solver

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 // Readers of instrument exports (CSV, see ncqual/csv.hpp for the common format): text (or a
 // parsed CsvTable) in, typed data out, no file I/O here (the caller reads the file, e.g. with
-// ncqual::read_csv_file, and passes the table); every problem a CsvError "<file>:<line>:<column>: <message>" (column left out when a
-// whole row is wrong, line too when the whole file is). Columns are found by name, in any
-// order; columns the format does not name are ignored (instrument exports carry extras:
-// temperatures, time stamps). Lengths in mm, angles in degrees in the file, radians inside.
+// ncqual::read_csv_file, and passes the table); every problem a CsvError "<file>:<line>:<column>:
+// <message>" (column left out when a whole row is wrong, line too when the whole file is). Columns
+// are found by name, in any order; columns the format does not name are ignored (instrument exports
+// carry extras: temperatures, time stamps). Lengths in mm, angles in degrees in the file, radians
+// inside.
 //
 // ISO 230-2 run (laser interferometer):
 //     target_mm,cycle,direction,measured_mm
@@ -75,10 +76,10 @@ CircleFile read_circle_csv(std::string_view text, const std::string& file,
 CircleFile read_circle_csv(const CsvTable& table, std::optional<Plane> plane);
 
 struct GridFilePoint {
-  std::string point;                                      // name, unique in the file
+  std::string point;                                       // name, unique in the file
   Eigen::Vector3d commanded_mm = Eigen::Vector3d::Zero();  // machine axes
   Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();   // instrument frame
-  int line = 0;                                           // file line
+  int line = 0;                                            // file line
 };
 
 // Parses a grid / master-frame run, points in file order.

@@ -49,8 +49,8 @@ std::string_view to_string(Approach a);  // "up", "down"
 
 // One reading of the run. Cycle numbers only identify the cycle (any integers, usually 1..n).
 struct PositioningReading {
-  double target_mm = 0;    // P_i, the commanded target position
-  int cycle = 0;           // j
+  double target_mm = 0;  // P_i, the commanded target position
+  int cycle = 0;         // j
   Approach direction = Approach::Up;
   double measured_mm = 0;  // P_ij, the actual position the instrument measured
 };
@@ -76,30 +76,30 @@ std::optional<ReadingProblem> find_iso230_2_problem(const std::vector<Positionin
 
 // The figures of one target in one approach direction (mm).
 struct DirectionFigures {
-  int cycles = 0;       // n, readings at this target in this direction
-  double mean_mm = 0;   // x̄_i↑ (or x̄_i↓)
-  double s_mm = 0;      // s_i↑ (n - 1 in the denominator)
-  double R_mm = 0;      // R_i↑ = 4 s_i↑
-  double min_mm = 0;    // smallest and largest x_ij of the cycles (for the plots)
+  int cycles = 0;      // n, readings at this target in this direction
+  double mean_mm = 0;  // x̄_i↑ (or x̄_i↓)
+  double s_mm = 0;     // s_i↑ (n - 1 in the denominator)
+  double R_mm = 0;     // R_i↑ = 4 s_i↑
+  double min_mm = 0;   // smallest and largest x_ij of the cycles (for the plots)
   double max_mm = 0;
 };
 
 // The figures of one target (mm). up/down absent when the test has no readings in that
 // direction; B/R/mean absent unless both are present.
 struct TargetFigures {
-  double target_mm = 0;                   // P_i
+  double target_mm = 0;  // P_i
   std::optional<DirectionFigures> up;
   std::optional<DirectionFigures> down;
-  std::optional<double> B_mm;             // B_i = x̄_i↑ - x̄_i↓
-  std::optional<double> R_mm;             // R_i
-  std::optional<double> mean_mm;          // x̄_i = (x̄_i↑ + x̄_i↓) / 2
+  std::optional<double> B_mm;     // B_i = x̄_i↑ - x̄_i↓
+  std::optional<double> R_mm;     // R_i
+  std::optional<double> mean_mm;  // x̄_i = (x̄_i↑ + x̄_i↓) / 2
 };
 
 // The axis figures (mm). *_up_mm absent without up readings, *_down_mm without down readings,
 // the bidirectional ones (A, E, M, R, B, B_mean) unless both directions were measured.
 struct Iso230_2Result {
   std::vector<TargetFigures> targets;  // ascending target_mm
-  int cycles = 0;       // the largest n of any target and direction (the run's cycle count)
+  int cycles = 0;  // the largest n of any target and direction (the run's cycle count)
   bool has_up = false;
   bool has_down = false;
   std::optional<double> A_mm, A_up_mm, A_down_mm;

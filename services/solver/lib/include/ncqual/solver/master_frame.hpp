@@ -51,7 +51,7 @@ struct FramePoint {
 // One point of a run against its fitted line.
 struct RunPointResidual {
   std::string label;
-  double commanded_mm = 0;      // commanded coordinate along the run's axis (x or y)
+  double commanded_mm = 0;  // commanded coordinate along the run's axis (x or y)
   // Measured position along the fitted line, from the centroid of the run's points (mm).
   double along_mm = 0;
   // along_mm - (mean along + slope * (commanded - mean commanded)): what the linear scale fit
@@ -60,7 +60,7 @@ struct RunPointResidual {
   // Perpendicular residual from the fitted line, in the run's two cross directions (RunFit::
   // cross_direction_*): X run (master Y, master Z), Y run (master X, master Z), mm.
   Eigen::Vector2d cross_mm = Eigen::Vector2d::Zero();
-  double distance_mm = 0;       // |perpendicular residual| = distance from the fitted line
+  double distance_mm = 0;  // |perpendicular residual| = distance from the fitted line
   // Master coordinates of the measured point minus the commanded position (mm).
   Eigen::Vector3d deviation_mm = Eigen::Vector3d::Zero();
 };

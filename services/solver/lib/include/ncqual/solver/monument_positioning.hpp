@@ -19,9 +19,9 @@ namespace ncqual::solver {
 
 namespace positioning {
 // Metric names: a public interface (historian columns, reports, tolerances in config).
-inline constexpr std::string_view kCenterDx = "center_dx_mm";      // measured - taught hole X
-inline constexpr std::string_view kCenterDy = "center_dy_mm";      // measured - taught hole Y
-inline constexpr std::string_view kFaceDz = "face_dz_mm";          // measured - taught face Z
+inline constexpr std::string_view kCenterDx = "center_dx_mm";  // measured - taught hole X
+inline constexpr std::string_view kCenterDy = "center_dy_mm";  // measured - taught hole Y
+inline constexpr std::string_view kFaceDz = "face_dz_mm";      // measured - taught face Z
 // Reported only when the machine config has a tolerance of this name:
 // 2 (fitted ball-centre radius + ball radius) - nominal hole diameter.
 inline constexpr std::string_view kHoleDiameterError = "hole_diameter_error_mm";

@@ -40,7 +40,8 @@ inline constexpr std::string_view kWorkOffsetTarget = "work_offset:";
 
 inline constexpr std::string_view kCauseSeating =
     "part not seated on its locators (unload, clean and reload the part)";
-inline constexpr std::string_view kCauseBlockMoved = "set-point block moved on its fixturing device";
+inline constexpr std::string_view kCauseBlockMoved =
+    "set-point block moved on its fixturing device";
 inline constexpr std::string_view kCauseFixture =
     "fixture out of position (run the weekly fixture pre-calibration)";
 }  // namespace setpoints

@@ -108,14 +108,14 @@ struct RotaryPoint {
 
 struct CirclePointResult {
   std::string label;
-  double commanded_rad = 0;        // commanded angle of the checked axis
+  double commanded_rad = 0;                                // commanded angle of the checked axis
   Eigen::Vector3d nominal_mm = Eigen::Vector3d::Zero();    // stylus_ball_centre(commanded)
   Eigen::Vector3d deviation_mm = Eigen::Vector3d::Zero();  // measured - nominal
-  double measured_rad = 0;         // angle about the fitted axis from the nominal zero direction
-  double dR_mm = 0;                // in-plane distance from the fitted centre - nominal radius
-  double dA_rad = 0;               // measured_rad - commanded_rad, wrapped to (-pi, pi]
-  double tangential_mm = 0;        // dA_rad * nominal radius
-  double axial_mm = 0;             // signed distance from the fitted plane (along the axis)
+  double measured_rad = 0;   // angle about the fitted axis from the nominal zero direction
+  double dR_mm = 0;          // in-plane distance from the fitted centre - nominal radius
+  double dA_rad = 0;         // measured_rad - commanded_rad, wrapped to (-pi, pi]
+  double tangential_mm = 0;  // dA_rad * nominal radius
+  double axial_mm = 0;       // signed distance from the fitted plane (along the axis)
 };
 
 struct RotaryCircleResult {
@@ -138,15 +138,15 @@ struct RotaryCircleResult {
   Eigen::Vector3d centre_offset_mm = Eigen::Vector3d::Zero();
   double centre_offset_radial_mm = 0;
   double centre_offset_axial_mm = 0;
-  double radius_error_mm = 0;      // fitted - nominal radius
-  double arc_coverage_rad = 0;     // the coverage of the commanded angles (see kMinArcRad)
+  double radius_error_mm = 0;   // fitted - nominal radius
+  double arc_coverage_rad = 0;  // the coverage of the commanded angles (see kMinArcRad)
   // Summary of the points.
-  double dA_mean_arcsec = 0;       // mean dA: the zero offset of the axis
-  double dA_range_arcsec = 0;      // max - min dA
+  double dA_mean_arcsec = 0;   // mean dA: the zero offset of the axis
+  double dA_range_arcsec = 0;  // max - min dA
   double dA_max_abs_arcsec = 0;
   double dR_max_abs_mm = 0;
-  double axial_max_abs_mm = 0;     // out-of-plane scatter (wobble)
-  double circle_rms_mm = 0;        // rms of the in-plane circle fit residuals
+  double axial_max_abs_mm = 0;            // out-of-plane scatter (wobble)
+  double circle_rms_mm = 0;               // rms of the in-plane circle fit residuals
   std::vector<CirclePointResult> points;  // in input order
 };
 
@@ -155,9 +155,9 @@ struct WPointResult {
   double commanded_w_mm = 0;
   Eigen::Vector3d nominal_mm = Eigen::Vector3d::Zero();    // stylus_ball_centre(commanded)
   Eigen::Vector3d deviation_mm = Eigen::Vector3d::Zero();  // measured - nominal
-  double travel_mm = 0;            // measured displacement along the fitted line from point 0
-  double positioning_error_mm = 0; // travel_mm - (commanded W - commanded W of point 0)
-  double distance_mm = 0;          // perpendicular distance from the fitted line
+  double travel_mm = 0;             // measured displacement along the fitted line from point 0
+  double positioning_error_mm = 0;  // travel_mm - (commanded W - commanded W of point 0)
+  double distance_mm = 0;           // perpendicular distance from the fitted line
 };
 
 struct WAxisResult {
@@ -168,11 +168,11 @@ struct WAxisResult {
   Eigen::Vector2d tilt_urad = Eigen::Vector2d::Zero();
   // Least-squares slope of the measured travel against the commanded W, minus 1, um/m.
   double w_scale_um_per_m = 0;
-  double straightness_mm = 0;          // largest perpendicular distance from the fitted line
-  double positioning_range_mm = 0;     // max - min positioning error (ISO 230-2 style range)
+  double straightness_mm = 0;       // largest perpendicular distance from the fitted line
+  double positioning_range_mm = 0;  // max - min positioning error (ISO 230-2 style range)
   double positioning_max_abs_mm = 0;
   Eigen::Vector3d mean_deviation_mm = Eigen::Vector3d::Zero();  // mean of measured - nominal
-  std::vector<WPointResult> points;    // in input order; point 0 is the reference
+  std::vector<WPointResult> points;  // in input order; point 0 is the reference
 };
 
 struct RotaryAxisResult {

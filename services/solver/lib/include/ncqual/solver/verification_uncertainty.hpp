@@ -134,11 +134,12 @@ VerificationDesign grid_verification_design(const GlobalCheckConfig& config);
 double expansion_uncertainty_per_K(double alpha_per_K);
 
 struct UncertaintySources {
-  volumetric::RigidBodyErrors errors;                          // the machine verified (fixed)
+  volumetric::RigidBodyErrors errors;                                // the machine verified (fixed)
   Eigen::Vector3d repeatability_sigma_mm = Eigen::Vector3d::Zero();  // per axis X, Y, Z
   Eigen::Vector3d expansion_per_K = Eigen::Vector3d::Constant(11.5e-6);  // alpha per axis
   // u(alpha) per axis; default: expansion_uncertainty_per_K(11.5e-6) = 5.77e-7 1/K.
-  Eigen::Vector3d expansion_sigma_per_K = Eigen::Vector3d::Constant(2e-6 / (2 * 1.7320508075688772));
+  Eigen::Vector3d expansion_sigma_per_K =
+      Eigen::Vector3d::Constant(2e-6 / (2 * 1.7320508075688772));
   Eigen::Vector3d temperature_deviation_K = Eigen::Vector3d::Zero();  // measured T - 20 C per axis
   Eigen::Vector3d temperature_sigma_K = Eigen::Vector3d::Zero();      // its 1 sigma
 };
@@ -150,7 +151,7 @@ struct MonteCarloOptions {
   // Trial k draws from its own stream, seeded from (seed, k), and the statistics are merged in a
   // fixed order: the results depend on the seed, never on the thread count.
   std::uint64_t seed = 1;
-  int threads = 1;    // 1..64
+  int threads = 1;                                                 // 1..64
   IdentificationMethod method = IdentificationMethod::Linearised;  // header comment: Method
 };
 
@@ -183,8 +184,8 @@ struct PointUncertainty {
   Eigen::Vector3d tool_offset_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d mean_mm = Eigen::Vector3d::Zero();   // mean residual, machine axes
   Eigen::Vector3d sigma_mm = Eigen::Vector3d::Zero();  // its standard deviation per axis
-  double rms_mm = 0;      // sqrt(mean |e|^2)
-  double bound95_mm = 0;  // 95 % quantile of |e|
+  double rms_mm = 0;                                   // sqrt(mean |e|^2)
+  double bound95_mm = 0;                               // 95 % quantile of |e|
   double tracker_u_mm = 0;  // u_p of eq. 24 at the nominal target (tracker at its nominal pose)
 };
 
@@ -240,18 +241,18 @@ struct LocationSearchOptions {
 struct TrackerCandidate {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();
   double yaw_rad = 0;
-  double max_u_mm = 0;   // the largest u_p over the design (eq. 24)
+  double max_u_mm = 0;  // the largest u_p over the design (eq. 24)
   double mean_u_mm = 0;
-  int worst_point = 0;   // design index of that largest u_p
+  int worst_point = 0;  // design index of that largest u_p
 };
 
 struct TrackerLocationSearch {
-  TrackerUncertaintyModel best;  // the tracker at the best candidate, facing the centre
-  double max_u_mm = 0, mean_u_mm = 0;     // of the best candidate
-  double given_max_u_mm = 0;              // of the tracker as given, for comparison
+  TrackerUncertaintyModel best;              // the tracker at the best candidate, facing the centre
+  double max_u_mm = 0, mean_u_mm = 0;        // of the best candidate
+  double given_max_u_mm = 0;                 // of the tracker as given, for comparison
   std::vector<TrackerCandidate> candidates;  // best first (max_u, then mean_u, then grid order)
-  int tried = 0;     // candidates evaluated
-  int excluded = 0;  // grid positions excluded (envelope, range)
+  int tried = 0;                             // candidates evaluated
+  int excluded = 0;                          // grid positions excluded (envelope, range)
 };
 
 // The candidate of `region` that minimises the largest u_p over the design (eq. 23-24; no Monte

@@ -176,9 +176,9 @@ struct IdentifiedErrors {
   double rms_before_mm = 0, max_before_mm = 0;
   double rms_after_mm = 0, max_after_mm = 0;
 
-  int observations = 0;          // scalar residuals: 3 per point (A), 1 per moved reading (B)
-  int degrees_of_freedom = 0;    // observations - parameters
-  double chi_square = 0;         // sum of (residual / sigma)^2 after the solve
+  int observations = 0;        // scalar residuals: 3 per point (A), 1 per moved reading (B)
+  int degrees_of_freedom = 0;  // observations - parameters
+  double chi_square = 0;       // sum of (residual / sigma)^2 after the solve
   // Ceres: iterations, cost = chi^2 / 2 at the start (the linear solution) and at the end.
   int iterations = 0;
   double initial_cost = 0, final_cost = 0;
@@ -208,12 +208,12 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
 // would alias into the linear parts. Precision: each function is a cumulative sum of noisy
 // increments (its low orders carry ~2.5 x the reading noise on 12 steps), and on an elongated box
 // the beams lie nearly along the long axis, so the across components are seen weakly (3200 x
-// 1000 x 600 mm: weights 0.09 and 0.03 against 1/3 on a cube). What they do not determine: the angular errors (one target
-// per beam: their Abbe effect is not separable from straightness; they are reported in `lumped`
-// and bias the straightness functions), the constants (gauge), the tool offset.
-// Refuses (std::invalid_argument naming the field and the value): an empty list; diagonal not in
-// 0..3; non-finite values; direction not a unit vector (1e-6); sigma_mm not finite and > 0; a
-// start reading (first of its diagonal) with displacement_mm != 0; a diagonal with a repeated
+// 1000 x 600 mm: weights 0.09 and 0.03 against 1/3 on a cube). What they do not determine: the
+// angular errors (one target per beam: their Abbe effect is not separable from straightness; they
+// are reported in `lumped` and bias the straightness functions), the constants (gauge), the tool
+// offset. Refuses (std::invalid_argument naming the field and the value): an empty list; diagonal
+// not in 0..3; non-finite values; direction not a unit vector (1e-6); sigma_mm not finite and > 0;
+// a start reading (first of its diagonal) with displacement_mm != 0; a diagonal with a repeated
 // commanded position; an axis with fewer than 3 distinct positions; fewer moved readings than
 // unknowns (both counts named); options out of range.
 IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& readings,
