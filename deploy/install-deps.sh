@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # Installs the Debian 12 packages ncqual builds and runs with, when they are missing.
 # Everything comes from Debian's archive; nothing else is downloaded.
+# Usage: install-deps.sh [--test]   (--test adds what only the test suite needs: the linters)
 set -euo pipefail
 
 packages=(
@@ -11,6 +12,9 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
   libhowardhinnant-date-dev tzdata libcli11-dev
 )
+if [ "${1:-}" = "--test" ]; then
+  packages+=(clang-format-14 clang-tidy-14)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

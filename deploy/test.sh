@@ -3,7 +3,7 @@
 # Installs what is missing, builds everything and runs the whole test suite (ctest).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/deploy/install-deps.sh"
+"$root/deploy/install-deps.sh" --test
 "$root/deploy/build.sh"
 cd "${NCQUAL_BUILD_DIR:-$root/build}"
 # The restart test SIGKILLs a service on purpose; Fast DDS leaves that process's shared-memory

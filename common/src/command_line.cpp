@@ -50,4 +50,15 @@ void add_service_options(CLI::App& app, ServiceOptions& options) {
       ->capture_default_str();
 }
 
+int guarded_main(const char* program, const std::function<int()>& body) noexcept {
+  try {
+    return body();
+  } catch (const std::exception& e) {
+    std::cerr << program << ": " << e.what() << "\n";
+  } catch (...) {
+    std::cerr << program << ": unknown exception\n";
+  }
+  return 1;
+}
+
 }  // namespace ncqual::command_line

@@ -35,7 +35,8 @@ Eigen::Vector3d tracker_spherical(const Eigen::Vector3d& p) {
   return {r, std::atan2(p.y(), p.x()), std::asin(std::clamp(p.z() / r, -1.0, 1.0))};
 }
 
-Eigen::Vector3d tracker_cartesian(const Eigen::Vector3d& s) {
+Eigen::Vector3d tracker_cartesian(const Eigen::Vector3d& range_azimuth_elevation) {
+  const Eigen::Vector3d& s = range_azimuth_elevation;
   const double ce = std::cos(s[2]);
   return {s[0] * ce * std::cos(s[1]), s[0] * ce * std::sin(s[1]), s[0] * std::sin(s[2])};
 }

@@ -28,6 +28,7 @@ std::optional<CheckKind> parse_check_kind(std::string_view name) {
 }
 std::vector<CheckKind> all_check_kinds() {
   std::vector<CheckKind> kinds;
+  kinds.reserve(kCheckKindCount);
   for (int i = 0; i < kCheckKindCount; ++i) kinds.push_back(static_cast<CheckKind>(i));
   return kinds;
 }

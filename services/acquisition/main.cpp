@@ -33,10 +33,11 @@ class Served {
         compensations_(service.participant(), station_->id()) {
     const Clock& clock = service.clock();
     acquisition::Station& s = *station_;
-    service.dispatcher().on(compensations_, [&s, &clock](ncqual::dds::Received<Compensation> in) {
-      if (in.error.empty()) s.on_compensation(in.value, clock.now_ns());
-    });
-    service.dispatcher().on(requests_, [&s, &clock](ncqual::dds::Received<CheckRequest> in) {
+    service.dispatcher().on(compensations_,
+                            [&s, &clock](const ncqual::dds::Received<Compensation>& in) {
+                              if (in.error.empty()) s.on_compensation(in.value, clock.now_ns());
+                            });
+    service.dispatcher().on(requests_, [&s, &clock](const ncqual::dds::Received<CheckRequest>& in) {
       s.on_request(in.value, in.error, clock.now_ns());
     });
   }
@@ -73,9 +74,7 @@ std::vector<MachineConfig> served_machines(const MachineSelection& args, const P
   return out;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   using namespace ncqual;
   CLI::App app(
       "Simulates the machines' instruments from each machine config's simulator section.\n"
@@ -134,4 +133,10 @@ int main(int argc, char** argv) {
         spdlog::info("serving {} machine(s): {}", stations.size(), served);
         return service.run();
       });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ncqual::command_line::guarded_main("ncqual-acquisition", [&] { return run(argc, argv); });
 }

@@ -46,9 +46,7 @@ void report_usage_error(const CLI::App& app, const std::string& message) {
             << command.get_formatter()->make_help(&command, name, CLI::AppFormatMode::Normal);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app("ncqual: the operator's tool of the plant's qualification process", "ncqual");
   command_line::configure(app);
   app.formatter(std::make_shared<HelpFormatter>());
@@ -93,4 +91,10 @@ int main(int argc, char** argv) {
   }
   report_usage_error(app, "say what to do");
   return kExitUsage;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ncqual::command_line::guarded_main("ncqual", [&] { return run(argc, argv); });
 }

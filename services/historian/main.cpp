@@ -34,9 +34,7 @@ void store(ncqual::storage::Database& db, const char* what, const ncqual::dds::R
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   using namespace ncqual;
   CLI::App app("Stores every sample of the plant in the SQLite historian, exactly once.",
                "ncqual-historian");
@@ -63,27 +61,33 @@ int main(int argc, char** argv) {
     ncqual::dds::Reader<ncqual::dds::HeartbeatTopic> heartbeats(p);
 
     auto& d = service.dispatcher();
-    d.on(requests, [&](ncqual::dds::Received<CheckRequest> in) {
+    d.on(requests, [&](const ncqual::dds::Received<CheckRequest>& in) {
       store(db, "request", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(sets, [&](ncqual::dds::Received<MeasurementSet> in) {
+    d.on(sets, [&](const ncqual::dds::Received<MeasurementSet>& in) {
       store(db, "measurement set", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(results, [&](ncqual::dds::Received<CheckResult> in) {
+    d.on(results, [&](const ncqual::dds::Received<CheckResult>& in) {
       store(db, "result", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(statuses, [&](ncqual::dds::Received<MachineStatus> in) {
+    d.on(statuses, [&](const ncqual::dds::Received<MachineStatus>& in) {
       store(db, "status", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(compensations, [&](ncqual::dds::Received<Compensation> in) {
+    d.on(compensations, [&](const ncqual::dds::Received<Compensation>& in) {
       store(db, "compensation", in, in.value.machine_id, in.value.request_id);
     });
-    d.on(interventions, [&](ncqual::dds::Received<Intervention> in) {
+    d.on(interventions, [&](const ncqual::dds::Received<Intervention>& in) {
       store(db, "intervention", in, in.value.machine_id, in.value.intervention_id);
     });
-    d.on(heartbeats, [&](ncqual::dds::Received<Heartbeat> in) {
+    d.on(heartbeats, [&](const ncqual::dds::Received<Heartbeat>& in) {
       store(db, "heartbeat", in, in.value.machine_id, in.value.service + "@" + in.value.instance);
     });
     return service.run();
   });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ncqual::command_line::guarded_main("ncqual-historian", [&] { return run(argc, argv); });
 }

@@ -81,6 +81,13 @@ class ReaderHandshake {
   struct Writer {
     std::function<int()> matched;                                      // readers matched now
     std::function<bool(int readers, std::chrono::milliseconds)> wait;  // until that many
+
+    // Of anything with matched_readers() and wait_for_readers(n, patience): a dds::Writer.
+    template <typename W>
+    static Writer of(W& w) {
+      return {[&w] { return w.matched_readers(); },
+              [&w](int n, std::chrono::milliseconds t) { return w.wait_for_readers(n, t); }};
+    }
   };
 
   ReaderHandshake(storage::StateFile& state, Writer requests, Writer statuses);

@@ -16,7 +16,9 @@
 #include <iostream>
 #include <set>
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   using namespace ncqual;
   CLI::App app("Runs the qualification process of every machine of the plant (or of --machine).",
                "ncqual-scheduler");
@@ -77,7 +79,7 @@ int main(int argc, char** argv) {
                                 [&](const MachineStatus& s) { statuses.write(s); }},
                                &state);
     bool progress = false;
-    service.dispatcher().on(results, [&](ncqual::dds::Received<CheckResult> in) {
+    service.dispatcher().on(results, [&](const ncqual::dds::Received<CheckResult>& in) {
       progress = true;
       if (!in.error.empty()) {
         spdlog::error("result {} of '{}' ignored: {}", in.value.request_id, in.value.machine_id,
@@ -86,26 +88,22 @@ int main(int argc, char** argv) {
       }
       sched.result(in.value);
     });
-    service.dispatcher().on(commands, [&](ncqual::dds::Received<CheckCommand> in) {
+    service.dispatcher().on(commands, [&](const ncqual::dds::Received<CheckCommand>& in) {
       if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.command(in.value) : in.error;
       if (!refused.empty())
         spdlog::error("check command {} refused: {}", in.value.request_id, refused);
     });
-    service.dispatcher().on(interventions, [&](ncqual::dds::Received<Intervention> in) {
+    service.dispatcher().on(interventions, [&](const ncqual::dds::Received<Intervention>& in) {
       if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.intervention(in.value) : in.error;
       if (!refused.empty()) spdlog::warn("intervention {}: {}", in.value.intervention_id, refused);
     });
     // A restart sends nothing before the last run's readers match again (driver.hpp).
-    scheduler::ReaderHandshake readers(
-        state,
-        {[&] { return requests.matched_readers(); },
-         [&](int n, std::chrono::milliseconds t) { return requests.wait_for_readers(n, t); }},
-        {[&] { return statuses.matched_readers(); },
-         [&](int n, std::chrono::milliseconds t) { return statuses.wait_for_readers(n, t); }});
+    using Handshake = scheduler::ReaderHandshake;
+    Handshake readers(state, Handshake::Writer::of(requests), Handshake::Writer::of(statuses));
     readers.wait(std::chrono::seconds(10));
     sched.start(cycle);
 
@@ -142,4 +140,10 @@ int main(int argc, char** argv) {
     flush();
     return 0;
   });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ncqual::command_line::guarded_main("ncqual-scheduler", [&] { return run(argc, argv); });
 }

@@ -549,7 +549,7 @@ std::string Scheduler::intervention(const Intervention& iv) {
 
 void Scheduler::update_state(Machine& m, const std::string& request_id,
                              std::optional<CheckKind> kind, std::optional<Verdict> verdict,
-                             std::string detail_if_changed) {
+                             const std::string& detail_if_changed) {
   MachineRun& run = m.run;
   MachineState state = MachineState::Qualified;
   std::string detail;

@@ -154,7 +154,7 @@ class Scheduler {
   void retry_or_hold(Machine& m, PendingCheck& p);
   void hold(Machine& m, Hold h);
   void update_state(Machine& m, const std::string& request_id, std::optional<CheckKind> kind,
-                    std::optional<Verdict> verdict, std::string detail_if_changed = "");
+                    std::optional<Verdict> verdict, const std::string& detail_if_changed = "");
   std::string request_id_for(Machine& m, CheckKind kind);
   // Writes the state, then sends what the decision produced.
   void commit(Machine& m);
@@ -192,6 +192,6 @@ void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts);
 
 // The state documents, for the state file and for tests (round trip).
 std::string to_json(const MachineRun& run);
-MachineRun machine_run_from_json(const std::string& json);
+MachineRun machine_run_from_json(const std::string& text);
 
 }  // namespace ncqual::scheduler

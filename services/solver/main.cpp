@@ -37,9 +37,7 @@ class RecentIds {
   std::deque<std::string> order_;
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   using namespace ncqual;
   CLI::App app("Turns the plant's MeasurementSets into CheckResults (and Compensations).",
                "ncqual-solver");
@@ -55,7 +53,7 @@ int main(int argc, char** argv) {
     RecentIds solved(10000);
 
     const std::string produced_by = version_line("ncqual-solver");
-    service.dispatcher().on(sets, [&](ncqual::dds::Received<MeasurementSet> in) {
+    service.dispatcher().on(sets, [&](const ncqual::dds::Received<MeasurementSet>& in) {
       const MeasurementSet& set = in.value;
       if (!solved.insert(set.request_id)) {
         spdlog::debug("{} {}: already solved, ignored", set.machine_id, set.request_id);
@@ -90,4 +88,10 @@ int main(int argc, char** argv) {
     });
     return service.run();
   });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ncqual::command_line::guarded_main("ncqual-solver", [&] { return run(argc, argv); });
 }

@@ -16,6 +16,6 @@ void check(const Intervention& intervention);
 void check(const Compensation& compensation);
 void check(const Heartbeat& heartbeat);
 
-bool is_check_kind(CheckKind kind);
+bool is_check_kind(CheckKind value);
 
 }  // namespace ncqual::storage::validate

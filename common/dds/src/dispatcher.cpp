@@ -75,7 +75,7 @@ void Dispatcher::stop() { stop_.set_trigger_value(true); }
 
 bool Dispatcher::stopping() const { return stop_.get_trigger_value(); }
 
-void handle_termination_signals(std::function<void(int)> on_signal) {
+void handle_termination_signals(const std::function<void(int)>& on_signal) {
   sigset_t set;
   sigemptyset(&set);
   sigaddset(&set, SIGINT);

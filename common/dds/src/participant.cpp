@@ -80,7 +80,7 @@ Participant::~Participant() {
   }
 }
 
-Topic* Participant::topic(const std::string& name, TypeSupport type) {
+Topic* Participant::topic(const std::string& name, const TypeSupport& type) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (auto it = topics_.find(name); it != topics_.end()) return it->second;
   type.register_type(participant_);

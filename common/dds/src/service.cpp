@@ -12,7 +12,7 @@
 namespace ncqual::dds {
 
 std::string plant_file_from(const std::string& flag_value) {
-  const std::string path = plant_config_path(flag_value);
+  std::string path = plant_config_path(flag_value);
   if (path.empty()) throw ConfigError("no plant config: pass --plant FILE or set NCQUAL_PLANT");
   return path;
 }

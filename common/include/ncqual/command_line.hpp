@@ -40,4 +40,9 @@ struct ServiceOptions {
 // Adds --plant FILE, --domain N and --log-level LEVEL to a service's `app`.
 void add_service_options(CLI::App& app, ServiceOptions& options);
 
+// Every executable's main: runs `body` and returns its exit code; an exception that escapes it
+// (building the command line can throw too) is printed as "<program>: <what>" on stderr and
+// exits 1. main() itself then never throws.
+int guarded_main(const char* program, const std::function<int()>& body) noexcept;
+
 }  // namespace ncqual::command_line

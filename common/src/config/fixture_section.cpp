@@ -66,7 +66,7 @@ std::vector<double> homes(const Node& section, const std::string& axis, int mini
   }
   Node list_node = section["home_" + axis + "_mm"];
   if (auto listed = length_list(section, "home_" + axis, &list_node)) {
-    const std::string list_key = list_node.path();
+    const std::string& list_key = list_node.path();
     for (const std::string& other : {std::string("pitch_mm"), first_key}) {
       if (section[other].present()) section[other].problem("not with " + list_key);
     }

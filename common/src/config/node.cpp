@@ -63,9 +63,9 @@ void Diagnostics::throw_if_any() const {
 // ---- Node
 // ----------------------------------------------------------------------------------------
 
-Node::Node(YAML::Node yaml, std::string file, Diagnostics& diagnostics, std::string path,
+Node::Node(const YAML::Node& yaml, std::string file, Diagnostics& diagnostics, std::string path,
            std::string unit_key)
-    : yaml_(std::make_shared<const YAML::Node>(std::move(yaml))),
+    : yaml_(std::make_shared<const YAML::Node>(yaml)),
       file_(std::move(file)),
       diagnostics_(&diagnostics),
       path_(std::move(path)),

@@ -63,7 +63,7 @@ class Diagnostics {
 
 class Node {
  public:
-  Node(YAML::Node yaml, std::string file, Diagnostics& diagnostics, std::string path = {},
+  Node(const YAML::Node& yaml, std::string file, Diagnostics& diagnostics, std::string path = {},
        std::string unit_key = {});
 
   // ---- Where we are --------------------------------------------------------------------------
@@ -153,7 +153,7 @@ Node parse_text(std::string_view text, const std::string& file, Diagnostics& dia
 FixtureConfig read_fixture(const Node& node);
 GlobalCheckConfig read_global_check(const Node& node);
 CalendarConfig read_calendar(const Node& node);
-solver::ErrorBudgetConfig read_budget(const Node& node);
+solver::ErrorBudgetConfig read_budget(const Node& budget);
 sim::SimulatorConfig read_simulator(const Node& node, const MachineConfig& machine);
 
 // The unit a bare number of `key` is in, by the key's suffix: lengths `_in`, `_um`, else mm;

@@ -356,7 +356,7 @@ auto read_section_text(std::string_view text, const std::string& source, const s
                        Read read) {
   Diagnostics diagnostics;
   const Node parsed = parse_text(text, source, diagnostics);
-  const auto result = read(Node(parsed.yaml(), source, diagnostics, key, key));
+  auto result = read(Node(parsed.yaml(), source, diagnostics, key, key));
   diagnostics.throw_if_any();
   return result;
 }

@@ -63,7 +63,7 @@ SimulatorErrors read_errors(const Node& node, const MachineConfig& machine) {
   for (const auto& [name, shift] : shifts.entries()) {
     const bool known_point =
         std::any_of(machine.setpoints.points.begin(), machine.setpoints.points.end(),
-                    [&](const SetPointConfig& p) { return p.name == name; });
+                    [&point = name](const SetPointConfig& p) { return p.name == point; });
     if (!known_point) {
       shift.problem("not a set point of the machine's `setpoints:` section");
       continue;

@@ -348,6 +348,7 @@ std::vector<solver::FramePoint> grid_file(const std::string& path, std::size_t m
                        std::to_string(minimum));
   }
   std::vector<solver::FramePoint> out;
+  out.reserve(points.size());
   for (const auto& p : points) out.push_back({p.point, p.commanded_mm, p.measured_mm});
   return out;
 }

@@ -64,7 +64,7 @@ int run(const Options& o) {
   }
   std::optional<CheckResult> got;
   ncqual::dds::Dispatcher dispatcher;
-  dispatcher.on(*results, [&](ncqual::dds::Received<CheckResult> in) {
+  dispatcher.on(*results, [&](const ncqual::dds::Received<CheckResult>& in) {
     if (in.value.request_id == cmd.request_id) got = in.value;
   });
   dispatcher.run_until([&] { return got.has_value(); },

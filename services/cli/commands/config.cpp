@@ -25,7 +25,7 @@ struct Options {
 
 // Where the plant file comes from: --plant, else NCQUAL_PLANT.
 std::string plant_file(const std::string& flag) {
-  const std::string path = plant_config_path(flag);
+  std::string path = plant_config_path(flag);
   if (path.empty()) throw UsageError("pass --plant FILE (or set NCQUAL_PLANT)");
   return path;
 }

@@ -85,7 +85,7 @@ std::string database_path(const std::optional<std::string>& db, const std::strin
   const std::string plant = plant_config_path(plant_flag);
   if (!plant.empty()) return load_plant_config(plant).historian_database;
   const char* var = std::getenv("NCQUAL_VAR");
-  const std::string fallback = std::string(var && *var ? var : "var") + "/historian.db";
+  std::string fallback = std::string(var && *var ? var : "var") + "/historian.db";
   if (std::filesystem::exists(fallback)) return fallback;
   throw UsageError("pass --db FILE or --plant FILE (or set NCQUAL_PLANT); no " + fallback +
                    " here");

@@ -287,6 +287,7 @@ WAxisResult analyze_w_axis(const std::vector<RotaryPoint>& points, const ProbeGe
                   "2 points fit a line exactly; 5 leave 3 to show straightness and "
                   "positioning error");
   std::vector<const RotaryPoint*> sorted;
+  sorted.reserve(points.size());
   for (const auto& p : points) sorted.push_back(&p);
   std::stable_sort(sorted.begin(), sorted.end(), [](const RotaryPoint* l, const RotaryPoint* r) {
     return l->commanded.w_mm < r->commanded.w_mm;

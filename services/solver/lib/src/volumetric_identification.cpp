@@ -290,12 +290,12 @@ class ObservationCost final : public ceres::CostFunction {
 // Weighted residuals and (optionally) the row-major Jacobian of all observations.
 void evaluate_all(const Observations& obs, const Model& m, const VectorXd& th, VectorXd& r,
                   RowMatrix* J) {
-  const int bs = obs.block_size(), n = m.layout.size();
-  r.resize(obs.count() * bs);
-  if (J != nullptr) J->resize(obs.count() * bs, n);
-  for (int b = 0; b < obs.count(); ++b) {
+  const Eigen::Index bs = obs.block_size(), n = m.layout.size(), count = obs.count();
+  r.resize(count * bs);
+  if (J != nullptr) J->resize(count * bs, n);
+  for (int b = 0; b < count; ++b) {
     obs.evaluate(m, b, th.data(), r.data() + b * bs,
-                 J != nullptr ? J->data() + static_cast<std::ptrdiff_t>(b) * bs * n : nullptr);
+                 J != nullptr ? J->data() + b * bs * n : nullptr);
   }
 }
 

@@ -23,13 +23,13 @@ msg::Heartbeat to_wire(const Heartbeat& v);
 
 // Each returns the model; `error` is set (and the model holds what could be read, at least
 // machine_id and the request id) when the sample is malformed.
-CheckRequest from_wire(const msg::CheckRequest& v, std::string& error);
-CheckCommand from_wire(const msg::CheckCommand& v, std::string& error);
-MeasurementSet from_wire(const msg::MeasurementSet& v, std::string& error);
-CheckResult from_wire(const msg::CheckResult& v, std::string& error);
-MachineStatus from_wire(const msg::MachineStatus& v, std::string& error);
-Intervention from_wire(const msg::Intervention& v, std::string& error);
-Compensation from_wire(const msg::Compensation& v, std::string& error);
-Heartbeat from_wire(const msg::Heartbeat& v, std::string& error);
+CheckRequest from_wire(const msg::CheckRequest& w, std::string& error);
+CheckCommand from_wire(const msg::CheckCommand& w, std::string& error);
+MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error);
+CheckResult from_wire(const msg::CheckResult& w, std::string& error);
+MachineStatus from_wire(const msg::MachineStatus& w, std::string& error);
+Intervention from_wire(const msg::Intervention& w, std::string& error);
+Compensation from_wire(const msg::Compensation& w, std::string& error);
+Heartbeat from_wire(const msg::Heartbeat& w, std::string& error);
 
 }  // namespace ncqual::dds

@@ -63,6 +63,6 @@ class Dispatcher {
 // Blocks SIGINT and SIGTERM in the calling thread (call first thing in main, before any thread
 // is started, so every thread inherits the mask) and starts a thread that waits for them and
 // calls `on_signal` once. Returns immediately.
-void handle_termination_signals(std::function<void(int)> on_signal);
+void handle_termination_signals(const std::function<void(int)>& on_signal);
 
 }  // namespace ncqual::dds

@@ -60,7 +60,7 @@ class Participant {
 
   // The topic of this name, created on first use with its type registered.
   eprosima::fastdds::dds::Topic* topic(const std::string& name,
-                                       eprosima::fastdds::dds::TypeSupport type);
+                                       const eprosima::fastdds::dds::TypeSupport& type);
   // A content-filtered view of `topic` that passes only samples of one machine.
   eprosima::fastdds::dds::ContentFilteredTopic* machine_filter(eprosima::fastdds::dds::Topic* topic,
                                                                const std::string& machine_id);
