@@ -2,8 +2,8 @@
 #include "scheduler.hpp"
 
 #include "ncqual/check_kinds.hpp"
+#include "ncqual/json.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -48,136 +48,53 @@ std::string compact_time(std::int64_t t_ns) {
 }  // namespace
 
 // ------------------------------------------------------------------------------------------------
-// State documents
+// State documents: one JSON document per machine ("machine/<id>"), per fixture ("fixture/<id>"),
+// the reader counts ("readers") and the simulated clock ("clock"). Fields missing in a document
+// read as their defaults, so a state written by an older version still loads.
+
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PendingCheck, request_ids, kind, requested_by,
+                                                issued_ns, parameters, verifies_correction_of,
+                                                in_sequence, rearmed)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(Hold, kind, request_id, detail, rerun, parameters,
+                                                in_sequence)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MachineRun, last_pass_ns, queue, pending, hold,
+                                                planned_shift_ns, next_part_ns, part_step,
+                                                local_time_ns, sequence, interventions, recent,
+                                                state, detail)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ReaderCounts, requests, statuses)
 
 namespace {
 
-nlohmann::json values_json(const std::vector<NamedValue>& values) {
-  nlohmann::json a = nlohmann::json::array();
-  for (const auto& v : values)
-    a.push_back({{"name", v.name}, {"value", v.value}, {"unit", v.unit}});
-  return a;
+struct FixtureDocument {
+  int next_configuration = 0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FixtureDocument, next_configuration)
+
+struct ClockDocument {
+  std::int64_t now_ns = 0;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ClockDocument, now_ns)
+
+template <typename Document>
+std::string dumped(const Document& document) {
+  return nlohmann::json(document).dump();
 }
 
-std::vector<NamedValue> values_from(const nlohmann::json& a) {
-  std::vector<NamedValue> out;
-  for (const auto& v : a) {
-    out.push_back({v.at("name").get<std::string>(), v.at("value").get<double>(),
-                   v.at("unit").get<std::string>()});
-  }
-  return out;
-}
-
-CheckKind kind_from(const nlohmann::json& j) {
-  const auto kind = parse_check_kind(j.get<std::string>());
-  if (!kind)
-    throw std::invalid_argument("scheduler state: unknown check kind '" + j.get<std::string>() +
-                                "'");
-  return *kind;
+template <typename Document>
+Document parsed(const std::string& text) {
+  return nlohmann::json::parse(text).get<Document>();
 }
 
 }  // namespace
 
-std::string to_json(const MachineRun& run) {
-  nlohmann::json j;
-  nlohmann::json last = nlohmann::json::object();
-  for (const auto& [kind, t] : run.last_pass_ns) last[std::string(to_string(kind))] = t;
-  j["last_pass_ns"] = last;
-  nlohmann::json queue = nlohmann::json::array();
-  for (CheckKind k : run.queue) queue.push_back(std::string(to_string(k)));
-  j["queue"] = queue;
-  nlohmann::json pending = nlohmann::json::array();
-  for (const auto& p : run.pending) {
-    pending.push_back({{"request_ids", p.request_ids},
-                       {"kind", std::string(to_string(p.kind))},
-                       {"requested_by", p.requested_by},
-                       {"issued_ns", p.issued_ns},
-                       {"parameters", values_json(p.parameters)},
-                       {"verifies_correction_of", p.verifies_correction_of},
-                       {"in_sequence", p.in_sequence},
-                       {"rearmed", p.rearmed}});
-  }
-  j["pending"] = pending;
-  if (run.hold) {
-    j["hold"] = {{"kind", std::string(to_string(run.hold->kind))},
-                 {"request_id", run.hold->request_id},
-                 {"detail", run.hold->detail},
-                 {"rerun", std::string(to_string(run.hold->rerun))},
-                 {"parameters", values_json(run.hold->parameters)},
-                 {"in_sequence", run.hold->in_sequence}};
-  }
-  if (run.planned_shift_ns) j["planned_shift_ns"] = *run.planned_shift_ns;
-  if (run.next_part_ns) j["next_part_ns"] = *run.next_part_ns;
-  j["part_step"] = run.part_step;
-  j["local_time_ns"] = run.local_time_ns;
-  j["sequence"] = run.sequence;
-  j["interventions"] = run.interventions;
-  nlohmann::json recent = nlohmann::json::array();
-  for (const auto& r : run.recent) {
-    recent.push_back({{"request_id", r.request_id},
-                      {"kind", std::string(to_string(r.kind))},
-                      {"requested_by", r.requested_by},
-                      {"time_ns", r.time_ns},
-                      {"attempt", r.attempt},
-                      {"parameters", values_json(r.parameters)},
-                      {"verifies_correction_of", r.verifies_correction_of}});
-  }
-  j["recent"] = recent;
-  j["state"] = std::string(to_string(run.state));
-  j["detail"] = run.detail;
-  return j.dump();
-}
+std::string to_json(const MachineRun& run) { return dumped(run); }
 
 MachineRun machine_run_from_json(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text);
-  MachineRun run;
-  for (const auto& [name, t] : j.at("last_pass_ns").items()) {
-    run.last_pass_ns[kind_from(nlohmann::json(name))] = t.get<std::int64_t>();
-  }
-  for (const auto& k : j.at("queue")) run.queue.push_back(kind_from(k));
-  for (const auto& p : j.at("pending")) {
-    PendingCheck c;
-    c.request_ids = p.at("request_ids").get<std::vector<std::string>>();
-    if (c.request_ids.empty())
+  auto run = parsed<MachineRun>(text);
+  for (const auto& p : run.pending) {
+    if (p.request_ids.empty())
       throw std::invalid_argument("scheduler state: a pending check without request id");
-    c.kind = kind_from(p.at("kind"));
-    c.requested_by = p.at("requested_by").get<std::string>();
-    c.issued_ns = p.at("issued_ns").get<std::int64_t>();
-    c.parameters = values_from(p.at("parameters"));
-    c.verifies_correction_of = p.at("verifies_correction_of").get<std::string>();
-    c.in_sequence = p.at("in_sequence").get<bool>();
-    c.rearmed = p.at("rearmed").get<bool>();
-    run.pending.push_back(std::move(c));
   }
-  if (j.contains("hold")) {
-    const auto& h = j.at("hold");
-    run.hold = Hold{kind_from(h.at("kind")),           h.at("request_id").get<std::string>(),
-                    h.at("detail").get<std::string>(), kind_from(h.at("rerun")),
-                    values_from(h.at("parameters")),   h.at("in_sequence").get<bool>()};
-  }
-  if (j.contains("planned_shift_ns"))
-    run.planned_shift_ns = j.at("planned_shift_ns").get<std::int64_t>();
-  if (j.contains("next_part_ns")) run.next_part_ns = j.at("next_part_ns").get<std::int64_t>();
-  run.part_step = j.at("part_step").get<std::size_t>();
-  run.local_time_ns = j.at("local_time_ns").get<std::int64_t>();
-  run.sequence = j.at("sequence").get<std::uint64_t>();
-  run.interventions = j.at("interventions").get<std::vector<std::string>>();
-  if (j.contains("recent")) {
-    for (const auto& r : j.at("recent")) {
-      CheckRequest req;
-      req.request_id = r.at("request_id").get<std::string>();
-      req.kind = kind_from(r.at("kind"));
-      req.requested_by = r.at("requested_by").get<std::string>();
-      req.time_ns = r.at("time_ns").get<std::int64_t>();
-      req.attempt = r.at("attempt").get<std::int32_t>();
-      req.parameters = values_from(r.at("parameters"));
-      req.verifies_correction_of = r.at("verifies_correction_of").get<std::string>();
-      run.recent.push_back(std::move(req));
-    }
-  }
-  const auto state = parse_machine_state(j.at("state").get<std::string>());
-  run.state = state.value_or(MachineState::Unknown);
-  run.detail = j.at("detail").get<std::string>();
   return run;
 }
 
@@ -185,7 +102,7 @@ std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file) {
   const auto docs = file.load();
   const auto it = docs.find("clock");
   if (it == docs.end()) return std::nullopt;
-  return nlohmann::json::parse(it->second).at("now_ns").get<std::int64_t>();
+  return parsed<ClockDocument>(it->second).now_ns;
 }
 
 ReaderCounts saved_reader_counts(storage::StateFile& file) {
@@ -193,8 +110,7 @@ ReaderCounts saved_reader_counts(storage::StateFile& file) {
   const auto it = docs.find("readers");
   if (it == docs.end()) return {};
   try {
-    const auto j = nlohmann::json::parse(it->second);
-    return {j.at("requests").get<int>(), j.at("statuses").get<int>()};
+    return parsed<ReaderCounts>(it->second);
   } catch (const std::exception& e) {
     spdlog::error("scheduler state 'readers' in {} ignored: {}", file.path(), e.what());
     return {};
@@ -203,9 +119,7 @@ ReaderCounts saved_reader_counts(storage::StateFile& file) {
 
 void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts) {
   try {
-    file.save(
-        {{"readers",
-          nlohmann::json{{"requests", counts.requests}, {"statuses", counts.statuses}}.dump()}});
+    file.save({{"readers", dumped(counts)}});
   } catch (const std::exception& e) {
     spdlog::error("reader counts not saved to {}: {}", file.path(), e.what());
   }
@@ -230,7 +144,7 @@ Scheduler::Scheduler(const PlantConfig& plant, const Clock& clock, Outputs outpu
         auto it = machines_.find(key.substr(8));
         if (it != machines_.end()) it->second.run = machine_run_from_json(doc);
       } else if (key.rfind("fixture/", 0) == 0) {
-        rotation_[key.substr(8)] = nlohmann::json::parse(doc).at("next_configuration").get<int>();
+        rotation_[key.substr(8)] = parsed<FixtureDocument>(doc).next_configuration;
       }
     } catch (const std::exception& e) {
       // A document this version cannot read: say so and start that part afresh, never stop.
@@ -600,9 +514,9 @@ void Scheduler::commit(Machine& m) {
     std::map<std::string, std::string> docs;
     docs["machine/" + m.config->machine_id] = to_json(m.run);
     for (const auto& [fixture, next] : rotation_) {
-      docs["fixture/" + fixture] = nlohmann::json{{"next_configuration", next}}.dump();
+      docs["fixture/" + fixture] = dumped(FixtureDocument{next});
     }
-    if (plant_.simulated_clock) docs["clock"] = nlohmann::json{{"now_ns", clock_.now_ns()}}.dump();
+    if (plant_.simulated_clock) docs["clock"] = dumped(ClockDocument{clock_.now_ns()});
     try {
       state_file_->save(docs);
     } catch (const std::exception& e) {
@@ -622,7 +536,7 @@ void Scheduler::commit(Machine& m) {
 void Scheduler::persist_clock() {
   if (!state_file_ || !plant_.simulated_clock) return;
   try {
-    state_file_->save({{"clock", nlohmann::json{{"now_ns", clock_.now_ns()}}.dump()}});
+    state_file_->save({{"clock", dumped(ClockDocument{clock_.now_ns()})}});
   } catch (const std::exception& e) {
     spdlog::error("scheduler clock not saved to {}: {}", state_file_->path(), e.what());
   }

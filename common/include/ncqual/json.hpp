@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: Apache-2.0
+// JSON of the model's types, declared once with nlohmann-json's macros. Every JSON document of
+// ncqual (the CLI's --json outputs, the services' state documents) is a struct declared with
+// NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE beside the code that fills it, built from these:
+// - an enumeration is written by its name (to_string) and read back by name; an unknown name is
+//   refused with the enumeration and the name;
+// - an empty std::optional is null, and null reads back as empty;
+// - a map keyed by check kind is an object keyed by the kind's name;
+// - a non-finite double is written as null (nlohmann's rule; JSON has no infinity), so a
+//   one-sided tolerance band has a null bound.
+// Object keys come out sorted (nlohmann::json keeps them in a std::map).
+#pragma once
+
+#include "ncqual/model.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace nlohmann {
+
+template <typename T>
+struct adl_serializer<std::optional<T>> {
+  static void to_json(json& j, const std::optional<T>& v) {
+    if (v) {
+      j = *v;
+    } else {
+      j = nullptr;
+    }
+  }
+  static void from_json(const json& j, std::optional<T>& v) {
+    if (j.is_null()) {
+      v.reset();
+    } else {
+      v = j.get<T>();
+    }
+  }
+};
+
+template <typename V>
+struct adl_serializer<std::map<ncqual::CheckKind, V>> {
+  static void to_json(json& j, const std::map<ncqual::CheckKind, V>& m) {
+    j = json::object();
+    for (const auto& [kind, value] : m) j[std::string(ncqual::to_string(kind))] = value;
+  }
+  static void from_json(const json& j, std::map<ncqual::CheckKind, V>& m) {
+    m.clear();
+    for (const auto& [name, value] : j.items()) m[json(name).get<ncqual::CheckKind>()] = value;
+  }
+};
+
+}  // namespace nlohmann
+
+// to_json/from_json of an enumeration by name, through its to_string and parse function.
+#define NCQUAL_JSON_ENUM_BY_NAME(Enum, parse)                                            \
+  inline void to_json(nlohmann::json& j, Enum v) { j = std::string(to_string(v)); }      \
+  inline void from_json(const nlohmann::json& j, Enum& v) {                              \
+    const auto parsed = parse(j.get<std::string>());                                     \
+    if (!parsed) {                                                                       \
+      throw std::invalid_argument(#Enum " '" + j.get<std::string>() + "' is not known"); \
+    }                                                                                    \
+    v = *parsed;                                                                         \
+  }
+
+namespace ncqual {
+
+NCQUAL_JSON_ENUM_BY_NAME(CheckKind, parse_check_kind)
+NCQUAL_JSON_ENUM_BY_NAME(Verdict, parse_verdict)
+NCQUAL_JSON_ENUM_BY_NAME(MachineState, parse_machine_state)
+
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(NamedValue, name, value, unit)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Metric, name, value, unit, lower, upper, pass)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Correction, target, offsets)
+// Missing fields read as their defaults: documents written before a field existed still load.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(CheckRequest, machine_id, request_id, kind,
+                                                requested_by, time_ns, attempt, parameters,
+                                                verifies_correction_of)
+
+}  // namespace ncqual
