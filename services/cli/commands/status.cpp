@@ -10,8 +10,8 @@
 //     (heartbeats carry wall time). Read only; the scheduler need not run.
 //     --json names (stable): {"plant", "now_ns", "machines": [{"machine_id", "state", "detail",
 //       "status_time_ns", "periods": [{"name", "every", "checks": [{"kind", "last_pass_ns"}],
-//       "last_pass_ns", "due", "overdue", "next_due_ns"}]}]}; times are ns since the Unix epoch
-//       UTC or null; the text form prints them in the plant's time zone.
+//       "last_pass_ns", "due", "overdue", "next_due_ns"}]}]} (StatusDocument below); times are
+//       ns since the Unix epoch UTC or null; the text form prints them in the plant's time zone.
 //
 // Exit codes: 0, 2 bad usage (and a machine the plant does not configure), 6 no historian
 // database at the path.
@@ -21,10 +21,10 @@
 
 #include "ncqual/calendar.hpp"
 #include "ncqual/clock.hpp"
+#include "ncqual/json.hpp"
 #include "ncqual/storage.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <iostream>
@@ -32,9 +32,38 @@
 namespace ncqual::cli {
 namespace {
 
-nlohmann::json time_or_null(std::optional<std::int64_t> t) {
-  return t ? nlohmann::json(*t) : nlohmann::json(nullptr);
-}
+// The --json document; its names are stable (append, never rename).
+struct CheckDocument {
+  CheckKind kind = CheckKind::MonumentPositioning;
+  std::optional<std::int64_t> last_pass_ns;
+};
+struct PeriodDocument {
+  std::string name;
+  std::string every;
+  std::vector<CheckDocument> checks;
+  std::optional<std::int64_t> last_pass_ns;  // of the period: the oldest of its checks' newest
+  bool due = false;
+  bool overdue = false;
+  std::int64_t next_due_ns = 0;
+};
+struct MachineDocument {
+  std::string machine_id;
+  MachineState state = MachineState::Unknown;
+  std::string detail;
+  std::optional<std::int64_t> status_time_ns;
+  std::vector<PeriodDocument> periods;
+};
+struct StatusDocument {
+  std::string plant;
+  std::optional<std::int64_t> now_ns;  // of the last machine; null without machines
+  std::vector<MachineDocument> machines;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckDocument, kind, last_pass_ns)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PeriodDocument, name, every, checks, last_pass_ns, due, overdue,
+                                   next_due_ns)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineDocument, machine_id, state, detail, status_time_ns,
+                                   periods)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StatusDocument, plant, now_ns, machines)
 
 struct Options {
   std::string plant;
@@ -53,7 +82,7 @@ int run(const Options& o) {
   const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
   const auto& machine_filter = o.machine;
   if (machine_filter) (void)configured_machine(plant, *machine_filter);
-  nlohmann::json out{{"plant", plant.plant}, {"machines", nlohmann::json::array()}};
+  StatusDocument out{plant.plant, std::nullopt, {}};
   std::int64_t plant_now = WallClock().now_ns();
   for (const auto& m : plant.machines) {
     if (machine_filter && m.machine_id != *machine_filter) continue;
@@ -62,21 +91,17 @@ int run(const Options& o) {
     // wall time, so the machine's last-seen time would not do).
     const std::int64_t now =
         plant.simulated_clock ? (status ? status->time_ns : plant.simulated_start_ns) : plant_now;
-    nlohmann::json jm{{"machine_id", m.machine_id}};
-    jm["state"] = status ? std::string(to_string(status->state))
-                         : std::string(to_string(MachineState::Unknown));
-    jm["detail"] = status ? status->detail : "no status stored yet";
-    jm["status_time_ns"] = status ? nlohmann::json(status->time_ns) : nlohmann::json(nullptr);
-    jm["periods"] = nlohmann::json::array();
+    MachineDocument& machine = out.machines.emplace_back();
+    machine.machine_id = m.machine_id;
+    machine.state = status ? status->state : MachineState::Unknown;
+    machine.detail = status ? status->detail : "no status stored yet";
+    if (status) machine.status_time_ns = status->time_ns;
     for (const auto& period : calendar.config().periods) {
-      nlohmann::json jp{{"name", period.name},
-                        {"every", std::string(to_string(period.unit))},
-                        {"checks", nlohmann::json::array()}};
+      PeriodDocument p{period.name, std::string(to_string(period.unit))};
       std::optional<std::int64_t> oldest;
-      bool all = true, any = false;
+      bool all = true;
       for (CheckKind k : period.checks) {
         if (!has_sections_for(m, k)) continue;
-        any = true;
         // The newest pass of the kind or of one that satisfies it (a fixture loop that ended in a
         // passed post-calibration completes the week too): the check-kind table says which.
         std::optional<std::int64_t> last;
@@ -84,47 +109,42 @@ int run(const Options& o) {
           const auto t = db.last_pass_ns(m.machine_id, passing);
           if (t && (!last || *t > *last)) last = t;
         }
-        jp["checks"].push_back(
-            {{"kind", std::string(to_string(k))}, {"last_pass_ns", time_or_null(last)}});
+        p.checks.push_back({k, last});
         if (!last) {
           all = false;
         } else if (!oldest || *last < *oldest) {
           oldest = last;
         }
       }
-      if (!any) continue;
-      const std::optional<std::int64_t> period_last = all ? oldest : std::nullopt;
-      jp["last_pass_ns"] = time_or_null(period_last);
-      jp["due"] = calendar.due(period, period_last, now);
-      jp["overdue"] = calendar.overdue(period, period_last, now);
-      jp["next_due_ns"] = calendar.next_due(period, period_last, now);
-      jm["periods"].push_back(jp);
+      if (p.checks.empty()) continue;
+      p.last_pass_ns = all ? oldest : std::nullopt;
+      p.due = calendar.due(period, p.last_pass_ns, now);
+      p.overdue = calendar.overdue(period, p.last_pass_ns, now);
+      p.next_due_ns = calendar.next_due(period, p.last_pass_ns, now);
+      machine.periods.push_back(std::move(p));
     }
-    out["machines"].push_back(jm);
-    out["now_ns"] = now;
+    out.now_ns = now;
   }
   if (o.json) {
-    std::cout << out.dump(2) << "\n";
+    std::cout << nlohmann::json(out).dump(2) << "\n";
     return kExitOk;
   }
-  const auto when = [&](const nlohmann::json& t) {
-    return t.is_null() ? std::string("never") : calendar.local_text(t.get<std::int64_t>());
+  const auto when = [&](std::optional<std::int64_t> t) {
+    return t ? calendar.local_text(*t) : std::string("never");
   };
   fmt::print("plant {} ({}{})\n", plant.plant, calendar.config().time_zone,
              plant.simulated_clock ? ", simulated clock" : "");
   constexpr const char* kRow = "  {:<10}{:<8}{:<24}{:<24}{}\n";
-  for (const auto& jm : out["machines"]) {
-    fmt::print("\n{}  {}  ({})\n  {}\n", jm["machine_id"].get<std::string>(),
-               jm["state"].get<std::string>(), when(jm["status_time_ns"]),
-               jm["detail"].get<std::string>());
+  for (const auto& machine : out.machines) {
+    fmt::print("\n{}  {}  ({})\n  {}\n", machine.machine_id, to_string(machine.state),
+               when(machine.status_time_ns), machine.detail);
     fmt::print(kRow, "period", "every", "last passed", "next due", "");
-    for (const auto& jp : jm["periods"]) {
-      const bool due = jp["due"].get<bool>();
-      fmt::print(kRow, jp["name"].get<std::string>(), jp["every"].get<std::string>(),
-                 when(jp["last_pass_ns"]), due ? std::string("now") : when(jp["next_due_ns"]),
-                 jp["overdue"].get<bool>() ? "OVERDUE"
-                 : due                     ? "due"
-                                           : "");
+    for (const auto& p : machine.periods) {
+      fmt::print(kRow, p.name, p.every, when(p.last_pass_ns),
+                 p.due ? std::string("now") : when(p.next_due_ns),
+                 p.overdue ? "OVERDUE"
+                 : p.due   ? "due"
+                           : "");
     }
   }
   return kExitOk;

@@ -1,23 +1,61 @@
 // SPDX-License-Identifier: Apache-2.0
-// JSON for `ncqual history --json` and reports. The names are a public interface: append, never
-// rename.
-//
-//   {"machine_id", "request_id", "kind": stable name (to_string), "requested_by" (null without a
-//    request), "requested_at_ns" (null without a request), "result_at_ns" (null without a result),
-//    "verdict": "PASS" | "FAIL" | "INVALID" | null without a result, "reason" (null without a
-//    result), "metrics": [{"name", "value", "unit", "lower", "upper", "pass"}],
-//    "likely_causes": [strings, in the order to investigate them],
-//    "correction": {"target", "offsets": [{"name", "value", "unit"}]} | null,
-//    "measurement": {"instrument", "touches", "tracker_points", "error"} | null}
-//
-// An infinite tolerance bound (a one-sided band) comes out as null: JSON has no infinity.
+// The JSON of one check, for `ncqual history --json`, `ncqual check --json` and reports. The
+// names are a public interface: append, never rename. Declared with nlohmann's macros over
+// ncqual/json.hpp (enumerations by name, an absent part as null, a non-finite tolerance bound,
+// i.e. a one-sided band, as null).
 #pragma once
 
+#include "ncqual/json.hpp"
 #include "ncqual/storage.hpp"
 
-#include <nlohmann/json.hpp>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace ncqual::storage {
+
+struct ParameterDocument {
+  double value = 0;
+  std::string unit;
+};
+
+struct MeasurementDocument {
+  std::string instrument;
+  std::int64_t touches = 0;
+  std::int64_t tracker_points = 0;
+  std::string error;  // empty unless the instrument could not perform the request
+};
+
+struct CheckRecordDocument {
+  std::string machine_id;
+  std::string request_id;
+  CheckKind kind = CheckKind::MonumentPositioning;
+  // From the request; null (parameters: empty) until the request has arrived.
+  std::optional<std::string> requested_by;
+  std::optional<std::int64_t> requested_at_ns;
+  std::map<std::string, ParameterDocument> parameters;
+  std::optional<std::string> verifies_correction_of;  // null also when it verifies nothing
+  // From the result; null (lists: empty) until the result has arrived.
+  std::optional<std::int64_t> result_at_ns;
+  std::optional<Verdict> verdict;
+  std::optional<std::string> reason;
+  std::optional<std::string> produced_by;
+  std::vector<Metric> metrics;             // in the check's order
+  std::vector<std::string> likely_causes;  // in the order to investigate them
+  std::optional<Correction> correction;
+  std::optional<MeasurementDocument> measurement;  // null until the measurement has arrived
+};
+
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ParameterDocument, value, unit)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementDocument, instrument, touches, tracker_points, error)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckRecordDocument, machine_id, request_id, kind, requested_by,
+                                   requested_at_ns, parameters, verifies_correction_of,
+                                   result_at_ns, verdict, reason, produced_by, metrics,
+                                   likely_causes, correction, measurement)
+
+CheckRecordDocument document_of(const CheckRecord& record);
 
 nlohmann::json to_json(const CheckRecord& record);
 
