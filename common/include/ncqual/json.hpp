@@ -6,6 +6,7 @@
 //   refused with the enumeration and the name;
 // - an empty std::optional is null, and null reads back as empty;
 // - a map keyed by check kind is an object keyed by the kind's name;
+// - an Eigen vector (Vector2d, Vector3d) is an array of its components;
 // - a non-finite double is written as null (nlohmann's rule; JSON has no infinity), so a
 //   one-sided tolerance band has a null bound.
 // Object keys come out sorted (nlohmann::json keeps them in a std::map).
@@ -13,6 +14,7 @@
 
 #include "ncqual/model.hpp"
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include <map>
@@ -49,6 +51,21 @@ struct adl_serializer<std::map<ncqual::CheckKind, V>> {
   static void from_json(const json& j, std::map<ncqual::CheckKind, V>& m) {
     m.clear();
     for (const auto& [name, value] : j.items()) m[json(name).get<ncqual::CheckKind>()] = value;
+  }
+};
+
+template <int N>
+struct adl_serializer<Eigen::Matrix<double, N, 1>> {
+  static void to_json(json& j, const Eigen::Matrix<double, N, 1>& v) {
+    j = json::array();
+    for (int i = 0; i < N; ++i) j.push_back(v[i]);
+  }
+  static void from_json(const json& j, Eigen::Matrix<double, N, 1>& v) {
+    if (!j.is_array() || j.size() != static_cast<std::size_t>(N)) {
+      throw std::invalid_argument("expected an array of " + std::to_string(N) + " numbers, got " +
+                                  j.dump());
+    }
+    for (int i = 0; i < N; ++i) v[i] = j[static_cast<std::size_t>(i)].get<double>();
   }
 };
 

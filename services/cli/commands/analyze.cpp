@@ -20,8 +20,8 @@
 //       commanded in machine axes, measured in the tracker frame).
 //
 // Without --json a table of the figures in mm (4 decimals) is printed. --json prints one
-// document; its names are a public interface (append, never rename); lengths in mm, absent
-// figures null:
+// document (the *Document structs below); its names are a public interface (append, never
+// rename); lengths in mm, absent figures null:
 //   iso230-2: {"standard": "ISO 230-2:2014", "file", "unit": "mm", "targets" (m), "cycles"
 //     (largest n), "directions": ["up", "down"] (those measured),
 //     "A", "A_up", "A_down", "E", "E_up", "E_down", "M", "R", "R_up", "R_down", "B", "B_mean",
@@ -53,6 +53,7 @@
 #include "commands.hpp"
 
 #include "ncqual/csv.hpp"
+#include "ncqual/json.hpp"
 #include "ncqual/units.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/global_grid.hpp"
@@ -60,7 +61,6 @@
 #include "ncqual/solver/iso230_2.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -79,8 +79,6 @@ using nlohmann::json;
 
 // ---- Formatting ---------------------------------------------------------------------------------
 
-json or_null(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
-
 std::string mm(double v) { return fmt::format("{:.4f}", v); }
 std::string mm(const std::optional<double>& v) { return v ? mm(*v) : "-"; }
 
@@ -88,44 +86,55 @@ std::string fixed(double v, int decimals) { return fmt::format("{:.{}f}", v, dec
 
 // ---- iso230-2 -----------------------------------------------------------------------------------
 
-json direction_json(const std::optional<solver::DirectionFigures>& d) {
-  if (!d) return nullptr;
-  return {{"n", d->cycles}, {"mean", d->mean_mm}, {"s", d->s_mm},
-          {"R", d->R_mm},   {"min", d->min_mm},   {"max", d->max_mm}};
+// The --json document of iso230-2 (names: the file comment above).
+struct DirectionDocument {
+  int n = 0;
+  double mean = 0, s = 0, R = 0, min = 0, max = 0;
+};
+struct TargetDocument {
+  double target_mm = 0;
+  std::optional<DirectionDocument> up, down;
+  std::optional<double> B, R, mean;
+};
+struct Iso230_2Document {
+  std::string standard = "ISO 230-2:2014";
+  std::string file;
+  std::string unit = "mm";
+  std::size_t targets = 0;
+  int cycles = 0;
+  std::vector<std::string> directions;
+  std::optional<double> A, A_up, A_down, E, E_up, E_down, M, R, R_up, R_down, B, B_mean;
+  std::vector<TargetDocument> per_target;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DirectionDocument, n, mean, s, R, min, max)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TargetDocument, target_mm, up, down, B, R, mean)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Iso230_2Document, standard, file, unit, targets, cycles,
+                                   directions, A, A_up, A_down, E, E_up, E_down, M, R, R_up, R_down,
+                                   B, B_mean, per_target)
+
+std::optional<DirectionDocument> direction_document(
+    const std::optional<solver::DirectionFigures>& d) {
+  if (!d) return std::nullopt;
+  return DirectionDocument{d->cycles, d->mean_mm, d->s_mm, d->R_mm, d->min_mm, d->max_mm};
 }
 
-json to_json(const solver::Iso230_2Result& r, const std::string& file) {
-  json per_target = json::array();
+Iso230_2Document document_of(const solver::Iso230_2Result& r, const std::string& file) {
+  Iso230_2Document d;
+  d.file = file;
+  d.targets = r.targets.size();
+  d.cycles = r.cycles;
+  if (r.has_up) d.directions.emplace_back("up");
+  if (r.has_down) d.directions.emplace_back("down");
+  d.A = r.A_mm, d.A_up = r.A_up_mm, d.A_down = r.A_down_mm;
+  d.E = r.E_mm, d.E_up = r.E_up_mm, d.E_down = r.E_down_mm;
+  d.M = r.M_mm;
+  d.R = r.R_mm, d.R_up = r.R_up_mm, d.R_down = r.R_down_mm;
+  d.B = r.B_mm, d.B_mean = r.B_mean_mm;
   for (const auto& t : r.targets) {
-    per_target.push_back({{"target_mm", t.target_mm},
-                          {"up", direction_json(t.up)},
-                          {"down", direction_json(t.down)},
-                          {"B", or_null(t.B_mm)},
-                          {"R", or_null(t.R_mm)},
-                          {"mean", or_null(t.mean_mm)}});
+    d.per_target.push_back({t.target_mm, direction_document(t.up), direction_document(t.down),
+                            t.B_mm, t.R_mm, t.mean_mm});
   }
-  json directions = json::array();
-  if (r.has_up) directions.push_back("up");
-  if (r.has_down) directions.push_back("down");
-  return {{"standard", "ISO 230-2:2014"},
-          {"file", file},
-          {"unit", "mm"},
-          {"targets", r.targets.size()},
-          {"cycles", r.cycles},
-          {"directions", directions},
-          {"A", or_null(r.A_mm)},
-          {"A_up", or_null(r.A_up_mm)},
-          {"A_down", or_null(r.A_down_mm)},
-          {"E", or_null(r.E_mm)},
-          {"E_up", or_null(r.E_up_mm)},
-          {"E_down", or_null(r.E_down_mm)},
-          {"M", or_null(r.M_mm)},
-          {"R", or_null(r.R_mm)},
-          {"R_up", or_null(r.R_up_mm)},
-          {"R_down", or_null(r.R_down_mm)},
-          {"B", or_null(r.B_mm)},
-          {"B_mean", or_null(r.B_mean_mm)},
-          {"per_target", per_target}};
+  return d;
 }
 
 void print_iso230_2(const solver::Iso230_2Result& r, const std::string& file) {
@@ -185,7 +194,7 @@ int run_iso230_2(const Options& o) {
   const solver::Iso230_2File data = solver::read_iso230_2_csv(read_csv_file(file));
   const solver::Iso230_2Result r = solver::evaluate_iso230_2(data.readings);
   if (o.json) {
-    std::cout << to_json(r, file).dump(2) << "\n";
+    std::cout << json(document_of(r, file)).dump(2) << "\n";
   } else {
     print_iso230_2(r, file);
   }
@@ -194,56 +203,97 @@ int run_iso230_2(const Options& o) {
 
 // ---- circle -------------------------------------------------------------------------------------
 
-json vec(const Eigen::Vector2d& v) { return json::array({v.x(), v.y()}); }
+// The --json document of circle (names: the file comment above).
+struct HarmonicsDocument {
+  double a0 = 0, a1 = 0, b1 = 0, a2 = 0, b2 = 0, residual_rms = 0;
+};
+struct ReferenceDocument {
+  std::string centre, radius;  // "nominal" or "lsc"
+  Eigen::Vector2d centre_mm = Eigen::Vector2d::Zero();
+  double radius_mm = 0;
+};
+struct PathDocument {
+  int points = 0;
+  Eigen::Vector2d lsc_centre_mm = Eigen::Vector2d::Zero();
+  double lsc_radius_mm = 0, lsc_rms_mm = 0, G_mm = 0, F_max_mm = 0, F_min_mm = 0;
+  ReferenceDocument F_reference;
+  double max_gap_deg = 0, scale_mismatch_um_per_m = 0, squareness_urad = 0;
+  HarmonicsDocument harmonics_mm;
+};
+struct DirectionsDocument {
+  std::optional<PathDocument> ccw, cw;
+};
+struct CircleDocument {
+  std::string standard = "ISO 230-4";
+  std::string file;
+  std::string unit = "mm";
+  std::string plane, layout;
+  std::size_t points = 0;
+  Eigen::Vector2d lsc_centre_mm = Eigen::Vector2d::Zero();
+  double lsc_radius_mm = 0, G_mm = 0;
+  std::optional<double> G_b_mm, H_mm;
+  double F_max_mm = 0, F_min_mm = 0;
+  ReferenceDocument F_reference;
+  double scale_mismatch_um_per_m = 0, squareness_urad = 0;
+  HarmonicsDocument harmonics_mm;
+  DirectionsDocument directions;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(HarmonicsDocument, a0, a1, b1, a2, b2, residual_rms)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ReferenceDocument, centre, radius, centre_mm, radius_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PathDocument, points, lsc_centre_mm, lsc_radius_mm, lsc_rms_mm,
+                                   G_mm, F_max_mm, F_min_mm, F_reference, max_gap_deg,
+                                   scale_mismatch_um_per_m, squareness_urad, harmonics_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DirectionsDocument, ccw, cw)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CircleDocument, standard, file, unit, plane, layout, points,
+                                   lsc_centre_mm, lsc_radius_mm, G_mm, G_b_mm, H_mm, F_max_mm,
+                                   F_min_mm, F_reference, scale_mismatch_um_per_m, squareness_urad,
+                                   harmonics_mm, directions)
 
-json harmonics_json(const solver::RadialHarmonics& h) {
-  return {{"a0", h.a0_mm}, {"a1", h.a1_mm}, {"b1", h.b1_mm},
-          {"a2", h.a2_mm}, {"b2", h.b2_mm}, {"residual_rms", h.residual_rms_mm}};
+HarmonicsDocument harmonics_document(const solver::RadialHarmonics& h) {
+  return {h.a0_mm, h.a1_mm, h.b1_mm, h.a2_mm, h.b2_mm, h.residual_rms_mm};
 }
 
-json reference_json(const solver::RadialReference& ref) {
-  return {{"centre", ref.nominal_centre ? "nominal" : "lsc"},
-          {"radius", ref.nominal_radius ? "nominal" : "lsc"},
-          {"centre_mm", vec(ref.centre_mm)},
-          {"radius_mm", ref.radius_mm}};
+ReferenceDocument reference_document(const solver::RadialReference& ref) {
+  return {ref.nominal_centre ? "nominal" : "lsc", ref.nominal_radius ? "nominal" : "lsc",
+          ref.centre_mm, ref.radius_mm};
 }
 
-json path_json(const std::optional<solver::CircularPathFigures>& p) {
-  if (!p) return nullptr;
-  return {{"points", p->point_count},
-          {"lsc_centre_mm", vec(p->lsc_centre_mm)},
-          {"lsc_radius_mm", p->lsc_radius_mm},
-          {"lsc_rms_mm", p->lsc_rms_mm},
-          {"G_mm", p->G_mm},
-          {"F_max_mm", p->F_max_mm},
-          {"F_min_mm", p->F_min_mm},
-          {"F_reference", reference_json(p->F_reference)},
-          {"max_gap_deg", p->max_gap_rad * 180.0 / kPi},
-          {"scale_mismatch_um_per_m", p->scale_mismatch_um_per_m},
-          {"squareness_urad", p->squareness_urad},
-          {"harmonics_mm", harmonics_json(p->harmonics)}};
+std::optional<PathDocument> path_document(const std::optional<solver::CircularPathFigures>& p) {
+  if (!p) return std::nullopt;
+  return PathDocument{p->point_count,
+                      p->lsc_centre_mm,
+                      p->lsc_radius_mm,
+                      p->lsc_rms_mm,
+                      p->G_mm,
+                      p->F_max_mm,
+                      p->F_min_mm,
+                      reference_document(p->F_reference),
+                      p->max_gap_rad * 180.0 / kPi,
+                      p->scale_mismatch_um_per_m,
+                      p->squareness_urad,
+                      harmonics_document(p->harmonics)};
 }
 
-json to_json(const solver::CircularTestResult& r, const solver::CircleFile& data,
-             const std::string& file) {
-  return {{"standard", "ISO 230-4"},
-          {"file", file},
-          {"unit", "mm"},
-          {"plane", std::string(solver::to_string(r.plane))},
-          {"layout", data.polar ? "polar" : "coordinates"},
-          {"points", data.input.points.size()},
-          {"lsc_centre_mm", vec(r.lsc_centre_mm)},
-          {"lsc_radius_mm", r.lsc_radius_mm},
-          {"G_mm", r.G_mm},
-          {"G_b_mm", or_null(r.G_b_mm)},
-          {"H_mm", or_null(r.H_mm)},
-          {"F_max_mm", r.F_max_mm},
-          {"F_min_mm", r.F_min_mm},
-          {"F_reference", reference_json(r.F_reference)},
-          {"scale_mismatch_um_per_m", r.scale_mismatch_um_per_m},
-          {"squareness_urad", r.squareness_urad},
-          {"harmonics_mm", harmonics_json(r.harmonics)},
-          {"directions", {{"ccw", path_json(r.ccw)}, {"cw", path_json(r.cw)}}}};
+CircleDocument document_of(const solver::CircularTestResult& r, const solver::CircleFile& data,
+                           const std::string& file) {
+  CircleDocument d;
+  d.file = file;
+  d.plane = solver::to_string(r.plane);
+  d.layout = data.polar ? "polar" : "coordinates";
+  d.points = data.input.points.size();
+  d.lsc_centre_mm = r.lsc_centre_mm;
+  d.lsc_radius_mm = r.lsc_radius_mm;
+  d.G_mm = r.G_mm;
+  d.G_b_mm = r.G_b_mm;
+  d.H_mm = r.H_mm;
+  d.F_max_mm = r.F_max_mm;
+  d.F_min_mm = r.F_min_mm;
+  d.F_reference = reference_document(r.F_reference);
+  d.scale_mismatch_um_per_m = r.scale_mismatch_um_per_m;
+  d.squareness_urad = r.squareness_urad;
+  d.harmonics_mm = harmonics_document(r.harmonics);
+  d.directions = {path_document(r.ccw), path_document(r.cw)};
+  return d;
 }
 
 std::string reference_text(const solver::RadialReference& ref) {
@@ -324,7 +374,7 @@ int run_circle(const Options& o) {
   data.input.nominal_centre_mm = centre;
   const solver::CircularTestResult r = solver::evaluate_circular_test(data.input);
   if (o.json) {
-    std::cout << to_json(r, data, file).dump(2) << "\n";
+    std::cout << json(document_of(r, data, file)).dump(2) << "\n";
   } else {
     print_circle(r, data, file);
   }
@@ -332,8 +382,6 @@ int run_circle(const Options& o) {
 }
 
 // ---- grid ---------------------------------------------------------------------------------------
-
-json vec3(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 // One of the grid's files as frame points, refusing one with fewer than `minimum` points at its
 // last line.
@@ -353,12 +401,93 @@ std::vector<solver::FramePoint> grid_file(const std::string& path, std::size_t m
   return out;
 }
 
-json run_json(const solver::RunFit& run, const std::string& file) {
-  return {{"file", file},
-          {"points", run.points.size()},
-          {"straightness_mm", json::array({run.straightness_mm[0], run.straightness_mm[1]})},
-          {"max_distance_mm", run.max_distance_mm},
-          {"scale_um_per_m", run.scale_um_per_m}};
+// The --json document of grid (names: the file comment above).
+struct RunDocument {
+  std::string file;
+  std::size_t points = 0;
+  Eigen::Vector2d straightness_mm = Eigen::Vector2d::Zero();
+  double max_distance_mm = 0, scale_um_per_m = 0;
+};
+struct MasterFrameDocument {
+  double orthogonality_urad = 0, origin_rms_mm = 0;
+  RunDocument x_run, y_run;
+};
+struct GridPointDocument {
+  std::string point;
+  Eigen::Vector3d commanded_mm, master_mm, deviation_mm;
+  double deviation_norm_mm = 0;
+};
+struct GridPlaneDocument {
+  double z_mm = 0;
+  int points = 0;
+  std::string worst_point;
+  double worst_deviation_mm = 0, rms_deviation_mm = 0;
+};
+struct GridDocument {
+  std::string unit = "mm";
+  std::string grid_file;
+  std::size_t points = 0;
+  double max_deviation_mm = 0;
+  std::string max_deviation_point;
+  double rms_deviation_mm = 0, max_abs_dx_mm = 0, max_abs_dy_mm = 0, max_abs_dz_mm = 0;
+  double squareness_xy_urad = 0, squareness_yz_urad = 0, squareness_zx_urad = 0;
+  double scale_x_um_per_m = 0, scale_y_um_per_m = 0, scale_z_um_per_m = 0;
+  double affine_residual_rms_mm = 0;
+  MasterFrameDocument master_frame;
+  std::vector<std::string> worst_points;
+  std::vector<GridPlaneDocument> planes;
+  std::vector<GridPointDocument> per_point;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RunDocument, file, points, straightness_mm, max_distance_mm,
+                                   scale_um_per_m)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MasterFrameDocument, orthogonality_urad, origin_rms_mm, x_run,
+                                   y_run)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(GridPointDocument, point, commanded_mm, master_mm, deviation_mm,
+                                   deviation_norm_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(GridPlaneDocument, z_mm, points, worst_point, worst_deviation_mm,
+                                   rms_deviation_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(GridDocument, unit, grid_file, points, max_deviation_mm,
+                                   max_deviation_point, rms_deviation_mm, max_abs_dx_mm,
+                                   max_abs_dy_mm, max_abs_dz_mm, squareness_xy_urad,
+                                   squareness_yz_urad, squareness_zx_urad, scale_x_um_per_m,
+                                   scale_y_um_per_m, scale_z_um_per_m, affine_residual_rms_mm,
+                                   master_frame, worst_points, planes, per_point)
+
+RunDocument run_document(const solver::RunFit& run, const std::string& file) {
+  return {file, run.points.size(), run.straightness_mm, run.max_distance_mm, run.scale_um_per_m};
+}
+
+GridDocument document_of(const solver::GridAnalysis& r, const solver::MasterFrame& frame,
+                         const std::string& x_file, const std::string& y_file,
+                         const std::string& g_file) {
+  GridDocument d;
+  d.grid_file = g_file;
+  d.points = r.points.size();
+  d.max_deviation_mm = r.max_deviation_mm;
+  d.max_deviation_point = r.max_deviation_label;
+  d.rms_deviation_mm = r.rms_deviation_mm;
+  d.max_abs_dx_mm = r.max_abs_dx_mm;
+  d.max_abs_dy_mm = r.max_abs_dy_mm;
+  d.max_abs_dz_mm = r.max_abs_dz_mm;
+  d.squareness_xy_urad = r.affine.squareness_xy_urad;
+  d.squareness_yz_urad = r.affine.squareness_yz_urad;
+  d.squareness_zx_urad = r.affine.squareness_zx_urad;
+  d.scale_x_um_per_m = r.affine.scale_x_um_per_m;
+  d.scale_y_um_per_m = r.affine.scale_y_um_per_m;
+  d.scale_z_um_per_m = r.affine.scale_z_um_per_m;
+  d.affine_residual_rms_mm = r.affine.residual_rms_mm;
+  d.master_frame = {frame.orthogonality_urad, frame.origin_rms_mm,
+                    run_document(frame.x_run, x_file), run_document(frame.y_run, y_file)};
+  for (std::size_t i : r.worst_points) d.worst_points.push_back(r.points[i].label);
+  for (const auto& pl : r.planes) {
+    d.planes.push_back(
+        {pl.z_mm, pl.point_count, pl.worst_label, pl.worst_deviation_mm, pl.rms_deviation_mm});
+  }
+  for (const auto& p : r.points) {
+    d.per_point.push_back(
+        {p.label, p.commanded_mm, p.master_mm, p.deviation_mm, p.deviation_norm_mm});
+  }
+  return d;
 }
 
 int run_grid(const Options& o) {
@@ -381,49 +510,7 @@ int run_grid(const Options& o) {
     throw std::invalid_argument(g_file + ": grid: " + e.what());
   }
   if (o.json) {
-    json points = json::array();
-    for (const auto& p : r.points) {
-      points.push_back({{"point", p.label},
-                        {"commanded_mm", vec3(p.commanded_mm)},
-                        {"master_mm", vec3(p.master_mm)},
-                        {"deviation_mm", vec3(p.deviation_mm)},
-                        {"deviation_norm_mm", p.deviation_norm_mm}});
-    }
-    json worst = json::array();
-    for (std::size_t i : r.worst_points) worst.push_back(r.points[i].label);
-    json planes = json::array();
-    for (const auto& pl : r.planes) {
-      planes.push_back({{"z_mm", pl.z_mm},
-                        {"points", pl.point_count},
-                        {"worst_point", pl.worst_label},
-                        {"worst_deviation_mm", pl.worst_deviation_mm},
-                        {"rms_deviation_mm", pl.rms_deviation_mm}});
-    }
-    const json out = {{"unit", "mm"},
-                      {"grid_file", g_file},
-                      {"points", r.points.size()},
-                      {"max_deviation_mm", r.max_deviation_mm},
-                      {"max_deviation_point", r.max_deviation_label},
-                      {"rms_deviation_mm", r.rms_deviation_mm},
-                      {"max_abs_dx_mm", r.max_abs_dx_mm},
-                      {"max_abs_dy_mm", r.max_abs_dy_mm},
-                      {"max_abs_dz_mm", r.max_abs_dz_mm},
-                      {"squareness_xy_urad", r.affine.squareness_xy_urad},
-                      {"squareness_yz_urad", r.affine.squareness_yz_urad},
-                      {"squareness_zx_urad", r.affine.squareness_zx_urad},
-                      {"scale_x_um_per_m", r.affine.scale_x_um_per_m},
-                      {"scale_y_um_per_m", r.affine.scale_y_um_per_m},
-                      {"scale_z_um_per_m", r.affine.scale_z_um_per_m},
-                      {"affine_residual_rms_mm", r.affine.residual_rms_mm},
-                      {"master_frame",
-                       {{"orthogonality_urad", frame.orthogonality_urad},
-                        {"origin_rms_mm", frame.origin_rms_mm},
-                        {"x_run", run_json(frame.x_run, x_file)},
-                        {"y_run", run_json(frame.y_run, y_file)}}},
-                      {"worst_points", worst},
-                      {"planes", planes},
-                      {"per_point", points}};
-    std::cout << out.dump(2) << "\n";
+    std::cout << json(document_of(r, frame, x_file, y_file, g_file)).dump(2) << "\n";
     return kExitOk;
   }
   fmt::print("grid {}: {} points in the master frame of {} and {}\n", g_file, r.points.size(),
