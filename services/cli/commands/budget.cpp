@@ -10,7 +10,8 @@
 // derived tolerance beside the configured one, and the RSS and Monte Carlo totals. The math is
 // ncqual::solver::evaluate_error_budget; this command only gathers and prints.
 //
-// --json prints one document; its names are a public interface (append, never rename):
+// --json prints one document (BudgetDocument below); its names are a public interface (append,
+// never rename):
 //   {"machine_id", "config", "database" (null when there is no historian file), "last",
 //    "method": "rss" | "monte_carlo", "coverage",
 //    "allowable_total_mm", "allowable_total_in", "panel_radius_mm", "theta_min_deg",
@@ -39,12 +40,12 @@
 #include "commands.hpp"
 
 #include "ncqual/config.hpp"
+#include "ncqual/json.hpp"
 #include "ncqual/solver/error_budget.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/units.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
@@ -125,93 +126,151 @@ std::optional<Tolerance> configured_tolerance(const MachineConfig& machine,
 
 // ---- JSON ---------------------------------------------------------------------------------------
 
-nlohmann::json components(const solver::SourceError& e) {
-  return {{"y", e.y_mm}, {"z", e.z_mm}, {"s", e.s_mm}};
-}
+// The --json document (names: the file comment above). A non-finite tolerance bound, a
+// one-sided band, is null (ncqual/json.hpp).
+struct ComponentsDocument {
+  double y = 0, z = 0, s = 0;
+};
+struct ToleranceDocument {
+  double lower = 0, upper = 0;
+};
+struct MetricDocument {
+  std::string name, axis, unit;
+  double sensitivity = 0, sensitivity_theta_deg = 0;
+  int samples = 0;
+  double mean = 0, sigma = 0, max_abs = 0, capability = 0;
+  std::string capability_basis;
+  double derived_tolerance = 0;
+  std::optional<ToleranceDocument> configured_tolerance;
+  std::optional<double> today_value;
+  std::optional<std::int64_t> today_time_ns;
+  bool today_within_derived_tolerance = true;
+};
+struct SourceDocument {
+  std::string name, description, direction;
+  bool fixed = false;
+  std::string capability_basis;
+  ComponentsDocument capability_mm, allocation_mm;
+  double capability_contribution_mm = 0, allocation_contribution_mm = 0;
+  ComponentsDocument today_mm;
+  bool today_measured = false;
+  double today_contribution_mm = 0, share = 0;
+  std::vector<MetricDocument> metrics;
+};
+struct AllocationDocument {
+  double scale = 0, theta_deg = 0;
+  bool feasible = true;
+  std::string why;
+};
+struct BudgetDocument {
+  std::string machine_id, config;
+  std::optional<std::string> database;
+  int last = 0;
+  std::string method;
+  double coverage = 0, allowable_total_mm = 0, allowable_total_in = 0, panel_radius_mm = 0;
+  double theta_min_deg = 0, theta_max_deg = 0;
+  double rss_total_mm = 0, rss_total_in = 0, rss_theta_deg = 0;
+  bool within_budget = false;
+  double monte_carlo_total_mm = 0, monte_carlo_theta_deg = 0;
+  int monte_carlo_samples = 0;
+  double capability_rss_total_mm = 0, capability_rss_theta_deg = 0;
+  double allocation_rss_total_mm = 0, allocation_monte_carlo_total_mm = 0;
+  AllocationDocument allocation;
+  std::vector<SourceDocument> sources;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ComponentsDocument, y, z, s)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ToleranceDocument, lower, upper)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MetricDocument, name, axis, unit, sensitivity,
+                                   sensitivity_theta_deg, samples, mean, sigma, max_abs, capability,
+                                   capability_basis, derived_tolerance, configured_tolerance,
+                                   today_value, today_time_ns, today_within_derived_tolerance)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SourceDocument, name, description, direction, fixed,
+                                   capability_basis, capability_mm, allocation_mm,
+                                   capability_contribution_mm, allocation_contribution_mm, today_mm,
+                                   today_measured, today_contribution_mm, share, metrics)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AllocationDocument, scale, theta_deg, feasible, why)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BudgetDocument, machine_id, config, database, last, method,
+                                   coverage, allowable_total_mm, allowable_total_in,
+                                   panel_radius_mm, theta_min_deg, theta_max_deg, rss_total_mm,
+                                   rss_total_in, rss_theta_deg, within_budget, monte_carlo_total_mm,
+                                   monte_carlo_theta_deg, monte_carlo_samples,
+                                   capability_rss_total_mm, capability_rss_theta_deg,
+                                   allocation_rss_total_mm, allocation_monte_carlo_total_mm,
+                                   allocation, sources)
 
-nlohmann::json null_if_infinite(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
+ComponentsDocument components(const solver::SourceError& e) { return {e.y_mm, e.z_mm, e.s_mm}; }
 
-nlohmann::json to_json(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
-                       const MachineConfig& machine, const std::optional<std::string>& database,
-                       const GatheredHistory& history, int last) {
-  nlohmann::json sources = nlohmann::json::array();
-  for (const auto& s : r.sources) {
-    nlohmann::json metrics = nlohmann::json::array();
-    for (const auto& m : s.metrics) {
-      nlohmann::json tol = nullptr;
-      if (const auto t = configured_tolerance(machine, m)) {
-        tol = {{"lower", null_if_infinite(t->lower)}, {"upper", null_if_infinite(t->upper)}};
-      }
-      const auto time = history.newest_time_ns.find(m.name);
-      metrics.push_back({
-          {"name", m.name},
-          {"axis", std::string(to_string(m.axis))},
-          {"unit", m.unit},
-          {"sensitivity", m.sensitivity.sensitivity},
-          {"sensitivity_theta_deg", deg(m.sensitivity.theta_rad)},
-          {"samples", m.capability.samples},
-          {"mean", m.capability.mean},
-          {"sigma", m.capability.sigma},
-          {"max_abs", m.capability.max_abs},
-          {"capability", m.capability.capability},
-          {"capability_basis", std::string(to_string(m.capability.basis))},
-          {"derived_tolerance", m.derived_tolerance},
-          {"configured_tolerance", tol},
-          {"today_value", m.today_value ? nlohmann::json(*m.today_value) : nlohmann::json()},
-          {"today_time_ns",
-           time != history.newest_time_ns.end() ? nlohmann::json(time->second) : nlohmann::json()},
-          {"today_within_derived_tolerance", m.today_within_tolerance},
-      });
-    }
-    sources.push_back({
-        {"name", s.name},
-        {"description", s.description},
-        {"direction", std::string(to_string(s.direction))},
-        {"fixed", s.fixed},
-        {"capability_basis", std::string(to_string(s.capability_basis))},
-        {"capability_mm", components(s.capability)},
-        {"allocation_mm", components(s.allocation)},
-        {"capability_contribution_mm", s.capability_contribution_mm},
-        {"allocation_contribution_mm", s.allocation_contribution_mm},
-        {"today_mm", components(s.today)},
-        {"today_measured", s.today_measured},
-        {"today_contribution_mm", s.today_contribution_mm},
-        {"share", s.share},
-        {"metrics", metrics},
-    });
+MetricDocument metric_document(const solver::MetricReport& m, const MachineConfig& machine,
+                               const GatheredHistory& history) {
+  MetricDocument d;
+  d.name = m.name;
+  d.axis = to_string(m.axis);
+  d.unit = m.unit;
+  d.sensitivity = m.sensitivity.sensitivity;
+  d.sensitivity_theta_deg = deg(m.sensitivity.theta_rad);
+  d.samples = m.capability.samples;
+  d.mean = m.capability.mean;
+  d.sigma = m.capability.sigma;
+  d.max_abs = m.capability.max_abs;
+  d.capability = m.capability.capability;
+  d.capability_basis = to_string(m.capability.basis);
+  d.derived_tolerance = m.derived_tolerance;
+  if (const auto t = configured_tolerance(machine, m))
+    d.configured_tolerance = {t->lower, t->upper};
+  d.today_value = m.today_value;
+  if (const auto time = history.newest_time_ns.find(m.name); time != history.newest_time_ns.end()) {
+    d.today_time_ns = time->second;
   }
-  return {
-      {"machine_id", machine.machine_id},
-      {"config", machine.source_path},
-      {"database", database ? nlohmann::json(*database) : nlohmann::json()},
-      {"last", last},
-      {"method", std::string(to_string(c.method))},
-      {"coverage", c.coverage},
-      {"allowable_total_mm", c.allowable_total_mm},
-      {"allowable_total_in", units::mm_to_inch(c.allowable_total_mm)},
-      {"panel_radius_mm", c.panel_radius_mm},
-      {"theta_min_deg", deg(c.theta_min_rad)},
-      {"theta_max_deg", deg(c.theta_max_rad)},
-      {"rss_total_mm", r.today.rss_total_mm},
-      {"rss_total_in", units::mm_to_inch(r.today.rss_total_mm)},
-      {"rss_theta_deg", deg(r.today.theta_rad)},
-      {"within_budget", r.today.within_budget},
-      {"monte_carlo_total_mm", r.capability_monte_carlo.total_mm},
-      {"monte_carlo_theta_deg", deg(r.capability_monte_carlo.theta_rad)},
-      {"monte_carlo_samples", r.capability_monte_carlo.samples},
-      {"capability_rss_total_mm", r.capability_rss.total_mm},
-      {"capability_rss_theta_deg", deg(r.capability_rss.theta_rad)},
-      {"allocation_rss_total_mm", r.allocation_rss.total_mm},
-      {"allocation_monte_carlo_total_mm", r.allocation_monte_carlo.total_mm},
-      {"allocation",
-       {{"scale", r.allocation.scale},
-        {"theta_deg", deg(r.allocation.theta_rad)},
-        {"feasible", r.allocation.feasible},
-        {"why", r.allocation.why}}},
-      {"sources", sources},
-  };
+  d.today_within_derived_tolerance = m.today_within_tolerance;
+  return d;
+}
+
+BudgetDocument document_of(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
+                           const MachineConfig& machine, const std::optional<std::string>& database,
+                           const GatheredHistory& history, int last) {
+  BudgetDocument d;
+  d.machine_id = machine.machine_id;
+  d.config = machine.source_path;
+  d.database = database;
+  d.last = last;
+  d.method = to_string(c.method);
+  d.coverage = c.coverage;
+  d.allowable_total_mm = c.allowable_total_mm;
+  d.allowable_total_in = units::mm_to_inch(c.allowable_total_mm);
+  d.panel_radius_mm = c.panel_radius_mm;
+  d.theta_min_deg = deg(c.theta_min_rad);
+  d.theta_max_deg = deg(c.theta_max_rad);
+  d.rss_total_mm = r.today.rss_total_mm;
+  d.rss_total_in = units::mm_to_inch(r.today.rss_total_mm);
+  d.rss_theta_deg = deg(r.today.theta_rad);
+  d.within_budget = r.today.within_budget;
+  d.monte_carlo_total_mm = r.capability_monte_carlo.total_mm;
+  d.monte_carlo_theta_deg = deg(r.capability_monte_carlo.theta_rad);
+  d.monte_carlo_samples = r.capability_monte_carlo.samples;
+  d.capability_rss_total_mm = r.capability_rss.total_mm;
+  d.capability_rss_theta_deg = deg(r.capability_rss.theta_rad);
+  d.allocation_rss_total_mm = r.allocation_rss.total_mm;
+  d.allocation_monte_carlo_total_mm = r.allocation_monte_carlo.total_mm;
+  d.allocation = {r.allocation.scale, deg(r.allocation.theta_rad), r.allocation.feasible,
+                  r.allocation.why};
+  for (const auto& s : r.sources) {
+    SourceDocument& source = d.sources.emplace_back();
+    source.name = s.name;
+    source.description = s.description;
+    source.direction = to_string(s.direction);
+    source.fixed = s.fixed;
+    source.capability_basis = to_string(s.capability_basis);
+    source.capability_mm = components(s.capability);
+    source.allocation_mm = components(s.allocation);
+    source.capability_contribution_mm = s.capability_contribution_mm;
+    source.allocation_contribution_mm = s.allocation_contribution_mm;
+    source.today_mm = components(s.today);
+    source.today_measured = s.today_measured;
+    source.today_contribution_mm = s.today_contribution_mm;
+    source.share = s.share;
+    for (const auto& m : s.metrics) source.metrics.push_back(metric_document(m, machine, history));
+  }
+  return d;
 }
 
 // ---- Table --------------------------------------------------------------------------------------
@@ -394,7 +453,9 @@ int run(const Options& o) {
 
   const ErrorBudgetReport report = solver::evaluate_error_budget(budget, history.values, last);
   if (o.json) {
-    std::cout << to_json(report, budget, *machine, database, history, last).dump(2) << "\n";
+    std::cout
+        << nlohmann::json(document_of(report, budget, *machine, database, history, last)).dump(2)
+        << "\n";
   } else {
     print_table(report, budget, *machine, database, last);
   }
