@@ -3,10 +3,10 @@
 // every machine file it names) and prints every problem with its file, key and value, not only
 // the first; with --print, every value as it was resolved (in mm and rad, with what was written
 // when that was another unit, and the defaults taken). Exit 0 when the plant loads, 4 when the
-// files were refused.
+// files were refused. --json prints ConfigCheckDocument (below).
 #include "commands.hpp"
 
-#include <nlohmann/json.hpp>
+#include "ncqual/json.hpp"
 
 #include <iostream>
 
@@ -16,6 +16,24 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ResolvedValue, file, key, value, defaulted)
 
 namespace cli {
 namespace {
+
+// The --json document. Without a plant (problems found) plant, domain_id and machines are null;
+// values is null without --print.
+struct MachineFileDocument {
+  std::string machine_id, file;
+};
+struct ConfigCheckDocument {
+  std::string plant_file;
+  bool ok = false;
+  std::vector<std::string> problems;
+  std::optional<std::string> plant;
+  std::optional<int> domain_id;
+  std::optional<std::vector<MachineFileDocument>> machines;
+  std::optional<std::vector<ResolvedValue>> values;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineFileDocument, machine_id, file)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ConfigCheckDocument, plant_file, ok, problems, plant, domain_id,
+                                   machines, values)
 
 struct Options {
   std::string plant;
@@ -45,19 +63,17 @@ int run_check(const Options& o) {
   const std::string path = plant_file(o.plant);
   const ConfigReport report = check_plant_config(path);
   if (o.json) {
-    nlohmann::json doc{
-        {"plant_file", path}, {"ok", report.problems.empty()}, {"problems", report.problems}};
+    ConfigCheckDocument doc{path, report.problems.empty(), report.problems};
     if (report.plant) {
-      nlohmann::json machines = nlohmann::json::array();
+      doc.plant = report.plant->plant;
+      doc.domain_id = report.plant->domain_id;
+      doc.machines.emplace();
       for (const auto& m : report.plant->machines) {
-        machines.push_back({{"machine_id", m.machine_id}, {"file", m.source_path}});
+        doc.machines->push_back({m.machine_id, m.source_path});
       }
-      doc["plant"] = report.plant->plant;
-      doc["domain_id"] = report.plant->domain_id;
-      doc["machines"] = machines;
     }
-    if (o.print) doc["values"] = report.values;
-    std::cout << doc.dump(2) << "\n";
+    if (o.print) doc.values = report.values;
+    std::cout << nlohmann::json(doc).dump(2) << "\n";
     return report.problems.empty() ? kExitOk : kExitInvalid;
   }
   if (o.print) print_values(report.values);

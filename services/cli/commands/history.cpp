@@ -71,9 +71,7 @@ int run(const Options& o) {
   q.since_ns = o.since_ns;
   const auto records = db.history(q);
   if (o.json) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const auto& r : records) out.push_back(storage::to_json(r));
-    std::cout << out.dump(2) << "\n";
+    std::cout << nlohmann::json(records).dump(2) << "\n";
   } else {
     print_check_records(records);
   }
