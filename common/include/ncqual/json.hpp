@@ -71,22 +71,33 @@ struct adl_serializer<Eigen::Matrix<double, N, 1>> {
 
 }  // namespace nlohmann
 
-// to_json/from_json of an enumeration by name, through its to_string and parse function.
-#define NCQUAL_JSON_ENUM_BY_NAME(Enum, parse)                                            \
-  inline void to_json(nlohmann::json& j, Enum v) { j = std::string(to_string(v)); }      \
-  inline void from_json(const nlohmann::json& j, Enum& v) {                              \
-    const auto parsed = parse(j.get<std::string>());                                     \
-    if (!parsed) {                                                                       \
-      throw std::invalid_argument(#Enum " '" + j.get<std::string>() + "' is not known"); \
-    }                                                                                    \
-    v = *parsed;                                                                         \
-  }
-
 namespace ncqual {
 
-NCQUAL_JSON_ENUM_BY_NAME(CheckKind, parse_check_kind)
-NCQUAL_JSON_ENUM_BY_NAME(Verdict, parse_verdict)
-NCQUAL_JSON_ENUM_BY_NAME(MachineState, parse_machine_state)
+namespace detail {
+// Reads an enumeration by the name its to_string gives, through its parse function.
+template <typename Enum, typename Parse>
+void enum_from_json(const nlohmann::json& j, Enum& v, Parse parse, const char* enum_name) {
+  const auto parsed = parse(j.get<std::string>());
+  if (!parsed) {
+    throw std::invalid_argument(std::string(enum_name) + " '" + j.get<std::string>() +
+                                "' is not known");
+  }
+  v = *parsed;
+}
+}  // namespace detail
+
+inline void to_json(nlohmann::json& j, CheckKind v) { j = std::string(to_string(v)); }
+inline void from_json(const nlohmann::json& j, CheckKind& v) {
+  detail::enum_from_json(j, v, parse_check_kind, "CheckKind");
+}
+inline void to_json(nlohmann::json& j, Verdict v) { j = std::string(to_string(v)); }
+inline void from_json(const nlohmann::json& j, Verdict& v) {
+  detail::enum_from_json(j, v, parse_verdict, "Verdict");
+}
+inline void to_json(nlohmann::json& j, MachineState v) { j = std::string(to_string(v)); }
+inline void from_json(const nlohmann::json& j, MachineState& v) {
+  detail::enum_from_json(j, v, parse_machine_state, "MachineState");
+}
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(NamedValue, name, value, unit)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Metric, name, value, unit, lower, upper, pass)

@@ -58,6 +58,7 @@ void validate_run(const std::vector<FramePoint>& points, const std::string& run,
     }
   }
   std::vector<const FramePoint*> sorted;
+  sorted.reserve(points.size());
   for (const auto& p : points) sorted.push_back(&p);
   std::stable_sort(sorted.begin(), sorted.end(), [axis](const FramePoint* a, const FramePoint* b) {
     return a->commanded_mm(axis) < b->commanded_mm(axis);

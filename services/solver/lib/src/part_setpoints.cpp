@@ -28,7 +28,6 @@ std::string deviation_metric(const std::string& point) { return "setpoint_" + po
 namespace {
 
 using namespace setpoints;
-using detail::format_number;
 using detail::format_vector;
 using detail::machine_where;
 using detail::touch_field;
