@@ -36,21 +36,19 @@ void store(ncqual::storage::Database& db, const char* what, const ncqual::dds::R
 
 int run(int argc, char** argv) {
   using namespace ncqual;
-  CLI::App app("Stores every sample of the plant in the SQLite historian, exactly once.",
-               "ncqual-historian");
-  command_line::configure(app);
-  command_line::ServiceOptions options;
-  command_line::add_service_options(app, options);
+  ncqual::dds::ServiceMain service_main(
+      "historian", "Stores every sample of the plant in the SQLite historian, exactly once.");
   std::string db_flag;
-  app.add_option("--db", db_flag, "the database (default: the plant's historian.database)")
+  service_main.app()
+      .add_option("--db", db_flag, "the database (default: the plant's historian.database)")
       ->type_name("PATH");
-  return ncqual::dds::service_main(app, argc, argv, options, "historian", [&](PlantConfig loaded) {
+  return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const PlantConfig plant = std::move(loaded);
     const std::string db_path = db_flag.empty() ? plant.historian_database : db_flag;
     auto db = storage::Database::open(db_path);
     spdlog::info("historian database {}", db_path);
 
-    ncqual::dds::Service service(ncqual::dds::service_options("historian", "", options, plant));
+    ncqual::dds::Service service(service_main.service_options(plant));
     auto& p = service.participant();
     ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(p);
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(p);
