@@ -414,12 +414,12 @@ int run(const Options& o) {
 }  // namespace
 
 void add_uncertainty(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "uncertainty",
+  const auto [cmd, o] = add_command(
+      app, commands, "uncertainty",
       "Monte Carlo uncertainty (GUM S1) of the machine's monthly tracker grid check as\n"
       "configured in global_check.uncertainty (planned tracker, sources), and with --search\n"
-      "the tracker location in global_check.uncertainty.search beside the configured one");
+      "the tracker location in global_check.uncertainty.search beside the configured one",
+      run);
   add_machine_option(cmd, o->machine, "the machine whose global_check: section to assess");
   add_plant_option(cmd, o->plant);
   cmd->add_option(
@@ -438,7 +438,6 @@ void add_uncertainty(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(1, kMaxThreads).description(""));
   cmd->add_flag("--search", o->search, "also the best tracker location of the search region");
   add_json_flag(cmd, o->json);
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli
