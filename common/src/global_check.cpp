@@ -31,6 +31,20 @@ void append_master_frame_runs(const GlobalCheckConfig& c, std::vector<TrackerMov
   }
 }
 
+// A rotary check at the configured pivot position: the axis `stepped` takes each of `steps` in
+// turn (move `<stem><i>`) while the axis `held`, if any, stays at `held_at`.
+using Axis = double AxisPosition::*;
+void append_rotary_check(const GlobalCheckConfig& c, const char* stem, Axis stepped,
+                         const std::vector<double>& steps, std::vector<TrackerMove>& moves,
+                         Axis held = nullptr, double held_at = 0) {
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    AxisPosition a = pivot(c.rotary_at_mm);
+    if (held) a.*held = held_at;
+    a.*stepped = steps[i];
+    moves.push_back({indexed(stem, i), a, 0});
+  }
+}
+
 // Circle in the plane of axes (u, v) about the configured centre: ccw from angle 0, then cw back.
 void append_circle(const CircleTestConfig& c, int u, int v, std::vector<TrackerMove>& moves) {
   auto at = [&](double angle) {
@@ -78,28 +92,16 @@ std::vector<TrackerMove> global_check_program(CheckKind kind, const GlobalCheckC
       }
       break;
     }
-    case CheckKind::RotaryC:
-      for (std::size_t i = 0; i < c.c_check_c_rad.size(); ++i) {
-        AxisPosition a = pivot(c.rotary_at_mm);
-        a.a_rad = c.c_check_a_rad;
-        a.c_rad = c.c_check_c_rad[i];
-        moves.push_back({indexed("c:", i), a, 0});
-      }
+    case CheckKind::RotaryC:  // C steps with A tilted
+      append_rotary_check(c, "c:", &AxisPosition::c_rad, c.c_check_c_rad, moves,
+                          &AxisPosition::a_rad, c.c_check_a_rad);
       break;
-    case CheckKind::RotaryA:
-      for (std::size_t i = 0; i < c.a_check_a_rad.size(); ++i) {
-        AxisPosition a = pivot(c.rotary_at_mm);
-        a.c_rad = c.a_check_c_rad;
-        a.a_rad = c.a_check_a_rad[i];
-        moves.push_back({indexed("a:", i), a, 0});
-      }
+    case CheckKind::RotaryA:  // A steps with C held
+      append_rotary_check(c, "a:", &AxisPosition::a_rad, c.a_check_a_rad, moves,
+                          &AxisPosition::c_rad, c.a_check_c_rad);
       break;
-    case CheckKind::RotaryW:
-      for (std::size_t i = 0; i < c.w_check_w_mm.size(); ++i) {
-        AxisPosition a = pivot(c.rotary_at_mm);
-        a.w_mm = c.w_check_w_mm[i];
-        moves.push_back({indexed("w:", i), a, 0});
-      }
+    case CheckKind::RotaryW:  // W steps at A = C = 0
+      append_rotary_check(c, "w:", &AxisPosition::w_mm, c.w_check_w_mm, moves);
       break;
     case CheckKind::CircleXY: append_circle(c.circle, 0, 1, moves); break;
     case CheckKind::CircleYZ: append_circle(c.circle, 1, 2, moves); break;

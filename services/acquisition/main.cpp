@@ -76,13 +76,11 @@ std::vector<MachineConfig> served_machines(const MachineSelection& args, const P
 
 int run(int argc, char** argv) {
   using namespace ncqual;
-  CLI::App app(
+  ncqual::dds::ServiceMain service_main(
+      "acquisition",
       "Simulates the machines' instruments from each machine config's simulator section.\n"
-      "One process serves every machine named; each keeps its own state.",
-      "ncqual-acquisition");
-  command_line::configure(app);
-  command_line::ServiceOptions options;
-  command_line::add_service_options(app, options);
+      "One process serves every machine named; each keeps its own state.");
+  CLI::App& app = service_main.app();
   MachineSelection selection;
   double max_age_s = 600;
   std::optional<std::string> state_flag;
@@ -100,39 +98,37 @@ int run(int argc, char** argv) {
                  "on the wall clock, requests older than this are history, not work")
       ->type_name("S")
       ->capture_default_str();
-  return ncqual::dds::service_main(
-      app, argc, argv, options, "acquisition", [&](PlantConfig loaded) {
-        const PlantConfig plant = std::move(loaded);
-        const std::vector<MachineConfig> machines = served_machines(selection, plant);
-        const std::int64_t max_age_ns = static_cast<std::int64_t>(max_age_s * 1e9);
+  return service_main.run(argc, argv, [&](PlantConfig loaded) {
+    const PlantConfig plant = std::move(loaded);
+    const std::vector<MachineConfig> machines = served_machines(selection, plant);
+    const std::int64_t max_age_ns = static_cast<std::int64_t>(max_age_s * 1e9);
 
-        // The heartbeat names the machines served: one id, or the ids joined by commas.
-        std::string served;
-        for (const auto& m : machines) served += (served.empty() ? "" : ",") + m.machine_id;
-        ncqual::dds::Service service(
-            ncqual::dds::service_options("acquisition", served, options, plant));
-        ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
-        std::string file_ids = selection.all ? "all" : served;
-        std::replace(file_ids.begin(), file_ids.end(), ',', '+');
-        storage::StateFile state = storage::StateFile::open(
-            state_flag.value_or((std::filesystem::path(plant.historian_database).parent_path() /
-                                 ("acquisition-" + file_ids + ".db"))
-                                    .string()));
-        const auto documents = state.load();
-        const acquisition::StationOptions station_options{plant.simulated_clock, max_age_ns};
-        std::vector<std::unique_ptr<Served>> stations;
-        for (const auto& m : machines) {
-          acquisition::PerformedRequests performed(state, m.machine_id);
-          performed.load(documents);
-          stations.push_back(std::make_unique<Served>(
-              service, std::make_unique<acquisition::Station>(
-                           m.machine_id, std::make_unique<acquisition::SimulatedInstruments>(m),
-                           std::move(performed), station_options,
-                           [&sets](const MeasurementSet& set) { return sets.write(set); })));
-        }
-        spdlog::info("serving {} machine(s): {}", stations.size(), served);
-        return service.run();
-      });
+    // The heartbeat names the machines served: one id, or the ids joined by commas.
+    std::string served;
+    for (const auto& m : machines) served += (served.empty() ? "" : ",") + m.machine_id;
+    ncqual::dds::Service service(service_main.service_options(plant, served));
+    ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
+    std::string file_ids = selection.all ? "all" : served;
+    std::replace(file_ids.begin(), file_ids.end(), ',', '+');
+    storage::StateFile state = storage::StateFile::open(
+        state_flag.value_or((std::filesystem::path(plant.historian_database).parent_path() /
+                             ("acquisition-" + file_ids + ".db"))
+                                .string()));
+    const auto documents = state.load();
+    const acquisition::StationOptions station_options{plant.simulated_clock, max_age_ns};
+    std::vector<std::unique_ptr<Served>> stations;
+    for (const auto& m : machines) {
+      acquisition::PerformedRequests performed(state, m.machine_id);
+      performed.load(documents);
+      stations.push_back(std::make_unique<Served>(
+          service, std::make_unique<acquisition::Station>(
+                       m.machine_id, std::make_unique<acquisition::SimulatedInstruments>(m),
+                       std::move(performed), station_options,
+                       [&sets](const MeasurementSet& set) { return sets.write(set); })));
+    }
+    spdlog::info("serving {} machine(s): {}", stations.size(), served);
+    return service.run();
+  });
 }
 
 }  // namespace

@@ -14,11 +14,23 @@
 
 namespace {
 
+// The id the log names a sample by: its request's, but for interventions and heartbeats.
+template <typename Model>
+std::string sample_id(const Model& sample) {
+  return sample.request_id;
+}
+std::string sample_id(const ncqual::Intervention& sample) { return sample.intervention_id; }
+std::string sample_id(const ncqual::Heartbeat& sample) {
+  return sample.service + "@" + sample.instance;
+}
+
 // Stores one received sample; a bad sample is logged with its reason and skipped, and the
 // historian keeps running with everything already stored intact.
 template <typename Model>
-void store(ncqual::storage::Database& db, const char* what, const ncqual::dds::Received<Model>& in,
-           const std::string& machine_id, const std::string& id) {
+void store(ncqual::storage::Database& db, const char* what,
+           const ncqual::dds::Received<Model>& in) {
+  const std::string& machine_id = in.value.machine_id;
+  const std::string id = sample_id(in.value);
   if (!in.error.empty()) {
     spdlog::error("{} {} of machine '{}' not stored: {}", what, id, machine_id, in.error);
     return;
@@ -36,21 +48,19 @@ void store(ncqual::storage::Database& db, const char* what, const ncqual::dds::R
 
 int run(int argc, char** argv) {
   using namespace ncqual;
-  CLI::App app("Stores every sample of the plant in the SQLite historian, exactly once.",
-               "ncqual-historian");
-  command_line::configure(app);
-  command_line::ServiceOptions options;
-  command_line::add_service_options(app, options);
+  ncqual::dds::ServiceMain service_main(
+      "historian", "Stores every sample of the plant in the SQLite historian, exactly once.");
   std::string db_flag;
-  app.add_option("--db", db_flag, "the database (default: the plant's historian.database)")
+  service_main.app()
+      .add_option("--db", db_flag, "the database (default: the plant's historian.database)")
       ->type_name("PATH");
-  return ncqual::dds::service_main(app, argc, argv, options, "historian", [&](PlantConfig loaded) {
+  return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const PlantConfig plant = std::move(loaded);
     const std::string db_path = db_flag.empty() ? plant.historian_database : db_flag;
     auto db = storage::Database::open(db_path);
     spdlog::info("historian database {}", db_path);
 
-    ncqual::dds::Service service(ncqual::dds::service_options("historian", "", options, plant));
+    ncqual::dds::Service service(service_main.service_options(plant));
     auto& p = service.participant();
     ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(p);
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(p);
@@ -60,28 +70,17 @@ int run(int argc, char** argv) {
     ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
     ncqual::dds::Reader<ncqual::dds::HeartbeatTopic> heartbeats(p);
 
-    auto& d = service.dispatcher();
-    d.on(requests, [&](const ncqual::dds::Received<CheckRequest>& in) {
-      store(db, "request", in, in.value.machine_id, in.value.request_id);
-    });
-    d.on(sets, [&](const ncqual::dds::Received<MeasurementSet>& in) {
-      store(db, "measurement set", in, in.value.machine_id, in.value.request_id);
-    });
-    d.on(results, [&](const ncqual::dds::Received<CheckResult>& in) {
-      store(db, "result", in, in.value.machine_id, in.value.request_id);
-    });
-    d.on(statuses, [&](const ncqual::dds::Received<MachineStatus>& in) {
-      store(db, "status", in, in.value.machine_id, in.value.request_id);
-    });
-    d.on(compensations, [&](const ncqual::dds::Received<Compensation>& in) {
-      store(db, "compensation", in, in.value.machine_id, in.value.request_id);
-    });
-    d.on(interventions, [&](const ncqual::dds::Received<Intervention>& in) {
-      store(db, "intervention", in, in.value.machine_id, in.value.intervention_id);
-    });
-    d.on(heartbeats, [&](const ncqual::dds::Received<Heartbeat>& in) {
-      store(db, "heartbeat", in, in.value.machine_id, in.value.service + "@" + in.value.instance);
-    });
+    // Every sample a reader receives is stored, named `what` in the log.
+    const auto ingest = [&](auto& reader, const char* what) {
+      service.dispatcher().on(reader, [&db, what](const auto& in) { store(db, what, in); });
+    };
+    ingest(requests, "request");
+    ingest(sets, "measurement set");
+    ingest(results, "result");
+    ingest(statuses, "status");
+    ingest(compensations, "compensation");
+    ingest(interventions, "intervention");
+    ingest(heartbeats, "heartbeat");
     return service.run();
   });
 }

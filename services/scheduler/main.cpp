@@ -20,11 +20,10 @@ namespace {
 
 int run(int argc, char** argv) {
   using namespace ncqual;
-  CLI::App app("Runs the qualification process of every machine of the plant (or of --machine).",
-               "ncqual-scheduler");
-  command_line::configure(app);
-  command_line::ServiceOptions options;
-  command_line::add_service_options(app, options);
+  ncqual::dds::ServiceMain service_main(
+      "scheduler",
+      "Runs the qualification process of every machine of the plant (or of --machine).");
+  CLI::App& app = service_main.app();
   std::optional<std::string> machine_list, cycle_text, state_flag, until_text;
   std::optional<double> days;
   double stall_s = 30;
@@ -49,7 +48,7 @@ int run(int argc, char** argv) {
       ->type_name("S")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  return ncqual::dds::service_main(app, argc, argv, options, "scheduler", [&](PlantConfig loaded) {
+  return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const scheduler::ServedPlant served = scheduler::serve_only(std::move(loaded), machine_list);
     const PlantConfig& plant = served.plant;
     const std::vector<CheckKind> cycle =
@@ -63,7 +62,7 @@ int run(int argc, char** argv) {
     WallClock wall;
     const Clock& clock = plant.simulated_clock ? static_cast<const Clock&>(simulated) : wall;
 
-    ncqual::dds::Service service(ncqual::dds::service_options("scheduler", "", options, plant));
+    ncqual::dds::Service service(service_main.service_options(plant));
     auto& p = service.participant();
     ncqual::dds::Writer<ncqual::dds::CheckRequestTopic> requests(p);
     ncqual::dds::Writer<ncqual::dds::MachineStatusTopic> statuses(p);

@@ -39,14 +39,11 @@ class RecentIds {
 
 int run(int argc, char** argv) {
   using namespace ncqual;
-  CLI::App app("Turns the plant's MeasurementSets into CheckResults (and Compensations).",
-               "ncqual-solver");
-  command_line::configure(app);
-  command_line::ServiceOptions options;
-  command_line::add_service_options(app, options);
-  return ncqual::dds::service_main(app, argc, argv, options, "solver", [&](PlantConfig loaded) {
+  ncqual::dds::ServiceMain service_main(
+      "solver", "Turns the plant's MeasurementSets into CheckResults (and Compensations).");
+  return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const PlantConfig plant = std::move(loaded);
-    ncqual::dds::Service service(ncqual::dds::service_options("solver", "", options, plant));
+    ncqual::dds::Service service(service_main.service_options(plant));
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(service.participant());
     ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(service.participant());
     ncqual::dds::Writer<ncqual::dds::CompensationTopic> compensations(service.participant());

@@ -4,6 +4,7 @@
 #include "ncqual/log.hpp"
 
 #include <iostream>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 
@@ -17,22 +18,26 @@ std::string plant_file_from(const std::string& flag_value) {
   return path;
 }
 
-int service_main(CLI::App& app, int argc, char** argv, const command_line::ServiceOptions& options,
-                 const std::string& service, const std::function<int(PlantConfig)>& body) {
-  if (const auto code = command_line::parse(app, argc, argv)) return *code;
+ServiceMain::ServiceMain(std::string service, const std::string& description)
+    : service_(std::move(service)), app_(description, "ncqual-" + service_) {
+  command_line::configure(app_);
+  command_line::add_service_options(app_, options_);
+}
+
+int ServiceMain::run(int argc, char** argv, const std::function<int(PlantConfig)>& body) {
+  if (const auto code = command_line::parse(app_, argc, argv)) return *code;
   try {
-    init_logging(service, options.log_level);
-    return body(load_plant_config(plant_file_from(options.plant)));
+    init_logging(service_, options_.log_level);
+    return body(load_plant_config(plant_file_from(options_.plant)));
   } catch (const std::exception& e) {
-    std::cerr << app.get_name() << ": " << e.what() << "\n";
+    std::cerr << app_.get_name() << ": " << e.what() << "\n";
     return command_line::kUsageExit;
   }
 }
 
-ServiceOptions service_options(const std::string& service, const std::string& served,
-                               const command_line::ServiceOptions& options,
-                               const PlantConfig& plant) {
-  return {service, served, resolve_domain_id(options.domain, plant.domain_id),
+ServiceOptions ServiceMain::service_options(const PlantConfig& plant,
+                                            const std::string& served) const {
+  return {service_, served, resolve_domain_id(options_.domain, plant.domain_id),
           plant.qos_profiles_file};
 }
 

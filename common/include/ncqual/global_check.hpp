@@ -59,9 +59,10 @@ struct LinearRunConfig {
 // What `ncqual uncertainty` needs to simulate the monthly grid verification of a real plant, where
 // no simulator knows the tracker: the planned tracker setup, the machine's uncertainty sources and
 // the Monte Carlo settings (the math: solver::evaluate_verification_uncertainty and
-// solver::best_tracker_location, ncqual/solver/verification_uncertainty.hpp; these structs are
-// their inputs as configured, the solver cannot be a dependency of common). Defaults are those of
-// the solver's structs.
+// solver::best_tracker_location, ncqual/solver/verification_uncertainty.hpp). The solver takes
+// the tracker and the sources as they are configured: solver::TrackerUncertaintyModel is
+// PlannedTrackerConfig, solver::UncertaintySources is UncertaintySourcesConfig plus the machine's
+// systematic errors, solver::TrackerRegion is the TrackerRegion a TrackerSearchConfig is.
 //
 //   uncertainty:
 //     tracker:                          # required
@@ -92,19 +93,26 @@ struct LinearRunConfig {
 // Lengths may carry their unit ("4 um"), angles too ("0.3 deg" under _urad); bare numbers are in
 // the unit the key names. Sigmas must be finite and >= 0, every number finite.
 
-// The tracker as planned for the monthly check (solver::TrackerUncertaintyModel).
+// The tracker as planned for the monthly check, and as the uncertainty model sees it
+// (solver::TrackerUncertaintyModel; default noise: Aguado et al., 20 urad per encoder angle,
+// 4 um + 0.8 um/m range).
 struct PlannedTrackerConfig {
   Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // its origin in the machine frame
   Eigen::Vector3d ypr_rad = Eigen::Vector3d::Zero();      // yaw, pitch, roll (YAML ypr_deg)
-  double angular_sigma_rad = 20e-6;       // per encoder angle, one reading (YAML _urad)
-  double radial_sigma_mm = 0.004;         // range noise of one reading: radial_sigma_mm
+  double angular_sigma_rad = 20e-6;  // per encoder angle (azimuth, elevation), one reading (_urad)
+  double radial_sigma_mm = 0.004;    // range noise of one reading: radial_sigma_mm
   double radial_sigma_mm_per_m = 0.0008;  //   + radial_sigma_mm_per_m * r / 1000
-  int samples_per_point = 1;              // a point averages this many readings
-  double position_sigma_mm = 0;           // placement: 1 sigma per machine axis
-  double orientation_sigma_rad = 0;       // placement: 1 sigma about each machine axis (YAML _urad)
+  int samples_per_point = 1;              // a point averages this many readings: noise / sqrt(n)
+  // Placement (Monte Carlo only): 1 sigma of the true position per machine axis (mm) and of a
+  // small rotation about each machine axis (rad; YAML _urad).
+  double position_sigma_mm = 0;
+  double orientation_sigma_rad = 0;
+
+  // Rotation tracker frame -> machine frame: Rz(yaw) Ry(pitch) Rx(roll).
+  Eigen::Matrix3d rotation() const { return rotation_from_ypr(ypr_rad); }
 };
 
-// The machine's uncertainty sources (solver::UncertaintySources without the systematic errors),
+// The machine's uncertainty sources (solver::UncertaintySources adds the systematic errors),
 // per machine axis X, Y, Z.
 struct UncertaintySourcesConfig {
   Eigen::Vector3d repeatability_sigma_mm = Eigen::Vector3d::Zero();
@@ -116,16 +124,21 @@ struct UncertaintySourcesConfig {
   Eigen::Vector3d temperature_sigma_K = Eigen::Vector3d::Zero();      // its 1 sigma
 };
 
-// Where the tracker may stand (solver::TrackerRegion): a grid over the box [lo_mm, hi_mm] with
-// `steps` candidates per axis, steps = ceil((max - min) / step_mm) + 1 (neighbours at most step_mm
-// apart; 1 when min = max: that coordinate). At most 1e6 candidates.
-struct TrackerSearchConfig {
+// Where the tracker may stand (solver::TrackerRegion; what excludes a candidate:
+// solver::best_tracker_location): a grid of candidate positions over the box [lo_mm, hi_mm] with
+// `steps` candidates per axis (one step: the box's middle on that axis).
+struct TrackerRegion {
   Eigen::Vector3d lo_mm = Eigen::Vector3d::Zero(), hi_mm = Eigen::Vector3d::Zero();
-  double step_mm = 0;
-  Eigen::Vector3i steps = Eigen::Vector3i::Ones();  // derived from step_mm
+  Eigen::Vector3i steps = Eigen::Vector3i(5, 5, 3);
   double envelope_clearance_mm = 200;
   double min_range_mm = 500;
   double max_range_mm = 15000;
+};
+
+// The `search:` mapping: the region, with steps = ceil((max - min) / step_mm) + 1 per axis
+// (neighbours at most step_mm apart; 1 when min = max: that coordinate). At most 1e6 candidates.
+struct TrackerSearchConfig : TrackerRegion {
+  double step_mm = 0;
 };
 
 struct VerificationUncertaintyConfig {

@@ -90,18 +90,16 @@ int run(const Options& o) {
 }  // namespace
 
 void add_check(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "check", "ask the scheduler to run a check now; with --wait, print its result");
+  const auto [cmd, o] =
+      add_command(app, commands, "check",
+                  "ask the scheduler to run a check now; with --wait, print its result", run);
   add_machine_option(cmd, o->machine, "the machine to check");
   add_kind_option(cmd, "--kind", o->kind, "the check to run")->required();
-  add_plant_option(cmd, o->plant);
-  add_domain_option(cmd, o->domain);
+  add_dds_options(cmd, o->plant, o->domain);
   cmd->add_option("--wait", o->wait_s,
                   "wait this long for the result, print it and exit with its verdict")
       ->type_name("SECONDS");
   add_json_flag(cmd, o->json);
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -53,6 +54,19 @@ void add_completion(CLI::App& app, Commands& commands);   // completion.cpp (hid
 
 // ---- What several commands share (options.cpp) -------------------------------------------------
 
+// Adds the command `name` to `parent`, its options in a new Options, and run(options) to
+// `commands` as what runs it; returns the command and its options, for the command's own flags.
+template <typename Options>
+std::pair<CLI::App*, std::shared_ptr<Options>> add_command(CLI::App& parent, Commands& commands,
+                                                           const std::string& name,
+                                                           const std::string& description,
+                                                           int (*run)(const Options&)) {
+  auto options = std::make_shared<Options>();
+  CLI::App* command = parent.add_subcommand(name, description);
+  commands.push_back({command, [options, run] { return run(*options); }});
+  return {command, options};
+}
+
 // --plant FILE (else $NCQUAL_PLANT).
 CLI::Option* add_plant_option(CLI::App* command, std::string& plant);
 // --db FILE: the historian database (read only).
@@ -64,6 +78,10 @@ CLI::Option* add_machine_option(CLI::App* command, std::string& machine,
                                 const std::string& description);  // required
 // --domain N (else $NCQUAL_DOMAIN, else the plant's domain_id).
 CLI::Option* add_domain_option(CLI::App* command, int& domain);
+// --plant FILE and --db FILE: the historian database a command reads (database_path).
+void add_historian_options(CLI::App* command, std::string& plant, std::optional<std::string>& db);
+// --plant FILE and --domain N: the plant and the DDS domain a command publishes on.
+void add_dds_options(CLI::App* command, std::string& plant, int& domain);
 // --json: one JSON document instead of the table.
 CLI::Option* add_json_flag(CLI::App* command, bool& json);
 // --<name> KIND: a check kind, refused at parsing when it is not one.

@@ -98,16 +98,14 @@ int run_check(const Options& o) {
 void add_config(CLI::App& app, Commands& commands) {
   CLI::App* config = app.add_subcommand("config", "the plant's configuration files");
   config->require_subcommand(1);
-  auto o = std::make_shared<Options>();
-  CLI::App* check = config->add_subcommand(
-      "check",
-      "load the whole plant and print every problem (file, key, value), not only the "
-      "first; exit 4 when there is any");
+  const auto [check, o] = add_command(*config, commands, "check",
+                                      "load the whole plant and print every problem (file, key, "
+                                      "value), not only the first; exit 4 when there is any",
+                                      run_check);
   add_plant_option(check, o->plant);
   check->add_flag("--print", o->print,
                   "also print every value as resolved: mm and rad, as written, defaults taken");
   add_json_flag(check, o->json);
-  commands.push_back({check, [o] { return run_check(*o); }});
 }
 
 }  // namespace cli

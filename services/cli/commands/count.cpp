@@ -30,12 +30,9 @@ int run(const Options& o) {
 }  // namespace
 
 void add_count(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("count", "number of stored results");
-  add_plant_option(cmd, o->plant);
-  add_db_option(cmd, o->db);
+  const auto [cmd, o] = add_command(app, commands, "count", "number of stored results", run);
+  add_historian_options(cmd, o->plant, o->db);
   add_machine_option(cmd, o->machine, "only this machine's results");
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli

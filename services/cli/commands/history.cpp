@@ -108,10 +108,8 @@ void print_check_records(const std::vector<storage::CheckRecord>& records) {
 }
 
 void add_history(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand("history", "stored checks, newest first");
-  add_plant_option(cmd, o->plant);
-  add_db_option(cmd, o->db);
+  const auto [cmd, o] = add_command(app, commands, "history", "stored checks, newest first", run);
+  add_historian_options(cmd, o->plant, o->db);
   add_machine_option(cmd, o->machine, "only this machine's checks");
   add_kind_option(cmd, "--kind", o->kind, "only checks of this kind");
   cmd->add_option("--limit", o->limit, "at most N checks (0: all)")
@@ -121,7 +119,6 @@ void add_history(CLI::App& app, Commands& commands) {
                   "only checks from this time on (ns since the epoch, UTC)")
       ->type_name("T");
   add_json_flag(cmd, o->json);
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli

@@ -130,15 +130,13 @@ void add_import(CLI::App& app, Commands& commands) {
   import->require_subcommand(1);
   // The options of every import; `file`: whether it takes one positional FILE.
   const auto add = [&](const std::string& what, const std::string& description, bool file) {
-    auto o = std::make_shared<Options>();
+    auto added = add_command(*import, commands, what, description, run);
+    const auto& [cmd, o] = added;
     o->what = what;
-    CLI::App* cmd = import->add_subcommand(what, description);
     if (file) cmd->add_option("FILE", o->file, "the instrument's export")->required();
     add_machine_option(cmd, o->machine, "the machine it measured");
-    add_plant_option(cmd, o->plant);
-    add_domain_option(cmd, o->domain);
-    commands.push_back({cmd, [o] { return run(*o); }});
-    return std::make_pair(cmd, o);
+    add_dds_options(cmd, o->plant, o->domain);
+    return added;
   };
   const auto [iso, iso_o] = add("iso230-2", "as kind linear_axis_run, along --axis", true);
   iso->add_option("--axis", iso_o->axis,

@@ -56,18 +56,16 @@ int run(const Options& o) {
 }  // namespace
 
 void add_intervene(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "intervene", "record a physical intervention: re-arms the machine's held check");
+  const auto [cmd, o] =
+      add_command(app, commands, "intervene",
+                  "record a physical intervention: re-arms the machine's held check", run);
   add_machine_option(cmd, o->machine, "the machine worked on");
   add_kind_option(cmd, "--check", o->kind, "the held check the intervention answers")->required();
   cmd->add_option("--note", o->note, "what was done (e.g. \"stylus replaced\")")
       ->type_name("TEXT")
       ->required();
   cmd->add_option("--operator", o->who, "who did it (default: $USER)")->type_name("NAME");
-  add_plant_option(cmd, o->plant);
-  add_domain_option(cmd, o->domain);
-  commands.push_back({cmd, [o] { return run(*o); }});
+  add_dds_options(cmd, o->plant, o->domain);
 }
 
 }  // namespace ncqual::cli

@@ -43,6 +43,16 @@ CLI::Option* add_domain_option(CLI::App* command, int& domain) {
       ->type_name("N");
 }
 
+void add_historian_options(CLI::App* command, std::string& plant, std::optional<std::string>& db) {
+  add_plant_option(command, plant);
+  add_db_option(command, db);
+}
+
+void add_dds_options(CLI::App* command, std::string& plant, int& domain) {
+  add_plant_option(command, plant);
+  add_domain_option(command, domain);
+}
+
 CLI::Option* add_json_flag(CLI::App* command, bool& json) {
   return command->add_flag("--json", json, "print one JSON document instead of the table");
 }

@@ -123,9 +123,9 @@ int run(const Options& o) {
 }  // namespace
 
 void add_trend(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "trend", "per period: checks passed/failed and the values nearest their tolerances");
+  const auto [cmd, o] =
+      add_command(app, commands, "trend",
+                  "per period: checks passed/failed and the values nearest their tolerances", run);
   add_machine_option(cmd, o->machine, "the machine");
   add_kind_option(cmd, "--kind", o->kind, "only checks of this kind");
   cmd->add_option("--every", o->every, "the period of a row")
@@ -136,9 +136,7 @@ void add_trend(CLI::App& app, Commands& commands) {
       ->type_name("N")
       ->capture_default_str()
       ->check(CLI::Range(0, 20).description(""));
-  add_plant_option(cmd, o->plant);
-  add_db_option(cmd, o->db);
-  commands.push_back({cmd, [o] { return run(*o); }});
+  add_historian_options(cmd, o->plant, o->db);
 }
 
 }  // namespace ncqual::cli

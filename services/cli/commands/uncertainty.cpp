@@ -110,44 +110,8 @@ struct Inputs {
 };
 
 struct Search {
-  solver::TrackerRegion region;
   solver::TrackerLocationSearch result;
 };
-
-solver::TrackerUncertaintyModel tracker_model(const PlannedTrackerConfig& t) {
-  solver::TrackerUncertaintyModel m;
-  m.position_mm = t.position_mm;
-  m.ypr_rad = t.ypr_rad;
-  m.angular_sigma_rad = t.angular_sigma_rad;
-  m.radial_sigma_mm = t.radial_sigma_mm;
-  m.radial_sigma_mm_per_m = t.radial_sigma_mm_per_m;
-  m.samples_per_point = t.samples_per_point;
-  m.position_sigma_mm = t.position_sigma_mm;
-  m.orientation_sigma_rad = t.orientation_sigma_rad;
-  return m;
-}
-
-// The machine verified as it is nominally: systematic errors zero (RigidBodyErrors{}).
-solver::UncertaintySources sources_of(const UncertaintySourcesConfig& s) {
-  solver::UncertaintySources out;
-  out.repeatability_sigma_mm = s.repeatability_sigma_mm;
-  out.expansion_per_K = s.expansion_per_K;
-  out.expansion_sigma_per_K = s.expansion_sigma_per_K;
-  out.temperature_deviation_K = s.temperature_deviation_K;
-  out.temperature_sigma_K = s.temperature_sigma_K;
-  return out;
-}
-
-solver::TrackerRegion region_of(const TrackerSearchConfig& s) {
-  solver::TrackerRegion r;
-  r.lo_mm = s.lo_mm;
-  r.hi_mm = s.hi_mm;
-  r.steps = s.steps;
-  r.envelope_clearance_mm = s.envelope_clearance_mm;
-  r.min_range_mm = s.min_range_mm;
-  r.max_range_mm = s.max_range_mm;
-  return r;
-}
 
 // Design indices, the largest 95 % bound first (design order among equals), at most `n`.
 std::vector<std::size_t> worst_points(const solver::VerificationUncertainty& u, std::size_t n) {
@@ -420,8 +384,9 @@ int run(const Options& o) {
   }
 
   in.design = solver::grid_verification_design(*in.global);
-  in.tracker = tracker_model(in.config->tracker);
-  in.sources = sources_of(in.config->sources);
+  in.tracker = in.config->tracker;
+  // The machine verified as it is nominally: systematic errors zero (RigidBodyErrors{}).
+  in.sources = {in.config->sources, volumetric::RigidBodyErrors{}};
   in.options.trials = o.trials.value_or(in.config->trials);
   in.options.seed = o.seed ? static_cast<std::uint64_t>(*o.seed) : in.config->seed;
   in.options.threads = o.threads;
@@ -432,10 +397,9 @@ int run(const Options& o) {
   std::optional<Search> search;
   if (o.search) {
     Search s;
-    s.region = region_of(*in.config->search);
     solver::LocationSearchOptions options;
     options.report = kReportedCandidates;
-    s.result = solver::best_tracker_location(in.design, in.tracker, s.region, options);
+    s.result = solver::best_tracker_location(in.design, in.tracker, *in.config->search, options);
     search = std::move(s);
   }
 
@@ -450,12 +414,12 @@ int run(const Options& o) {
 }  // namespace
 
 void add_uncertainty(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "uncertainty",
+  const auto [cmd, o] = add_command(
+      app, commands, "uncertainty",
       "Monte Carlo uncertainty (GUM S1) of the machine's monthly tracker grid check as\n"
       "configured in global_check.uncertainty (planned tracker, sources), and with --search\n"
-      "the tracker location in global_check.uncertainty.search beside the configured one");
+      "the tracker location in global_check.uncertainty.search beside the configured one",
+      run);
   add_machine_option(cmd, o->machine, "the machine whose global_check: section to assess");
   add_plant_option(cmd, o->plant);
   cmd->add_option(
@@ -474,7 +438,6 @@ void add_uncertainty(CLI::App& app, Commands& commands) {
       ->check(CLI::Range(1, kMaxThreads).description(""));
   cmd->add_flag("--search", o->search, "also the best tracker location of the search region");
   add_json_flag(cmd, o->json);
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli

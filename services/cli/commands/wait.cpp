@@ -80,11 +80,10 @@ int run(const Options& o) {
 }  // namespace
 
 void add_wait(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "wait", "wait until the historian has stored that whole check (or N results)");
-  add_plant_option(cmd, o->plant);
-  add_db_option(cmd, o->db);
+  const auto [cmd, o] =
+      add_command(app, commands, "wait",
+                  "wait until the historian has stored that whole check (or N results)", run);
+  add_historian_options(cmd, o->plant, o->db);
   cmd->add_option("--request", o->request, "until this request's check is stored whole")
       ->type_name("ID");
   cmd->add_option("--count", o->count, "until N results are stored (of --machine)")->type_name("N");
@@ -96,7 +95,6 @@ void add_wait(CLI::App& app, Commands& commands) {
   cmd->add_option("--timeout", o->timeout_s, "give up after S seconds")
       ->type_name("S")
       ->capture_default_str();
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli

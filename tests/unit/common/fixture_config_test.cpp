@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The `fixture:` section of a machine config, the fixture's configurations and the names the
 // acquisition and the solver share (pogo labels, touch features, zero offsets).
+#include "machine_text.hpp"
+
 #include "ncqual/config.hpp"
 #include "ncqual/fixture.hpp"
 #include "ncqual/units.hpp"
@@ -13,11 +15,7 @@
 namespace ncqual {
 namespace {
 
-const std::string kHead = R"(
-machine_id: t1
-probe: {tool_length_mm: 300, ball_radius_mm: 2}
-monument: {hole_center_mm: [10, 20], hole_diameter_mm: 40, face_z_mm: 100}
-)";
+using testing::parse_machine_section;
 
 const std::string kFixture = R"(
 fixture:
@@ -29,25 +27,18 @@ fixture:
   probe_depth_mm: 10
 )";
 
-MachineConfig parse(const std::string& fixture_yaml) {
-  return parse_machine_config(kHead + fixture_yaml, "t1.yaml");
-}
-
 // Replaces the first occurrence of `from` in kFixture.
 std::string fixture_with(const std::string& from, const std::string& to) {
-  std::string text = kFixture;
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("no '" + from + "' in the fixture text");
-  return text.replace(at, from.size(), to);
+  return testing::replace_first(kFixture, from, to);
 }
 
 TEST(FixtureConfig, AbsentSectionMeansNoFixture) {
-  EXPECT_FALSE(parse("").fixture.has_value());
-  EXPECT_FALSE(parse("fixture:\n").fixture.has_value());
+  EXPECT_FALSE(parse_machine_section("").fixture.has_value());
+  EXPECT_FALSE(parse_machine_section("fixture:\n").fixture.has_value());
 }
 
 TEST(FixtureConfig, ReadsCountFirstPitchAndDefaults) {
-  const MachineConfig m = parse(kFixture);
+  const MachineConfig m = parse_machine_section(kFixture);
   ASSERT_TRUE(m.fixture);
   const FixtureConfig& f = *m.fixture;
   EXPECT_EQ(f.fixture_id, "UHF1");
@@ -71,7 +62,7 @@ TEST(FixtureConfig, ReadsCountFirstPitchAndDefaults) {
 }
 
 TEST(FixtureConfig, ReadsListsInInchesAndThePostCalibrationPattern) {
-  const MachineConfig m = parse(R"(
+  const MachineConfig m = parse_machine_section(R"(
 fixture:
   fixture_id: F-2
   columns: {home_x_mm: [1000, "50 in", 2000]}
@@ -101,7 +92,7 @@ fixture:
 }
 
 TEST(FixtureConfig, ThreePlanesOrFewerPostCalibrateAtTheFirstAndLast) {
-  const MachineConfig m = parse(fixture_with(
+  const MachineConfig m = parse_machine_section(fixture_with(
       "  probe_depth_mm: 10\n", "  probe_depth_mm: 10\n  z_planes_mm: [10, 20, 30]\n"));
   EXPECT_EQ(m.fixture->postcalibration.z_mm, (std::vector<double>{10, 30}));
 }
@@ -154,7 +145,7 @@ TEST(FixtureConfig, BadValuesAreRefusedNamingFileKeyAndValue) {
   };
   for (const auto& c : cases) {
     try {
-      parse(fixture_with(c.from, c.to));
+      parse_machine_section(fixture_with(c.from, c.to));
       FAIL() << "accepted: " << c.to;
     } catch (const ConfigError& e) {
       const std::string msg = e.what();
@@ -164,7 +155,7 @@ TEST(FixtureConfig, BadValuesAreRefusedNamingFileKeyAndValue) {
     }
   }
   try {
-    parse("fixture: [1, 2]\n");
+    parse_machine_section("fixture: [1, 2]\n");
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("fixture = (not a single value): expected a mapping"),

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The `global_check:` section of a machine config and the programs of the monthly tracker checks.
+#include "machine_text.hpp"
+
 #include "ncqual/config.hpp"
 #include "ncqual/global_check.hpp"
 #include "ncqual/units.hpp"
@@ -13,11 +15,7 @@
 namespace ncqual {
 namespace {
 
-const std::string kHead = R"(
-machine_id: t1
-probe: {tool_length_mm: 300, ball_radius_mm: 2}
-monument: {hole_center_mm: [10, 20], hole_diameter_mm: 40, face_z_mm: 100}
-)";
+using testing::parse_machine_section;
 
 const std::string kGlobal = R"(
 global_check:
@@ -44,19 +42,13 @@ global_check:
     cycles: 3
 )";
 
-MachineConfig parse(const std::string& text) {
-  return parse_machine_config(kHead + text, "t1.yaml");
-}
-
+// Replaces the first occurrence of `from` in kGlobal.
 std::string with(const std::string& from, const std::string& to) {
-  std::string text = kGlobal;
-  const auto at = text.find(from);
-  if (at == std::string::npos) throw std::logic_error("no '" + from + "' in the text");
-  return text.replace(at, from.size(), to);
+  return testing::replace_first(kGlobal, from, to);
 }
 
 TEST(GlobalCheckConfig, ParsesRangesListsUnitsAndTargets) {
-  const MachineConfig m = parse(kGlobal);
+  const MachineConfig m = parse_machine_section(kGlobal);
   ASSERT_TRUE(m.global_check);
   const GlobalCheckConfig& g = *m.global_check;
   ASSERT_EQ(g.targets.size(), 2u);
@@ -75,12 +67,14 @@ TEST(GlobalCheckConfig, ParsesRangesListsUnitsAndTargets) {
   EXPECT_EQ(g.linear_run.cycles, 3);
 }
 
-TEST(GlobalCheckConfig, NoSectionMeansNoTrackerCheck) { EXPECT_FALSE(parse("").global_check); }
+TEST(GlobalCheckConfig, NoSectionMeansNoTrackerCheck) {
+  EXPECT_FALSE(parse_machine_section("").global_check);
+}
 
 TEST(GlobalCheckConfig, RefusesBadValuesNamingTheKey) {
   auto refused = [](const std::string& text, const std::string& key) {
     try {
-      parse(text);
+      parse_machine_section(text);
     } catch (const ConfigError& e) {
       EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
       return;
@@ -101,7 +95,7 @@ TEST(GlobalCheckConfig, RefusesBadValuesNamingTheKey) {
 }
 
 TEST(GlobalCheckProgram, EveryKindStartsWithTheMasterFrameRuns) {
-  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  const GlobalCheckConfig g = *parse_machine_section(kGlobal).global_check;
   for (CheckKind kind : all_check_kinds()) {
     if (!is_tracker_check(kind)) {
       EXPECT_THROW(global_check_program(kind, g), std::invalid_argument);
@@ -128,7 +122,7 @@ TEST(GlobalCheckProgram, EveryKindStartsWithTheMasterFrameRuns) {
 }
 
 TEST(GlobalCheckProgram, GridCoversEveryPointWithEveryTarget) {
-  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  const GlobalCheckConfig g = *parse_machine_section(kGlobal).global_check;
   const auto moves = global_check_program(CheckKind::GlobalGrid, g);
   ASSERT_EQ(moves.size(), 17u + 2 * 216);
   // point i = (iz * ny + iy) * nx + ix; target 1 after all of target 0.
@@ -141,7 +135,7 @@ TEST(GlobalCheckProgram, GridCoversEveryPointWithEveryTarget) {
 }
 
 TEST(GlobalCheckProgram, CircleRunsBothWaysFromTheSameSideAndRotaryHoldsXyz) {
-  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  const GlobalCheckConfig g = *parse_machine_section(kGlobal).global_check;
   const auto circle = global_check_program(CheckKind::CircleYZ, g);
   std::map<std::string, AxisPosition> at;
   for (const auto& m : circle) {
@@ -164,7 +158,7 @@ TEST(GlobalCheckProgram, CircleRunsBothWaysFromTheSameSideAndRotaryHoldsXyz) {
 }
 
 TEST(GlobalCheckProgram, LinearRunApproachesEveryTargetFromBothSidesWithOverrun) {
-  const GlobalCheckConfig g = *parse(kGlobal).global_check;
+  const GlobalCheckConfig g = *parse_machine_section(kGlobal).global_check;
   const auto moves = global_check_program(CheckKind::LinearAxisRun, g);
   int measured = 0;
   double previous = 0;
@@ -211,7 +205,7 @@ const std::string kUncertainty = R"(
 )";
 
 TEST(GlobalCheckUncertainty, ParsesUnitsDefaultsAndTheSearchGrid) {
-  const GlobalCheckConfig g = *parse(kGlobal + kUncertainty).global_check;
+  const GlobalCheckConfig g = *parse_machine_section(kGlobal + kUncertainty).global_check;
   ASSERT_TRUE(g.uncertainty);
   const VerificationUncertaintyConfig& u = *g.uncertainty;
   EXPECT_EQ(u.tracker.position_mm, Eigen::Vector3d(2200, -1200, 900));
@@ -244,7 +238,7 @@ TEST(GlobalCheckUncertainty, ParsesUnitsDefaultsAndTheSearchGrid) {
 }
 
 TEST(GlobalCheckUncertainty, MinimalBlockTakesTheSolversDefaults) {
-  const GlobalCheckConfig g = *parse(kGlobal + R"(
+  const GlobalCheckConfig g = *parse_machine_section(kGlobal + R"(
   uncertainty:
     tracker: {position_mm: [0, -2000, 500]}
 )")
@@ -265,7 +259,7 @@ TEST(GlobalCheckUncertainty, MinimalBlockTakesTheSolversDefaults) {
   EXPECT_EQ(u.seed, 1u);
   EXPECT_FALSE(u.search);
   // And a global_check without the block has none.
-  EXPECT_FALSE(parse(kGlobal).global_check->uncertainty);
+  EXPECT_FALSE(parse_machine_section(kGlobal).global_check->uncertainty);
 }
 
 TEST(GlobalCheckUncertainty, RefusesBadValuesNamingFileKeyAndValue) {
@@ -276,7 +270,7 @@ TEST(GlobalCheckUncertainty, RefusesBadValuesNamingFileKeyAndValue) {
     ASSERT_NE(at, std::string::npos) << from;
     text.replace(at, from.size(), to);
     try {
-      parse(text);
+      parse_machine_section(text);
     } catch (const ConfigError& e) {
       // "<file>: <key> = '<value>': <why>", like every config error.
       EXPECT_EQ(std::string(e.what()).rfind("t1.yaml: " + message, 0), 0u) << e.what();

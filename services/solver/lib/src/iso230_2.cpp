@@ -154,29 +154,24 @@ Iso230_2Result evaluate_iso230_2(const std::vector<PositioningReading>& readings
   Range e_up, e_down, e_both, m_range, a_up, a_down;
   Maximum r_up, r_down, r_both, b_abs;
   double b_sum = 0;
+  // The figures of one target in one direction, added to that direction's axis figures.
+  const auto direction = [&](const std::vector<std::size_t>& indices, bool& has, Range& e, Range& a,
+                             Maximum& r) {
+    const DirectionFigures d = figures(readings, indices);
+    has = true;
+    out.cycles = std::max(out.cycles, d.cycles);
+    e.add(d.mean_mm);
+    e_both.add(d.mean_mm);
+    a.add_high(d.mean_mm + 2 * d.s_mm);
+    a.add_low(d.mean_mm - 2 * d.s_mm);
+    r.add(d.R_mm);
+    return d;
+  };
   for (const auto& [target, t] : group(readings)) {
     TargetFigures f;
     f.target_mm = target;
-    if (!t.up.empty()) {
-      f.up = figures(readings, t.up);
-      out.has_up = true;
-      out.cycles = std::max(out.cycles, f.up->cycles);
-      e_up.add(f.up->mean_mm);
-      e_both.add(f.up->mean_mm);
-      a_up.add_high(f.up->mean_mm + 2 * f.up->s_mm);
-      a_up.add_low(f.up->mean_mm - 2 * f.up->s_mm);
-      r_up.add(f.up->R_mm);
-    }
-    if (!t.down.empty()) {
-      f.down = figures(readings, t.down);
-      out.has_down = true;
-      out.cycles = std::max(out.cycles, f.down->cycles);
-      e_down.add(f.down->mean_mm);
-      e_both.add(f.down->mean_mm);
-      a_down.add_high(f.down->mean_mm + 2 * f.down->s_mm);
-      a_down.add_low(f.down->mean_mm - 2 * f.down->s_mm);
-      r_down.add(f.down->R_mm);
-    }
+    if (!t.up.empty()) f.up = direction(t.up, out.has_up, e_up, a_up, r_up);
+    if (!t.down.empty()) f.down = direction(t.down, out.has_down, e_down, a_down, r_down);
     if (f.up && f.down) {
       f.B_mm = f.up->mean_mm - f.down->mean_mm;
       f.R_mm = std::max(

@@ -521,8 +521,6 @@ SampleSummary summarise(std::vector<double> v) {
 
 // ------------------------------------------------------------------------------------------------
 
-Eigen::Matrix3d TrackerUncertaintyModel::rotation() const { return rotation_from_ypr(ypr_rad); }
-
 VerificationDesign grid_verification_design(const GlobalCheckConfig& config) {
   VerificationDesign d;
   for (const TrackerMove& move : global_check_program(CheckKind::GlobalGrid, config)) {

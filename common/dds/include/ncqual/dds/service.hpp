@@ -54,18 +54,31 @@ class Service {
 // without one, so this throws ConfigError when neither is given.
 std::string plant_file_from(const std::string& flag_value);
 
-// What a service's main does around its own wiring, once its options are added to `app`: parses
-// the command line (0 after --help/--version, 2 for bad usage), sets up logging as `service`,
-// loads the plant (--plant or NCQUAL_PLANT) and runs `body` with it. This is the services' one
-// error boundary (docs/architecture.md, "Errors"): an exception from any of it is reported on
-// stderr as "<app>: <what>" and the process exits 2.
-int service_main(CLI::App& app, int argc, char** argv, const command_line::ServiceOptions& options,
-                 const std::string& service, const std::function<int(PlantConfig)>& body);
+// What a service's main does around its own wiring. Construct it, add the service's own options
+// to app(), then return run(argc, argv, body).
+class ServiceMain {
+ public:
+  // `service`: "scheduler", "acquisition", "solver", "historian". The app is ncqual-<service>,
+  // set up as every ncqual executable's (command_line::configure), with the options every service
+  // takes (command_line::add_service_options).
+  ServiceMain(std::string service, const std::string& description);
 
-// The Service of `service` (serving `served`, for an acquisition) in `plant`: the domain from
-// --domain, else NCQUAL_DOMAIN, else the plant's; the plant's QoS profiles.
-ServiceOptions service_options(const std::string& service, const std::string& served,
-                               const command_line::ServiceOptions& options,
-                               const PlantConfig& plant);
+  CLI::App& app() { return app_; }
+
+  // Parses the command line (0 after --help/--version, 2 for bad usage), sets up logging as the
+  // service, loads the plant (--plant or NCQUAL_PLANT) and runs `body` with it. This is the
+  // services' one error boundary (docs/architecture.md, "Errors"): an exception from any of it is
+  // reported on stderr as "<app>: <what>" and the process exits 2.
+  int run(int argc, char** argv, const std::function<int(PlantConfig)>& body);
+
+  // The Service of this service (serving `served`, for an acquisition) in `plant`: the domain
+  // from --domain, else NCQUAL_DOMAIN, else the plant's; the plant's QoS profiles.
+  ServiceOptions service_options(const PlantConfig& plant, const std::string& served = "") const;
+
+ private:
+  std::string service_;
+  CLI::App app_;
+  command_line::ServiceOptions options_;
+};
 
 }  // namespace ncqual::dds

@@ -87,23 +87,9 @@
 
 namespace ncqual::solver {
 
-// The laser tracker as the uncertainty model sees it (default noise: Aguado et al., 20 urad per
-// encoder angle, 4 um + 0.8 um/m range).
-struct TrackerUncertaintyModel {
-  Eigen::Vector3d position_mm = Eigen::Vector3d::Zero();  // its origin in the machine frame
-  Eigen::Vector3d ypr_rad = Eigen::Vector3d::Zero();      // yaw, pitch, roll (see rotation())
-  double angular_sigma_rad = 20e-6;       // per encoder angle (azimuth, elevation), one reading
-  double radial_sigma_mm = 0.004;         // range noise of one reading: radial_sigma_mm
-  double radial_sigma_mm_per_m = 0.0008;  //   + radial_sigma_mm_per_m * r / 1000
-  int samples_per_point = 1;              // a point averages this many readings: noise / sqrt(n)
-  // Placement (Monte Carlo only): 1 sigma of the true position per machine axis (mm) and of a
-  // small rotation about each machine axis (rad).
-  double position_sigma_mm = 0;
-  double orientation_sigma_rad = 0;
-
-  // Rotation tracker frame -> machine frame: Rz(yaw) Ry(pitch) Rx(roll).
-  Eigen::Matrix3d rotation() const;
-};
+// The laser tracker as the uncertainty model sees it: the tracker as planned in the plant config
+// (ncqual/global_check.hpp: its pose, its noise, its placement sigmas, rotation()).
+using TrackerUncertaintyModel = PlannedTrackerConfig;
 
 // One verification point: the commanded X, Y, Z of the pivot and the target's offset from it
 // (machine axes, mm), as identify_rigid_body_errors takes them.
@@ -133,15 +119,11 @@ VerificationDesign grid_verification_design(const GlobalCheckConfig& config);
 // Refuses (std::invalid_argument) a non-finite alpha.
 double expansion_uncertainty_per_K(double alpha_per_K);
 
-struct UncertaintySources {
-  volumetric::RigidBodyErrors errors;                                // the machine verified (fixed)
-  Eigen::Vector3d repeatability_sigma_mm = Eigen::Vector3d::Zero();  // per axis X, Y, Z
-  Eigen::Vector3d expansion_per_K = Eigen::Vector3d::Constant(11.5e-6);  // alpha per axis
-  // u(alpha) per axis; default: expansion_uncertainty_per_K(11.5e-6) = 5.77e-7 1/K.
-  Eigen::Vector3d expansion_sigma_per_K =
-      Eigen::Vector3d::Constant(2e-6 / (2 * 1.7320508075688772));
-  Eigen::Vector3d temperature_deviation_K = Eigen::Vector3d::Zero();  // measured T - 20 C per axis
-  Eigen::Vector3d temperature_sigma_K = Eigen::Vector3d::Zero();      // its 1 sigma
+// The sources as configured (UncertaintySourcesConfig, ncqual/global_check.hpp: repeatability,
+// expansion and its u(alpha), temperature deviation and its sigma, per axis X, Y, Z; the default
+// u(alpha) is expansion_uncertainty_per_K(11.5e-6) = 5.77e-7 1/K) and the machine verified.
+struct UncertaintySources : UncertaintySourcesConfig {
+  volumetric::RigidBodyErrors errors;  // the machine verified (fixed)
 };
 
 enum class IdentificationMethod { Linearised, Full };
@@ -221,18 +203,12 @@ VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesi
                                                           const UncertaintySources& sources,
                                                           const MonteCarloOptions& options = {});
 
-// Where the tracker may stand: a grid of candidate positions over the box [lo, hi] (steps per
-// axis; one step = the box's middle on that axis), minus every position inside the working
-// envelope (the bounding box of the design's nominal targets, commanded + tool offset) grown by
-// envelope_clearance_mm, minus every position that sees a design point closer than min_range_mm
-// or farther than max_range_mm (the tracker's range, paper: 0.5 m to 15 m).
-struct TrackerRegion {
-  Eigen::Vector3d lo_mm = Eigen::Vector3d::Zero(), hi_mm = Eigen::Vector3d::Zero();
-  Eigen::Vector3i steps = Eigen::Vector3i(5, 5, 3);
-  double envelope_clearance_mm = 200;
-  double min_range_mm = 500;
-  double max_range_mm = 15000;
-};
+// Where the tracker may stand (ncqual/global_check.hpp): a grid of candidate positions over the
+// box [lo, hi] (steps per axis; one step = the box's middle on that axis), minus every position
+// inside the working envelope (the bounding box of the design's nominal targets, commanded + tool
+// offset) grown by envelope_clearance_mm, minus every position that sees a design point closer
+// than min_range_mm or farther than max_range_mm (the tracker's range, paper: 0.5 m to 15 m).
+using TrackerRegion = ncqual::TrackerRegion;
 
 struct LocationSearchOptions {
   int report = 10;  // candidates reported, best first (>= 1; more than tried: all of them)
