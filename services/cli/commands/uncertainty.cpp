@@ -18,7 +18,8 @@
 // compares the best candidate with the configured position. This command only gathers and
 // prints; the math is the solver's (ncqual/solver/verification_uncertainty.hpp).
 //
-// --json prints one document; its names are a public interface (append, never rename):
+// --json prints one document (UncertaintyDocument below); its names are a public interface
+// (append, never rename):
 //   {"machine_id", "config" (machine file), "plant" (plant file),
 //    "machine_errors": "zero", "method": "linearised", "trials", "seed",
 //    "design": {"points", "grid": [nx, ny, nz], "targets", "observations",
@@ -54,13 +55,14 @@
 #include "commands.hpp"
 
 #include "ncqual/config.hpp"
+#include "ncqual/json.hpp"
 #include "ncqual/solver/verification_uncertainty.hpp"
 #include "ncqual/units.hpp"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <iostream>
 #include <numeric>
 #include <optional>
@@ -76,15 +78,9 @@ constexpr int kMaxThreads = 64;
 constexpr std::size_t kWorstPoints = 5;
 constexpr int kReportedCandidates = 5;
 
-using nlohmann::json;
-
 double um(double mm) { return mm * 1e3; }
 double deg(double rad) { return units::rad_to_deg(rad); }
 double urad(double rad) { return rad * 1e6; }
-
-json vec(const Eigen::Vector3d& v, double scale = 1) {
-  return json::array({v.x() * scale, v.y() * scale, v.z() * scale});
-}
 
 // "(a, b, c)" with `decimals` each.
 std::string triple(int decimals, const Eigen::Vector3d& v) {
@@ -141,110 +137,169 @@ double max_bound95(const solver::VerificationUncertainty& u) {
 
 // ---- JSON ---------------------------------------------------------------------------------------
 
-json summary_json(const solver::SampleSummary& s) {
-  return {{"mean_um", um(s.mean)},
-          {"sigma_um", um(s.sigma)},
-          {"quantile95_um", um(s.quantile95)},
-          {"max_um", um(s.max)}};
+// The --json document (names: the file comment above).
+struct SummaryDocument {
+  double mean_um = 0, sigma_um = 0, quantile95_um = 0, max_um = 0;
+};
+struct PointDocument {
+  std::string label;
+  Eigen::Vector3d commanded_mm, tool_offset_mm, target_mm, mean_um, sigma_um;
+  double rms_um = 0, bound95_um = 0, tracker_u_p_um = 0;
+};
+struct DesignDocument {
+  std::size_t points = 0;
+  std::array<std::size_t, 3> grid{};
+  std::size_t targets = 0;
+  int observations = 0, candidate_parameters = 0;
+  double mean_kept_parameters = 0;
+  std::vector<std::string> unidentifiable;
+};
+struct TrackerDocument {
+  Eigen::Vector3d position_mm, ypr_deg;
+  double angular_sigma_urad = 0, radial_sigma_um = 0, radial_sigma_um_per_m = 0;
+  int samples_per_point = 0;
+  double position_sigma_mm = 0, orientation_sigma_urad = 0;
+};
+struct SourcesDocument {
+  Eigen::Vector3d repeatability_sigma_um, expansion_um_per_m_K, expansion_sigma_um_per_m_K,
+      temperature_deviation_K, temperature_sigma_K;
+};
+struct TrackerAloneDocument {
+  double max_u_p_um = 0, mean_u_p_um = 0;
+  std::string worst_point;
+  Eigen::Vector3d worst_target_mm;
+};
+struct CandidateDocument {
+  Eigen::Vector3d position_mm;
+  double yaw_deg = 0, max_u_p_um = 0, mean_u_p_um = 0;
+  std::string worst_point;
+};
+struct ConfiguredDocument {
+  Eigen::Vector3d position_mm;
+  double yaw_deg = 0, max_u_p_um = 0, mean_u_p_um = 0;
+};
+struct SearchDocument {
+  Eigen::Vector2d x_mm, y_mm, z_mm;  // [min, max]
+  double step_mm = 0;
+  std::array<int, 3> steps{};
+  double envelope_clearance_mm = 0, min_range_mm = 0, max_range_mm = 0;
+  int tried = 0, excluded = 0;
+  CandidateDocument best;
+  ConfiguredDocument configured;
+  std::vector<CandidateDocument> candidates;
+};
+struct UncertaintyDocument {
+  std::string machine_id, config, plant;
+  std::string machine_errors = "zero";
+  std::string method;
+  int trials = 0;
+  std::uint64_t seed = 0;
+  DesignDocument design;
+  TrackerDocument tracker;
+  SourcesDocument sources;
+  SummaryDocument trial_max_residual_um, trial_mean_residual_um;
+  double max_bound95_um = 0;
+  TrackerAloneDocument tracker_alone;
+  std::vector<PointDocument> worst_points, points;
+  std::optional<SearchDocument> search;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SummaryDocument, mean_um, sigma_um, quantile95_um, max_um)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PointDocument, label, commanded_mm, tool_offset_mm, target_mm,
+                                   mean_um, sigma_um, rms_um, bound95_um, tracker_u_p_um)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DesignDocument, points, grid, targets, observations,
+                                   candidate_parameters, mean_kept_parameters, unidentifiable)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrackerDocument, position_mm, ypr_deg, angular_sigma_urad,
+                                   radial_sigma_um, radial_sigma_um_per_m, samples_per_point,
+                                   position_sigma_mm, orientation_sigma_urad)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SourcesDocument, repeatability_sigma_um, expansion_um_per_m_K,
+                                   expansion_sigma_um_per_m_K, temperature_deviation_K,
+                                   temperature_sigma_K)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrackerAloneDocument, max_u_p_um, mean_u_p_um, worst_point,
+                                   worst_target_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CandidateDocument, position_mm, yaw_deg, max_u_p_um, mean_u_p_um,
+                                   worst_point)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ConfiguredDocument, position_mm, yaw_deg, max_u_p_um,
+                                   mean_u_p_um)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SearchDocument, x_mm, y_mm, z_mm, step_mm, steps,
+                                   envelope_clearance_mm, min_range_mm, max_range_mm, tried,
+                                   excluded, best, configured, candidates)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(UncertaintyDocument, machine_id, config, plant, machine_errors,
+                                   method, trials, seed, design, tracker, sources,
+                                   trial_max_residual_um, trial_mean_residual_um, max_bound95_um,
+                                   tracker_alone, worst_points, points, search)
+
+SummaryDocument summary_document(const solver::SampleSummary& s) {
+  return {um(s.mean), um(s.sigma), um(s.quantile95), um(s.max)};
 }
 
-json point_json(const solver::PointUncertainty& p) {
-  return {{"label", p.label},
-          {"commanded_mm", vec(p.commanded_mm)},
-          {"tool_offset_mm", vec(p.tool_offset_mm)},
-          {"target_mm", vec(p.commanded_mm + p.tool_offset_mm)},
-          {"mean_um", vec(p.mean_mm, 1e3)},
-          {"sigma_um", vec(p.sigma_mm, 1e3)},
-          {"rms_um", um(p.rms_mm)},
-          {"bound95_um", um(p.bound95_mm)},
-          {"tracker_u_p_um", um(p.tracker_u_mm)}};
+PointDocument point_document(const solver::PointUncertainty& p) {
+  return {p.label,           p.commanded_mm,   p.tool_offset_mm, p.commanded_mm + p.tool_offset_mm,
+          p.mean_mm * 1e3,   p.sigma_mm * 1e3, um(p.rms_mm),     um(p.bound95_mm),
+          um(p.tracker_u_mm)};
 }
 
-json candidate_json(const solver::TrackerCandidate& c, const solver::VerificationDesign& d) {
-  return {{"position_mm", vec(c.position_mm)},
-          {"yaw_deg", deg(c.yaw_rad)},
-          {"max_u_p_um", um(c.max_u_mm)},
-          {"mean_u_p_um", um(c.mean_u_mm)},
-          {"worst_point", d.points[static_cast<std::size_t>(c.worst_point)].label}};
+CandidateDocument candidate_document(const solver::TrackerCandidate& c,
+                                     const solver::VerificationDesign& d) {
+  return {c.position_mm, deg(c.yaw_rad), um(c.max_u_mm), um(c.mean_u_mm),
+          d.points[static_cast<std::size_t>(c.worst_point)].label};
 }
 
-json search_json(const Search& s, const Inputs& in, const solver::VerificationUncertainty& u) {
+SearchDocument search_document(const Search& s, const Inputs& in,
+                               const solver::VerificationUncertainty& u) {
   const TrackerSearchConfig& c = *in.config->search;
-  json candidates = json::array();
-  for (const auto& cand : s.result.candidates)
-    candidates.push_back(candidate_json(cand, in.design));
-  const auto& best = s.result.candidates.front();
-  return {{"x_mm", json::array({c.lo_mm.x(), c.hi_mm.x()})},
-          {"y_mm", json::array({c.lo_mm.y(), c.hi_mm.y()})},
-          {"z_mm", json::array({c.lo_mm.z(), c.hi_mm.z()})},
-          {"step_mm", c.step_mm},
-          {"steps", json::array({c.steps.x(), c.steps.y(), c.steps.z()})},
-          {"envelope_clearance_mm", c.envelope_clearance_mm},
-          {"min_range_mm", c.min_range_mm},
-          {"max_range_mm", c.max_range_mm},
-          {"tried", s.result.tried},
-          {"excluded", s.result.excluded},
-          {"best", candidate_json(best, in.design)},
-          {"configured",
-           {{"position_mm", vec(in.tracker.position_mm)},
-            {"yaw_deg", deg(in.tracker.ypr_rad[0])},
-            {"max_u_p_um", um(s.result.given_max_u_mm)},
-            {"mean_u_p_um", um(u.tracker_mean_u_mm)}}},
-          {"candidates", candidates}};
+  SearchDocument d;
+  d.x_mm = {c.lo_mm.x(), c.hi_mm.x()};
+  d.y_mm = {c.lo_mm.y(), c.hi_mm.y()};
+  d.z_mm = {c.lo_mm.z(), c.hi_mm.z()};
+  d.step_mm = c.step_mm;
+  d.steps = {c.steps.x(), c.steps.y(), c.steps.z()};
+  d.envelope_clearance_mm = c.envelope_clearance_mm;
+  d.min_range_mm = c.min_range_mm;
+  d.max_range_mm = c.max_range_mm;
+  d.tried = s.result.tried;
+  d.excluded = s.result.excluded;
+  d.best = candidate_document(s.result.candidates.front(), in.design);
+  d.configured = {in.tracker.position_mm, deg(in.tracker.ypr_rad[0]), um(s.result.given_max_u_mm),
+                  um(u.tracker_mean_u_mm)};
+  for (const auto& cand : s.result.candidates) {
+    d.candidates.push_back(candidate_document(cand, in.design));
+  }
+  return d;
 }
 
-json to_json(const Inputs& in, const solver::VerificationUncertainty& u,
-             const std::optional<Search>& search) {
+UncertaintyDocument document_of(const Inputs& in, const solver::VerificationUncertainty& u,
+                                const std::optional<Search>& search) {
   const GlobalCheckConfig& g = *in.global;
-  json points = json::array();
-  for (const auto& p : u.points) points.push_back(point_json(p));
-  json worst = json::array();
-  for (std::size_t i : worst_points(u, kWorstPoints)) worst.push_back(point_json(u.points[i]));
+  UncertaintyDocument d;
+  d.machine_id = in.machine->machine_id;
+  d.config = in.machine->source_path;
+  d.plant = in.plant_file;
+  d.method = u.method == solver::IdentificationMethod::Linearised ? "linearised" : "full";
+  d.trials = u.trials;
+  d.seed = in.options.seed;
+  d.design = {u.points.size(),        {g.grid_x_mm.size(), g.grid_y_mm.size(), g.grid_z_mm.size()},
+              g.targets.size(),       u.observations,
+              u.candidate_parameters, u.mean_kept_parameters,
+              u.unidentifiable};
+  const auto& t = in.tracker;
+  d.tracker = {t.position_mm,         t.ypr_rad * units::rad_to_deg(1.0), urad(t.angular_sigma_rad),
+               um(t.radial_sigma_mm), um(t.radial_sigma_mm_per_m),        t.samples_per_point,
+               t.position_sigma_mm,   urad(t.orientation_sigma_rad)};
+  d.sources = {in.sources.repeatability_sigma_mm * 1e3, in.sources.expansion_per_K * 1e6,
+               in.sources.expansion_sigma_per_K * 1e6, in.sources.temperature_deviation_K,
+               in.sources.temperature_sigma_K};
+  d.trial_max_residual_um = summary_document(u.max_residual_mm);
+  d.trial_mean_residual_um = summary_document(u.mean_residual_mm);
+  d.max_bound95_um = um(max_bound95(u));
   const std::size_t tw = tracker_worst_point(u);
-  const Eigen::Vector3d sigma_alpha = in.sources.expansion_sigma_per_K * 1e6;
-  return {
-      {"machine_id", in.machine->machine_id},
-      {"config", in.machine->source_path},
-      {"plant", in.plant_file},
-      {"machine_errors", "zero"},
-      {"method", u.method == solver::IdentificationMethod::Linearised ? "linearised" : "full"},
-      {"trials", u.trials},
-      {"seed", in.options.seed},
-      {"design",
-       {{"points", u.points.size()},
-        {"grid", json::array({g.grid_x_mm.size(), g.grid_y_mm.size(), g.grid_z_mm.size()})},
-        {"targets", g.targets.size()},
-        {"observations", u.observations},
-        {"candidate_parameters", u.candidate_parameters},
-        {"mean_kept_parameters", u.mean_kept_parameters},
-        {"unidentifiable", u.unidentifiable}}},
-      {"tracker",
-       {{"position_mm", vec(in.tracker.position_mm)},
-        {"ypr_deg", vec(in.tracker.ypr_rad, units::rad_to_deg(1.0))},
-        {"angular_sigma_urad", urad(in.tracker.angular_sigma_rad)},
-        {"radial_sigma_um", um(in.tracker.radial_sigma_mm)},
-        {"radial_sigma_um_per_m", um(in.tracker.radial_sigma_mm_per_m)},
-        {"samples_per_point", in.tracker.samples_per_point},
-        {"position_sigma_mm", in.tracker.position_sigma_mm},
-        {"orientation_sigma_urad", urad(in.tracker.orientation_sigma_rad)}}},
-      {"sources",
-       {{"repeatability_sigma_um", vec(in.sources.repeatability_sigma_mm, 1e3)},
-        {"expansion_um_per_m_K", vec(in.sources.expansion_per_K, 1e6)},
-        {"expansion_sigma_um_per_m_K", vec(sigma_alpha)},
-        {"temperature_deviation_K", vec(in.sources.temperature_deviation_K)},
-        {"temperature_sigma_K", vec(in.sources.temperature_sigma_K)}}},
-      {"trial_max_residual_um", summary_json(u.max_residual_mm)},
-      {"trial_mean_residual_um", summary_json(u.mean_residual_mm)},
-      {"max_bound95_um", um(max_bound95(u))},
-      {"tracker_alone",
-       {{"max_u_p_um", um(u.tracker_max_u_mm)},
-        {"mean_u_p_um", um(u.tracker_mean_u_mm)},
-        {"worst_point", u.points[tw].label},
-        {"worst_target_mm", vec(u.points[tw].commanded_mm + u.points[tw].tool_offset_mm)}}},
-      {"worst_points", worst},
-      {"points", points},
-      {"search", search ? search_json(*search, in, u) : json()},
-  };
+  d.tracker_alone = {um(u.tracker_max_u_mm), um(u.tracker_mean_u_mm), u.points[tw].label,
+                     u.points[tw].commanded_mm + u.points[tw].tool_offset_mm};
+  for (std::size_t i : worst_points(u, kWorstPoints)) {
+    d.worst_points.push_back(point_document(u.points[i]));
+  }
+  for (const auto& p : u.points) d.points.push_back(point_document(p));
+  if (search) d.search = search_document(*search, in, u);
+  return d;
 }
 
 // ---- Text ---------------------------------------------------------------------------------------
@@ -404,7 +459,7 @@ int run(const Options& o) {
   }
 
   if (o.json) {
-    std::cout << to_json(in, u, search).dump(2) << "\n";
+    std::cout << nlohmann::json(document_of(in, u, search)).dump(2) << "\n";
   } else {
     print_report(in, u, search);
   }
