@@ -465,11 +465,11 @@ int run(const Options& o) {
 }  // namespace
 
 void add_budget(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "budget",
+  auto [cmd, o] = add_command(
+      app, commands, "budget",
       "the error budget: capability, allowance and today's share of every error source,\n"
-      "derived tolerances of the check metrics, RSS and Monte Carlo totals");
+      "derived tolerances of the check metrics, RSS and Monte Carlo totals",
+      run);
   add_machine_option(cmd, o->machine, "the machine whose budget: section to evaluate");
   add_plant_option(cmd, o->plant);
   add_db_option(cmd, o->db);
@@ -479,7 +479,6 @@ void add_budget(CLI::App& app, Commands& commands) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber.description(""));
   add_json_flag(cmd, o->json);
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli

@@ -8,6 +8,7 @@
 
 #include "ncqual/config.hpp"
 #include "ncqual/model.hpp"
+#include "ncqual/storage.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -96,6 +97,10 @@ const MachineConfig& configured_machine(const PlantConfig& plant, const std::str
 // The historian database of history, wait and count: --db, else the plant config's (--plant or
 // NCQUAL_PLANT), else the demo's var/historian.db ($NCQUAL_VAR); UsageError when there is none.
 std::string database_path(const std::optional<std::string>& db, const std::string& plant_flag);
+// The historian database at `path`, read only; nothing, after "ncqual <command>: no historian
+// database at <path>" on stderr, when there is no such file (the command exits kExitNotFound).
+std::optional<storage::Database> open_historian(const std::string& path,
+                                                const std::string& command);
 
 // The operator: $USER, else the host name.
 std::string operator_name();

@@ -15,7 +15,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <iostream>
 
 namespace ncqual::cli {
@@ -59,11 +58,9 @@ struct Options {
 
 int run(const Options& o) {
   const std::string path = database_path(o.db, o.plant);
-  if (!std::filesystem::exists(path)) {
-    std::cerr << "ncqual history: no historian database at " << path << "\n";
-    return kExitNotFound;
-  }
-  auto db = storage::Database::open_readonly(path);
+  auto opened = open_historian(path, "history");
+  if (!opened) return kExitNotFound;
+  storage::Database& db = *opened;
   storage::HistoryQuery q;
   q.machine_id = o.machine;
   q.kind = o.kind;

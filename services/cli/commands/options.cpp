@@ -101,6 +101,15 @@ std::string database_path(const std::optional<std::string>& db, const std::strin
                    " here");
 }
 
+std::optional<storage::Database> open_historian(const std::string& path,
+                                                const std::string& command) {
+  if (!std::filesystem::exists(path)) {
+    std::cerr << "ncqual " << command << ": no historian database at " << path << "\n";
+    return std::nullopt;
+  }
+  return storage::Database::open_readonly(path);
+}
+
 std::optional<solver::Plane> plane_option(const std::optional<std::string>& text) {
   if (!text) return std::nullopt;
   const auto plane = solver::parse_plane(*text);

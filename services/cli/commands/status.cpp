@@ -26,7 +26,6 @@
 
 #include <fmt/format.h>
 
-#include <filesystem>
 #include <iostream>
 
 namespace ncqual::cli {
@@ -74,11 +73,9 @@ struct Options {
 int run(const Options& o) {
   const PlantConfig plant = plant_from(o.plant);
   const std::string db_path = o.db.value_or(plant.historian_database);
-  if (!std::filesystem::exists(db_path)) {
-    std::cerr << "ncqual status: no historian database at " << db_path << "\n";
-    return kExitNotFound;
-  }
-  auto db = storage::Database::open_readonly(db_path);
+  auto opened = open_historian(db_path, "status");
+  if (!opened) return kExitNotFound;
+  storage::Database& db = *opened;
   const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
   const auto& machine_filter = o.machine;
   if (machine_filter) (void)configured_machine(plant, *machine_filter);
@@ -153,14 +150,12 @@ int run(const Options& o) {
 }  // namespace
 
 void add_status(CLI::App& app, Commands& commands) {
-  auto o = std::make_shared<Options>();
-  CLI::App* cmd = app.add_subcommand(
-      "status", "every machine's state, and per period its last pass and when it falls due next");
-  add_plant_option(cmd, o->plant);
-  add_db_option(cmd, o->db);
+  auto [cmd, o] = add_command(
+      app, commands, "status",
+      "every machine's state, and per period its last pass and when it falls due next", run);
+  add_historian_options(cmd, o->plant, o->db);
   add_machine_option(cmd, o->machine, "only this machine");
   add_json_flag(cmd, o->json);
-  commands.push_back({cmd, [o] { return run(*o); }});
 }
 
 }  // namespace ncqual::cli

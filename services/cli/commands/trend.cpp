@@ -19,7 +19,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <iostream>
 #include <map>
 
@@ -62,11 +61,9 @@ int run(const Options& o) {
   }
   const int shown = o.metrics;
   const std::string db_path = o.db.value_or(plant.historian_database);
-  if (!std::filesystem::exists(db_path)) {
-    std::cerr << "ncqual trend: no historian database at " << db_path << "\n";
-    return kExitNotFound;
-  }
-  auto db = storage::Database::open_readonly(db_path);
+  auto opened = open_historian(db_path, "trend");
+  if (!opened) return kExitNotFound;
+  storage::Database& db = *opened;
   const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
   storage::HistoryQuery q;
   q.machine_id = machine;
