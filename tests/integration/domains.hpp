@@ -35,6 +35,7 @@ enum class TestDomain : int {
   FleetArguments = detail::test_domain(210),         // Fleet.AcquisitionRefusesABadMachineList...
   FleetSchedulerPerMachine = detail::test_domain(211),    // Fleet.OneSchedulerPerMachine...
   CalendarAcquisitionRestart = detail::test_domain(212),  // Calendar.RestartedAcquisition...
+  DefaultQos = detail::test_domain(213),                  // BadInput.APlantWhoseQosProfiles...
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -52,7 +53,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::Fleet:
     case TestDomain::FleetArguments:
     case TestDomain::FleetSchedulerPerMachine:
-    case TestDomain::CalendarAcquisitionRestart: break;
+    case TestDomain::CalendarAcquisitionRestart:
+    case TestDomain::DefaultQos: break;
   }
   return static_cast<int>(domain);
 }

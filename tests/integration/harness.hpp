@@ -64,6 +64,9 @@ class Plant {
                             scheduler_yaml);
   }
 
+  // The QoS lines of the plant files written from now on (default: the project's profiles).
+  void set_qos_lines(std::string lines) { qos_lines_ = std::move(lines); }
+
   // Starts a service of the plant; stdout and stderr are appended to <service>.log in the
   // plant's directory (several instances of one service share the file).
   Process& start(const std::string& service, const std::vector<std::string>& extra = {}) {
@@ -119,8 +122,7 @@ class Plant {
     std::ofstream out(path);
     out << "plant: test-plant\n"
         << "domain_id: " << domain_ << "\n"
-        << "qos_profiles: " << NCQUAL_SOURCE_DIR << "/deploy/qos/ncqual-qos.xml\n"
-        << "historian:\n  database: " << db_path() << "\n"
+        << qos_lines_ << "historian:\n  database: " << db_path() << "\n"
         << sections << "machines:\n";
     for (const auto& m : machines_) out << "  - " << m << "\n";
     plant_file_ = path.string();
@@ -128,6 +130,8 @@ class Plant {
   }
 
   fs::path dir_;
+  std::string qos_lines_ =
+      std::string("qos_profiles: ") + NCQUAL_SOURCE_DIR + "/deploy/qos/ncqual-qos.xml\n";
   int domain_ = 0;
   std::string plant_file_;
   std::vector<std::string> machines_;

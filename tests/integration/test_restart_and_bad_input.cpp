@@ -147,5 +147,30 @@ TEST(BadInput, MalformedMeasurementSetsGetInvalidResultsAndNothingIsLost) {
   EXPECT_EQ(passes, 1);
 }
 
+// A plant whose QoS profiles do not load would run every service on Fast DDS's defaults, where
+// nothing is durable: refused at start, unless the plant says allow_default_qos: true.
+TEST(BadInput, APlantWhoseQosProfilesDoNotLoadIsRefusedUnlessItAllowsTheDefaults) {
+  Plant plant("default-qos", TestDomain::DefaultQos);
+  plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
+  plant.set_qos_lines("");  // no qos_profiles: key
+  plant.write_plant("[]");
+  Process& refused = plant.start("historian");
+  ASSERT_TRUE(refused.wait_for(std::chrono::seconds(60))) << plant.log("historian");
+  EXPECT_EQ(refused.wait(), 2);
+  const std::string said = plant.log("historian");
+  EXPECT_NE(said.find("QoS profiles not loaded"), std::string::npos) << said;
+  EXPECT_NE(said.find("allow_default_qos: true"), std::string::npos) << said;
+
+  plant.set_qos_lines("allow_default_qos: true\n");
+  plant.write_plant("[]");
+  Process& allowed = plant.start("historian");
+  // It runs: its own heartbeat, written and read on Fast DDS's defaults, is stored.
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return !db.services().empty(); }))
+      << plant.log("historian");
+  EXPECT_NE(plant.log("historian").find("running on Fast DDS's defaults"), std::string::npos);
+  allowed.terminate();
+  EXPECT_EQ(allowed.wait(), 0) << plant.log("historian");
+}
+
 }  // namespace
 }  // namespace ncqual::testing

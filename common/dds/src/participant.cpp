@@ -46,7 +46,14 @@ void load_profiles_once(const std::string& file) {
 
 }  // namespace
 
-Participant::Participant(const ParticipantOptions& options) : domain_id_(options.domain_id) {
+// What to do when the profiles are not there, said once for all of the process's refusals.
+constexpr const char* kProfilesRemedy =
+    "set qos_profiles in the plant config (deploy/qos/ncqual-qos.xml) or "
+    "FASTRTPS_DEFAULT_PROFILES_FILE; allow_default_qos: true runs on Fast DDS's defaults, which "
+    "are not durable, for an experiment";
+
+Participant::Participant(const ParticipantOptions& options)
+    : domain_id_(options.domain_id), allow_default_qos_(options.allow_default_qos) {
   load_profiles_once(options.qos_profiles_file);
   // TypeObjects of our types: needed for content filters and for XTypes discovery.
   static std::once_flag types_registered;
@@ -57,9 +64,13 @@ Participant::Participant(const ParticipantOptions& options) : domain_id_(options
       eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
     // Without our profiles file the Fast DDS defaults apply: reliable readers and writers, but
     // VOLATILE, so a restarted historian would miss what was published while it was down.
+    if (!allow_default_qos_) {
+      throw DdsError(std::string("QoS profiles not loaded (participant profile '") +
+                     profiles::kParticipant + "' not found): " + kProfilesRemedy);
+    }
     spdlog::warn(
-        "QoS profiles not loaded (set qos_profiles in the plant config or "
-        "FASTRTPS_DEFAULT_PROFILES_FILE): using Fast DDS defaults, which are not durable");
+        "QoS profiles not loaded: allow_default_qos is true, running on Fast DDS's "
+        "defaults, which are not durable");
     qos = PARTICIPANT_QOS_DEFAULT;
   }
   if (!options.name.empty()) qos.name(options.name);
@@ -78,6 +89,13 @@ Participant::~Participant() {
     participant_->delete_contained_entities();
     DomainParticipantFactory::get_instance()->delete_participant(participant_);
   }
+}
+
+std::optional<DdsError> Participant::missing_profile(const std::string& profile,
+                                                     const std::string& topic) const {
+  if (allow_default_qos_) return std::nullopt;
+  return DdsError("QoS profile '" + profile + "' of " + topic +
+                  " is not loaded: " + kProfilesRemedy);
 }
 
 Topic* Participant::topic(const std::string& name, const TypeSupport& type) {

@@ -37,8 +37,10 @@ int ServiceMain::run(int argc, char** argv, const std::function<int(PlantConfig)
 
 ServiceOptions ServiceMain::service_options(const PlantConfig& plant,
                                             const std::string& served) const {
-  return {service_, served, resolve_domain_id(options_.domain, plant.domain_id),
-          plant.qos_profiles_file};
+  ServiceOptions options{service_, served, resolve_domain_id(options_.domain, plant.domain_id),
+                         plant.qos_profiles_file};
+  options.allow_default_qos = plant.allow_default_qos;
+  return options;
 }
 
 Service::Service(const ServiceOptions& options) : options_(options) {
@@ -50,8 +52,9 @@ Service::Service(const ServiceOptions& options) : options_(options) {
     spdlog::info("signal {} received, stopping", sig);
     dispatcher_.stop();
   });
-  participant_ = std::make_unique<Participant>(ParticipantOptions{
-      options.domain_id, options.qos_profiles_file, "ncqual-" + options.service});
+  participant_ = std::make_unique<Participant>(
+      ParticipantOptions{options.domain_id, options.qos_profiles_file, "ncqual-" + options.service,
+                         options.allow_default_qos});
   heartbeat_ = std::make_unique<Writer<HeartbeatTopic>>(*participant_);
   dispatcher_.every(options.heartbeat_period, [this] { beat("running"); });
 }

@@ -105,7 +105,11 @@ struct PlantConfig {
   std::string plant;
   std::string source_path;
   int domain_id = 0;
-  std::string qos_profiles_file;   // absolute, or empty for the built-in default search
+  std::string qos_profiles_file;  // absolute, or empty for the built-in default search
+  // Without it, a process whose QoS profiles do not load refuses to start: on Fast DDS's
+  // defaults nothing is durable, and what is published while a reader is down is lost. True
+  // only for experiments (allow_default_qos: true).
+  bool allow_default_qos = false;
   std::string historian_database;  // absolute
   std::vector<MachineConfig> machines;
   // Without a calendar: the checks the scheduler runs for every machine when it starts, in order

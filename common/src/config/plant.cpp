@@ -279,13 +279,14 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     root.problem("expected a mapping at the top level");
     return std::nullopt;
   }
-  root.map_of(
-      {"plant", "domain_id", "qos_profiles", "historian", "scheduler", "clock", "machines"});
+  root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "historian", "scheduler",
+               "clock", "machines"});
   PlantConfig p;
   p.source_path = fs::absolute(path).lexically_normal().string();
   p.plant = root["plant"].text("plant");
   p.domain_id = root["domain_id"].integer(0, 232, 0);
   p.qos_profiles_file = resolve(path, root["qos_profiles"].text(""));
+  p.allow_default_qos = root["allow_default_qos"].flag().value_or(false);
   const Node hist = root["historian"];
   hist.map_of({"database"});
   p.historian_database = resolve(path, hist["database"].text("historian.db"));

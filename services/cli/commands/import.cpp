@@ -105,7 +105,8 @@ int run(const Options& o) {
   }
 
   const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
-  ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-import"});
+  ncqual::dds::Participant participant(
+      {domain, plant.qos_profiles_file, "ncqual-import", plant.allow_default_qos});
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   // The solver and the historian both read measurement sets: wait for both.
   if (!publish(

@@ -38,7 +38,8 @@ int run(const Options& o) {
   const Intervention iv{machine, new_sample_id("iv", machine), *o.kind, o.note,
                         who,     WallClock().now_ns()};
   const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
-  ncqual::dds::Participant participant({domain, plant.qos_profiles_file, "ncqual-cli"});
+  ncqual::dds::Participant participant(
+      {domain, plant.qos_profiles_file, "ncqual-cli", plant.allow_default_qos});
   ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
   // The scheduler (to re-arm) and the historian (to record): both must hear it.
   if (!publish(writer, iv, 2, "intervene",

@@ -32,8 +32,8 @@ class Writer {
         Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
     writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
     if (!writer_) {
-      // Without our profiles file loaded (e.g. a tool pointed at no deploy/ tree), fall back to
-      // reliable defaults rather than refusing to run.
+      // Without our profiles: refused, unless the plant allows reliable defaults (experiments).
+      if (auto refusal = participant.missing_profile(profile, Topic::kName)) throw *refusal;
       writer_ = participant.publisher()->create_datawriter(topic, default_qos());
     }
     if (!writer_) throw DdsError(std::string("could not create a writer on ") + Topic::kName);
@@ -115,6 +115,7 @@ class Reader {
     if (machine_id) description = participant.machine_filter(topic, *machine_id);
     reader_ = participant.subscriber()->create_datareader_with_profile(description, profile);
     if (!reader_) {
+      if (auto refusal = participant.missing_profile(profile, Topic::kName)) throw *refusal;
       eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
       qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
       reader_ = participant.subscriber()->create_datareader(description, qos);

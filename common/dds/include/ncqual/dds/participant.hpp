@@ -12,6 +12,7 @@
 
 #include <map>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include "ncqual/error.hpp"
 
@@ -30,6 +31,9 @@ struct ParticipantOptions {
   std::string
       qos_profiles_file;  // XML profiles; empty: FASTRTPS_DEFAULT_PROFILES_FILE or built-ins
   std::string name;       // participant name seen by tools, e.g. "ncqual-solver"
+  // When the profiles are not loaded: false refuses (DdsError naming the remedies), true warns
+  // and runs on Fast DDS's defaults (reliable, not durable). The plant's allow_default_qos.
+  bool allow_default_qos = false;
 };
 
 // Domain id: the --domain flag when given (>= 0), else NCQUAL_DOMAIN, else the plant config's.
@@ -57,6 +61,10 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
   int domain_id() const { return domain_id_; }
+  // A writer or reader whose profile is not loaded: the DdsError to throw, or nothing when the
+  // plant allows Fast DDS's defaults (then it warns once and the caller uses them).
+  std::optional<DdsError> missing_profile(const std::string& profile,
+                                          const std::string& topic) const;
 
   // The topic of this name, created on first use with its type registered.
   eprosima::fastdds::dds::Topic* topic(const std::string& name,
@@ -67,6 +75,7 @@ class Participant {
 
  private:
   int domain_id_ = 0;
+  bool allow_default_qos_ = false;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;

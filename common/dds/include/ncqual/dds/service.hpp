@@ -23,6 +23,7 @@ struct ServiceOptions {
   int domain_id = 0;
   std::string qos_profiles_file;
   std::chrono::milliseconds heartbeat_period{2000};
+  bool allow_default_qos = false;  // the plant's (ParticipantOptions)
 };
 
 class Service {
