@@ -148,6 +148,19 @@ double CsvTable::number(const CsvRow& row, std::size_t column) const {
   return value;
 }
 
+double CsvTable::number_within(const CsvRow& row, std::size_t column, double limit,
+                               const std::string& unit, const std::string& why) const {
+  const double value = number(row, column);
+  if (std::abs(value) > limit) {
+    std::ostringstream bound;
+    bound << limit;
+    fail(row.line, column,
+         "column '" + header[column] + "' = " + in_quotes(cell(row, column)) + ": beyond ±" +
+             bound.str() + " " + unit + ": " + why);
+  }
+  return value;
+}
+
 int CsvTable::integer(const CsvRow& row, std::size_t column) const {
   const std::string& text = cell(row, column);
   const std::string what = "column '" + header[column] + "' = " + in_quotes(text) + ": ";

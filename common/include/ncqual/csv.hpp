@@ -79,6 +79,10 @@ struct CsvTable {
   // cell, text ("abc", "1.5mm"), "nan", "inf" and values out of double range, quoting the cell:
   // "<file>:<line>:<col>: column 'x_mm' = 'abc': expected a number".
   double number(const CsvRow& row, std::size_t column) const;
+  // number(), also refusing a value beyond ±`limit` (a reading no instrument could have made):
+  // "<file>:<line>:<col>: column 'x_mm' = '1e300': beyond ±1e+06 <unit>: <why>".
+  double number_within(const CsvRow& row, std::size_t column, double limit, const std::string& unit,
+                       const std::string& why) const;
   // The cell as an integer (optional sign, digits only: "3", "-2"; "3.0" is refused).
   int integer(const CsvRow& row, std::size_t column) const;
   // The cell as one of `words`, compared case-insensitively; returns the word as written in

@@ -338,5 +338,31 @@ TEST(InstrumentFiles, GridMissingColumnNonNumericAndEmpty) {
             "z_cmd, x_meas, y_meas, z_meas, rms_um");
 }
 
+// A finite but absurd reading (1e300 mm) would pass as a number and turn every figure into inf
+// and nan; it is refused at its cell in each format.
+TEST(InstrumentFiles, ReadingsNoInstrumentCouldMakeAreRefusedAtTheirCell) {
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0.001\n100,1,up,1e300\n"),
+            "run.csv:3:4: column 'measured_mm' = '1e300': beyond \u00b11e+06 mm: no machine or "
+            "instrument reaches 1 km");
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "-2e6,1,up,0.001\n"),
+            "run.csv:2:1: column 'target_mm' = '-2e6': beyond \u00b11e+06 mm: no machine or "
+            "instrument reaches 1 km");
+  EXPECT_EQ(circle_error("angle_deg,radius_mm\n0,50\n90,1e300\n"),
+            "c.csv:3:2: column 'radius_mm' = '1e300': beyond \u00b11e+06 mm: no machine or "
+            "instrument reaches 1 km");
+  EXPECT_EQ(circle_error("angle_deg,radius_mm\n0,50\n1e300,50\n"),
+            "c.csv:3:1: column 'angle_deg' = '1e300': beyond \u00b1100000 deg: a circle test "
+            "turns a few times, not hundreds");
+  EXPECT_EQ(circle_error("x_mm,y_mm\n50,0\n0,-1e300\n"),
+            "c.csv:3:2: column 'y_mm' = '-1e300': beyond \u00b11e+06 mm: no machine or "
+            "instrument reaches 1 km");
+  EXPECT_EQ(grid_error("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\ng0,0,0,0,0,0,1e300\n"),
+            "g.csv:2:7: column 'z_meas' = '1e300': beyond \u00b11e+06 mm: no machine or "
+            "instrument reaches 1 km");
+  // A kilometre is the bound, not a machine's travel: 1e6 mm itself is still read.
+  EXPECT_EQ(run_error(std::string(kRunHeader) + "1e6,1,up,0.001\n").find("beyond"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace ncqual::solver

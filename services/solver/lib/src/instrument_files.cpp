@@ -13,6 +13,15 @@
 namespace ncqual::solver {
 namespace {
 
+// No machine tool or tracker measures a kilometre: a reading beyond is a broken export (1e300
+// would pass as finite and turn every figure into inf and nan).
+constexpr double kMaxLengthMm = 1e6;
+constexpr double kMaxAngleDeg = 1e5;  // about 280 turns of a circle test
+
+double length_mm(const CsvTable& t, const CsvRow& row, std::size_t column) {
+  return t.number_within(row, column, kMaxLengthMm, "mm", "no machine or instrument reaches 1 km");
+}
+
 using units::kPi;
 
 // The line a whole-data problem is reported at: the last data row, or the header.
@@ -60,10 +69,10 @@ Iso230_2File read_iso230_2_csv(const CsvTable& t) {
   out.file = t.file;
   for (const CsvRow& row : t.rows) {
     PositioningReading r;
-    r.target_mm = t.number(row, c_target);
+    r.target_mm = length_mm(t, row, c_target);
     r.cycle = t.integer(row, c_cycle);
     r.direction = t.word(row, c_direction, {"up", "down"}) == "up" ? Approach::Up : Approach::Down;
-    r.measured_mm = t.number(row, c_measured);
+    r.measured_mm = length_mm(t, row, c_measured);
     out.readings.push_back(r);
     out.lines.push_back(row.line);
   }
@@ -149,8 +158,10 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
     if (c_direction)
       d = t.word(row, *c_direction, {"ccw", "cw"}) == "ccw" ? PathDirection::Ccw
                                                             : PathDirection::Cw;
-    const double a = t.number(row, c_a);
-    const double b = t.number(row, c_b);
+    const double a = polar ? t.number_within(row, c_a, kMaxAngleDeg, "deg",
+                                             "a circle test turns a few times, not hundreds")
+                           : length_mm(t, row, c_a);
+    const double b = length_mm(t, row, c_b);
     CircularPoint p;
     if (polar) {
       if (!(b > 0))
@@ -202,8 +213,8 @@ std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
     g.line = row.line;
     g.point = t.cell(row, c_point);
     if (g.point.empty()) t.fail(row.line, c_point, "column 'point' is empty: name the point");
-    for (int k = 0; k < 3; ++k) g.commanded_mm(k) = t.number(row, c_cmd[k]);
-    for (int k = 0; k < 3; ++k) g.measured_mm(k) = t.number(row, c_meas[k]);
+    for (int k = 0; k < 3; ++k) g.commanded_mm(k) = length_mm(t, row, c_cmd[k]);
+    for (int k = 0; k < 3; ++k) g.measured_mm(k) = length_mm(t, row, c_meas[k]);
     const auto [name_it, fresh_name] = names.emplace(g.point, row.line);
     if (!fresh_name) {
       t.fail(row.line, c_point,
