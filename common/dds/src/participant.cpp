@@ -91,11 +91,12 @@ Participant::~Participant() {
   }
 }
 
-std::optional<DdsError> Participant::missing_profile(const std::string& profile,
-                                                     const std::string& topic) const {
-  if (allow_default_qos_) return std::nullopt;
-  return DdsError("QoS profile '" + profile + "' of " + topic +
-                  " is not loaded: " + kProfilesRemedy);
+void Participant::require_default_qos_allowed(const std::string& profile,
+                                              const std::string& topic) const {
+  if (!allow_default_qos_) {
+    throw DdsError("QoS profile '" + profile + "' of " + topic +
+                   " is not loaded: " + kProfilesRemedy);
+  }
 }
 
 Topic* Participant::topic(const std::string& name, const TypeSupport& type) {

@@ -33,7 +33,7 @@ class Writer {
     writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
     if (!writer_) {
       // Without our profiles: refused, unless the plant allows reliable defaults (experiments).
-      if (auto refusal = participant.missing_profile(profile, Topic::kName)) throw *refusal;
+      participant.require_default_qos_allowed(profile, Topic::kName);
       writer_ = participant.publisher()->create_datawriter(topic, default_qos());
     }
     if (!writer_) throw DdsError(std::string("could not create a writer on ") + Topic::kName);
@@ -115,7 +115,7 @@ class Reader {
     if (machine_id) description = participant.machine_filter(topic, *machine_id);
     reader_ = participant.subscriber()->create_datareader_with_profile(description, profile);
     if (!reader_) {
-      if (auto refusal = participant.missing_profile(profile, Topic::kName)) throw *refusal;
+      participant.require_default_qos_allowed(profile, Topic::kName);
       eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
       qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
       reader_ = participant.subscriber()->create_datareader(description, qos);

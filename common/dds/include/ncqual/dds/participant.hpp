@@ -12,7 +12,6 @@
 
 #include <map>
 #include <mutex>
-#include <optional>
 #include <stdexcept>
 #include "ncqual/error.hpp"
 
@@ -61,10 +60,9 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
   int domain_id() const { return domain_id_; }
-  // A writer or reader whose profile is not loaded: the DdsError to throw, or nothing when the
-  // plant allows Fast DDS's defaults (then it warns once and the caller uses them).
-  std::optional<DdsError> missing_profile(const std::string& profile,
-                                          const std::string& topic) const;
+  // For a writer or reader whose profile is not loaded: throws the DdsError naming the remedies,
+  // unless the plant allows Fast DDS's defaults (then the caller uses them).
+  void require_default_qos_allowed(const std::string& profile, const std::string& topic) const;
 
   // The topic of this name, created on first use with its type registered.
   eprosima::fastdds::dds::Topic* topic(const std::string& name,
