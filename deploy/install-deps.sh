@@ -10,7 +10,7 @@ packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libceres-dev libsqlite3-dev sqlite3 libspdlog-dev libfmt-dev
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
-  libhowardhinnant-date-dev tzdata libcli11-dev
+  libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(clang-format-14 clang-tidy-14)

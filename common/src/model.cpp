@@ -12,6 +12,8 @@ namespace {
 constexpr std::array<std::string_view, 3> kVerdictNames = {"PASS", "FAIL", "INVALID"};
 constexpr std::array<std::string_view, 6> kStateNames = {
     "UNKNOWN", "QUALIFIED", "CHECKING", "NEEDS_INTERVENTION", "OVERDUE", "OFFLINE"};
+constexpr std::array<std::string_view, 5> kAckNames = {"STORED", "DUPLICATE", "CONFLICT", "REFUSED",
+                                                       "ACCEPTED"};
 
 }  // namespace
 
@@ -41,6 +43,22 @@ std::optional<Verdict> parse_verdict(std::string_view name) {
 std::string_view to_string(MachineState state) { return name_of(kStateNames, state, "unknown"); }
 std::optional<MachineState> parse_machine_state(std::string_view name) {
   return enum_named<MachineState>(kStateNames, name);
+}
+
+std::string_view to_string(AckOutcome outcome) { return name_of(kAckNames, outcome, "unknown"); }
+std::optional<AckOutcome> parse_ack_outcome(std::string_view name) {
+  return enum_named<AckOutcome>(kAckNames, name);
+}
+
+std::string sample_id_of(const CheckRequest& v) { return v.request_id; }
+std::string sample_id_of(const CheckCommand& v) { return v.request_id; }
+std::string sample_id_of(const MeasurementSet& v) { return v.request_id; }
+std::string sample_id_of(const CheckResult& v) { return v.request_id; }
+std::string sample_id_of(const Compensation& v) { return v.request_id + "/" + v.correction.target; }
+std::string sample_id_of(const Intervention& v) { return v.intervention_id; }
+std::string sample_id_of(const MachineStatus& v) {
+  return v.machine_id + "/" + std::to_string(v.time_ns) + "/" + std::string(to_string(v.state)) +
+         "/" + v.request_id;
 }
 
 const Metric* find_metric(const CheckResult& result, std::string_view name) {

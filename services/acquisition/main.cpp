@@ -6,9 +6,13 @@
 // post-calibration waits until the correction it verifies is applied. What a machine does with
 // its requests is ncqual/acquisition/station.hpp; this file wires one station per machine served
 // (--machine a,b,c or --all) to its machine-filtered readers and the shared MeasurementSet writer.
+// Every set is kept in the outbox of the state file, saved with the record that its request was
+// performed, until the historian stored it and the solver saved its result
+// (docs/architecture.md, "Acknowledged storage"): a restart sends it again, never measures again.
 #include "ncqual/acquisition/station.hpp"
 #include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
+#include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
 
@@ -115,6 +119,21 @@ int run(int argc, char** argv) {
                              ("acquisition-" + file_ids + ".db"))
                                 .string()));
     const auto documents = state.load();
+    ncqual::dds::Outbox outbox(service, state);
+    outbox.route(sets);
+    outbox.start();
+    // The entry a station saves with its record (queue), written once saved (publish).
+    std::vector<storage::OutboxEntry> staged;
+    const auto queue = [&outbox, &staged](const MeasurementSet& set) {
+      staged = {
+          outbox.entry<ncqual::dds::MeasurementSetTopic>(set, {roles::kHistorian, roles::kSolver})};
+      return staged;
+    };
+    const auto publish = [&outbox, &staged](const MeasurementSet&) {
+      outbox.written(staged);
+      staged.clear();
+      return true;
+    };
     const acquisition::StationOptions station_options{plant.simulated_clock, max_age_ns};
     std::vector<std::unique_ptr<Served>> stations;
     for (const auto& m : machines) {
@@ -123,8 +142,7 @@ int run(int argc, char** argv) {
       stations.push_back(std::make_unique<Served>(
           service, std::make_unique<acquisition::Station>(
                        m.machine_id, std::make_unique<acquisition::SimulatedInstruments>(m),
-                       std::move(performed), station_options,
-                       [&sets](const MeasurementSet& set) { return sets.write(set); })));
+                       std::move(performed), station_options, publish, queue)));
     }
     spdlog::info("serving {} machine(s): {}", stations.size(), served);
     return service.run();

@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
-// ncqual-historian: one per plant. Stores every request, measurement set, result,
-// compensation, status change, intervention and service heartbeat in SQLite, exactly once
-// (storing is idempotent on each sample's id, so DDS redelivery after a restart is harmless).
+// ncqual-historian: one per plant. Stores every request, measurement set, result, compensation,
+// status change, intervention and service heartbeat in SQLite, exactly once, and acknowledges
+// each sample once it is committed (docs/architecture.md, "Acknowledged storage"): STORED,
+// DUPLICATE (the same sample again), CONFLICT (its id was stored with other content: kept beside
+// it, flagged) or REFUSED (it can never be stored). A sample the database could not take now
+// (locked, full, failing) is not acknowledged: its producer keeps it and sends it again.
 #include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
+#include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
 #include "ncqual/storage.hpp"
@@ -14,35 +18,61 @@
 
 namespace {
 
-// The id the log names a sample by: its request's, but for interventions and heartbeats.
-template <typename Model>
-std::string sample_id(const Model& sample) {
-  return sample.request_id;
-}
-std::string sample_id(const ncqual::Intervention& sample) { return sample.intervention_id; }
-std::string sample_id(const ncqual::Heartbeat& sample) {
-  return sample.service + "@" + sample.instance;
+using ncqual::AckOutcome;
+using ncqual::storage::StoreOutcome;
+
+AckOutcome ack_outcome(StoreOutcome outcome) {
+  switch (outcome) {
+    case StoreOutcome::Stored: return AckOutcome::Stored;
+    case StoreOutcome::Duplicate: return AckOutcome::Duplicate;
+    case StoreOutcome::Conflict: return AckOutcome::Conflict;
+  }
+  return AckOutcome::Refused;
 }
 
-// Stores one received sample; a bad sample is logged with its reason and skipped, and the
-// historian keeps running with everything already stored intact.
-template <typename Model>
-void store(ncqual::storage::Database& db, const char* what,
-           const ncqual::dds::Received<Model>& in) {
+// Stores one received sample and acknowledges it. A bad sample is logged with its reason and
+// refused; a database failure is logged and not acknowledged; the historian keeps running with
+// everything already stored intact.
+template <typename Topic>
+void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const char* what,
+           const ncqual::dds::Received<typename Topic::Model>& in, std::int64_t now_ns) {
   const std::string& machine_id = in.value.machine_id;
-  const std::string id = sample_id(in.value);
+  const std::string id = ncqual::sample_id_of(in.value);
   if (!in.error.empty()) {
-    spdlog::error("{} {} of machine '{}' not stored: {}", what, id, machine_id, in.error);
+    spdlog::error("{} {} of machine '{}' refused: {}", what, id, machine_id, in.error);
+    acks.acknowledge<Topic>(in, AckOutcome::Refused, in.error);
     return;
   }
   try {
-    if (db.store(in.value)) {
-      spdlog::debug("stored {} {} of {}", what, id, machine_id);
-    } else {
-      spdlog::debug("{} {} of {} already stored", what, id, machine_id);
+    const auto stored = db.store(in.value, {in.content_hash, in.writer, now_ns});
+    switch (stored.outcome) {
+      case StoreOutcome::Stored: spdlog::debug("stored {} {} of {}", what, id, machine_id); break;
+      case StoreOutcome::Duplicate:
+        spdlog::debug("{} {} of {} already stored", what, id, machine_id);
+        break;
+      case StoreOutcome::Conflict:
+        spdlog::error(
+            "CONFLICT: {} {} of machine '{}' from writer {} differs from the one stored (content "
+            "{} against {}); both kept, the stored one unchanged",
+            what, id, machine_id, in.writer, in.content_hash.substr(0, 12),
+            stored.stored_hash.substr(0, 12));
+        break;
     }
+    acks.acknowledge<Topic>(in, ack_outcome(stored.outcome),
+                            stored.outcome == StoreOutcome::Conflict
+                                ? "stored first with content " + stored.stored_hash
+                                : "");
   } catch (const ncqual::storage::StorageError& e) {
-    spdlog::error("{} {} of machine '{}' not stored: {}", what, id, machine_id, e.what());
+    if (e.sqlite_code() == 0) {
+      // Refused by validation: it will never be stored, so the producer may drop it.
+      spdlog::error("{} {} of machine '{}' refused: {}", what, id, machine_id, e.what());
+      acks.acknowledge<Topic>(in, AckOutcome::Refused, e.what());
+    } else {
+      spdlog::error(
+          "{} {} of machine '{}' not stored (not acknowledged; its producer sends it "
+          "again): {}",
+          what, id, machine_id, e.what());
+    }
   }
 }
 
@@ -62,6 +92,7 @@ int run(int argc, char** argv) {
 
     ncqual::dds::Service service(service_main.service_options(plant));
     auto& p = service.participant();
+    ncqual::dds::Acknowledger acks(service, roles::kHistorian);
     ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(p);
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(p);
     ncqual::dds::Reader<ncqual::dds::CheckResultTopic> results(p);
@@ -70,9 +101,12 @@ int run(int argc, char** argv) {
     ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
     ncqual::dds::Reader<ncqual::dds::HeartbeatTopic> heartbeats(p);
 
-    // Every sample a reader receives is stored, named `what` in the log.
+    // Every sample a reader receives is stored and acknowledged, named `what` in the log.
     const auto ingest = [&](auto& reader, const char* what) {
-      service.dispatcher().on(reader, [&db, what](const auto& in) { store(db, what, in); });
+      using Topic = typename std::remove_reference_t<decltype(reader)>::TopicType;
+      service.dispatcher().on(reader, [&db, &acks, &service, what](const auto& in) {
+        store<Topic>(db, acks, what, in, service.clock().now_ns());
+      });
     };
     ingest(requests, "request");
     ingest(sets, "measurement set");
@@ -80,7 +114,19 @@ int run(int argc, char** argv) {
     ingest(statuses, "status");
     ingest(compensations, "compensation");
     ingest(interventions, "intervention");
-    ingest(heartbeats, "heartbeat");
+    service.dispatcher().on(heartbeats, [&db](const ncqual::dds::Received<Heartbeat>& in) {
+      if (!in.error.empty()) {
+        spdlog::warn("heartbeat of {} {} ignored: {}", in.value.service, in.value.instance,
+                     in.error);
+        return;
+      }
+      try {
+        db.store(in.value);
+      } catch (const storage::StorageError& e) {
+        spdlog::error("heartbeat of {} {} not stored: {}", in.value.service, in.value.instance,
+                      e.what());
+      }
+    });
     return service.run();
   });
 }

@@ -109,37 +109,4 @@ void run_simulated(Scheduler& sched, SimulatedClock& clock, const Events& events
   }
 }
 
-ReaderHandshake::ReaderHandshake(storage::StateFile& state, Writer requests, Writer statuses)
-    : state_(state),
-      requests_(std::move(requests)),
-      statuses_(std::move(statuses)),
-      known_(saved_reader_counts(state)) {}
-
-bool ReaderHandshake::wait(std::chrono::milliseconds patience) {
-  if (known_.requests == 0 && known_.statuses == 0) return true;
-  const bool matched =
-      requests_.wait(known_.requests, patience) && statuses_.wait(known_.statuses, patience);
-  const ReaderCounts now{requests_.matched(), statuses_.matched()};
-  if (!matched) {
-    spdlog::warn(
-        "after {} ms {} of {} request readers and {} of {} status readers are matched; "
-        "going on without the others",
-        patience.count(), now.requests, known_.requests, now.statuses, known_.statuses);
-    known_ = now;  // the plant has changed: learn its readers afresh
-    save_reader_counts(state_, known_);
-  } else {
-    spdlog::info("{} request and {} status readers matched", now.requests, now.statuses);
-  }
-  return matched;
-}
-
-void ReaderHandshake::learn() {
-  const ReaderCounts now{std::max(known_.requests, requests_.matched()),
-                         std::max(known_.statuses, statuses_.matched())};
-  if (!(now == known_)) {
-    known_ = now;
-    save_reader_counts(state_, known_);
-  }
-}
-
 }  // namespace ncqual::scheduler

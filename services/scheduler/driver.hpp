@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// How ncqual-scheduler drives its Scheduler over time, without DDS: the simulated clock's run and
-// the restart handshake with the readers of its writers. The executable wires DDS to these; the
-// tests drive them directly.
+// How ncqual-scheduler drives its Scheduler over time, without DDS: its command line's choices and
+// the simulated clock's run. The executable wires DDS to these; the tests drive them directly.
 #pragma once
 
 #include "scheduler.hpp"
@@ -71,36 +70,5 @@ struct SimulatedRunOptions {
 // Persists the clock with the scheduler's state at every jump.
 void run_simulated(Scheduler& scheduler, SimulatedClock& clock, const Events& events,
                    const SimulatedRunOptions& options);
-
-// A restarted scheduler must not send before its writers have matched the readers the last run
-// had (the historian, the acquisitions): a request that reached an acquisition but not the
-// historian would be lost with the process if it were killed again. The counts are kept in the
-// state file (document "readers").
-class ReaderHandshake {
- public:
-  struct Writer {
-    std::function<int()> matched;                                      // readers matched now
-    std::function<bool(int readers, std::chrono::milliseconds)> wait;  // until that many
-
-    // Of anything with matched_readers() and wait_for_readers(n, patience): a dds::Writer.
-    template <typename W>
-    static Writer of(W& w) {
-      return {[&w] { return w.matched_readers(); },
-              [&w](int n, std::chrono::milliseconds t) { return w.wait_for_readers(n, t); }};
-    }
-  };
-
-  ReaderHandshake(storage::StateFile& state, Writer requests, Writer statuses);
-  // At start: waits up to `patience` for the readers of the last run. When they do not all come,
-  // says so, and learns the smaller plant (it has changed). Returns whether all came.
-  bool wait(std::chrono::milliseconds patience);
-  // Remembers readers that appeared since (services started after the scheduler).
-  void learn();
-
- private:
-  storage::StateFile& state_;
-  Writer requests_, statuses_;
-  ReaderCounts known_;
-};
 
 }  // namespace ncqual::scheduler

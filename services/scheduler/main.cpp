@@ -2,12 +2,17 @@
 // ncqual-scheduler: runs the qualification process (scheduler.hpp) for every machine of the
 // plant, or of --machine. Reads CheckResults, CheckCommands and Interventions; writes
 // CheckRequests and MachineStatus; its durable state is the plant's scheduler.state_database.
+// Acknowledged (docs/architecture.md, "Acknowledged storage"): its requests, statuses and the
+// interventions it applied stay in the state file's outbox until the historian stored them; it
+// acknowledges every result, order and intervention of its machines once its decision is saved,
+// so a result produced while it was down is sent again by the solver until it is learnt.
 // Wall clock: it decides as results arrive and once a second; simulated clock: run_simulated
 // (driver.hpp). This file parses the command line and wires DDS to the Scheduler and driver.hpp.
 #include "driver.hpp"
 #include "scheduler.hpp"
 
 #include "ncqual/command_line.hpp"
+#include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
 
@@ -69,59 +74,87 @@ int run(int argc, char** argv) {
     ncqual::dds::Reader<ncqual::dds::CheckResultTopic> results(p);
     ncqual::dds::Reader<ncqual::dds::CheckCommandTopic> commands(p);
     ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
+    ncqual::dds::Writer<ncqual::dds::InterventionTopic> relayed(p);
+    ncqual::dds::Acknowledger acks(service, roles::kScheduler);
+    ncqual::dds::Outbox outbox(service, state);
+    outbox.route(requests);
+    outbox.route(statuses);
+    outbox.route(relayed);
+    outbox.start();
 
-    scheduler::Scheduler sched(plant, clock,
-                               {[&](const CheckRequest& r) {
-                                  if (!requests.write(r))
-                                    spdlog::error("{}: request not queued", r.request_id);
-                                },
-                                [&](const MachineStatus& s) { statuses.write(s); }},
-                               &state);
+    // A decision's requests and statuses are saved in its transaction (queue), then written.
+    scheduler::Scheduler::Outputs outputs;
+    outputs.queue = [&outbox](const std::vector<CheckRequest>& rs,
+                              const std::vector<MachineStatus>& ss) {
+      std::vector<storage::OutboxEntry> entries;
+      entries.reserve(rs.size() + ss.size());
+      for (const auto& r : rs) {
+        entries.push_back(outbox.entry<ncqual::dds::CheckRequestTopic>(r, {roles::kHistorian}));
+      }
+      for (const auto& st : ss) {
+        entries.push_back(outbox.entry<ncqual::dds::MachineStatusTopic>(st, {roles::kHistorian}));
+      }
+      return entries;
+    };
+    outputs.request = [&outbox](const CheckRequest& r) {
+      outbox.written({outbox.entry<ncqual::dds::CheckRequestTopic>(r, {roles::kHistorian})});
+    };
+    outputs.status = [&outbox](const MachineStatus& st) {
+      outbox.written({outbox.entry<ncqual::dds::MachineStatusTopic>(st, {roles::kHistorian})});
+    };
+    scheduler::Scheduler sched(plant, clock, outputs, &state);
     bool progress = false;
     service.dispatcher().on(results, [&](const ncqual::dds::Received<CheckResult>& in) {
+      if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       if (!in.error.empty()) {
-        spdlog::error("result {} of '{}' ignored: {}", in.value.request_id, in.value.machine_id,
+        spdlog::error("result {} of '{}' refused: {}", in.value.request_id, in.value.machine_id,
                       in.error);
+        acks.acknowledge<ncqual::dds::CheckResultTopic>(in, AckOutcome::Refused, in.error);
         return;
       }
       sched.result(in.value);
+      if (sched.saved()) acks.acknowledge<ncqual::dds::CheckResultTopic>(in, AckOutcome::Accepted);
     });
     service.dispatcher().on(commands, [&](const ncqual::dds::Received<CheckCommand>& in) {
       if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
       const std::string refused = in.error.empty() ? sched.command(in.value) : in.error;
-      if (!refused.empty())
+      if (!refused.empty()) {
         spdlog::error("check command {} refused: {}", in.value.request_id, refused);
+        acks.acknowledge<ncqual::dds::CheckCommandTopic>(in, AckOutcome::Refused, refused);
+      } else if (sched.saved()) {
+        acks.acknowledge<ncqual::dds::CheckCommandTopic>(in, AckOutcome::Accepted);
+      }
     });
     service.dispatcher().on(interventions, [&](const ncqual::dds::Received<Intervention>& in) {
+      if (in.local) return;                                  // our own relay to the historian
       if (served.others.count(in.value.machine_id)) return;  // another scheduler's machine
       progress = true;
-      const std::string refused = in.error.empty() ? sched.intervention(in.value) : in.error;
-      if (!refused.empty()) spdlog::warn("intervention {}: {}", in.value.intervention_id, refused);
+      if (!in.error.empty()) {
+        spdlog::warn("intervention {} refused: {}", in.value.intervention_id, in.error);
+        acks.acknowledge<ncqual::dds::InterventionTopic>(in, AckOutcome::Refused, in.error);
+        return;
+      }
+      const std::string unchanged = sched.intervention(in.value);
+      if (!unchanged.empty())
+        spdlog::warn("intervention {}: {}", in.value.intervention_id, unchanged);
+      if (!sched.saved()) return;
+      try {
+        // Relayed: the historian gets it even if it was down when the operator sent it.
+        outbox.send<ncqual::dds::InterventionTopic>(in.value, {roles::kHistorian});
+      } catch (const storage::StorageError& e) {
+        spdlog::error("intervention {} not kept for the historian: {}", in.value.intervention_id,
+                      e.what());
+        return;
+      }
+      acks.acknowledge<ncqual::dds::InterventionTopic>(in, AckOutcome::Accepted, unchanged);
     });
-    // A restart sends nothing before the last run's readers match again (driver.hpp).
-    using Handshake = scheduler::ReaderHandshake;
-    Handshake readers(state, Handshake::Writer::of(requests), Handshake::Writer::of(statuses));
-    readers.wait(std::chrono::seconds(10));
     sched.start(cycle);
 
-    // Before the writers go: every reader (acquisition, historian) must have what was written,
-    // or the last requests and statuses of a run would be lost with the process.
-    const auto flush = [&] {
-      if (!requests.wait_for_acknowledgments(std::chrono::seconds(10)) ||
-          !statuses.wait_for_acknowledgments(std::chrono::seconds(10))) {
-        spdlog::warn("not every reader acknowledged the last requests and statuses");
-      }
-    };
     if (!plant.simulated_clock) {
-      service.dispatcher().every(std::chrono::seconds(1), [&] {
-        sched.tick();
-        readers.learn();
-      });
-      const int code = service.run();
-      flush();
-      return code;
+      service.dispatcher().every(std::chrono::seconds(1), [&] { sched.tick(); });
+      return service.run();
     }
     // Simulated time: run the calendar as fast as the checks come back (driver.hpp).
     auto& d = service.dispatcher();
@@ -130,13 +163,12 @@ int run(int argc, char** argv) {
     run_options.stall = std::chrono::milliseconds(static_cast<std::int64_t>(stall_s * 1000));
     scheduler::run_simulated(sched, simulated,
                              {[&](std::chrono::milliseconds patience) {
-                                readers.learn();
                                 progress = false;
                                 return d.run_until([&] { return progress; }, patience);
                               },
                               [&] { return d.stopping(); }},
                              run_options);
-    flush();
+    outbox.drain(std::chrono::seconds(5));
     return 0;
   });
 }

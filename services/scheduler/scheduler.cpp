@@ -16,7 +16,6 @@ namespace ncqual::scheduler {
 namespace {
 
 constexpr std::size_t kRememberedInterventions = 64;
-constexpr std::size_t kRememberedRequests = 16;
 constexpr std::int64_t kNsPerMinute = 60'000'000'000LL;
 
 std::string kind_list(const std::vector<CheckKind>& kinds) {
@@ -49,8 +48,8 @@ std::string compact_time(std::int64_t t_ns) {
 
 // ------------------------------------------------------------------------------------------------
 // State documents: one JSON document per machine ("machine/<id>"), per fixture ("fixture/<id>"),
-// the reader counts ("readers") and the simulated clock ("clock"). Fields missing in a document
-// read as their defaults, so a state written by an older version still loads.
+// and the simulated clock ("clock"). An older version's "recent" and "readers" are ignored. Fields
+// missing in a document read as their defaults, so a state written by an older version still loads.
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PendingCheck, request_ids, kind, requested_by,
                                                 issued_ns, parameters, verifies_correction_of,
@@ -59,9 +58,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(Hold, kind, request_id, detail, 
                                                 in_sequence)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MachineRun, last_pass_ns, queue, pending, hold,
                                                 planned_shift_ns, next_part_ns, part_step,
-                                                local_time_ns, sequence, interventions, recent,
-                                                state, detail)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ReaderCounts, requests, statuses)
+                                                local_time_ns, sequence, interventions, state,
+                                                detail)
 
 namespace {
 
@@ -103,26 +101,6 @@ std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file) {
   const auto it = docs.find("clock");
   if (it == docs.end()) return std::nullopt;
   return parsed<ClockDocument>(it->second).now_ns;
-}
-
-ReaderCounts saved_reader_counts(storage::StateFile& file) {
-  const auto docs = file.load();
-  const auto it = docs.find("readers");
-  if (it == docs.end()) return {};
-  try {
-    return parsed<ReaderCounts>(it->second);
-  } catch (const std::exception& e) {
-    spdlog::error("scheduler state 'readers' in {} ignored: {}", file.path(), e.what());
-    return {};
-  }
-}
-
-void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts) {
-  try {
-    file.save({{"readers", dumped(counts)}});
-  } catch (const std::exception& e) {
-    spdlog::error("reader counts not saved to {}: {}", file.path(), e.what());
-  }
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -167,15 +145,8 @@ void Scheduler::start(const std::vector<CheckKind>& cycle) {
   for (auto& [id, m] : machines_) {
     // Whatever was pending when the last run stopped goes out again under the same id: an
     // acquisition that already measured it ignores it, one that never got it measures now.
-    // So do the newest requests already answered: the historian may not have them yet.
-    std::set<std::string> resent;
-    for (CheckRequest r : m.run.recent) {
-      r.machine_id = id;
-      resent.insert(r.request_id);
-      outbox_requests_.push_back(std::move(r));
-    }
+    // (What the historian has not acknowledged is in the outbox and goes out anyway.)
     for (const auto& p : m.run.pending) {
-      if (resent.count(p.request_ids.back())) continue;
       outbox_requests_.push_back(CheckRequest{
           id, p.request_ids.back(), p.kind, p.requested_by, p.issued_ns,
           static_cast<std::int32_t>(p.request_ids.size()), p.parameters, p.verifies_correction_of});
@@ -267,9 +238,7 @@ void Scheduler::advance(Machine& m) {
   }
 }
 
-void Scheduler::send(Machine& m, CheckRequest request) {
-  m.run.recent.push_back(request);
-  while (m.run.recent.size() > kRememberedRequests) m.run.recent.pop_front();
+void Scheduler::send(Machine& /*m*/, CheckRequest request) {
   outbox_requests_.push_back(std::move(request));
 }
 
@@ -510,6 +479,11 @@ void Scheduler::update_state(Machine& m, const std::string& request_id,
 }
 
 void Scheduler::commit(Machine& m) {
+  auto requests = std::move(outbox_requests_);
+  auto statuses = std::move(outbox_statuses_);
+  outbox_requests_.clear();
+  outbox_statuses_.clear();
+  saved_ = true;
   if (state_file_) {
     std::map<std::string, std::string> docs;
     docs["machine/" + m.config->machine_id] = to_json(m.run);
@@ -518,17 +492,18 @@ void Scheduler::commit(Machine& m) {
     }
     if (plant_.simulated_clock) docs["clock"] = dumped(ClockDocument{clock_.now_ns()});
     try {
-      state_file_->save(docs);
+      state_file_->save(
+          docs, {},
+          out_.queue ? out_.queue(requests, statuses) : std::vector<storage::OutboxEntry>{});
     } catch (const std::exception& e) {
-      // The plant keeps running; a restart would then redo this decision.
+      // The plant keeps running; nothing of the decision leaves (what it would send is not in
+      // the outbox), and a restart takes it again.
       spdlog::error("{}: scheduler state not saved to {}: {}", m.config->machine_id,
                     state_file_->path(), e.what());
+      saved_ = false;
+      return;
     }
   }
-  auto requests = std::move(outbox_requests_);
-  auto statuses = std::move(outbox_statuses_);
-  outbox_requests_.clear();
-  outbox_statuses_.clear();
   for (const auto& r : requests) out_.request(r);
   for (const auto& s : statuses) out_.status(s);
 }

@@ -26,12 +26,13 @@
 // failure holds the machine, interventions re-arm it), then the machine is QUALIFIED.
 // Operator orders (CheckCommand) run at once beside the sequence; their verdicts count like any.
 //
-// Durable state: every decision is written to the state file (storage::StateFile) before any
-// request or status leaves, so a kill at any point either loses the decision (it is taken again
-// after the restart) or keeps it (its requests are sent again: the acquisition ignores a request
-// id it has already performed). Request ids are <machine>-<kind>-<UTC time of issue>-<n> with n
-// counted per machine in the state, so a restarted scheduler issues the same ids as one that was
-// never stopped.
+// Durable state: every decision is written to the state file (storage::StateFile), with the
+// outbox entries of the requests and statuses it produced, before any of them leaves; so a kill at
+// any point either loses the decision (it is taken again after the restart) or keeps it and what
+// it sends (the outbox sends it until the historian acknowledged it; pending requests are sent
+// again at start: the acquisition ignores a request id it has already performed). Request ids are
+// <machine>-<kind>-<UTC time of issue>-<n> with n counted per machine in the state, so a restarted
+// scheduler issues the same ids as one that was never stopped.
 //
 // Time: with the wall clock, now is the clock's. With a simulated clock (PlantConfig::
 // simulated_clock) each machine has its own time: the later of the shared clock and the time of
@@ -89,9 +90,6 @@ struct MachineRun {
   std::int64_t local_time_ns = 0;                // simulated clock: newest result time
   std::uint64_t sequence = 0;                    // request ids issued
   std::vector<std::string> interventions;        // ids applied (newest 64)
-  // The newest requests issued (16), sent again at start: a killed scheduler's last requests may
-  // have reached the acquisition but not yet the historian (its writer died with it).
-  std::deque<CheckRequest> recent;
   MachineState state = MachineState::Unknown;
   std::string detail;
 };
@@ -99,8 +97,14 @@ struct MachineRun {
 class Scheduler {
  public:
   struct Outputs {
+    // Called for every request and status a decision produced, once the decision is saved.
     std::function<void(const CheckRequest&)> request;
     std::function<void(const MachineStatus&)> status;
+    // Optional: the outbox entries of a decision's requests and statuses, saved in the same
+    // transaction as the decision, so that a kill keeps both or neither (the service's Outbox).
+    std::function<std::vector<storage::OutboxEntry>(const std::vector<CheckRequest>&,
+                                                    const std::vector<MachineStatus>&)>
+        queue;
   };
 
   // Loads the machines' state from `state` when given (nullptr: in memory only). Machines in the
@@ -130,6 +134,9 @@ class Scheduler {
   std::optional<std::int64_t> next_event_ns() const;
   // The simulated clock's value to keep (the shared clock, persisted with every decision).
   void persist_clock();
+  // False when the last decision could not be saved (the state file failed): then nothing it
+  // decided was sent, and nothing received should be acknowledged.
+  bool saved() const { return saved_; }
 
   MachineState state(const std::string& machine_id) const;
   const MachineRun* run(const std::string& machine_id) const;
@@ -149,7 +156,7 @@ class Scheduler {
              bool in_sequence, bool rearmed = false, std::string request_id = "");
   // A pre-calibration without an explicit configuration takes its fixture's next one.
   void add_fixture_configuration(Machine& m, CheckKind kind, std::vector<NamedValue>& parameters);
-  // Queues a request for sending and remembers it among the machine's recent ones.
+  // Queues a request for sending with the decision.
   void send(Machine& m, CheckRequest request);
   void retry_or_hold(Machine& m, PendingCheck& p);
   void hold(Machine& m, Hold h);
@@ -172,23 +179,11 @@ class Scheduler {
   double check_timeout_min_ = 0;
   std::int64_t check_timeout_ns_ = 0;
   int retries_ = 0;
+  bool saved_ = true;
 };
 
 // The simulated clock a previous run kept in the state file, if any.
 std::optional<std::int64_t> saved_clock_ns(storage::StateFile& file);
-
-// How many readers the CheckRequest and MachineStatus writers had matched (state document
-// "readers"): the historian's and each acquisition's. A restarted scheduler waits for as many
-// before it sends, so that nothing it sends reaches the acquisition but not the historian.
-struct ReaderCounts {
-  int requests = 0;
-  int statuses = 0;
-  bool operator==(const ReaderCounts& o) const {
-    return requests == o.requests && statuses == o.statuses;
-  }
-};
-ReaderCounts saved_reader_counts(storage::StateFile& file);
-void save_reader_counts(storage::StateFile& file, const ReaderCounts& counts);
 
 // The state documents, for the state file and for tests (round trip).
 std::string to_json(const MachineRun& run);

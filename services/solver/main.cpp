@@ -1,59 +1,118 @@
 // SPDX-License-Identifier: Apache-2.0
 // ncqual-solver: turns MeasurementSets into CheckResults (and Compensations) with the pure
-// solver library. Thin: arguments, wiring, publishing. No storage, no math here.
+// solver library. Thin: arguments, wiring, publishing. No math here.
+//
+// Exactly one result per measurement set (docs/architecture.md, "Acknowledged storage"): the
+// result, its compensation and the note that the set is solved are saved in one transaction of
+// the solver's state file, and only then is the set acknowledged to the acquisition. A set sent
+// again (its acknowledgement was lost, the solver was killed) is acknowledged again, never solved
+// again. The result stays in the outbox until the historian stored it and the scheduler applied it.
 #include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
+#include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
+#include "ncqual/json.hpp"
 #include "ncqual/log.hpp"
-#include "ncqual/version.hpp"
 #include "ncqual/solver/solve.hpp"
+#include "ncqual/state_file.hpp"
+#include "ncqual/version.hpp"
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <deque>
+#include <filesystem>
 #include <iostream>
 #include <unordered_set>
 
 namespace {
 
-// Remembers the request ids solved recently, so that a set delivered twice (a restarted
-// acquisition, two paths) is answered once. Bounded: oldest forgotten first.
-class RecentIds {
+using namespace ncqual;
+
+// A set solved: state document "solved/<request id>". The newest kSolvedKept are kept, far more
+// than any outbox or durable history can send again.
+struct SolvedDocument {
+  std::int64_t time_ns = 0;  // the set's
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SolvedDocument, time_ns)
+constexpr std::size_t kSolvedKept = 20000;
+constexpr const char* kSolvedPrefix = "solved/";
+
+class SolvedSets {
  public:
-  explicit RecentIds(std::size_t capacity) : capacity_(capacity) {}
-  bool insert(const std::string& id) {
-    if (!seen_.insert(id).second) return false;
-    order_.push_back(id);
-    if (order_.size() > capacity_) {
-      seen_.erase(order_.front());
-      order_.pop_front();
+  explicit SolvedSets(storage::StateFile& file) : file_(file) {
+    std::vector<std::pair<std::int64_t, std::string>> found;
+    for (const auto& [key, doc] : file_.load()) {
+      if (key.rfind(kSolvedPrefix, 0) != 0) continue;
+      try {
+        found.emplace_back(nlohmann::json::parse(doc).get<SolvedDocument>().time_ns,
+                           key.substr(std::char_traits<char>::length(kSolvedPrefix)));
+      } catch (const nlohmann::json::exception&) {
+        spdlog::warn("solver state {}: '{}' unreadable, ignored", file_.path(), key);
+      }
     }
-    return true;
+    std::sort(found.begin(), found.end());
+    for (const auto& [t, id] : found) {
+      ids_.insert(id);
+      order_.push_back(id);
+    }
+  }
+  bool contains(const std::string& id) const { return ids_.count(id) > 0; }
+  // Saves the set as solved, with the outbox entries of its answer, in one transaction.
+  void save(const MeasurementSet& set, const std::vector<storage::OutboxEntry>& answer) {
+    std::vector<std::string> erase;
+    std::deque<std::string> order = order_;
+    order.push_back(set.request_id);
+    while (order.size() > kSolvedKept) {
+      erase.push_back(kSolvedPrefix + order.front());
+      order.pop_front();
+    }
+    file_.save(
+        {{kSolvedPrefix + set.request_id, nlohmann::json(SolvedDocument{set.time_ns}).dump()}},
+        erase, answer);
+    for (const auto& key : erase)
+      ids_.erase(key.substr(std::char_traits<char>::length(kSolvedPrefix)));
+    order_ = std::move(order);
+    ids_.insert(set.request_id);
   }
 
  private:
-  std::size_t capacity_;
-  std::unordered_set<std::string> seen_;
+  storage::StateFile& file_;
+  std::unordered_set<std::string> ids_;
   std::deque<std::string> order_;
 };
 
 int run(int argc, char** argv) {
-  using namespace ncqual;
   ncqual::dds::ServiceMain service_main(
       "solver", "Turns the plant's MeasurementSets into CheckResults (and Compensations).");
+  std::optional<std::string> state_flag;
+  service_main.app()
+      .add_option("--state", state_flag,
+                  "the sets solved and the results not yet acknowledged (default: solver.db "
+                  "beside the historian's database)")
+      ->type_name("FILE");
   return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const PlantConfig plant = std::move(loaded);
+    storage::StateFile state = storage::StateFile::open(state_flag.value_or(
+        (std::filesystem::path(plant.historian_database).parent_path() / "solver.db").string()));
+    SolvedSets solved(state);
     ncqual::dds::Service service(service_main.service_options(plant));
     ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(service.participant());
     ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(service.participant());
     ncqual::dds::Writer<ncqual::dds::CompensationTopic> compensations(service.participant());
-    RecentIds solved(10000);
+    ncqual::dds::Acknowledger acks(service, roles::kSolver);
+    ncqual::dds::Outbox outbox(service, state);
+    outbox.route(results);
+    outbox.route(compensations);
+    outbox.start();
 
     const std::string produced_by = version_line("ncqual-solver");
     service.dispatcher().on(sets, [&](const ncqual::dds::Received<MeasurementSet>& in) {
       const MeasurementSet& set = in.value;
-      if (!solved.insert(set.request_id)) {
-        spdlog::debug("{} {}: already solved, ignored", set.machine_id, set.request_id);
+      if (solved.contains(set.request_id)) {
+        spdlog::debug("{} {}: already solved, acknowledged again", set.machine_id, set.request_id);
+        acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Accepted,
+                                                           "already solved");
         return;
       }
       // On a simulated clock a result is stamped with its measurement's time (judging takes no
@@ -75,13 +134,23 @@ int run(int argc, char** argv) {
       spdlog::info("{} {} {}: {}{}", result.machine_id, result.request_id, to_string(result.kind),
                    to_string(result.verdict),
                    result.reason.empty() ? "" : " (" + result.reason + ")");
-      if (!results.write(result)) {
-        spdlog::error("{} {}: result could not be queued", result.machine_id, result.request_id);
-      }
+      std::vector<storage::OutboxEntry> answer{outbox.entry<ncqual::dds::CheckResultTopic>(
+          result, {roles::kHistorian, roles::kScheduler})};
       if (result.correction) {
-        compensations.write(
-            Compensation{result.machine_id, result.request_id, *result.correction, result.time_ns});
+        answer.push_back(outbox.entry<ncqual::dds::CompensationTopic>(
+            Compensation{result.machine_id, result.request_id, *result.correction, result.time_ns},
+            {roles::kHistorian}));
       }
+      try {
+        solved.save(set, answer);
+      } catch (const storage::StorageError& e) {
+        // Not acknowledged: the acquisition sends the set again and it is solved then.
+        spdlog::error("{} {}: result not saved to {}: {}", set.machine_id, set.request_id,
+                      state.path(), e.what());
+        return;
+      }
+      outbox.written(answer);
+      acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Accepted);
     });
     return service.run();
   });

@@ -5,6 +5,8 @@
 #include "sqlite.hpp"
 #include "validate.hpp"
 
+#include "ncqual/json.hpp"
+
 #include <filesystem>
 #include <utility>
 
@@ -52,13 +54,15 @@ constexpr Sql kUpsertCheckResult{
 constexpr Sql kInsertRequest{
     "insert request",
     "INSERT INTO requests (request_id, machine_id, kind, kind_name, requested_by, time_ns, attempt,"
-    " verifies_correction_of) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"
+    " verifies_correction_of, content_hash, writer) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, "
+    "?10)"
     " ON CONFLICT (request_id) DO NOTHING"};
 
 constexpr Sql kInsertMeasurementSet{
     "insert measurement set",
-    "INSERT INTO measurement_sets (request_id, machine_id, kind, instrument, frame, time_ns, error)"
-    " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) ON CONFLICT (request_id) DO NOTHING"};
+    "INSERT INTO measurement_sets (request_id, machine_id, kind, instrument, frame, time_ns, error,"
+    " content_hash, writer) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)"
+    " ON CONFLICT (request_id) DO NOTHING"};
 constexpr Sql kInsertRequestParameter{
     "insert request parameter",
     "INSERT INTO request_parameters (request_id, idx, name, value, unit) "
@@ -80,8 +84,8 @@ constexpr Sql kInsertTrackerPoint{
 constexpr Sql kInsertResult{
     "insert result",
     "INSERT INTO results (request_id, machine_id, kind, verdict, reason, time_ns, "
-    "correction_target, produced_by) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8) "
-    "ON CONFLICT (request_id) DO NOTHING"};
+    "correction_target, produced_by, content_hash, writer) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10) ON CONFLICT (request_id) DO NOTHING"};
 constexpr Sql kInsertMetric{
     "insert metric",
     "INSERT INTO metrics (request_id, idx, name, value, unit, lower, upper, pass) "
@@ -95,18 +99,48 @@ constexpr Sql kInsertResultOffset{
 constexpr Sql kInsertStatus{
     "insert status change",
     "INSERT INTO status_changes (machine_id, request_id, state, last_kind, last_verdict, detail, "
-    "time_ns) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) "
+    "time_ns, content_hash, writer) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9) "
     "ON CONFLICT (machine_id, time_ns, state, request_id) DO NOTHING"};
 
 constexpr Sql kInsertIntervention{
     "insert intervention",
-    "INSERT INTO interventions (intervention_id, machine_id, kind, note, operator_name, time_ns) "
-    "VALUES (?1, ?2, ?3, ?4, ?5, ?6) ON CONFLICT (intervention_id) DO NOTHING"};
+    "INSERT INTO interventions (intervention_id, machine_id, kind, note, operator_name, time_ns, "
+    "content_hash, writer) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8) "
+    "ON CONFLICT (intervention_id) DO NOTHING"};
 
 constexpr Sql kInsertCompensation{
     "insert compensation",
-    "INSERT INTO compensations (request_id, target, machine_id, time_ns) VALUES (?1, ?2, ?3, ?4) "
-    "ON CONFLICT (request_id, target) DO NOTHING"};
+    "INSERT INTO compensations (request_id, target, machine_id, time_ns, content_hash, writer) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6) ON CONFLICT (request_id, target) DO NOTHING"};
+
+// The content hash a sample was stored with, by its identity (NULL: stored before version 4).
+constexpr Sql kRequestHash{"read request hash",
+                           "SELECT content_hash FROM requests WHERE request_id = ?1"};
+constexpr Sql kMeasurementSetHash{
+    "read measurement set hash", "SELECT content_hash FROM measurement_sets WHERE request_id = ?1"};
+constexpr Sql kResultHash{"read result hash",
+                          "SELECT content_hash FROM results WHERE request_id = ?1"};
+constexpr Sql kStatusHash{"read status change hash",
+                          "SELECT content_hash FROM status_changes WHERE machine_id = ?1 AND "
+                          "time_ns = ?2 AND state = ?3 AND request_id = ?4"};
+constexpr Sql kInterventionHash{
+    "read intervention hash", "SELECT content_hash FROM interventions WHERE intervention_id = ?1"};
+constexpr Sql kCompensationHash{"read compensation hash",
+                                "SELECT content_hash FROM compensations WHERE request_id = ?1 AND "
+                                "target = ?2"};
+constexpr Sql kInsertConflict{
+    "insert conflict",
+    "INSERT INTO conflicts (topic, sample_id, machine_id, content_hash, stored_hash, writer, "
+    "received_ns, document) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8) "
+    "ON CONFLICT (topic, sample_id, content_hash) DO NOTHING"};
+constexpr Sql kSelectConflicts{
+    "select conflicts",
+    "SELECT topic, sample_id, machine_id, content_hash, stored_hash, writer, received_ns, document "
+    "FROM conflicts WHERE (?1 IS NULL OR machine_id = ?1) ORDER BY received_ns DESC, id DESC"};
+constexpr Sql kCountCheckConflicts{
+    "count conflicts of a check",
+    "SELECT count(*) FROM conflicts WHERE sample_id = ?1 AND topic IN "
+    "('ncqual/CheckRequest', 'ncqual/MeasurementSet', 'ncqual/CheckResult')"};
 constexpr Sql kInsertCompensationOffset{
     "insert compensation offset",
     "INSERT INTO compensation_offsets (compensation_id, idx, name, value, unit) "
@@ -116,10 +150,13 @@ constexpr Sql kInsertCompensationOffset{
 // the caller needs to know whether the instance is new, which an upsert does not tell.
 constexpr Sql kInsertService{
     "insert service",
-    "INSERT INTO services (service, instance, machine_id, state, first_seen_ns, last_seen_ns) "
-    "VALUES (?1, ?2, ?3, ?4, ?5, ?5) ON CONFLICT (service, instance) DO NOTHING"};
+    "INSERT INTO services (service, instance, machine_id, state, first_seen_ns, last_seen_ns, "
+    "health, health_detail, outbox_depth, oldest_unacknowledged_ns) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?5, ?6, ?7, ?8, ?9) ON CONFLICT (service, instance) DO NOTHING"};
 constexpr Sql kUpdateService{"update service",
-                             "UPDATE services SET machine_id = ?3, state = ?4, last_seen_ns = ?5 "
+                             "UPDATE services SET machine_id = ?3, state = ?4, last_seen_ns = ?5, "
+                             "health = ?6, health_detail = ?7, outbox_depth = ?8, "
+                             "oldest_unacknowledged_ns = ?9 "
                              "WHERE service = ?1 AND instance = ?2 AND last_seen_ns <= ?5"};
 
 // Queries. history() has two forms so that each can walk its index newest first; a
@@ -198,7 +235,8 @@ constexpr Sql kSelectCompensationOffsets{
     "SELECT name, value, unit FROM compensation_offsets WHERE compensation_id = ?1 ORDER BY idx"};
 constexpr Sql kSelectServices{
     "select services",
-    "SELECT service, instance, machine_id, state, last_seen_ns FROM services "
+    "SELECT service, instance, machine_id, state, last_seen_ns, health, health_detail, "
+    "outbox_depth, oldest_unacknowledged_ns FROM services "
     "ORDER BY service, instance"};
 
 constexpr Sql kIntegrityCheck{"integrity check", "PRAGMA integrity_check"};
@@ -250,13 +288,13 @@ struct Database::Impl {
   // Runs `body` in one write transaction; SQLite failures get `what` (e.g. "store CheckResult
   // 'r-17'") in front so the historian's log says which sample failed.
   template <typename Body>
-  bool write(const std::string& what, Body&& body) {
+  auto write(const std::string& what, Body&& body) {
     if (read_only) {
       throw StorageError(what + ": the database '" + path + "' is open read-only", SQLITE_READONLY);
     }
     try {
       Transaction transaction(statements, Transaction::Mode::Write);
-      const bool stored = body();
+      auto stored = body();
       // A duplicate changed nothing; committing it costs nothing either and keeps one path.
       transaction.commit();
       return stored;
@@ -274,6 +312,28 @@ struct Database::Impl {
     auto value = body();
     transaction.commit();
     return value;
+  }
+
+  // A sample whose identity is already stored: the same content is a duplicate; other content is
+  // a conflict, kept whole in `conflicts` beside the first (which stays as it is). A row stored
+  // before version 4, or a caller without a hash, cannot be compared: a duplicate.
+  template <typename Model, typename... Identity>
+  StoreResult already_stored(const Sql& select_hash, const char* topic, const Model& sample,
+                             const Origin& origin, const Identity&... identity) {
+    std::optional<std::string> stored_hash;
+    {
+      Query q(statements, select_hash);
+      q.bind(identity...);
+      if (q.step()) stored_hash = q.optional_text(0);
+    }
+    if (!stored_hash || origin.content_hash.empty() || *stored_hash == origin.content_hash) {
+      return StoreResult{StoreOutcome::Duplicate, stored_hash.value_or("")};
+    }
+    Query(statements, kInsertConflict)
+        .bind(topic, sample_id_of(sample), sample.machine_id, origin.content_hash, *stored_hash,
+              origin.writer, origin.received_ns, nlohmann::json(sample).dump())
+        .run();
+    return StoreResult{StoreOutcome::Conflict, *stored_hash};
   }
 
   void touch_machine(const std::string& machine_id, std::int64_t time_ns) {
@@ -412,6 +472,11 @@ struct Database::Impl {
     const auto measurement = load_measurement_header(request_id, &summary);
     if (measurement) record.measurement = summary;
     record.result = load_result(request_id);
+    {
+      Query q(statements, kCountCheckConflicts);
+      q.bind(request_id);
+      if (q.step()) record.conflicts = q.int64(0);
+    }
     // Machine and kind from the result, else the request, else the measurement set; they agree
     // (note_check refuses a disagreement), the order only matters for which part is present.
     if (record.result) {
@@ -566,34 +631,40 @@ std::string Database::integrity_check() {
 
 // --- stores ------------------------------------------------------------------------------------
 
-bool Database::store(const CheckRequest& request) {
+StoreResult Database::store(const CheckRequest& request, const Origin& origin) {
   validate::check(request);
   return impl_->write("store CheckRequest " + quoted(request.request_id), [&] {
     {
       Query insert(impl_->statements, kInsertRequest);
       insert.bind(request.request_id, request.machine_id, code(request.kind),
                   to_string(request.kind), request.requested_by, request.time_ns, request.attempt,
-                  request.verifies_correction_of);
+                  request.verifies_correction_of, origin.hash(), origin.writer_guid());
       insert.run();
-      if (insert.changes() == 0) return false;
+      if (insert.changes() == 0) {
+        return impl_->already_stored(kRequestHash, "ncqual/CheckRequest", request, origin,
+                                     request.request_id);
+      }
     }
     impl_->store_named_values(kInsertRequestParameter, request.request_id, request.parameters);
     impl_->note_check(kUpsertCheckRequested, "CheckRequest", request.request_id, request.machine_id,
                       request.kind, request.time_ns);
     impl_->touch_machine(request.machine_id, request.time_ns);
-    return true;
+    return StoreResult{};
   });
 }
 
-bool Database::store(const MeasurementSet& set) {
+StoreResult Database::store(const MeasurementSet& set, const Origin& origin) {
   validate::check(set);
   return impl_->write("store MeasurementSet " + quoted(set.request_id), [&] {
     {
       Query insert(impl_->statements, kInsertMeasurementSet);
       insert.bind(set.request_id, set.machine_id, code(set.kind), set.instrument, set.frame,
-                  set.time_ns, set.error);
+                  set.time_ns, set.error, origin.hash(), origin.writer_guid());
       insert.run();
-      if (insert.changes() == 0) return false;
+      if (insert.changes() == 0) {
+        return impl_->already_stored(kMeasurementSetHash, "ncqual/MeasurementSet", set, origin,
+                                     set.request_id);
+      }
     }
     impl_->store_named_values(kInsertMeasurementParameter, set.request_id, set.parameters);
     for (std::size_t i = 0; i < set.touches.size(); ++i) {
@@ -615,11 +686,11 @@ bool Database::store(const MeasurementSet& set) {
     impl_->note_check(kUpsertCheckMeasured, "MeasurementSet", set.request_id, set.machine_id,
                       set.kind, set.time_ns);
     impl_->touch_machine(set.machine_id, set.time_ns);
-    return true;
+    return StoreResult{};
   });
 }
 
-bool Database::store(const CheckResult& result) {
+StoreResult Database::store(const CheckResult& result, const Origin& origin) {
   validate::check(result);
   return impl_->write("store CheckResult " + quoted(result.request_id), [&] {
     {
@@ -628,9 +699,12 @@ bool Database::store(const CheckResult& result) {
       Query insert(impl_->statements, kInsertResult);
       insert.bind(result.request_id, result.machine_id, code(result.kind),
                   to_string(result.verdict), result.reason, result.time_ns, target,
-                  result.produced_by);
+                  result.produced_by, origin.hash(), origin.writer_guid());
       insert.run();
-      if (insert.changes() == 0) return false;
+      if (insert.changes() == 0) {
+        return impl_->already_stored(kResultHash, "ncqual/CheckResult", result, origin,
+                                     result.request_id);
+      }
     }
     for (std::size_t i = 0; i < result.metrics.size(); ++i) {
       const Metric& m = result.metrics[i];
@@ -650,11 +724,11 @@ bool Database::store(const CheckResult& result) {
     impl_->note_check(kUpsertCheckResult, "CheckResult", result.request_id, result.machine_id,
                       result.kind, result.time_ns);
     impl_->touch_machine(result.machine_id, result.time_ns);
-    return true;
+    return StoreResult{};
   });
 }
 
-bool Database::store(const MachineStatus& status) {
+StoreResult Database::store(const MachineStatus& status, const Origin& origin) {
   validate::check(status);
   return impl_->write("store MachineStatus of " + quoted(status.machine_id), [&] {
     std::optional<std::int64_t> last_kind;
@@ -663,28 +737,36 @@ bool Database::store(const MachineStatus& status) {
     if (status.last_verdict) last_verdict = to_string(*status.last_verdict);
     Query insert(impl_->statements, kInsertStatus);
     insert.bind(status.machine_id, status.request_id, to_string(status.state), last_kind,
-                last_verdict, status.detail, status.time_ns);
+                last_verdict, status.detail, status.time_ns, origin.hash(), origin.writer_guid());
     insert.run();
-    if (insert.changes() == 0) return false;
+    if (insert.changes() == 0) {
+      return impl_->already_stored(kStatusHash, "ncqual/MachineStatus", status, origin,
+                                   status.machine_id, status.time_ns, to_string(status.state),
+                                   status.request_id);
+    }
     impl_->touch_machine(status.machine_id, status.time_ns);
-    return true;
+    return StoreResult{};
   });
 }
 
-bool Database::store(const Intervention& intervention) {
+StoreResult Database::store(const Intervention& intervention, const Origin& origin) {
   validate::check(intervention);
   return impl_->write("store Intervention " + quoted(intervention.intervention_id), [&] {
     Query insert(impl_->statements, kInsertIntervention);
     insert.bind(intervention.intervention_id, intervention.machine_id, code(intervention.kind),
-                intervention.note, intervention.operator_name, intervention.time_ns);
+                intervention.note, intervention.operator_name, intervention.time_ns, origin.hash(),
+                origin.writer_guid());
     insert.run();
-    if (insert.changes() == 0) return false;
+    if (insert.changes() == 0) {
+      return impl_->already_stored(kInterventionHash, "ncqual/Intervention", intervention, origin,
+                                   intervention.intervention_id);
+    }
     impl_->touch_machine(intervention.machine_id, intervention.time_ns);
-    return true;
+    return StoreResult{};
   });
 }
 
-bool Database::store(const Compensation& compensation) {
+StoreResult Database::store(const Compensation& compensation, const Origin& origin) {
   validate::check(compensation);
   const Correction& correction = compensation.correction;
   return impl_->write(
@@ -694,9 +776,12 @@ bool Database::store(const Compensation& compensation) {
         {
           Query insert(impl_->statements, kInsertCompensation);
           insert.bind(compensation.request_id, correction.target, compensation.machine_id,
-                      compensation.time_ns);
+                      compensation.time_ns, origin.hash(), origin.writer_guid());
           insert.run();
-          if (insert.changes() == 0) return false;
+          if (insert.changes() == 0) {
+            return impl_->already_stored(kCompensationHash, "ncqual/Compensation", compensation,
+                                         origin, compensation.request_id, correction.target);
+          }
           id = sqlite3_last_insert_rowid(impl_->db.get());
         }
         for (std::size_t i = 0; i < correction.offsets.size(); ++i) {
@@ -706,7 +791,7 @@ bool Database::store(const Compensation& compensation) {
               .run();
         }
         impl_->touch_machine(compensation.machine_id, compensation.time_ns);
-        return true;
+        return StoreResult{};
       });
 }
 
@@ -718,14 +803,16 @@ bool Database::store(const Heartbeat& heartbeat) {
         {
           Query insert(impl_->statements, kInsertService);
           insert.bind(heartbeat.service, heartbeat.instance, heartbeat.machine_id, heartbeat.state,
-                      heartbeat.time_ns);
+                      heartbeat.time_ns, heartbeat.health, heartbeat.health_detail,
+                      heartbeat.outbox_depth, heartbeat.oldest_unacknowledged_ns);
           insert.run();
           inserted = insert.changes() == 1;
         }
         if (!inserted) {
           Query(impl_->statements, kUpdateService)
               .bind(heartbeat.service, heartbeat.instance, heartbeat.machine_id, heartbeat.state,
-                    heartbeat.time_ns)
+                    heartbeat.time_ns, heartbeat.health, heartbeat.health_detail,
+                    heartbeat.outbox_depth, heartbeat.oldest_unacknowledged_ns)
               .run();
         }
         // Plant-wide services (scheduler, solver, historian) name no machine.
@@ -885,11 +972,23 @@ std::vector<Compensation> Database::compensations(const std::string& machine_id)
   });
 }
 
+std::vector<ConflictRecord> Database::conflicts(std::optional<std::string> machine_id) {
+  std::vector<ConflictRecord> list;
+  Query q(impl_->statements, kSelectConflicts);
+  q.bind(machine_id);
+  while (q.step()) {
+    list.push_back(ConflictRecord{q.text(0), q.text(1), q.text(2), q.text(3), q.text(4), q.text(5),
+                                  q.int64(6), q.text(7)});
+  }
+  return list;
+}
+
 std::vector<Heartbeat> Database::services() {
   std::vector<Heartbeat> list;
   Query q(impl_->statements, kSelectServices);
   while (q.step()) {
-    list.push_back(Heartbeat{q.text(0), q.text(1), q.text(2), q.text(3), q.int64(4)});
+    list.push_back(Heartbeat{q.text(0), q.text(1), q.text(2), q.text(3), q.int64(4), q.text(5),
+                             q.text(6), q.int64(7), q.int64(8)});
   }
   return list;
 }

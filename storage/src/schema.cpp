@@ -233,11 +233,52 @@ constexpr const char* kVersion3 = R"sql(
 ALTER TABLE results ADD COLUMN produced_by TEXT NOT NULL DEFAULT '';
 )sql";
 
+// Version 4: acknowledged storage and conflicts (docs/architecture.md, "Acknowledged storage").
+//   content_hash, writer on every sample table: the SHA-256 of the sample's CDR serialization and
+//     the GUID of the DataWriter it came from; NULL for rows stored before version 4.
+//   conflicts: a sample whose id was already stored with other content, kept whole (document,
+//     JSON) beside the first, never replacing it; stored_hash is the first one's.
+//   services: the health and outbox fields of the newest heartbeat.
+constexpr const char* kVersion4 = R"sql(
+ALTER TABLE requests ADD COLUMN content_hash TEXT;
+ALTER TABLE requests ADD COLUMN writer TEXT;
+ALTER TABLE measurement_sets ADD COLUMN content_hash TEXT;
+ALTER TABLE measurement_sets ADD COLUMN writer TEXT;
+ALTER TABLE results ADD COLUMN content_hash TEXT;
+ALTER TABLE results ADD COLUMN writer TEXT;
+ALTER TABLE status_changes ADD COLUMN content_hash TEXT;
+ALTER TABLE status_changes ADD COLUMN writer TEXT;
+ALTER TABLE interventions ADD COLUMN content_hash TEXT;
+ALTER TABLE interventions ADD COLUMN writer TEXT;
+ALTER TABLE compensations ADD COLUMN content_hash TEXT;
+ALTER TABLE compensations ADD COLUMN writer TEXT;
+
+CREATE TABLE conflicts (
+  id           INTEGER PRIMARY KEY,
+  topic        TEXT NOT NULL,
+  sample_id    TEXT NOT NULL,
+  machine_id   TEXT NOT NULL,
+  content_hash TEXT NOT NULL,
+  stored_hash  TEXT NOT NULL,
+  writer       TEXT NOT NULL,
+  received_ns  INTEGER NOT NULL,
+  document     TEXT NOT NULL,
+  UNIQUE (topic, sample_id, content_hash)
+) STRICT;
+CREATE INDEX conflicts_by_machine_time ON conflicts (machine_id, received_ns);
+
+ALTER TABLE services ADD COLUMN health TEXT NOT NULL DEFAULT 'ok';
+ALTER TABLE services ADD COLUMN health_detail TEXT NOT NULL DEFAULT '';
+ALTER TABLE services ADD COLUMN outbox_depth INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE services ADD COLUMN oldest_unacknowledged_ns INTEGER NOT NULL DEFAULT 0;
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
     {2, "store request and measurement parameters", kVersion2},
     {3, "store the software that judged each result", kVersion3},
+    {4, "content hashes, writers, conflicts and service health", kVersion4},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

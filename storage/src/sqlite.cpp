@@ -104,6 +104,14 @@ void Query::bind_at(int index, std::nullopt_t) {
   }
 }
 
+void Query::bind_at(int index, const std::vector<std::uint8_t>& blob) {
+  // A zero-length blob is still a blob, not NULL: zeroblob keeps the column NOT NULL-safe.
+  const int rc = blob.empty() ? sqlite3_bind_zeroblob(statement_.get(), index, 0)
+                              : sqlite3_bind_blob64(statement_.get(), index, blob.data(),
+                                                    blob.size(), SQLITE_TRANSIENT);
+  if (rc != SQLITE_OK) throw_error(db(), std::string("bind ") + statement_.name());
+}
+
 bool Query::step() {
   const int rc = sqlite3_step(statement_.get());
   if (rc == SQLITE_ROW) return true;
@@ -138,6 +146,14 @@ std::string Query::text(int column) const {
 std::optional<std::string> Query::optional_text(int column) const {
   if (is_null(column)) return std::nullopt;
   return text(column);
+}
+
+std::vector<std::uint8_t> Query::blob(int column) const {
+  const auto* data =
+      static_cast<const std::uint8_t*>(sqlite3_column_blob(statement_.get(), column));
+  const int size = sqlite3_column_bytes(statement_.get(), column);
+  if (data == nullptr || size <= 0) return {};
+  return std::vector<std::uint8_t>(data, data + size);
 }
 
 std::optional<std::int64_t> Query::optional_int64(int column) const {

@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 #include <string_view>
 #include <unordered_map>
 
@@ -103,6 +104,7 @@ class Query {
   void bind_at(int index, const std::string& value) { bind_at(index, std::string_view(value)); }
   void bind_at(int index, const char* value) { bind_at(index, std::string_view(value)); }
   void bind_at(int index, std::nullopt_t);
+  void bind_at(int index, const std::vector<std::uint8_t>& blob);
   template <typename T>
   void bind_at(int index, const std::optional<T>& value) {
     if (value) {
@@ -126,6 +128,7 @@ class Query {
   std::string text(int column) const;
   std::optional<std::string> optional_text(int column) const;
   std::optional<std::int64_t> optional_int64(int column) const;
+  std::vector<std::uint8_t> blob(int column) const;
 
  private:
   sqlite3* db() const { return sqlite3_db_handle(statement_.get()); }

@@ -3,6 +3,7 @@
 
 #include "sqlite.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 namespace ncqual::storage {
@@ -22,6 +23,47 @@ constexpr Sql kUpsert{"save state document",
                       "INSERT INTO documents (key, json) VALUES (?1, ?2) "
                       "ON CONFLICT (key) DO UPDATE SET json = excluded.json"};
 constexpr Sql kErase{"erase state document", "DELETE FROM documents WHERE key = ?1"};
+
+constexpr Sql kQueue{"queue outbox entry",
+                     "INSERT INTO outbox (topic, sample_id, content_hash, machine_id, payload, "
+                     "awaiting, queued_ns) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) "
+                     "ON CONFLICT (topic, sample_id, content_hash) DO NOTHING"};
+constexpr Sql kIndex{"read outbox index",
+                     "SELECT topic, sample_id, content_hash, machine_id, awaiting, queued_ns "
+                     "FROM outbox ORDER BY queued_ns, rowid"};
+constexpr Sql kPayload{"read outbox payload",
+                       "SELECT payload FROM outbox "
+                       "WHERE topic = ?1 AND sample_id = ?2 AND content_hash = ?3"};
+constexpr Sql kAwaiting{"read outbox entry",
+                        "SELECT awaiting FROM outbox "
+                        "WHERE topic = ?1 AND sample_id = ?2 AND content_hash = ?3"};
+constexpr Sql kSetAwaiting{"acknowledge outbox entry",
+                           "UPDATE outbox SET awaiting = ?4 "
+                           "WHERE topic = ?1 AND sample_id = ?2 AND content_hash = ?3"};
+constexpr Sql kDiscard{"remove outbox entry",
+                       "DELETE FROM outbox "
+                       "WHERE topic = ?1 AND sample_id = ?2 AND content_hash = ?3"};
+constexpr Sql kSummary{"summarize outbox",
+                       "SELECT count(*), coalesce(min(queued_ns), 0) FROM outbox"};
+
+// Roles are stored as one sorted, comma-separated text: few, short, and read whole.
+std::string joined(std::vector<std::string> roles) {
+  std::sort(roles.begin(), roles.end());
+  roles.erase(std::unique(roles.begin(), roles.end()), roles.end());
+  std::string out;
+  for (const auto& r : roles) out += (out.empty() ? "" : ",") + r;
+  return out;
+}
+std::vector<std::string> split(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const auto comma = std::min(text.find(',', start), text.size());
+    out.push_back(text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -61,6 +103,16 @@ StateFile StateFile::open(const std::string& path) {
                "  key  TEXT NOT NULL PRIMARY KEY,"
                "  json TEXT NOT NULL"
                ") STRICT, WITHOUT ROWID;"
+               "CREATE TABLE IF NOT EXISTS outbox ("
+               "  topic        TEXT NOT NULL,"
+               "  sample_id    TEXT NOT NULL,"
+               "  content_hash TEXT NOT NULL,"
+               "  machine_id   TEXT NOT NULL,"
+               "  payload      BLOB NOT NULL,"
+               "  awaiting     TEXT NOT NULL,"
+               "  queued_ns    INTEGER NOT NULL,"
+               "  PRIMARY KEY (topic, sample_id, content_hash)"
+               ") STRICT;"
                "PRAGMA application_id = 1852010835;");
   static_assert(kStateApplicationId == 1852010835, "keep the pragma above in step");
   return StateFile(std::make_unique<Impl>(std::move(db), path));
@@ -82,11 +134,80 @@ std::map<std::string, std::string> StateFile::load() {
 }
 
 void StateFile::save(const std::map<std::string, std::string>& documents,
-                     const std::vector<std::string>& erase) {
+                     const std::vector<std::string>& erase, const std::vector<OutboxEntry>& queue) {
   Transaction tx(impl_->cache, Transaction::Mode::Write);
   for (const auto& [key, json] : documents) Query(impl_->cache, kUpsert).bind(key, json).run();
   for (const auto& key : erase) Query(impl_->cache, kErase).bind(key).run();
+  for (const auto& e : queue) {
+    Query(impl_->cache, kQueue)
+        .bind(e.topic, e.sample_id, e.content_hash, e.machine_id, e.payload, joined(e.awaiting),
+              e.queued_ns)
+        .run();
+  }
   tx.commit();
+}
+
+std::vector<OutboxEntry> StateFile::outbox_index() {
+  std::vector<OutboxEntry> out;
+  Transaction tx(impl_->cache, Transaction::Mode::Read);
+  Query q(impl_->cache, kIndex);
+  while (q.step()) {
+    OutboxEntry e;
+    e.topic = q.text(0);
+    e.sample_id = q.text(1);
+    e.content_hash = q.text(2);
+    e.machine_id = q.text(3);
+    e.awaiting = split(q.text(4));
+    e.queued_ns = q.int64(5);
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+std::optional<std::vector<std::uint8_t>> StateFile::outbox_payload(
+    const std::string& topic, const std::string& sample_id, const std::string& content_hash) {
+  Query q(impl_->cache, kPayload);
+  q.bind(topic, sample_id, content_hash);
+  if (!q.step()) return std::nullopt;
+  return q.blob(0);
+}
+
+std::optional<std::vector<std::string>> StateFile::acknowledge(const std::string& topic,
+                                                               const std::string& sample_id,
+                                                               const std::string& content_hash,
+                                                               const std::string& role) {
+  Transaction tx(impl_->cache, Transaction::Mode::Write);
+  std::vector<std::string> awaiting;
+  {
+    Query q(impl_->cache, kAwaiting);
+    q.bind(topic, sample_id, content_hash);
+    if (!q.step()) return std::nullopt;
+    awaiting = split(q.text(0));
+  }
+  const auto it = std::find(awaiting.begin(), awaiting.end(), role);
+  if (it == awaiting.end()) return std::nullopt;
+  awaiting.erase(it);
+  if (awaiting.empty()) {
+    Query(impl_->cache, kDiscard).bind(topic, sample_id, content_hash).run();
+  } else {
+    Query(impl_->cache, kSetAwaiting).bind(topic, sample_id, content_hash, joined(awaiting)).run();
+  }
+  tx.commit();
+  return awaiting;
+}
+
+bool StateFile::discard(const std::string& topic, const std::string& sample_id,
+                        const std::string& content_hash) {
+  Query q(impl_->cache, kDiscard);
+  q.bind(topic, sample_id, content_hash);
+  q.run();
+  return q.changes() > 0;
+}
+
+OutboxSummary StateFile::outbox_summary() {
+  Query q(impl_->cache, kSummary);
+  q.step();
+  return OutboxSummary{q.int64(0), q.int64(1)};
 }
 
 }  // namespace ncqual::storage

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/dds/convert.hpp"
 
+#include <algorithm>
+#include <climits>
+
 namespace ncqual::dds {
 namespace {
 
@@ -299,10 +302,42 @@ msg::Heartbeat to_wire(const Heartbeat& v) {
   w.instance(v.instance);
   w.state(v.state);
   w.time_ns(v.time_ns);
+  w.health(v.health);
+  w.health_detail(v.health_detail);
+  w.outbox_depth(static_cast<std::int32_t>(std::min<std::int64_t>(v.outbox_depth, INT32_MAX)));
+  w.oldest_unacknowledged_ns(v.oldest_unacknowledged_ns);
   return w;
 }
 Heartbeat from_wire(const msg::Heartbeat& w, std::string& /*error*/) {
-  return Heartbeat{w.service(), w.instance(), w.machine_id(), w.state(), w.time_ns()};
+  return Heartbeat{w.service(),       w.instance(),     w.machine_id(),
+                   w.state(),         w.time_ns(),      w.health(),
+                   w.health_detail(), w.outbox_depth(), w.oldest_unacknowledged_ns()};
+}
+
+msg::Acknowledgement to_wire(const Acknowledgement& v) {
+  msg::Acknowledgement w;
+  w.machine_id(v.machine_id);
+  w.topic(v.topic);
+  w.sample_id(v.sample_id);
+  w.content_hash(v.content_hash);
+  w.outcome(static_cast<msg::AckOutcome>(static_cast<int>(v.outcome)));
+  w.by(v.by);
+  w.instance(v.instance);
+  w.detail(v.detail);
+  w.time_ns(v.time_ns);
+  return w;
+}
+Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error) {
+  Acknowledgement v{w.machine_id(),   w.topic(),           w.sample_id(),
+                    w.content_hash(), AckOutcome::Refused, w.by(),
+                    w.instance(),     w.detail(),          w.time_ns()};
+  const auto raw = static_cast<std::uint32_t>(w.outcome());
+  if (raw > static_cast<std::uint32_t>(AckOutcome::Accepted)) {
+    note(error, "outcome = " + std::to_string(raw) + " is not a known acknowledgement outcome");
+  } else {
+    v.outcome = static_cast<AckOutcome>(raw);
+  }
+  return v;
 }
 
 }  // namespace ncqual::dds

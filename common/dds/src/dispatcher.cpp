@@ -71,6 +71,13 @@ bool Dispatcher::run_until(const std::function<bool()>& done, std::chrono::milli
   return done();
 }
 
+bool Dispatcher::drain_until(const std::function<bool()>& done, std::chrono::milliseconds timeout) {
+  stop_.set_trigger_value(false);
+  const bool result = run_until(done, timeout);
+  stop_.set_trigger_value(true);
+  return result;
+}
+
 void Dispatcher::stop() { stop_.set_trigger_value(true); }
 
 bool Dispatcher::stopping() const { return stop_.get_trigger_value(); }

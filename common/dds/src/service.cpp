@@ -62,14 +62,21 @@ Service::Service(const ServiceOptions& options) : options_(options) {
 Service::~Service() = default;
 
 void Service::beat(const std::string& state) {
-  heartbeat_->write(
-      Heartbeat{options_.service, instance_, options_.machine_id, state, clock_.now_ns()});
+  Heartbeat beat;
+  beat.service = options_.service;
+  beat.instance = instance_;
+  beat.machine_id = options_.machine_id;
+  beat.state = state;
+  beat.time_ns = clock_.now_ns();
+  for (const auto& fill : fill_) fill(beat);
+  heartbeat_->write(beat);
 }
 
 int Service::run() {
   spdlog::info("{} {} running on domain {}", options_.service, instance_, options_.domain_id);
   dispatcher_.run();
   beat("stopping");
+  for (const auto& work : before_stop_) work();
   spdlog::info("{} stopped", options_.service);
   return 0;
 }

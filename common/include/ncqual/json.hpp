@@ -107,4 +107,18 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(CheckRequest, machine_id, reques
                                                 requested_by, time_ns, attempt, parameters,
                                                 verifies_correction_of)
 
+// The other samples, as the historian keeps a conflicting one (storage: conflicts.document).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AxisPosition, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Touch, feature, axes, approach)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrackerPoint, label, commanded, measured_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementSet, machine_id, request_id, kind, instrument, frame,
+                                   time_ns, touches, tracker_points, parameters, error)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckResult, machine_id, request_id, kind, verdict, metrics,
+                                   likely_causes, reason, correction, time_ns, produced_by)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineStatus, machine_id, request_id, state, last_kind,
+                                   last_verdict, detail, time_ns)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Intervention, machine_id, intervention_id, kind, note,
+                                   operator_name, time_ns)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Compensation, machine_id, request_id, correction, time_ns)
+
 }  // namespace ncqual

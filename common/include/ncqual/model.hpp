@@ -197,7 +197,53 @@ struct Heartbeat {
   std::string machine_id;  // the machine an acquisition serves; empty for plant-wide services
   std::string state;       // "starting", "running", "stopping"
   std::int64_t time_ns = 0;
+  std::string health = "ok";      // "ok", "degraded", "failed": the service's storage and outbox
+  std::string health_detail;      // why, when not ok
+  std::int64_t outbox_depth = 0;  // samples sent and not yet acknowledged by all they await
+  std::int64_t oldest_unacknowledged_ns = 0;  // queued time of the oldest of them; 0: none
 };
+
+// What a service says about a sample it received (docs/architecture.md, "Acknowledged storage").
+enum class AckOutcome : std::int32_t {
+  Stored = 0,     // historian: committed
+  Duplicate = 1,  // historian: the same sample was already stored
+  Conflict = 2,   // historian: another sample with this id and other content is stored; this one
+                  // is stored beside it, flagged
+  Refused = 3,    // can never be used (detail says why): not to be sent again
+  Accepted = 4,   // taken into the service's durable state
+};
+std::string_view to_string(AckOutcome outcome);
+std::optional<AckOutcome> parse_ack_outcome(std::string_view name);
+
+// The roles that acknowledge samples, as Acknowledgement::by names them.
+namespace roles {
+inline constexpr const char* kHistorian = "historian";
+inline constexpr const char* kScheduler = "scheduler";
+inline constexpr const char* kAcquisition = "acquisition";
+inline constexpr const char* kSolver = "solver";
+}  // namespace roles
+
+struct Acknowledgement {
+  std::string machine_id;
+  std::string topic;         // "ncqual/CheckResult"
+  std::string sample_id;     // sample_id_of() the sample
+  std::string content_hash;  // SHA-256 of its CDR serialization, hex
+  AckOutcome outcome = AckOutcome::Stored;
+  std::string by;        // roles::
+  std::string instance;  // host:pid
+  std::string detail;
+  std::int64_t time_ns = 0;
+};
+
+// The id a sample is acknowledged and stored under: its request id; an intervention's id; a
+// status change's machine, time, state and request (the historian's identity of a status).
+std::string sample_id_of(const CheckRequest& v);
+std::string sample_id_of(const CheckCommand& v);
+std::string sample_id_of(const MeasurementSet& v);
+std::string sample_id_of(const CheckResult& v);
+std::string sample_id_of(const Compensation& v);
+std::string sample_id_of(const Intervention& v);
+std::string sample_id_of(const MachineStatus& v);
 
 // Looks up a metric by name; nullptr when absent.
 const Metric* find_metric(const CheckResult& result, std::string_view name);

@@ -3,9 +3,11 @@
 //
 //   ncqual check --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]
 //
-// Publishes a CheckCommand and waits until the scheduler acknowledged it; prints its request id.
-// With --wait, prints the check's result instead (a table row, or --json) and exits with its
-// verdict: 0 PASS, 3 FAIL, 4 INVALID, 5 no result in time; 1 when no scheduler listens.
+// Publishes a CheckCommand and waits until the scheduler acknowledged it (acknowledged_order.hpp);
+// prints its request id. With --wait, prints the check's result instead (a table row, or --json)
+// and exits with its verdict: 0 PASS, 3 FAIL, 4 INVALID or refused by the scheduler, 5 no result
+// in time; 1 when no scheduler acknowledges the order.
+#include "acknowledged_order.hpp"
 #include "commands.hpp"
 
 #include "ncqual/clock.hpp"
@@ -53,10 +55,18 @@ int run(const Options& o) {
   std::optional<ncqual::dds::Reader<ncqual::dds::CheckResultTopic>> results;
   if (o.wait_s > 0) results.emplace(participant, machine);
 
-  if (!publish(commands, cmd, 1, "check",
-               "no scheduler is listening on domain " + std::to_string(domain),
-               "the scheduler did not acknowledge the order")) {
+  const OrderOutcome order =
+      send_acknowledged(participant, commands, cmd, {roles::kScheduler}, std::chrono::seconds(15));
+  if (!order.silent.empty()) {
+    std::cerr << "ncqual check: no scheduler acknowledged order " << cmd.request_id
+              << " within 15 s: is a scheduler serving " << machine << " running on domain "
+              << domain << "?\n";
     return kExitError;
+  }
+  if (const Acknowledgement* refused = order.refused()) {
+    std::cerr << "ncqual check: the scheduler refused " << cmd.request_id << ": " << refused->detail
+              << "\n";
+    return kExitInvalid;
   }
   std::cerr << "requested " << kind_name << " on " << machine << " (" << cmd.request_id << ")\n";
   if (!results) {

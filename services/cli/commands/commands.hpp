@@ -118,23 +118,6 @@ enum class Plane;
 
 namespace ncqual::cli {
 
-// Writes `sample` once `readers` readers listen, and waits until they acknowledged it (10 s each
-// at most). Otherwise says on stderr "ncqual <command>: " and `not_heard` or `not_acknowledged`,
-// and returns false. (check, import, intervene)
-template <typename Writer, typename Sample>
-bool publish(Writer& writer, const Sample& sample, int readers, const std::string& command,
-             const std::string& not_heard, const std::string& not_acknowledged) {
-  if (!writer.wait_for_readers(readers, std::chrono::seconds(10))) {
-    std::cerr << "ncqual " << command << ": " << not_heard << "\n";
-    return false;
-  }
-  if (!writer.write(sample) || !writer.wait_for_acknowledgments(std::chrono::seconds(10))) {
-    std::cerr << "ncqual " << command << ": " << not_acknowledged << "\n";
-    return false;
-  }
-  return true;
-}
-
 // --plane XY|YZ|XZ of the circular tests (analyze, import): nothing when not given; UsageError
 // naming the value when it is not a plane.
 std::optional<solver::Plane> plane_option(const std::optional<std::string>& text);

@@ -13,9 +13,12 @@
 //   ncqual import grid --x-run F --y-run F --grid F --machine M [--plant F] [--domain N]
 //       kind global_grid with its master-frame runs
 //
-// Prints the request id of the set (`ncqual wait --request ID` waits for its result). Exit
-// codes: 0 published, 1 refused file (file:line:column on stderr) or no solver/historian
-// listening, 2 bad usage (and a machine the plant does not configure).
+// Prints the request id of the set (`ncqual wait --request ID` waits for its result) once the
+// historian stored it and the solver saved its result (acknowledged_order.hpp). Exit codes: 0
+// imported, 1 refused file (file:line:column on stderr) or no acknowledgement from the solver or
+// the historian within 60 s, 2 bad usage (and a machine the plant does not configure), 4 refused
+// by a service.
+#include "acknowledged_order.hpp"
 #include "commands.hpp"
 
 #include "ncqual/clock.hpp"
@@ -108,12 +111,19 @@ int run(const Options& o) {
   ncqual::dds::Participant participant(
       {domain, plant.qos_profiles_file, "ncqual-import", plant.allow_default_qos});
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
-  // The solver and the historian both read measurement sets: wait for both.
-  if (!publish(
-          sets, set, 2, "import",
-          "the solver and the historian are not both listening on domain " + std::to_string(domain),
-          "the measurement set was not acknowledged")) {
+  // Imported once the historian stored it and the solver saved its result.
+  const OrderOutcome order = send_acknowledged(
+      participant, sets, set, {roles::kHistorian, roles::kSolver}, std::chrono::seconds(60));
+  if (!order.silent.empty()) {
+    std::cerr << "ncqual import: " << set.request_id << " was not acknowledged within 60 s by the";
+    for (const auto& r : order.silent) std::cerr << " " << r;
+    std::cerr << " on domain " << domain << "\n";
     return kExitError;
+  }
+  if (const Acknowledgement* refused = order.refused()) {
+    std::cerr << "ncqual import: the " << refused->by << " refused " << set.request_id << ": "
+              << refused->detail << "\n";
+    return kExitInvalid;
   }
   std::cerr << "imported " << set.tracker_points.size() << " points as " << to_string(set.kind)
             << " of " << machine_id << "\n";

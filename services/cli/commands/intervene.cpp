@@ -3,10 +3,12 @@
 //
 //   ncqual intervene --machine M --check KIND --note TEXT [--operator NAME] [--plant F]
 //                    [--domain N]
-//     Publishes an Intervention (the scheduler re-arms the held check when KIND names it; the
-//     historian stores it) and waits until both have acknowledged it. Prints its id.
+//     Publishes an Intervention and waits until the scheduler acknowledged it (it re-arms the
+//     held check when KIND names it, and keeps the intervention in its outbox until the historian
+//     stored it). Prints its id, and what the scheduler said when it changed nothing.
 //
-// Exit codes: 0, 1 when the scheduler and the historian do not both hear it, 2 bad usage.
+// Exit codes: 0, 1 when no scheduler acknowledges it, 2 bad usage, 4 refused.
+#include "acknowledged_order.hpp"
 #include "commands.hpp"
 
 #include "ncqual/clock.hpp"
@@ -41,15 +43,23 @@ int run(const Options& o) {
   ncqual::dds::Participant participant(
       {domain, plant.qos_profiles_file, "ncqual-cli", plant.allow_default_qos});
   ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
-  // The scheduler (to re-arm) and the historian (to record): both must hear it.
-  if (!publish(writer, iv, 2, "intervene",
-               "the scheduler and the historian must both be running on domain " +
-                   std::to_string(domain) + " (fewer than 2 readers of ncqual/Intervention)",
-               "the intervention was not acknowledged")) {
+  const OrderOutcome order =
+      send_acknowledged(participant, writer, iv, {roles::kScheduler}, std::chrono::seconds(15));
+  if (!order.silent.empty()) {
+    std::cerr << "ncqual intervene: no scheduler acknowledged intervention " << iv.intervention_id
+              << " within 15 s: is a scheduler serving " << machine << " running on domain "
+              << domain << "?\n";
     return kExitError;
+  }
+  if (const Acknowledgement* refused = order.refused()) {
+    std::cerr << "ncqual intervene: the scheduler refused " << iv.intervention_id << ": "
+              << refused->detail << "\n";
+    return kExitInvalid;
   }
   std::cerr << "recorded intervention on " << machine << " for " << kind_name << " by " << who
             << "\n";
+  const std::string& said = order.answers.at(roles::kScheduler).detail;
+  if (!said.empty()) std::cerr << "the scheduler: " << said << "\n";
   std::cout << iv.intervention_id << "\n";
   return kExitOk;
 }

@@ -39,6 +39,46 @@ class StorageError : public Error {
   int sqlite_code_;
 };
 
+// Where a stored sample came from (acknowledged storage): the SHA-256 of its CDR serialization
+// and the GUID of the DataWriter that wrote it, as the historian received it. Empty for samples
+// stored by other means (tests, imports of old files): they are stored without a hash.
+struct Origin {
+  std::string content_hash;
+  std::string writer;
+  std::int64_t received_ns = 0;
+  std::optional<std::string> hash() const {
+    return content_hash.empty() ? std::nullopt : std::optional<std::string>(content_hash);
+  }
+  std::optional<std::string> writer_guid() const {
+    return writer.empty() ? std::nullopt : std::optional<std::string>(writer);
+  }
+};
+
+enum class StoreOutcome {
+  Stored,     // newly stored
+  Duplicate,  // the same sample was already stored (or one stored without a hash)
+  Conflict,   // a sample with this identity and other content was stored first: this one is kept
+              // in the conflicts table beside it, the first is never replaced
+};
+
+struct StoreResult {
+  StoreOutcome outcome = StoreOutcome::Stored;
+  std::string stored_hash;  // Duplicate/Conflict: the hash of the sample stored first ('' if none)
+  explicit operator bool() const { return outcome == StoreOutcome::Stored; }
+};
+
+// A sample kept because its id was already stored with other content.
+struct ConflictRecord {
+  std::string topic;  // "ncqual/CheckResult"
+  std::string sample_id;
+  std::string machine_id;
+  std::string content_hash;
+  std::string stored_hash;
+  std::string writer;
+  std::int64_t received_ns = 0;
+  std::string document;  // the sample, JSON
+};
+
 // What was measured for one check, without the raw points (load_measurement_set has those).
 struct MeasurementSummary {
   std::string instrument;
@@ -58,6 +98,7 @@ struct CheckRecord {
   std::optional<CheckRequest> request;
   std::optional<MeasurementSummary> measurement;
   std::optional<CheckResult> result;  // metrics in order, causes in rank order, correction
+  std::int64_t conflicts = 0;         // samples of this request kept beside these for other content
 };
 
 struct HistoryQuery {
@@ -109,18 +150,18 @@ class Database {
   // "ok", or SQLite's list of problems one per line.
   std::string integrity_check();
 
-  // Each store returns true when the sample was newly stored and false when a sample with the
-  // same identity was already there (nothing is written then, even if the contents differ: the
-  // first arrival wins). Identity: request_id for requests, measurement sets and results;
+  // Each store says whether the sample was newly stored, a duplicate, or a conflict (its identity
+  // was stored first with another content hash: it is kept in the conflicts table, the first row
+  // stays). Identity: request_id for requests, measurement sets and results;
   // (machine_id, time_ns, state, request_id) for statuses; intervention_id for interventions;
   // (request_id, correction.target) for compensations; (service, instance) for heartbeats.
-  // Each also records the machine as seen at the sample's time.
-  bool store(const CheckRequest& request);
-  bool store(const MeasurementSet& measurement_set);
-  bool store(const CheckResult& result);
-  bool store(const MachineStatus& status);
-  bool store(const Intervention& intervention);
-  bool store(const Compensation& compensation);
+  // Each also records the machine as seen at the sample's time, and the origin's hash and writer.
+  StoreResult store(const CheckRequest& request, const Origin& origin = {});
+  StoreResult store(const MeasurementSet& measurement_set, const Origin& origin = {});
+  StoreResult store(const CheckResult& result, const Origin& origin = {});
+  StoreResult store(const MachineStatus& status, const Origin& origin = {});
+  StoreResult store(const Intervention& intervention, const Origin& origin = {});
+  StoreResult store(const Compensation& compensation, const Origin& origin = {});
   // Upserts the service's state and last seen time (a stale heartbeat never moves it back);
   // true when this (service, instance) was not known before.
   bool store(const Heartbeat& heartbeat);
@@ -144,6 +185,8 @@ class Database {
   std::vector<Compensation> compensations(const std::string& machine_id);
   // The last heartbeat of every service instance, sorted by service then instance.
   std::vector<Heartbeat> services();
+  // Samples kept for conflicting with a stored one, newest first; of one machine or of all.
+  std::vector<ConflictRecord> conflicts(std::optional<std::string> machine_id = {});
 
  private:
   struct Impl;

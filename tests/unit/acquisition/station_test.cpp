@@ -72,12 +72,21 @@ class StationTest : public ::testing::Test {
                                    bool publish_ok = true) {
     PerformedRequests performed(*state_, "m1", capacity);
     performed.load(state_->load());
-    return std::make_unique<Station>("m1", std::make_unique<RecordingInstruments>(recorder_),
-                                     std::move(performed), options,
-                                     [this, publish_ok](const MeasurementSet& set) {
-                                       if (publish_ok) published_.push_back(set);
-                                       return publish_ok;
-                                     });
+    return std::make_unique<Station>(
+        "m1", std::make_unique<RecordingInstruments>(recorder_), std::move(performed), options,
+        [this, publish_ok](const MeasurementSet& set) {
+          if (publish_ok) published_.push_back(set);
+          return publish_ok;
+        },
+        [](const MeasurementSet& set) {
+          return std::vector<storage::OutboxEntry>{{"ncqual/MeasurementSet",
+                                                    set.request_id,
+                                                    "h-" + set.request_id,
+                                                    set.machine_id,
+                                                    {1, 2},
+                                                    {"historian", "solver"},
+                                                    set.time_ns}};
+        });
   }
 
   fs::path path_;
@@ -113,13 +122,20 @@ TEST_F(StationTest, OnlyTheNewestRequestsAreRemembered) {
   EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"a", "b", "c", "d", "a"}));
 }
 
-TEST_F(StationTest, AnUnpublishedMeasurementIsNotRecordedAsPerformed) {
+// The set is in the outbox, in the transaction that records its request as performed, before it
+// is written: when the write fails (or the process dies right after the record), the outbox sends
+// it again and a restarted station does not move the machine again.
+TEST_F(StationTest, AMeasurementIsRecordedWithItsOutboxEntryBeforeItIsWritten) {
   auto s = station({}, 1000, /*publish_ok=*/false);
   s->on_request(request("r1"), "", kNow);
-  EXPECT_TRUE(state_->load().empty());
+  const auto index = state_->outbox_index();
+  ASSERT_EQ(index.size(), 1u);
+  EXPECT_EQ(index[0].sample_id, "r1");
+  EXPECT_EQ(index[0].awaiting, (std::vector<std::string>{"historian", "solver"}));
   s = station();
   s->on_request(request("r1"), "", kNow);
-  EXPECT_EQ(published_.size(), 1u);
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1"}));
+  EXPECT_TRUE(published_.empty());
 }
 
 TEST_F(StationTest, OnTheWallClockOldRequestsAreHistoryNotWork) {

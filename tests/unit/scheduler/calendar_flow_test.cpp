@@ -88,7 +88,8 @@ struct Driver {
               }
               inbox.push_back(r);
             },
-            [this](const MachineStatus& s) { statuses.push_back(s); }};
+            [this](const MachineStatus& s) { statuses.push_back(s); },
+            {}};
   }
 
   // Answers one request from the inbox; false when the inbox is empty.
@@ -499,7 +500,7 @@ TEST(CalendarFlow, RestartsAtRandomPointsChangeNothing) {
       d.inbox.clear();
       Scheduler s(p, d.clock, d.outputs(), &state);
       s.start({});
-      more = d.run_for(s, until, std::uniform_int_distribution<int>(1, 60)(rng));
+      more = d.run_for(s, until, std::uniform_int_distribution<int>(1, 30)(rng));
       ++restarts;
     }
     EXPECT_GT(restarts, 5);

@@ -1,60 +1,87 @@
 // SPDX-License-Identifier: Apache-2.0
-// The scheduler's restart handshake with the readers of its writers, and its command-line
-// choices, without DDS: a restarted scheduler waits for the readers its last run had, learns a
-// changed plant, and remembers readers that join later (through a real state file).
+// The scheduler's durable sending and its command-line choices, without DDS (through a real
+// state file).
 #include "driver.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace ncqual::scheduler {
 namespace {
 
-// A writer whose matched readers the test sets; `wait` succeeds when enough are matched.
-struct FakeWriter {
-  int matched = 0;
-  int waits = 0;
-  ReaderHandshake::Writer writer() {
-    return {[this] { return matched; },
-            [this](int readers, std::chrono::milliseconds) {
-              ++waits;
-              return matched >= readers;
-            }};
-  }
-};
+PlantConfig one_machine() {
+  PlantConfig p;
+  p.plant = "t";
+  p.machines.resize(1);
+  p.machines[0].machine_id = "m1";
+  return p;
+}
 
-TEST(ReaderHandshake, ARestartWaitsForTheReadersOfTheLastRunAndLearnsAChangedPlant) {
-  const std::string file = ::testing::TempDir() + "ncqual-handshake.db";
+// What a decision sends is in the state file's outbox before it leaves, in the transaction of
+// the decision: when the request reaches the writer, the file already holds it (and the state
+// that issued it), so a kill can never keep the one and lose the other.
+TEST(SchedulerOutbox, WhatADecisionSendsIsSavedWithItBeforeItLeaves) {
+  const std::string file = ::testing::TempDir() + "ncqual-scheduler-outbox.db";
   std::filesystem::remove(file);
   auto state = storage::StateFile::open(file);
-  FakeWriter requests, statuses;
-  {
-    // First run: nothing known, nothing to wait for; readers join and are remembered.
-    ReaderHandshake h(state, requests.writer(), statuses.writer());
-    EXPECT_TRUE(h.wait(std::chrono::milliseconds(10)));
-    EXPECT_EQ(requests.waits, 0);
-    requests.matched = 3;  // historian and two acquisitions
-    statuses.matched = 1;  // historian
-    h.learn();
-    requests.matched = 2;  // one acquisition goes: the count stays the largest seen
-    h.learn();
-  }
-  EXPECT_EQ(saved_reader_counts(state), (ReaderCounts{3, 1}));
-  {
-    // Restart with every reader back: waits for them.
-    requests.matched = 3;
-    ReaderHandshake h(state, requests.writer(), statuses.writer());
-    EXPECT_TRUE(h.wait(std::chrono::milliseconds(10)));
-    EXPECT_GT(requests.waits, 0);
-  }
-  {
-    // Restart after an acquisition left the plant: it says so and learns the smaller count.
-    requests.matched = 2;
-    ReaderHandshake h(state, requests.writer(), statuses.writer());
-    EXPECT_FALSE(h.wait(std::chrono::milliseconds(10)));
-    EXPECT_EQ(saved_reader_counts(state), (ReaderCounts{2, 1}));
-  }
+  const PlantConfig plant = one_machine();
+  SimulatedClock clock(1'000'000'000);
+  std::vector<std::string> in_file_when_sent;
+  std::vector<std::string> pending_when_sent;
+  Scheduler::Outputs outputs;
+  outputs.queue = [](const std::vector<CheckRequest>& requests,
+                     const std::vector<MachineStatus>& statuses) {
+    std::vector<storage::OutboxEntry> entries;
+    for (const auto& r : requests) {
+      entries.push_back({"ncqual/CheckRequest",
+                         r.request_id,
+                         "h-" + r.request_id,
+                         r.machine_id,
+                         {1, 2, 3},
+                         {"historian"},
+                         r.time_ns});
+    }
+    for (const auto& st : statuses) {
+      entries.push_back({"ncqual/MachineStatus",
+                         sample_id_of(st),
+                         "h",
+                         st.machine_id,
+                         {4},
+                         {"historian"},
+                         st.time_ns});
+    }
+    return entries;
+  };
+  outputs.request = [&](const CheckRequest& r) {
+    for (const auto& e : state.outbox_index()) {
+      if (e.sample_id == r.request_id) in_file_when_sent.push_back(e.sample_id);
+    }
+    const auto docs = state.load();
+    const auto run = machine_run_from_json(docs.at("machine/m1"));
+    for (const auto& p : run.pending) pending_when_sent.push_back(p.request_ids.back());
+  };
+  outputs.status = [](const MachineStatus&) {};
+  Scheduler s(plant, clock, outputs, &state);
+  s.start({CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength});
+  ASSERT_TRUE(s.saved());
+  ASSERT_EQ(in_file_when_sent.size(), 1u);
+  EXPECT_EQ(pending_when_sent, in_file_when_sent);
+  // The first request and at least one status (CHECKING) wait in the outbox for the historian.
+  const auto index = state.outbox_index();
+  EXPECT_EQ(std::count_if(index.begin(), index.end(),
+                          [](const auto& e) { return e.topic == "ncqual/CheckRequest"; }),
+            1);
+  EXPECT_GE(std::count_if(index.begin(), index.end(),
+                          [](const auto& e) { return e.topic == "ncqual/MachineStatus"; }),
+            1);
+  // The historian's acknowledgement empties the entry; the same entry queued again is kept once.
+  const auto& first = index.front();
+  EXPECT_EQ(state.acknowledge(first.topic, first.sample_id, first.content_hash, "historian"),
+            std::vector<std::string>{});
+  EXPECT_FALSE(state.acknowledge(first.topic, first.sample_id, first.content_hash, "historian"));
+  EXPECT_EQ(state.outbox_summary().depth, static_cast<std::int64_t>(index.size()) - 1);
 }
 
 TEST(SchedulerCommandLine, CycleListsAndRunEndsAreReadOrRefusedByName) {

@@ -11,7 +11,8 @@ struct Recorder {
   std::vector<MachineStatus> statuses;
   Scheduler::Outputs outputs() {
     return {[this](const CheckRequest& r) { requests.push_back(r); },
-            [this](const MachineStatus& s) { statuses.push_back(s); }};
+            [this](const MachineStatus& s) { statuses.push_back(s); },
+            {}};
   }
 };
 

@@ -285,7 +285,7 @@ TEST_F(StorageRoundTrip, CompensationComesBackAndIsStoredOncePerTarget) {
 }
 
 TEST_F(StorageRoundTrip, HeartbeatUpsertsAndNeverGoesBackInTime) {
-  Heartbeat start{"acquisition", "host-a:41", "M1", "starting", 100};
+  Heartbeat start{"acquisition", "host-a:41", "M1", "starting", 100, "ok", "", 0, 0};
   EXPECT_TRUE(db_.store(start));
   EXPECT_FALSE(db_.store(start));
   Heartbeat running = start;
@@ -294,7 +294,7 @@ TEST_F(StorageRoundTrip, HeartbeatUpsertsAndNeverGoesBackInTime) {
   EXPECT_FALSE(db_.store(running));  // known instance: updated, not new
   EXPECT_FALSE(db_.store(start));    // stale: must not move the state back
 
-  Heartbeat historian{"historian", "host-b:7", "", "running", 150};
+  Heartbeat historian{"historian", "host-b:7", "", "running", 150, "ok", "", 0, 0};
   EXPECT_TRUE(db_.store(historian));
 
   const auto list = db_.services();

@@ -99,12 +99,12 @@ TEST_F(StorageValidation, EmptyIdentitiesAreRefused) {
       "Compensation.correction.target is empty (Compensation 'r1')");
   expect_refused(
       [&] {
-        db_.store(Heartbeat{"", "host:1", "", "running", 0});
+        db_.store(Heartbeat{"", "host:1", "", "running", 0, "ok", "", 0, 0});
       },
       "Heartbeat.service is empty");
   expect_refused(
       [&] {
-        db_.store(Heartbeat{"solver", "", "", "running", 0});
+        db_.store(Heartbeat{"solver", "", "", "running", 0, "ok", "", 0, 0});
       },
       "Heartbeat.instance is empty");
 }

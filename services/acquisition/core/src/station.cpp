@@ -52,20 +52,20 @@ void PerformedRequests::load(const std::map<std::string, std::string>& documents
   }
 }
 
-void PerformedRequests::record(const std::string& request_id) {
+void PerformedRequests::record(const std::string& request_id,
+                               const std::vector<storage::OutboxEntry>& queue) {
   const std::string prefix = "performed/" + machine_id_ + "/";
+  std::vector<std::string> erase;
+  for (std::size_t i = 0; i + capacity_ < order_.size() + 1; ++i)
+    erase.push_back(prefix + order_[i]);
+  state_.save({{prefix + request_id, nlohmann::json(PerformedEntry{next_seq_}).dump()}}, erase,
+              queue);
+  ++next_seq_;
   ids_.insert(request_id);
   order_.push_back(request_id);
-  std::vector<std::string> erase;
   while (order_.size() > capacity_) {
-    erase.push_back(prefix + order_.front());
     ids_.erase(order_.front());
     order_.pop_front();
-  }
-  try {
-    state_.save({{prefix + request_id, nlohmann::json(PerformedEntry{next_seq_++}).dump()}}, erase);
-  } catch (const std::exception& e) {
-    spdlog::error("{}: could not record {} as performed: {}", machine_id_, request_id, e.what());
   }
 }
 
@@ -73,12 +73,13 @@ void PerformedRequests::record(const std::string& request_id) {
 // -------------------------------------------------------------------------------------
 
 Station::Station(std::string machine_id, std::unique_ptr<Instruments> instruments,
-                 PerformedRequests performed, StationOptions options, Publish publish)
+                 PerformedRequests performed, StationOptions options, Publish publish, Queue queue)
     : machine_id_(std::move(machine_id)),
       instruments_(std::move(instruments)),
       performed_(std::move(performed)),
       options_(options),
-      publish_(std::move(publish)) {}
+      publish_(std::move(publish)),
+      queue_(std::move(queue)) {}
 
 std::size_t Station::waiting() const {
   std::size_t n = 0;
@@ -140,11 +141,17 @@ void Station::measure(const CheckRequest& req, const std::string& malformed, std
   spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
                to_string(set.kind), set.touches.size(), set.tracker_points.size(),
                set.error.empty() ? "" : " (" + set.error + ")");
-  if (!publish_(set)) {
-    spdlog::error("{}: measurement set could not be queued", set.request_id);
-    return;
+  // Recorded before it is published, with its outbox entry: a kill after this point sends the
+  // set again at the next start rather than moving the machine again.
+  try {
+    performed_.record(req.request_id, queue_ ? queue_(set) : std::vector<storage::OutboxEntry>{});
+  } catch (const std::exception& e) {
+    spdlog::error("{}: {} not recorded as performed (it may be measured again): {}", machine_id_,
+                  req.request_id, e.what());
   }
-  performed_.record(req.request_id);
+  if (!publish_(set)) {
+    spdlog::error("{}: measurement set could not be written now", set.request_id);
+  }
 }
 
 }  // namespace ncqual::acquisition

@@ -20,6 +20,7 @@ msg::MachineStatus to_wire(const MachineStatus& v);
 msg::Intervention to_wire(const Intervention& v);
 msg::Compensation to_wire(const Compensation& v);
 msg::Heartbeat to_wire(const Heartbeat& v);
+msg::Acknowledgement to_wire(const Acknowledgement& v);
 
 // Each returns the model; `error` is set (and the model holds what could be read, at least
 // machine_id and the request id) when the sample is malformed.
@@ -31,5 +32,6 @@ MachineStatus from_wire(const msg::MachineStatus& w, std::string& error);
 Intervention from_wire(const msg::Intervention& w, std::string& error);
 Compensation from_wire(const msg::Compensation& w, std::string& error);
 Heartbeat from_wire(const msg::Heartbeat& w, std::string& error);
+Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error);
 
 }  // namespace ncqual::dds

@@ -36,6 +36,9 @@ class Dispatcher {
   void run();
   // Runs until `done()` is true (checked after each wake-up) or the timeout; returns done().
   bool run_until(const std::function<bool()>& done, std::chrono::milliseconds timeout);
+  // After a stop: runs again until `done()`, the timeout or another stop (a second signal), then
+  // is stopped again. For the last work of a stopping service (an outbox's drain).
+  bool drain_until(const std::function<bool()>& done, std::chrono::milliseconds timeout);
   // Thread-safe; wakes run() and makes it return.
   void stop();
   // True once stop() was called (a signal, or the service's own decision).

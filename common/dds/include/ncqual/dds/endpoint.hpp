@@ -4,6 +4,7 @@
 
 #include "ncqual/dds/convert.hpp"
 #include "ncqual/dds/participant.hpp"
+#include "ncqual/dds/serialized.hpp"
 
 #include <fastdds/dds/core/condition/StatusCondition.hpp>
 #include <fastdds/dds/core/condition/WaitSet.hpp>
@@ -14,6 +15,7 @@
 
 #include <chrono>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -47,6 +49,9 @@ class Writer {
   bool write(const Model& value) {
     auto wire = to_wire(value);
     return writer_->write(&wire);
+  }
+  bool write_wire(const typename Topic::Wire& wire) {
+    return writer_->write(const_cast<typename Topic::Wire*>(&wire));
   }
 
   // Blocks until every matched reader acknowledged everything written, or the timeout.
@@ -97,12 +102,16 @@ template <typename Model>
 struct Received {
   Model value;
   std::string error;
+  std::string content_hash;  // sha256_hex of its CDR serialization (serialized.hpp)
+  std::string writer;        // the GUID of the DataWriter that wrote it
+  bool local = false;        // written by this process's own participant
 };
 
 template <typename Topic>
 class Reader {
  public:
   using Model = typename Topic::Model;
+  using TopicType = Topic;
 
   // With `machine_id`, only samples of that machine are delivered (content-filtered topic,
   // evaluated at the writer where possible).
@@ -138,6 +147,12 @@ class Reader {
       if (!info.valid_data) continue;  // dispose / unregister notifications
       Received<Model> r;
       r.value = from_wire(wire, r.error);
+      r.content_hash = sha256_hex(serialize<Topic>(wire));
+      std::ostringstream guid;
+      guid << info.sample_identity.writer_guid();
+      r.writer = guid.str();
+      r.local =
+          info.sample_identity.writer_guid().guidPrefix == participant_.get()->guid().guidPrefix;
       out.push_back(std::move(r));
     }
     return out;

@@ -45,6 +45,8 @@ inline constexpr const char* kDurableWriter = "ncqual_durable_writer";
 inline constexpr const char* kDurableReader = "ncqual_durable_reader";
 inline constexpr const char* kCommandWriter = "ncqual_command_writer";
 inline constexpr const char* kCommandReader = "ncqual_command_reader";
+inline constexpr const char* kAckWriter = "ncqual_ack_writer";
+inline constexpr const char* kAckReader = "ncqual_ack_reader";
 inline constexpr const char* kHeartbeatWriter = "ncqual_heartbeat_writer";
 inline constexpr const char* kHeartbeatReader = "ncqual_heartbeat_reader";
 }  // namespace profiles

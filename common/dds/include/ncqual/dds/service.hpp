@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace ncqual::dds {
 
@@ -36,19 +37,27 @@ class Service {
   const Clock& clock() const { return clock_; }
   const std::string& instance() const { return instance_; }
 
-  // Runs the receive loop until SIGINT/SIGTERM or stop(); announces itself by heartbeat.
+  // Runs the receive loop until SIGINT/SIGTERM or stop(), announcing itself by heartbeat; then
+  // runs the before_stop work (an outbox's drain) in the order registered.
   int run();
   void stop() { dispatcher_.stop(); }
 
- private:
+  // Work to do between the stop and the last heartbeat (on the dispatcher's thread).
+  void before_stop(std::function<void()> work) { before_stop_.push_back(std::move(work)); }
+  // Fills the heartbeat's health and outbox fields; called before every heartbeat.
+  void on_heartbeat(std::function<void(Heartbeat&)> fill) { fill_.push_back(std::move(fill)); }
+  // Writes a heartbeat now (a health change should not wait for the period).
   void beat(const std::string& state);
 
+ private:
   ServiceOptions options_;
   std::string instance_;
   WallClock clock_;
   std::unique_ptr<Participant> participant_;
   Dispatcher dispatcher_;
   std::unique_ptr<Writer<HeartbeatTopic>> heartbeat_;
+  std::vector<std::function<void()>> before_stop_;
+  std::vector<std::function<void(Heartbeat&)>> fill_;
 };
 
 // The plant config a service runs with: --plant FILE, else NCQUAL_PLANT; a service cannot run

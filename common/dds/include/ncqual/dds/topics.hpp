@@ -37,6 +37,10 @@ NCQUAL_TOPIC(CheckCommandTopic, "ncqual/CheckCommand", CheckCommand, profiles::k
              profiles::kCommandReader);
 NCQUAL_TOPIC(InterventionTopic, "ncqual/Intervention", Intervention, profiles::kCommandWriter,
              profiles::kCommandReader);
+// Acknowledgements: what the historian committed and what the services took into their durable
+// state. Volatile: a producer that misses one sends the sample again and is acknowledged again.
+NCQUAL_TOPIC(AcknowledgementTopic, "ncqual/Acknowledgement", Acknowledgement, profiles::kAckWriter,
+             profiles::kAckReader);
 NCQUAL_TOPIC(HeartbeatTopic, "ncqual/Heartbeat", Heartbeat, profiles::kHeartbeatWriter,
              profiles::kHeartbeatReader);
 

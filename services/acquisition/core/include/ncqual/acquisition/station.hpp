@@ -38,9 +38,10 @@ class PerformedRequests {
   PerformedRequests(storage::StateFile& state, std::string machine_id, std::size_t capacity = 1000);
   // Those recorded by an earlier run, from the state file's documents.
   void load(const std::map<std::string, std::string>& documents);
-  // Records one (and forgets the oldest beyond the capacity). A failure to write is logged, not
-  // thrown: the worst outcome is one repeated measurement after a restart.
-  void record(const std::string& request_id);
+  // Records one (and forgets the oldest beyond the capacity), with the outbox entries of its
+  // measurement in the same transaction: a kill keeps both or neither. Throws StorageError when it
+  // cannot be written; then nothing is recorded.
+  void record(const std::string& request_id, const std::vector<storage::OutboxEntry>& queue = {});
   bool contains(const std::string& request_id) const { return ids_.count(request_id) > 0; }
   std::size_t size() const { return order_.size(); }
 
@@ -63,11 +64,15 @@ struct StationOptions {
 
 class Station {
  public:
-  // Where a measurement goes (the MeasurementSet writer); false when it could not be queued.
+  // Where a measurement goes (the MeasurementSet writer), once it is recorded; false when it could
+  // not be written now.
   using Publish = std::function<bool(const MeasurementSet&)>;
+  // The outbox entries of a measurement, saved with the record that its request was performed
+  // (none: the measurement is only published).
+  using Queue = std::function<std::vector<storage::OutboxEntry>(const MeasurementSet&)>;
 
   Station(std::string machine_id, std::unique_ptr<Instruments> instruments,
-          PerformedRequests performed, StationOptions options, Publish publish);
+          PerformedRequests performed, StationOptions options, Publish publish, Queue queue = {});
 
   const std::string& id() const { return machine_id_; }
 
@@ -88,6 +93,7 @@ class Station {
   PerformedRequests performed_;
   const StationOptions options_;
   const Publish publish_;
+  const Queue queue_;
   std::set<std::string> taken_;    // requests taken this run: measured, waiting or ignored
   std::set<std::string> applied_;  // compensations, by the request id that issued them
   std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify

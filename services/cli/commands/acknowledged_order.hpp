@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: Apache-2.0
+// How `ncqual` sends what a service must act on (check, intervene, import): it writes the sample
+// and waits for the Acknowledgement of every role that must take it — by topic, sample id and
+// content hash, so another reader on the domain (a recorder, a monitoring tool) matching first
+// proves nothing — writing it again meanwhile (after 0.25 s, then twice as long each time, at
+// most every 2 s: the first acknowledgement may be given before our reader matched)
+// (docs/architecture.md, "Acknowledged storage"). It says which role did not answer, or refused and
+// why.
+#pragma once
+
+#include "ncqual/dds/endpoint.hpp"
+#include "ncqual/dds/serialized.hpp"
+#include "ncqual/dds/topics.hpp"
+
+#include <fastdds/dds/core/condition/WaitSet.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace ncqual::cli {
+
+struct OrderOutcome {
+  std::map<std::string, Acknowledgement> answers;  // by role, of those that answered
+  std::vector<std::string> silent;                 // roles that did not answer in time
+  // The first refusal, if any role refused.
+  const Acknowledgement* refused() const {
+    for (const auto& [role, ack] : answers) {
+      if (ack.outcome == AckOutcome::Refused) return &ack;
+    }
+    return nullptr;
+  }
+};
+
+// Sends `sample` and waits up to `patience` until every role of `awaited` acknowledged it.
+template <typename Topic>
+OrderOutcome send_acknowledged(ncqual::dds::Participant& participant,
+                               ncqual::dds::Writer<Topic>& writer,
+                               const typename Topic::Model& sample,
+                               const std::vector<std::string>& awaited,
+                               std::chrono::milliseconds patience) {
+  using namespace eprosima::fastdds::dds;
+  // Before the first write: acknowledgements are volatile.
+  ncqual::dds::Reader<ncqual::dds::AcknowledgementTopic> acks(participant, sample.machine_id);
+  const auto wire = ncqual::dds::to_wire(sample);
+  const std::string hash = ncqual::dds::sha256_hex(ncqual::dds::serialize<Topic>(wire));
+  const std::string id = sample_id_of(sample);
+  WaitSet waitset;
+  waitset.attach_condition(acks.condition());
+  OrderOutcome out;
+  const auto deadline = std::chrono::steady_clock::now() + patience;
+  auto next_write = std::chrono::steady_clock::now();
+  auto interval = std::chrono::milliseconds(250);
+  const auto all_answered = [&] {
+    return std::all_of(awaited.begin(), awaited.end(),
+                       [&](const std::string& r) { return out.answers.count(r) > 0; });
+  };
+  while (!all_answered()) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline) break;
+    if (now >= next_write) {
+      writer.write_wire(wire);
+      next_write = now + interval;
+      interval = std::min(interval * 2, std::chrono::milliseconds(2000));
+    }
+    ConditionSeq active;
+    const auto until = std::min(deadline, next_write);
+    waitset.wait(active, ncqual::dds::to_dds_duration(
+                             std::chrono::duration_cast<std::chrono::milliseconds>(until - now)));
+    for (auto& in : acks.take()) {
+      const Acknowledgement& a = in.value;
+      if (!in.error.empty() || a.topic != Topic::kName || a.sample_id != id ||
+          a.content_hash != hash) {
+        continue;
+      }
+      if (std::find(awaited.begin(), awaited.end(), a.by) != awaited.end()) out.answers[a.by] = a;
+    }
+  }
+  for (const auto& r : awaited) {
+    if (!out.answers.count(r)) out.silent.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace ncqual::cli
