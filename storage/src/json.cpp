@@ -28,6 +28,7 @@ CheckRecordDocument document_of(const CheckRecord& record) {
   if (const auto& m = record.measurement) {
     d.measurement = MeasurementDocument{m->instrument, m->touches, m->tracker_points, m->error};
   }
+  d.conflicts = record.conflicts;
   return d;
 }
 

@@ -2,8 +2,11 @@
 // Restart and bad input across real processes.
 #include "harness.hpp"
 
-#include "ncqual/dds/topics.hpp"
+#include "cli_runner.hpp"
+
+#include "ncqual/dds/acknowledged_send.hpp"
 #include "ncqual/dds/endpoint.hpp"
+#include "ncqual/dds/topics.hpp"
 
 #include <gtest/gtest.h>
 
@@ -170,6 +173,65 @@ TEST(BadInput, APlantWhoseQosProfilesDoNotLoadIsRefusedUnlessItAllowsTheDefaults
   EXPECT_NE(plant.log("historian").find("running on Fast DDS's defaults"), std::string::npos);
   allowed.terminate();
   EXPECT_EQ(allowed.wait(), 0) << plant.log("historian");
+}
+
+// A forged PASS must not hide a genuine FAIL: a second, different result for a stored request is
+// kept beside the first and flagged, never stored over it or dropped; the same result again is a
+// duplicate, stored once. Every answer is the historian's acknowledgement.
+TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
+  Plant plant("conflict", TestDomain::Conflict);
+  plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
+  plant.write_plant("[]");
+  plant.start("historian");
+
+  ncqual::dds::Participant participant(
+      {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
+  ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(participant);
+  CheckResult genuine;
+  genuine.machine_id = "pm1";
+  genuine.request_id = "pm1-monument_positioning-1";
+  genuine.kind = CheckKind::MonumentPositioning;
+  genuine.verdict = Verdict::Fail;
+  genuine.reason = "center_dx_mm = 0.045 beyond 0.025";
+  genuine.metrics = {{"center_dx_mm", 0.045, "mm", -0.025, 0.025, false}};
+  genuine.time_ns = WallClock().now_ns();
+  CheckResult forged = genuine;
+  forged.verdict = Verdict::Pass;
+  forged.reason.clear();
+  forged.metrics[0].value = 0.001;
+  forged.metrics[0].pass = true;
+
+  const auto outcome_of = [&](const CheckResult& r) {
+    const auto answer = ncqual::dds::send_acknowledged(participant, results, r, {roles::kHistorian},
+                                                       std::chrono::seconds(30));
+    EXPECT_TRUE(answer.silent.empty()) << plant.log("historian");
+    return answer.answers.count(roles::kHistorian) ? answer.answers.at(roles::kHistorian).outcome
+                                                   : AckOutcome::Refused;
+  };
+  EXPECT_EQ(outcome_of(genuine), AckOutcome::Stored);
+  EXPECT_EQ(outcome_of(genuine), AckOutcome::Duplicate);
+  EXPECT_EQ(outcome_of(forged), AckOutcome::Conflict);
+
+  auto db = storage::Database::open_readonly(plant.db_path());
+  const auto record = db.find_check(genuine.request_id);
+  ASSERT_TRUE(record && record->result);
+  EXPECT_EQ(record->result->verdict, Verdict::Fail);  // the first stays
+  EXPECT_EQ(record->conflicts, 1);
+  EXPECT_EQ(db.count_results(), 1);
+  const auto conflicts = db.conflicts("pm1");
+  ASSERT_EQ(conflicts.size(), 1u);
+  EXPECT_EQ(conflicts[0].topic, "ncqual/CheckResult");
+  EXPECT_EQ(conflicts[0].sample_id, genuine.request_id);
+  EXPECT_NE(conflicts[0].content_hash, conflicts[0].stored_hash);
+  EXPECT_FALSE(conflicts[0].writer.empty());
+  EXPECT_NE(conflicts[0].document.find("\"verdict\":\"PASS\""), std::string::npos)
+      << conflicts[0].document;
+
+  // People see it: the history flags the check.
+  const auto history = testing_cli::run_cli({"history", "--db", plant.db_path()});
+  EXPECT_EQ(history.exit_code, 0) << history.out;
+  EXPECT_NE(history.out.find("CONFLICT: 1 other sample(s)"), std::string::npos)
+      << history.out;
 }
 
 }  // namespace

@@ -3,12 +3,13 @@
 //
 //   ncqual check --machine M --kind K [--plant F] [--domain N] [--wait SECONDS] [--json]
 //
-// Publishes a CheckCommand and waits until the scheduler acknowledged it (acknowledged_order.hpp);
-// prints its request id. With --wait, prints the check's result instead (a table row, or --json)
-// and exits with its verdict: 0 PASS, 3 FAIL, 4 INVALID or refused by the scheduler, 5 no result
-// in time; 1 when no scheduler acknowledges the order.
-#include "acknowledged_order.hpp"
+// Publishes a CheckCommand and waits until the scheduler acknowledged it
+// (ncqual/dds/acknowledged_send.hpp); prints its request id. With --wait, prints the check's result
+// instead (a table row, or --json) and exits with its verdict: 0 PASS, 3 FAIL, 4 INVALID or refused
+// by the scheduler, 5 no result in time; 1 when no scheduler acknowledges the order.
 #include "commands.hpp"
+
+#include "ncqual/dds/acknowledged_send.hpp"
 
 #include "ncqual/clock.hpp"
 #include "ncqual/dds/dispatcher.hpp"
@@ -55,8 +56,8 @@ int run(const Options& o) {
   std::optional<ncqual::dds::Reader<ncqual::dds::CheckResultTopic>> results;
   if (o.wait_s > 0) results.emplace(participant, machine);
 
-  const OrderOutcome order =
-      send_acknowledged(participant, commands, cmd, {roles::kScheduler}, std::chrono::seconds(15));
+  const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
+      participant, commands, cmd, {roles::kScheduler}, std::chrono::seconds(15));
   if (!order.silent.empty()) {
     std::cerr << "ncqual check: no scheduler acknowledged order " << cmd.request_id
               << " within 15 s: is a scheduler serving " << machine << " running on domain "

@@ -101,6 +101,12 @@ void print_check_records(const std::vector<storage::CheckRecord>& records) {
         fmt::print("{:59} first likely cause: {}\n", "", r.result->likely_causes.front());
       }
     }
+    if (r.conflicts > 0) {
+      // Another sample with this request id and other content reached the historian: the row
+      // above is the one stored first; `ncqual conflicts` shows the other.
+      fmt::print("{:59} CONFLICT: {} other sample(s) with this request id kept beside it\n", "",
+                 r.conflicts);
+    }
   }
 }
 

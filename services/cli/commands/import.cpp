@@ -14,12 +14,13 @@
 //       kind global_grid with its master-frame runs
 //
 // Prints the request id of the set (`ncqual wait --request ID` waits for its result) once the
-// historian stored it and the solver saved its result (acknowledged_order.hpp). Exit codes: 0
-// imported, 1 refused file (file:line:column on stderr) or no acknowledgement from the solver or
-// the historian within 60 s, 2 bad usage (and a machine the plant does not configure), 4 refused
-// by a service.
-#include "acknowledged_order.hpp"
+// historian stored it and the solver saved its result (ncqual/dds/acknowledged_send.hpp). Exit
+// codes: 0 imported, 1 refused file (file:line:column on stderr) or no acknowledgement from the
+// solver or the historian within 60 s, 2 bad usage (and a machine the plant does not configure), 4
+// refused by a service.
 #include "commands.hpp"
+
+#include "ncqual/dds/acknowledged_send.hpp"
 
 #include "ncqual/clock.hpp"
 #include "ncqual/config.hpp"
@@ -112,7 +113,7 @@ int run(const Options& o) {
       {domain, plant.qos_profiles_file, "ncqual-import", plant.allow_default_qos});
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   // Imported once the historian stored it and the solver saved its result.
-  const OrderOutcome order = send_acknowledged(
+  const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
       participant, sets, set, {roles::kHistorian, roles::kSolver}, std::chrono::seconds(60));
   if (!order.silent.empty()) {
     std::cerr << "ncqual import: " << set.request_id << " was not acknowledged within 60 s by the";

@@ -8,8 +8,9 @@
 //     stored it). Prints its id, and what the scheduler said when it changed nothing.
 //
 // Exit codes: 0, 1 when no scheduler acknowledges it, 2 bad usage, 4 refused.
-#include "acknowledged_order.hpp"
 #include "commands.hpp"
+
+#include "ncqual/dds/acknowledged_send.hpp"
 
 #include "ncqual/clock.hpp"
 #include "ncqual/dds/endpoint.hpp"
@@ -43,8 +44,8 @@ int run(const Options& o) {
   ncqual::dds::Participant participant(
       {domain, plant.qos_profiles_file, "ncqual-cli", plant.allow_default_qos});
   ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
-  const OrderOutcome order =
-      send_acknowledged(participant, writer, iv, {roles::kScheduler}, std::chrono::seconds(15));
+  const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
+      participant, writer, iv, {roles::kScheduler}, std::chrono::seconds(15));
   if (!order.silent.empty()) {
     std::cerr << "ncqual intervene: no scheduler acknowledged intervention " << iv.intervention_id
               << " within 15 s: is a scheduler serving " << machine << " running on domain "

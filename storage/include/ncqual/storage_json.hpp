@@ -46,6 +46,8 @@ struct CheckRecordDocument {
   std::vector<std::string> likely_causes;  // in the order to investigate them
   std::optional<Correction> correction;
   std::optional<MeasurementDocument> measurement;  // null until the measurement has arrived
+  // Samples of this request kept beside these for conflicting content (0: none).
+  std::int64_t conflicts = 0;
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ParameterDocument, value, unit)
@@ -53,7 +55,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementDocument, instrument, touches, tra
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckRecordDocument, machine_id, request_id, kind, requested_by,
                                    requested_at_ns, parameters, verifies_correction_of,
                                    result_at_ns, verdict, reason, produced_by, metrics,
-                                   likely_causes, correction, measurement)
+                                   likely_causes, correction, measurement, conflicts)
 
 CheckRecordDocument document_of(const CheckRecord& record);
 

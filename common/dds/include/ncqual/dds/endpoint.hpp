@@ -9,6 +9,7 @@
 #include <fastdds/dds/core/condition/StatusCondition.hpp>
 #include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <fastdds/dds/core/status/PublicationMatchedStatus.hpp>
+#include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
@@ -156,6 +157,39 @@ class Reader {
       out.push_back(std::move(r));
     }
     return out;
+  }
+
+  int matched_writers() const {
+    eprosima::fastdds::dds::SubscriptionMatchedStatus status;
+    reader_->get_subscription_matched_status(status);
+    return status.current_count;
+  }
+
+  // Waits (on a status condition, not by polling) until at least `count` writers are matched, or
+  // the timeout. Returns whether they are.
+  bool wait_for_writers(int count, std::chrono::milliseconds timeout) {
+    using namespace eprosima::fastdds::dds;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    StatusCondition& condition = reader_->get_statuscondition();
+    const StatusMask before = condition.get_enabled_statuses();
+    StatusMask with_matched = before;
+    with_matched << StatusMask::subscription_matched();
+    condition.set_enabled_statuses(with_matched);
+    WaitSet waitset;
+    waitset.attach_condition(condition);
+    bool matched = true;
+    while (matched_writers() < count) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) {
+        matched = false;
+        break;
+      }
+      ConditionSeq active;
+      waitset.wait(active, to_dds_duration(left));
+    }
+    condition.set_enabled_statuses(before);
+    return matched;
   }
 
   eprosima::fastdds::dds::StatusCondition& condition() { return reader_->get_statuscondition(); }

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// How `ncqual` sends what a service must act on (check, intervene, import): it writes the sample
+// How a short-lived sender (`ncqual check`, `intervene`, `import`, tests) sends what a service must
+// act on: it writes the sample
 // and waits for the Acknowledgement of every role that must take it — by topic, sample id and
 // content hash, so another reader on the domain (a recorder, a monitoring tool) matching first
 // proves nothing — writing it again meanwhile (after 0.25 s, then twice as long each time, at
@@ -21,7 +22,7 @@
 #include <string>
 #include <vector>
 
-namespace ncqual::cli {
+namespace ncqual::dds {
 
 struct OrderOutcome {
   std::map<std::string, Acknowledgement> answers;  // by role, of those that answered
@@ -37,16 +38,18 @@ struct OrderOutcome {
 
 // Sends `sample` and waits up to `patience` until every role of `awaited` acknowledged it.
 template <typename Topic>
-OrderOutcome send_acknowledged(ncqual::dds::Participant& participant,
-                               ncqual::dds::Writer<Topic>& writer,
+OrderOutcome send_acknowledged(Participant& participant, Writer<Topic>& writer,
                                const typename Topic::Model& sample,
                                const std::vector<std::string>& awaited,
                                std::chrono::milliseconds patience) {
   using namespace eprosima::fastdds::dds;
   // Before the first write: acknowledgements are volatile.
-  ncqual::dds::Reader<ncqual::dds::AcknowledgementTopic> acks(participant, sample.machine_id);
-  const auto wire = ncqual::dds::to_wire(sample);
-  const std::string hash = ncqual::dds::sha256_hex(ncqual::dds::serialize<Topic>(wire));
+  Reader<AcknowledgementTopic> acks(participant, sample.machine_id);
+  // Our reader should hear the acknowledging services before the first write (best effort: a
+  // missed first acknowledgement only costs a second write).
+  acks.wait_for_writers(1, std::min(patience, std::chrono::milliseconds(3000)));
+  const auto wire = to_wire(sample);
+  const std::string hash = sha256_hex(serialize<Topic>(wire));
   const std::string id = sample_id_of(sample);
   WaitSet waitset;
   waitset.attach_condition(acks.condition());
@@ -68,7 +71,7 @@ OrderOutcome send_acknowledged(ncqual::dds::Participant& participant,
     }
     ConditionSeq active;
     const auto until = std::min(deadline, next_write);
-    waitset.wait(active, ncqual::dds::to_dds_duration(
+    waitset.wait(active, to_dds_duration(
                              std::chrono::duration_cast<std::chrono::milliseconds>(until - now)));
     for (auto& in : acks.take()) {
       const Acknowledgement& a = in.value;
@@ -76,7 +79,10 @@ OrderOutcome send_acknowledged(ncqual::dds::Participant& participant,
           a.content_hash != hash) {
         continue;
       }
-      if (std::find(awaited.begin(), awaited.end(), a.by) != awaited.end()) out.answers[a.by] = a;
+      // The first answer of each role counts (a write again may bring a DUPLICATE after STORED).
+      if (std::find(awaited.begin(), awaited.end(), a.by) != awaited.end()) {
+        out.answers.emplace(a.by, a);
+      }
     }
   }
   for (const auto& r : awaited) {
@@ -85,4 +91,4 @@ OrderOutcome send_acknowledged(ncqual::dds::Participant& participant,
   return out;
 }
 
-}  // namespace ncqual::cli
+}  // namespace ncqual::dds
