@@ -972,7 +972,7 @@ std::vector<Compensation> Database::compensations(const std::string& machine_id)
   });
 }
 
-std::vector<ConflictRecord> Database::conflicts(std::optional<std::string> machine_id) {
+std::vector<ConflictRecord> Database::conflicts(const std::optional<std::string>& machine_id) {
   std::vector<ConflictRecord> list;
   Query q(impl_->statements, kSelectConflicts);
   q.bind(machine_id);

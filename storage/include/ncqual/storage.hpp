@@ -186,7 +186,7 @@ class Database {
   // The last heartbeat of every service instance, sorted by service then instance.
   std::vector<Heartbeat> services();
   // Samples kept for conflicting with a stored one, newest first; of one machine or of all.
-  std::vector<ConflictRecord> conflicts(std::optional<std::string> machine_id = {});
+  std::vector<ConflictRecord> conflicts(const std::optional<std::string>& machine_id = {});
 
  private:
   struct Impl;
