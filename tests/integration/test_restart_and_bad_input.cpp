@@ -230,8 +230,7 @@ TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
   // People see it: the history flags the check.
   const auto history = testing_cli::run_cli({"history", "--db", plant.db_path()});
   EXPECT_EQ(history.exit_code, 0) << history.out;
-  EXPECT_NE(history.out.find("CONFLICT: 1 other sample(s)"), std::string::npos)
-      << history.out;
+  EXPECT_NE(history.out.find("CONFLICT: 1 other sample(s)"), std::string::npos) << history.out;
 }
 
 }  // namespace
