@@ -3,6 +3,8 @@
 
 #include "sqlite.hpp"
 
+#include "ncqual/text.hpp"
+
 #include <algorithm>
 #include <filesystem>
 
@@ -55,14 +57,7 @@ std::string joined(std::vector<std::string> roles) {
   return out;
 }
 std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> out;
-  std::size_t start = 0;
-  while (start < text.size()) {
-    const auto comma = std::min(text.find(',', start), text.size());
-    out.push_back(text.substr(start, comma - start));
-    start = comma + 1;
-  }
-  return out;
+  return text.empty() ? std::vector<std::string>{} : split_at(text, ',');
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include "node.hpp"
 
 #include "ncqual/clock.hpp"
+#include "ncqual/text.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -385,11 +386,7 @@ std::vector<MachineConfig> PlantConfig::machines_named(const std::string& list,
                                                        const std::string& what) const {
   std::vector<MachineConfig> out;
   std::set<std::string> seen;
-  std::size_t from = 0;
-  while (from <= list.size()) {
-    const std::size_t comma = std::min(list.find(',', from), list.size());
-    const std::string id = list.substr(from, comma - from);
-    from = comma + 1;
+  for (const std::string& id : split_at(list, ',')) {
     if (id.empty()) throw ConfigError(what + " '" + list + "': an empty machine id");
     const MachineConfig* m = find_machine(id);
     if (!m) throw ConfigError(what + " '" + id + "' is not configured in " + source_path);

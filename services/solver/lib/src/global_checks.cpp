@@ -12,6 +12,7 @@
 #include "ncqual/solver/master_frame.hpp"
 #include "ncqual/solver/rotary_axes.hpp"
 #include "ncqual/solver/volumetric_identification.hpp"
+#include "ncqual/text.hpp"
 #include "ncqual/units.hpp"
 #include "result_building.hpp"
 #include "touch_input.hpp"
@@ -60,16 +61,6 @@ bool parse_int(const std::string& text, int* out) {
   return true;
 }
 
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> parts;
-  std::size_t from = 0;
-  for (std::size_t at; (at = s.find(sep, from)) != std::string::npos; from = at + 1) {
-    parts.push_back(s.substr(from, at - from));
-  }
-  parts.push_back(s.substr(from));
-  return parts;
-}
-
 // Every point labelled as the programs label them, finite, with a configured target; else why not.
 std::optional<std::string> sort_points(const MeasurementSet& set, const GlobalCheckConfig& gc,
                                        std::vector<LabelledPoint>* out) {
@@ -90,7 +81,7 @@ std::optional<std::string> sort_points(const MeasurementSet& set, const GlobalCh
       return point_field(i, "label") + " = '" + p.label + "' repeats tracker_points[" +
              std::to_string(it->second) + "]";
     }
-    const std::vector<std::string> parts = split(p.label, ':');
+    const std::vector<std::string> parts = split_at(p.label, ':');
     LabelledPoint lp;
     lp.group = parts[0];
     lp.point = &p;

@@ -24,6 +24,36 @@ namespace ncqual::dds {
 
 eprosima::fastrtps::Duration_t to_dds_duration(std::chrono::milliseconds ms);
 
+// Waits on `condition` with `status` enabled (a publication or subscription match) until
+// `matched()` reaches `count`, or the timeout; the condition's other statuses are left as they
+// were. Returns whether the count was reached.
+template <typename Matched>
+bool wait_until_matched(eprosima::fastdds::dds::StatusCondition& condition,
+                        const eprosima::fastdds::dds::StatusMask& status, const Matched& matched,
+                        int count, std::chrono::milliseconds timeout) {
+  using namespace eprosima::fastdds::dds;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const StatusMask before = condition.get_enabled_statuses();
+  StatusMask with_status = before;
+  with_status << status;
+  condition.set_enabled_statuses(with_status);
+  WaitSet waitset;
+  waitset.attach_condition(condition);
+  bool reached = true;
+  while (matched() < count) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) {
+      reached = false;
+      break;
+    }
+    ConditionSeq active;
+    waitset.wait(active, to_dds_duration(left));
+  }
+  condition.set_enabled_statuses(before);
+  return reached;
+}
+
 template <typename Topic>
 class Writer {
  public:
@@ -70,20 +100,9 @@ class Writer {
   // Waits (on the writer's status condition, not by polling) until at least `count` readers are
   // matched, or the timeout. Returns whether they are.
   bool wait_for_readers(int count, std::chrono::milliseconds timeout) {
-    using namespace eprosima::fastdds::dds;
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    StatusCondition& condition = writer_->get_statuscondition();
-    condition.set_enabled_statuses(StatusMask::publication_matched());
-    WaitSet waitset;
-    waitset.attach_condition(condition);
-    while (matched_readers() < count) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-          deadline - std::chrono::steady_clock::now());
-      if (left.count() <= 0) return false;
-      ConditionSeq active;
-      waitset.wait(active, to_dds_duration(left));
-    }
-    return true;
+    return wait_until_matched(
+        writer_->get_statuscondition(), eprosima::fastdds::dds::StatusMask::publication_matched(),
+        [this] { return matched_readers(); }, count, timeout);
   }
 
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
@@ -165,31 +184,12 @@ class Reader {
     return status.current_count;
   }
 
-  // Waits (on a status condition, not by polling) until at least `count` writers are matched, or
-  // the timeout. Returns whether they are.
+  // Waits (on the reader's status condition, not by polling) until at least `count` writers are
+  // matched, or the timeout. Returns whether they are.
   bool wait_for_writers(int count, std::chrono::milliseconds timeout) {
-    using namespace eprosima::fastdds::dds;
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    StatusCondition& condition = reader_->get_statuscondition();
-    const StatusMask before = condition.get_enabled_statuses();
-    StatusMask with_matched = before;
-    with_matched << StatusMask::subscription_matched();
-    condition.set_enabled_statuses(with_matched);
-    WaitSet waitset;
-    waitset.attach_condition(condition);
-    bool matched = true;
-    while (matched_writers() < count) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-          deadline - std::chrono::steady_clock::now());
-      if (left.count() <= 0) {
-        matched = false;
-        break;
-      }
-      ConditionSeq active;
-      waitset.wait(active, to_dds_duration(left));
-    }
-    condition.set_enabled_statuses(before);
-    return matched;
+    return wait_until_matched(
+        reader_->get_statuscondition(), eprosima::fastdds::dds::StatusMask::subscription_matched(),
+        [this] { return matched_writers(); }, count, timeout);
   }
 
   eprosima::fastdds::dds::StatusCondition& condition() { return reader_->get_statuscondition(); }

@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: Apache-2.0
+// Small text helpers shared by the configuration, the solver's labels and the state file.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ncqual {
+
+// `text` cut at every `sep`, entries untrimmed: "a,b" -> {"a", "b"}, "a," -> {"a", ""},
+// "" -> {""}. Callers decide what an empty entry means.
+std::vector<std::string> split_at(std::string_view text, char sep);
+
+}  // namespace ncqual
