@@ -96,11 +96,8 @@ int run(int argc, char** argv) {
       }
       return entries;
     };
-    outputs.request = [&outbox](const CheckRequest& r) {
-      outbox.written({outbox.entry<ncqual::dds::CheckRequestTopic>(r, {roles::kHistorian})});
-    };
-    outputs.status = [&outbox](const MachineStatus& st) {
-      outbox.written({outbox.entry<ncqual::dds::MachineStatusTopic>(st, {roles::kHistorian})});
+    outputs.written = [&outbox](const std::vector<storage::OutboxEntry>& saved) {
+      outbox.written(saved);
     };
     scheduler::Scheduler sched(plant, clock, outputs, &state);
     bool progress = false;

@@ -484,6 +484,8 @@ void Scheduler::commit(Machine& m) {
   outbox_requests_.clear();
   outbox_statuses_.clear();
   saved_ = true;
+  const std::vector<storage::OutboxEntry> entries =
+      out_.queue ? out_.queue(requests, statuses) : std::vector<storage::OutboxEntry>{};
   if (state_file_) {
     std::map<std::string, std::string> docs;
     docs["machine/" + m.config->machine_id] = to_json(m.run);
@@ -492,9 +494,7 @@ void Scheduler::commit(Machine& m) {
     }
     if (plant_.simulated_clock) docs["clock"] = dumped(ClockDocument{clock_.now_ns()});
     try {
-      state_file_->save(
-          docs, {},
-          out_.queue ? out_.queue(requests, statuses) : std::vector<storage::OutboxEntry>{});
+      state_file_->save(docs, {}, entries);
     } catch (const std::exception& e) {
       // The plant keeps running; nothing of the decision leaves (what it would send is not in
       // the outbox), and a restart takes it again.
@@ -504,8 +504,13 @@ void Scheduler::commit(Machine& m) {
       return;
     }
   }
-  for (const auto& r : requests) out_.request(r);
-  for (const auto& s : statuses) out_.status(s);
+  if (out_.written) out_.written(entries);
+  if (out_.request) {
+    for (const auto& r : requests) out_.request(r);
+  }
+  if (out_.status) {
+    for (const auto& s : statuses) out_.status(s);
+  }
 }
 
 void Scheduler::persist_clock() {

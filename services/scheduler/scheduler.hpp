@@ -97,14 +97,17 @@ struct MachineRun {
 class Scheduler {
  public:
   struct Outputs {
-    // Called for every request and status a decision produced, once the decision is saved.
+    // Called for every request and status a decision produced, once the decision is saved (each
+    // optional).
     std::function<void(const CheckRequest&)> request;
     std::function<void(const MachineStatus&)> status;
     // Optional: the outbox entries of a decision's requests and statuses, saved in the same
-    // transaction as the decision, so that a kill keeps both or neither (the service's Outbox).
+    // transaction as the decision, so that a kill keeps both or neither (the service's Outbox),
+    // and handed to `written` once saved.
     std::function<std::vector<storage::OutboxEntry>(const std::vector<CheckRequest>&,
                                                     const std::vector<MachineStatus>&)>
         queue;
+    std::function<void(const std::vector<storage::OutboxEntry>&)> written;
   };
 
   // Loads the machines' state from `state` when given (nullptr: in memory only). Machines in the

@@ -60,19 +60,20 @@ class SolvedSets {
   bool contains(const std::string& id) const { return ids_.count(id) > 0; }
   // Saves the set as solved, with the outbox entries of its answer, in one transaction.
   void save(const MeasurementSet& set, const std::vector<storage::OutboxEntry>& answer) {
+    // The oldest beyond the bound go in the same transaction; memory follows once it committed.
+    const std::size_t excess =
+        order_.size() + 1 > kSolvedKept ? order_.size() + 1 - kSolvedKept : 0;
     std::vector<std::string> erase;
-    std::deque<std::string> order = order_;
-    order.push_back(set.request_id);
-    while (order.size() > kSolvedKept) {
-      erase.push_back(kSolvedPrefix + order.front());
-      order.pop_front();
-    }
+    erase.reserve(excess);
+    for (std::size_t i = 0; i < excess; ++i) erase.push_back(kSolvedPrefix + order_[i]);
     file_.save(
         {{kSolvedPrefix + set.request_id, nlohmann::json(SolvedDocument{set.time_ns}).dump()}},
         erase, answer);
-    for (const auto& key : erase)
-      ids_.erase(key.substr(std::char_traits<char>::length(kSolvedPrefix)));
-    order_ = std::move(order);
+    for (std::size_t i = 0; i < excess; ++i) {
+      ids_.erase(order_.front());
+      order_.pop_front();
+    }
+    order_.push_back(set.request_id);
     ids_.insert(set.request_id);
   }
 

@@ -21,7 +21,7 @@ Outbox::Outbox(Service& service, storage::StateFile& file, Options options)
     : service_(service), file_(file), options_(options) {
   const auto now = std::chrono::steady_clock::now();
   for (auto& e : file_.outbox_index()) {
-    index_[key_of(e)] = Pending{e.machine_id, e.awaiting, e.queued_ns, now, 0};
+    index_[key_of(e)] = Pending{e.awaiting, e.queued_ns, now, 0};
   }
   if (!index_.empty()) {
     spdlog::info("outbox {}: {} samples not yet acknowledged from the last run", file_.path(),
@@ -62,8 +62,8 @@ void Outbox::start() {
 
 void Outbox::written(const std::vector<storage::OutboxEntry>& saved) {
   for (const auto& e : saved) {
-    auto [it, added] = index_.try_emplace(key_of(e), Pending{e.machine_id, e.awaiting, e.queued_ns,
-                                                             std::chrono::steady_clock::now(), 0});
+    auto [it, added] = index_.try_emplace(
+        key_of(e), Pending{e.awaiting, e.queued_ns, std::chrono::steady_clock::now(), 0});
     if (!added) continue;  // already on its way: its resend timer sends it again
     write(it->first, it->second, e.payload.empty() ? nullptr : &e.payload);
   }
@@ -143,7 +143,7 @@ void Outbox::on_acknowledgement(const Acknowledgement& ack) {
 
 std::int64_t Outbox::drain(std::chrono::milliseconds patience) {
   if (!index_.empty()) {
-    for (auto& [key, p] : index_) write(key, p, nullptr);
+    start();  // everything left, now
     service_.dispatcher().drain_until([this] { return index_.empty(); }, patience);
   }
   if (index_.empty()) {

@@ -80,16 +80,17 @@ struct Driver {
   explicit Driver(std::int64_t start) : clock(start) {}
 
   Scheduler::Outputs outputs() {
-    return {[this](const CheckRequest& r) {
-              if (issued_ids.insert(r.request_id).second) {
-                requests.push_back(r);
-              } else {
-                ++resent;
-              }
-              inbox.push_back(r);
-            },
-            [this](const MachineStatus& s) { statuses.push_back(s); },
-            {}};
+    Scheduler::Outputs out;
+    out.request = [this](const CheckRequest& r) {
+      if (issued_ids.insert(r.request_id).second) {
+        requests.push_back(r);
+      } else {
+        ++resent;
+      }
+      inbox.push_back(r);
+    };
+    out.status = [this](const MachineStatus& s) { statuses.push_back(s); };
+    return out;
   }
 
   // Answers one request from the inbox; false when the inbox is empty.

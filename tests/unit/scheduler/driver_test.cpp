@@ -63,6 +63,18 @@ TEST(SchedulerOutbox, WhatADecisionSendsIsSavedWithItBeforeItLeaves) {
     for (const auto& p : run.pending) pending_when_sent.push_back(p.request_ids.back());
   };
   outputs.status = [](const MachineStatus&) {};
+  // The entries the decision saved, handed on for writing once saved: each already in the file.
+  std::size_t written_in_file = 0;
+  outputs.written = [&](const std::vector<storage::OutboxEntry>& saved) {
+    const auto index = state.outbox_index();
+    for (const auto& e : saved) {
+      written_in_file += static_cast<std::size_t>(
+          std::count_if(index.begin(), index.end(), [&](const storage::OutboxEntry& f) {
+            return f.topic == e.topic && f.sample_id == e.sample_id &&
+                   f.content_hash == e.content_hash;
+          }));
+    }
+  };
   Scheduler s(plant, clock, outputs, &state);
   s.start({CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength});
   ASSERT_TRUE(s.saved());
@@ -76,6 +88,7 @@ TEST(SchedulerOutbox, WhatADecisionSendsIsSavedWithItBeforeItLeaves) {
   EXPECT_GE(std::count_if(index.begin(), index.end(),
                           [](const auto& e) { return e.topic == "ncqual/MachineStatus"; }),
             1);
+  EXPECT_EQ(written_in_file, index.size());
   // The historian's acknowledgement empties the entry; the same entry queued again is kept once.
   const auto& first = index.front();
   EXPECT_EQ(state.acknowledge(first.topic, first.sample_id, first.content_hash, "historian"),

@@ -10,9 +10,10 @@ struct Recorder {
   std::vector<CheckRequest> requests;
   std::vector<MachineStatus> statuses;
   Scheduler::Outputs outputs() {
-    return {[this](const CheckRequest& r) { requests.push_back(r); },
-            [this](const MachineStatus& s) { statuses.push_back(s); },
-            {}};
+    Scheduler::Outputs out;
+    out.request = [this](const CheckRequest& r) { requests.push_back(r); };
+    out.status = [this](const MachineStatus& s) { statuses.push_back(s); };
+    return out;
   }
 };
 

@@ -55,9 +55,11 @@ void PerformedRequests::load(const std::map<std::string, std::string>& documents
 void PerformedRequests::record(const std::string& request_id,
                                const std::vector<storage::OutboxEntry>& queue) {
   const std::string prefix = "performed/" + machine_id_ + "/";
+  // The oldest beyond the capacity go in the same transaction; memory follows once it committed.
+  const std::size_t excess = order_.size() + 1 > capacity_ ? order_.size() + 1 - capacity_ : 0;
   std::vector<std::string> erase;
-  for (std::size_t i = 0; i + capacity_ < order_.size() + 1; ++i)
-    erase.push_back(prefix + order_[i]);
+  erase.reserve(excess);
+  for (std::size_t i = 0; i < excess; ++i) erase.push_back(prefix + order_[i]);
   state_.save({{prefix + request_id, nlohmann::json(PerformedEntry{next_seq_}).dump()}}, erase,
               queue);
   ++next_seq_;

@@ -105,7 +105,6 @@ class Outbox {
  private:
   using Key = std::tuple<std::string, std::string, std::string>;  // topic, sample id, hash
   struct Pending {
-    std::string machine_id;
     std::vector<std::string> awaiting;
     std::int64_t queued_ns = 0;
     std::chrono::steady_clock::time_point next_send;

@@ -1,12 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// How a short-lived sender (`ncqual check`, `intervene`, `import`, tests) sends what a service must
-// act on: it writes the sample
-// and waits for the Acknowledgement of every role that must take it — by topic, sample id and
-// content hash, so another reader on the domain (a recorder, a monitoring tool) matching first
-// proves nothing — writing it again meanwhile (after 0.25 s, then twice as long each time, at
-// most every 2 s: the first acknowledgement may be given before our reader matched)
-// (docs/architecture.md, "Acknowledged storage"). It says which role did not answer, or refused and
-// why.
+// How a short-lived sender (`ncqual check`, `intervene`, `import`, tests) sends what a service
+// must act on (docs/architecture.md, "Acknowledged storage"): it writes the sample and waits for
+// the Acknowledgement of every role that must take it — by topic, sample id and content hash, so
+// another reader on the domain (a recorder, a monitoring tool) matching first proves nothing —
+// writing it again meanwhile (after 0.25 s, then twice as long each time, at most every 2 s: the
+// first acknowledgement may be given before our reader matched). It says which role did not
+// answer, or which refused and why.
 #pragma once
 
 #include "ncqual/dds/endpoint.hpp"
