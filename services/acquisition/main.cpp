@@ -2,8 +2,9 @@
 // ncqual-acquisition: answers the CheckRequests of its machine tool(s) by measuring with the
 // instruments (here: the simulator) and publishing the raw MeasurementSet; it never judges one.
 // It also stands for the holding fixture's control unit: it applies the zero offsets the solver
-// publishes as Compensations (replayed from the durable topic after a restart), and a
-// post-calibration waits until the correction it verifies is applied. What a machine does with
+// publishes as Compensations (kept in its state file, so a restart restores them), and a
+// post-calibration waits until the correction it verifies is applied. It acknowledges requests
+// and compensations once settled, so their senders keep them until it has. What a machine does with
 // its requests is ncqual/acquisition/station.hpp; this file wires one station per machine served
 // (--machine a,b,c or --all) to its machine-filtered readers and the shared MeasurementSet writer.
 // Every set is kept in the outbox of the state file, saved with the record that its request was
@@ -31,19 +32,30 @@ using namespace ncqual;
 // One machine served: its station, fed by its machine-filtered request and compensation readers.
 class Served {
  public:
-  Served(ncqual::dds::Service& service, std::unique_ptr<acquisition::Station> station)
+  // Requests and compensations are acknowledged (role acquisition) once the station settled
+  // them: their senders keep them until then.
+  Served(ncqual::dds::Service& service, ncqual::dds::Acknowledger& acks,
+         std::unique_ptr<acquisition::Station> station)
       : station_(std::move(station)),
         requests_(service.participant(), station_->id()),
         compensations_(service.participant(), station_->id()) {
     const Clock& clock = service.clock();
     acquisition::Station& s = *station_;
-    service.dispatcher().on(compensations_,
-                            [&s, &clock](const ncqual::dds::Received<Compensation>& in) {
-                              if (in.error.empty()) s.on_compensation(in.value, clock.now_ns());
-                            });
-    service.dispatcher().on(requests_, [&s, &clock](const ncqual::dds::Received<CheckRequest>& in) {
-      s.on_request(in.value, in.error, clock.now_ns());
-    });
+    service.dispatcher().on(
+        compensations_, [&s, &clock, &acks](const ncqual::dds::Received<Compensation>& in) {
+          if (!in.error.empty()) {
+            spdlog::error("compensation {} refused: {}", in.value.request_id, in.error);
+            acks.acknowledge<ncqual::dds::CompensationTopic>(in, AckOutcome::Refused, in.error);
+          } else if (s.on_compensation(in.value, clock.now_ns())) {
+            acks.acknowledge<ncqual::dds::CompensationTopic>(in, AckOutcome::Accepted);
+          }
+        });
+    service.dispatcher().on(
+        requests_, [&s, &clock, &acks](const ncqual::dds::Received<CheckRequest>& in) {
+          if (s.on_request(in.value, in.error, clock.now_ns())) {
+            acks.acknowledge<ncqual::dds::CheckRequestTopic>(in, AckOutcome::Accepted);
+          }
+        });
   }
 
  private:
@@ -122,6 +134,7 @@ int run(int argc, char** argv) {
     ncqual::dds::Outbox outbox(service, state);
     outbox.route(sets);
     outbox.start();
+    ncqual::dds::Acknowledger acks(service, roles::kAcquisition);
     // The entry a station saves with its record (queue), written once saved (publish).
     std::vector<storage::OutboxEntry> staged;
     const auto queue = [&outbox, &staged](const MeasurementSet& set) {
@@ -140,9 +153,10 @@ int run(int argc, char** argv) {
       acquisition::PerformedRequests performed(state, m.machine_id);
       performed.load(documents);
       stations.push_back(std::make_unique<Served>(
-          service, std::make_unique<acquisition::Station>(
-                       m.machine_id, std::make_unique<acquisition::SimulatedInstruments>(m),
-                       std::move(performed), station_options, publish, queue)));
+          service, acks,
+          std::make_unique<acquisition::Station>(
+              m.machine_id, std::make_unique<acquisition::SimulatedInstruments>(m),
+              std::move(performed), station_options, publish, queue)));
     }
     spdlog::info("serving {} machine(s): {}", stations.size(), served);
     return service.run();

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -62,6 +63,19 @@ std::optional<std::int64_t> simulated_run_end(const PlantConfig& plant, std::opt
 
 void run_simulated(Scheduler& sched, SimulatedClock& clock, const Events& events,
                    const SimulatedRunOptions& options) {
+  if (options.speed && !(*options.speed > 0)) {
+    throw std::invalid_argument("simulated run: speed must be > 0");
+  }
+  const auto wall_start = options.wall_now();
+  const std::int64_t simulated_start = clock.now_ns();
+  // With a speed: the wall time still to wait before the clock may reach `t` (zero when it may).
+  const auto pace = [&](std::int64_t t) {
+    if (!options.speed) return std::chrono::milliseconds(0);
+    const double due_s = static_cast<double>(t - simulated_start) / 1e9 / *options.speed;
+    const double elapsed_s = std::chrono::duration<double>(options.wall_now() - wall_start).count();
+    return std::chrono::milliseconds(
+        static_cast<std::int64_t>(std::ceil(std::max(0.0, due_s - elapsed_s) * 1000)));
+  };
   int idle_waits = 0;
   while (!events.stopping()) {
     sched.tick();
@@ -75,6 +89,11 @@ void run_simulated(Scheduler& sched, SimulatedClock& clock, const Events& events
         return;
       }
       if (next && *next > clock.now_ns()) {
+        if (const auto early = pace(*next); early.count() > 0) {
+          // Too soon for the speed: wait, taking what arrives meanwhile (an order, a result).
+          events.wait_for_progress(std::min(early, std::chrono::milliseconds(1000)));
+          continue;
+        }
         clock.set_ns(*next);
         sched.persist_clock();
         idle_waits = 0;

@@ -62,11 +62,22 @@ struct SimulatedRunOptions {
   // Stop after this many such waits in a row that brought nothing (none: wait for ever, as the
   // service does; tests whose events answer at once set it).
   std::optional<int> give_up_after_idle_waits;
+  // At most this many simulated seconds per wall second, counted from the start of the run (none:
+  // as fast as the checks come back). The clock waits (for events) rather than jump ahead of it;
+  // checks that follow each other directly still run as fast as they come back. A plant watching
+  // a demo, or a fault campaign that needs the run to last while it kills services, sets it. The
+  // decisions are the same at any speed.
+  std::optional<double> speed;
+  // The wall clock the speed is measured on (tests pass their own).
+  std::function<std::chrono::steady_clock::time_point()> wall_now = [] {
+    return std::chrono::steady_clock::now();
+  };
 };
 
 // The plant calendar on a simulated clock, as fast as the checks come back: whenever no check is
 // waiting for a result the clock jumps to the next thing due (a shift start, a part, a timeout);
-// when a check gets no answer for `stall` of wall time the clock runs on to its deadline.
+// when a check gets no answer for `stall` of wall time the clock runs on to its deadline; with a
+// `speed`, no jump goes further than the speed allows yet.
 // Persists the clock with the scheduler's state at every jump.
 void run_simulated(Scheduler& scheduler, SimulatedClock& clock, const Events& events,
                    const SimulatedRunOptions& options);

@@ -32,6 +32,7 @@ int run(int argc, char** argv) {
   std::optional<std::string> machine_list, cycle_text, state_flag, until_text;
   std::optional<double> days;
   double stall_s = 30;
+  std::optional<double> speed;
   app.add_option("--machine", machine_list,
                  "serve only these machines (one scheduler per machine or group; default: all)")
       ->type_name("ID[,ID...]");
@@ -53,6 +54,11 @@ int run(int argc, char** argv) {
       ->type_name("S")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--speed", speed,
+                 "simulated clock: at most X simulated seconds per wall second (default: as fast "
+                 "as the checks come back)")
+      ->type_name("X")
+      ->check(CLI::PositiveNumber);
   return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const scheduler::ServedPlant served = scheduler::serve_only(std::move(loaded), machine_list);
     const PlantConfig& plant = served.plant;
@@ -60,6 +66,9 @@ int run(int argc, char** argv) {
         cycle_text ? scheduler::check_kind_list(*cycle_text)
                    : (plant.calendar ? std::vector<CheckKind>{} : plant.startup_checks);
     const std::optional<std::int64_t> until = scheduler::simulated_run_end(plant, days, until_text);
+    if (speed && !plant.simulated_clock) {
+      throw std::invalid_argument("--speed needs the plant's clock.mode: simulated");
+    }
     storage::StateFile state =
         storage::StateFile::open(state_flag.value_or(plant.scheduler_state_database));
     // The simulated clock goes on where the state file left it.
@@ -89,7 +98,8 @@ int run(int argc, char** argv) {
       std::vector<storage::OutboxEntry> entries;
       entries.reserve(rs.size() + ss.size());
       for (const auto& r : rs) {
-        entries.push_back(outbox.entry<ncqual::dds::CheckRequestTopic>(r, {roles::kHistorian}));
+        entries.push_back(outbox.entry<ncqual::dds::CheckRequestTopic>(
+            r, {roles::kHistorian, roles::kAcquisition}));
       }
       for (const auto& st : ss) {
         entries.push_back(outbox.entry<ncqual::dds::MachineStatusTopic>(st, {roles::kHistorian}));
@@ -158,6 +168,7 @@ int run(int argc, char** argv) {
     scheduler::SimulatedRunOptions run_options;
     run_options.until_ns = until;
     run_options.stall = std::chrono::milliseconds(static_cast<std::int64_t>(stall_s * 1000));
+    run_options.speed = speed;
     scheduler::run_simulated(sched, simulated,
                              {[&](std::chrono::milliseconds patience) {
                                 progress = false;

@@ -157,11 +157,9 @@ void Scheduler::start(const std::vector<CheckKind>& cycle) {
           m.run.queue.push_back(k);
       }
     }
-    // The state as stored, published again: a restarted scheduler tells everyone where it is.
-    if (!m.run.detail.empty()) {
-      outbox_statuses_.push_back(
-          MachineStatus{id, "", m.run.state, std::nullopt, std::nullopt, m.run.detail, now(m)});
-    }
+    // The state as stored is not published again: it is no change, and the last change is in the
+    // outbox until the historian has it (a restart would otherwise add a status "change" to the
+    // history every time).
     advance(m);
     update_state(m, "", std::nullopt, std::nullopt);
     commit(m);

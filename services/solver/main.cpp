@@ -140,7 +140,7 @@ int run(int argc, char** argv) {
       if (result.correction) {
         answer.push_back(outbox.entry<ncqual::dds::CompensationTopic>(
             Compensation{result.machine_id, result.request_id, *result.correction, result.time_ns},
-            {roles::kHistorian}));
+            {roles::kHistorian, roles::kAcquisition}));
       }
       try {
         solved.save(set, answer);

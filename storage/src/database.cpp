@@ -222,6 +222,10 @@ constexpr Sql kSelectLatestStatus{
     "select latest status",
     "SELECT request_id, state, last_kind, last_verdict, detail, time_ns FROM status_changes "
     "WHERE machine_id = ?1 ORDER BY time_ns DESC, id DESC LIMIT 1"};
+constexpr Sql kSelectStatusHistory{
+    "select status history",
+    "SELECT request_id, state, last_kind, last_verdict, detail, time_ns FROM status_changes "
+    "WHERE machine_id = ?1 ORDER BY time_ns, id"};
 constexpr Sql kSelectInterventions{
     "select interventions",
     "SELECT intervention_id, kind, note, operator_name, time_ns FROM interventions "
@@ -909,10 +913,9 @@ std::optional<std::int64_t> Database::last_pass_ns(const std::string& machine_id
   return q.int64(0);
 }
 
-std::optional<MachineStatus> Database::latest_status(const std::string& machine_id) {
-  Query q(impl_->statements, kSelectLatestStatus);
-  q.bind(machine_id);
-  if (!q.step()) return std::nullopt;
+namespace {
+// A row of kSelectLatestStatus or kSelectStatusHistory.
+MachineStatus status_row(Query& q, const std::string& machine_id) {
   MachineStatus status;
   status.machine_id = machine_id;
   status.request_id = q.text(0);
@@ -924,6 +927,22 @@ std::optional<MachineStatus> Database::latest_status(const std::string& machine_
   status.detail = q.text(4);
   status.time_ns = q.int64(5);
   return status;
+}
+}  // namespace
+
+std::optional<MachineStatus> Database::latest_status(const std::string& machine_id) {
+  Query q(impl_->statements, kSelectLatestStatus);
+  q.bind(machine_id);
+  if (!q.step()) return std::nullopt;
+  return status_row(q, machine_id);
+}
+
+std::vector<MachineStatus> Database::status_history(const std::string& machine_id) {
+  Query q(impl_->statements, kSelectStatusHistory);
+  q.bind(machine_id);
+  std::vector<MachineStatus> list;
+  while (q.step()) list.push_back(status_row(q, machine_id));
+  return list;
 }
 
 std::vector<Intervention> Database::interventions(const std::string& machine_id) {

@@ -37,6 +37,8 @@ enum class TestDomain : int {
   CalendarAcquisitionRestart = detail::test_domain(212),  // Calendar.RestartedAcquisition...
   DefaultQos = detail::test_domain(213),                  // BadInput.APlantWhoseQosProfiles...
   Conflict = detail::test_domain(214),                    // Conflict.*
+  CampaignReference = detail::test_domain(215),           // FaultCampaign.*: the undisturbed run
+  CampaignKill = detail::test_domain(216),                // FaultCampaign.*: the disturbed one
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -55,7 +57,10 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::FleetArguments:
     case TestDomain::FleetSchedulerPerMachine:
     case TestDomain::CalendarAcquisitionRestart:
-    case TestDomain::DefaultQos: break;
+    case TestDomain::DefaultQos:
+    case TestDomain::Conflict:
+    case TestDomain::CampaignReference:
+    case TestDomain::CampaignKill: break;
   }
   return static_cast<int>(domain);
 }

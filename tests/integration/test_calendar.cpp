@@ -142,10 +142,10 @@ TEST(Calendar, SchedulerKilledAtRandomPointsEndsWithExactlyTheChecksOfAnUndistur
 }
 
 // The acquisition is killed (SIGKILL) in the middle of a simulated run and restarted. The new
-// process is replayed the durable request history; it must not measure again what the killed
-// one measured (its state file says which), and every check still ends answered, without a
-// retry. At most the one request in flight at the kill may be measured twice: it was published
-// but not yet recorded; the historian keeps its first measurement.
+// process is sent again every request the killed one had not acknowledged; it must not measure
+// again what the killed one measured (its state file says which), and every check still ends
+// answered, without a retry. At most the one request in flight at the kill may be measured
+// twice: measured but not yet recorded, so not yet published either.
 TEST(Calendar, RestartedAcquisitionDoesNotMeasureReplayedRequestsAgain) {
   Plant plant("calendar-acq-restart", TestDomain::CalendarAcquisitionRestart);
   add_machines(plant);

@@ -179,6 +179,8 @@ class Database {
   std::optional<MachineRecord> machine(const std::string& machine_id);
   // The most recent status by time_ns (the last stored when several share a time).
   std::optional<MachineStatus> latest_status(const std::string& machine_id);
+  // Every stored status change of the machine, oldest first.
+  std::vector<MachineStatus> status_history(const std::string& machine_id);
   // Newest first.
   std::vector<Intervention> interventions(const std::string& machine_id);
   // Newest first.

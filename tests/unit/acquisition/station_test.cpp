@@ -23,6 +23,7 @@ namespace fs = std::filesystem;
 struct Recorder {
   std::vector<std::string> measured;  // request ids, in order
   std::vector<std::string> applied;   // correction targets, in order
+  std::vector<std::string> restored;  // correction targets restored at start, in order
 };
 class RecordingInstruments : public Instruments {
  public:
@@ -33,6 +34,10 @@ class RecordingInstruments : public Instruments {
   }
   std::string apply(const Correction& correction) override {
     r_.applied.push_back(correction.target);
+    return "";
+  }
+  std::string restore(const Correction& correction) override {
+    r_.restored.push_back(correction.target);
     return "";
   }
 
@@ -203,6 +208,45 @@ TEST_F(StationTest, AMalformedRequestIsAnsweredWithAnErrorAndOtherMachinesAreNot
   ASSERT_EQ(published_.size(), 1u);
   EXPECT_EQ(published_[0].error,
             "malformed CheckRequest: CheckRequest.kind = 99 is not a check kind");
+}
+
+// What the station settles is what the executable acknowledges to the sender: a request once it
+// is measured and recorded (or was, or is history), not while it waits for its correction; a
+// compensation once applied and recorded. An applied compensation survives a restart: restored
+// into the instruments, never applied twice, and its post-calibration goes through at once.
+TEST_F(StationTest, SettledSamplesAreRecordedAndCompensationsAreRestoredAfterARestart) {
+  auto s = station();
+  CheckRequest post = request("post", kNow, CheckKind::FixturePostCalibration);
+  post.verifies_correction_of = "pre";
+  EXPECT_FALSE(s->on_request(post, "", kNow));  // waits: the sender keeps it
+  EXPECT_FALSE(s->on_request(post, "", kNow));  // sent again while it waits
+  EXPECT_TRUE(s->on_request(request("r1"), "", kNow));
+  EXPECT_TRUE(s->on_request(request("r1"), "", kNow));  // sent again: already settled
+
+  Compensation c;
+  c.machine_id = "m1";
+  c.request_id = "pre";
+  c.correction.target = "fixture:F1";
+  c.correction.offsets = {{"C1R1.dz", 0.02, "mm"}};
+  EXPECT_TRUE(s->on_compensation(c, kNow));
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1", "post"}));
+  EXPECT_TRUE(s->on_request(post, "", kNow));  // sent again once measured: settled
+
+  s = station();  // a restart
+  EXPECT_EQ(recorder_.restored, (std::vector<std::string>{"fixture:F1"}));
+  EXPECT_TRUE(s->on_compensation(c, kNow));  // sent again: settled, not applied twice
+  EXPECT_EQ(recorder_.applied, (std::vector<std::string>{"fixture:F1"}));
+  CheckRequest post2 = post;
+  post2.request_id = "post-2";
+  EXPECT_TRUE(s->on_request(post2, "", kNow));
+  EXPECT_EQ(recorder_.measured.back(), "post-2");
+
+  StationOptions wall;
+  wall.max_request_age_ns = 600 * kSecond;
+  s = station(wall);
+  EXPECT_TRUE(s->on_request(request("old", kNow - 601 * kSecond), "", kNow));  // history
+  EXPECT_TRUE(s->on_request(request("old", kNow - 601 * kSecond), "", kNow));
+  EXPECT_EQ(recorder_.measured.back(), "post-2");
 }
 
 // The simulated instruments behind a station: the example machine's fixture and tracker

@@ -509,5 +509,65 @@ TEST(CalendarFlow, RestartsAtRandomPointsChangeNothing) {
   }
 }
 
+// With a speed, the clock never runs ahead of it: whenever a request is issued, the simulated
+// clock is no further from the start than the wall time (here a fake clock that moves only by
+// what the run waits) allows; checks that follow each other directly run as fast as they come
+// back. The run makes exactly the decisions of an unpaced one.
+TEST(CalendarFlow, ASpeedPacesTheClockWithoutChangingAnyDecision) {
+  const PlantConfig p = plant({machine("m1", "F")});
+  const std::int64_t start = utc("2026-01-05T00:00:00Z");
+  const std::int64_t until = utc("2026-01-08T00:00:00Z");
+  Driver unpaced(start);
+  {
+    Scheduler s(p, unpaced.clock, unpaced.outputs());
+    s.start({});
+    unpaced.run(s, until);
+  }
+
+  constexpr double kSpeed = 3600;  // a simulated hour per wall second
+  Driver d(start);
+  std::chrono::steady_clock::time_point wall{};
+  std::vector<std::pair<std::int64_t, double>> issued;  // simulated clock, wall seconds
+  Scheduler::Outputs out = d.outputs();
+  out.request = [&, inner = out.request](const CheckRequest& r) {
+    issued.emplace_back(d.clock.now_ns(),
+                        std::chrono::duration<double>(wall.time_since_epoch()).count());
+    inner(r);
+  };
+  Scheduler s(p, d.clock, out);
+  s.start({});
+  SimulatedRunOptions options;
+  options.until_ns = until;
+  options.stall = std::chrono::milliseconds(0);
+  options.operator_patience = std::chrono::milliseconds(0);
+  options.give_up_after_idle_waits = 3;
+  options.speed = kSpeed;
+  options.wall_now = [&] { return wall; };
+  std::chrono::milliseconds waited{0};
+  run_simulated(s, d.clock,
+                {[&](std::chrono::milliseconds patience) {
+                   wall += patience;  // the fake wall clock moves by what is waited
+                   waited += patience;
+                   return d.deliver_one(s);
+                 },
+                 [] { return false; }},
+                options);
+
+  ASSERT_EQ(d.requests.size(), unpaced.requests.size());
+  for (std::size_t k = 0; k < d.requests.size(); ++k) {
+    EXPECT_EQ(d.requests[k].request_id, unpaced.requests[k].request_id);
+    EXPECT_EQ(d.requests[k].time_ns, unpaced.requests[k].time_ns);
+  }
+  ASSERT_FALSE(issued.empty());
+  for (const auto& [t, wall_s] : issued) {
+    EXPECT_GE(wall_s + 1e-3, static_cast<double>(t - start) / 1e9 / kSpeed)
+        << "the clock at " << (t - start) / kMinute << " simulated min ran ahead";
+  }
+  // The last jump is on the third day: about 60 wall seconds at an hour per second, all waited.
+  const double last_s = static_cast<double>(d.clock.now_ns() - start) / 1e9 / kSpeed;
+  EXPECT_GT(last_s, 48.0);
+  EXPECT_NEAR(std::chrono::duration<double>(waited).count(), last_s, 2.0);
+}
+
 }  // namespace
 }  // namespace ncqual::scheduler

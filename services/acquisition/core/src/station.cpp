@@ -2,6 +2,7 @@
 #include "ncqual/acquisition/station.hpp"
 
 #include "ncqual/check_kinds.hpp"
+#include "ncqual/json.hpp"
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -17,6 +18,13 @@ struct PerformedEntry {
   std::int64_t seq = 0;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PerformedEntry, seq)
+
+// The state file's document of an applied compensation.
+struct AppliedEntry {
+  std::int64_t seq = 0;
+  Correction correction;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AppliedEntry, seq, correction)
 
 }  // namespace
 
@@ -50,6 +58,34 @@ void PerformedRequests::load(const std::map<std::string, std::string>& documents
     spdlog::info("{}: {} performed requests remembered from {}", machine_id_, found.size(),
                  state_.path());
   }
+  const std::string applied_prefix = "applied/" + machine_id_ + "/";
+  std::vector<std::pair<std::int64_t, std::pair<std::string, Correction>>> applied;
+  for (auto it = documents.lower_bound(applied_prefix);
+       it != documents.end() && it->first.compare(0, applied_prefix.size(), applied_prefix) == 0;
+       ++it) {
+    try {
+      auto entry = nlohmann::json::parse(it->second).get<AppliedEntry>();
+      applied.push_back(
+          {entry.seq, {it->first.substr(applied_prefix.size()), std::move(entry.correction)}});
+      next_seq_ = std::max(next_seq_, entry.seq + 1);
+    } catch (const nlohmann::json::exception& e) {
+      spdlog::error(
+          "{}: state file {} entry '{}' is not readable ({}); that compensation is not "
+          "restored",
+          machine_id_, state_.path(), it->first, e.what());
+    }
+  }
+  std::sort(applied.begin(), applied.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [seq, entry] : applied) applied_.push_back(std::move(entry));
+}
+
+void PerformedRequests::record_applied(const std::string& request_id,
+                                       const Correction& correction) {
+  state_.save({{"applied/" + machine_id_ + "/" + request_id,
+                nlohmann::json(AppliedEntry{next_seq_, correction}).dump()}},
+              {});
+  ++next_seq_;
 }
 
 void PerformedRequests::record(const std::string& request_id,
@@ -81,7 +117,18 @@ Station::Station(std::string machine_id, std::unique_ptr<Instruments> instrument
       performed_(std::move(performed)),
       options_(options),
       publish_(std::move(publish)),
-      queue_(std::move(queue)) {}
+      queue_(std::move(queue)) {
+  for (const auto& [request_id, correction] : performed_.applied()) {
+    applied_.insert(request_id);
+    if (const std::string refused = instruments_->restore(correction); !refused.empty()) {
+      spdlog::error("{}: compensation of {} not restored: {}", machine_id_, request_id, refused);
+    }
+  }
+  if (!performed_.applied().empty()) {
+    spdlog::info("{}: {} applied compensation(s) remembered", machine_id_,
+                 performed_.applied().size());
+  }
+}
 
 std::size_t Station::waiting() const {
   std::size_t n = 0;
@@ -89,50 +136,67 @@ std::size_t Station::waiting() const {
   return n;
 }
 
-void Station::on_request(const CheckRequest& req, const std::string& malformed,
+bool Station::on_request(const CheckRequest& req, const std::string& malformed,
                          std::int64_t now_ns) {
-  if (req.machine_id != machine_id_) return;  // the reader's filter should have done this
-  if (performed_.contains(req.request_id) || !taken_.insert(req.request_id).second) {
+  if (req.machine_id != machine_id_) return false;  // the reader's filter should have done this
+  if (performed_.contains(req.request_id)) {
     spdlog::debug("{} {}: already performed, not measured again", req.machine_id, req.request_id);
-    return;
+    return true;
+  }
+  if (!taken_.insert(req.request_id).second) {
+    // Sent again: waiting for its correction, or its record failed (then it is measured again).
+    if (failed_.erase(req.request_id) == 0) return ignored_.count(req.request_id) > 0;
   }
   // Requests older than this are history, not work: a restarted acquisition must not move the
   // machine for checks long since answered.
   if (!options_.simulated_clock && now_ns - req.time_ns > options_.max_request_age_ns) {
     spdlog::info("{} {}: request from {} s ago ignored (older than --max-request-age-s)",
                  req.machine_id, req.request_id, (now_ns - req.time_ns) / 1000000000);
-    return;
+    ignored_.insert(req.request_id);
+    return true;
   }
   if (malformed.empty() && !req.verifies_correction_of.empty() &&
       !applied_.count(req.verifies_correction_of)) {
     spdlog::info("{} {}: waiting for the Compensation of {} before measuring", req.machine_id,
                  req.request_id, req.verifies_correction_of);
     waiting_[req.verifies_correction_of].push_back(req);
-    return;
+    return false;
   }
-  measure(req, malformed, now_ns);
+  return measure(req, malformed, now_ns);
 }
 
-void Station::on_compensation(const Compensation& c, std::int64_t now_ns) {
-  if (c.machine_id != machine_id_) return;
-  if (!applied_.insert(c.request_id).second) return;
+bool Station::on_compensation(const Compensation& c, std::int64_t now_ns) {
+  if (c.machine_id != machine_id_) return false;
+  if (applied_.count(c.request_id)) return true;
   if (const std::string refused = instruments_->apply(c.correction); !refused.empty()) {
     spdlog::error("{}: {}", c.request_id, refused);
   } else if (c.correction.target.rfind("fixture:", 0) == 0) {
     spdlog::info("{}: applied {} zero offsets to {}", c.request_id, c.correction.offsets.size(),
                  c.correction.target);
   }
+  try {
+    performed_.record_applied(c.request_id, c.correction);
+  } catch (const std::exception& e) {
+    // Applied but not recorded: a restart would not restore it. Not settled, so it comes again;
+    // it is not applied twice in this run.
+    spdlog::error("{}: compensation of {} applied but not recorded: {}", machine_id_, c.request_id,
+                  e.what());
+    applied_.insert(c.request_id);
+    return false;
+  }
+  applied_.insert(c.request_id);
   // The requests that waited for this correction are measured now.
   if (auto it = waiting_.find(c.request_id); it != waiting_.end()) {
     const std::vector<CheckRequest> requests = std::move(it->second);
     waiting_.erase(it);
     for (const auto& req : requests) measure(req, "", now_ns);
   }
+  return true;
 }
 
 // On a simulated clock the measurement is taken at the request's time and takes the
 // instrument's time; on the wall clock it is taken now.
-void Station::measure(const CheckRequest& req, const std::string& malformed, std::int64_t now_ns) {
+bool Station::measure(const CheckRequest& req, const std::string& malformed, std::int64_t now_ns) {
   const std::int64_t at =
       options_.simulated_clock
           ? req.time_ns + static_cast<std::int64_t>(check_kind_info(req.kind).duration_min * 60e9)
@@ -148,12 +212,17 @@ void Station::measure(const CheckRequest& req, const std::string& malformed, std
   try {
     performed_.record(req.request_id, queue_ ? queue_(set) : std::vector<storage::OutboxEntry>{});
   } catch (const std::exception& e) {
-    spdlog::error("{}: {} not recorded as performed (it may be measured again): {}", machine_id_,
+    // Not settled and not written (nothing unrecorded leaves): the request comes again and is
+    // measured again then.
+    spdlog::error("{}: {} not recorded as performed (it will be measured again): {}", machine_id_,
                   req.request_id, e.what());
+    failed_.insert(req.request_id);
+    return false;
   }
   if (!publish_(set)) {
     spdlog::error("{}: measurement set could not be written now", set.request_id);
   }
+  return true;
 }
 
 }  // namespace ncqual::acquisition

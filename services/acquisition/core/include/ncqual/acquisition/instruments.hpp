@@ -31,6 +31,11 @@ class Instruments {
   // Returns "" when applied or when it is not for an instrument of this machine to apply (a
   // work offset is the control's), else why it was refused.
   virtual std::string apply(const Correction& correction) = 0;
+
+  // A correction an earlier run of the acquisition applied, at start, oldest first. A control
+  // keeps its offsets itself, so by default nothing is done; instruments that forget them when
+  // the process ends (the simulator) apply it again. "" or why it was refused, as apply().
+  virtual std::string restore(const Correction& /*correction*/) { return ""; }
 };
 
 // The simulated machine, touch probe, monument, fixture and laser tracker of one machine config
@@ -43,6 +48,8 @@ class SimulatedInstruments : public Instruments {
 
   MeasurementSet measure(const CheckRequest& request, std::int64_t time_ns) override;
   std::string apply(const Correction& correction) override;
+  // The simulated fixture's zeros live in this process: applied again.
+  std::string restore(const Correction& correction) override { return apply(correction); }
 
  private:
   const MachineConfig machine_;

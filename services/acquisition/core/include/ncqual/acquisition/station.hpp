@@ -7,12 +7,15 @@
 //               on the wall clock, older than the maximum age?              history: ignore it
 //               verifies a correction not yet applied?                      wait for it
 //               otherwise                                                   measure and publish
-//   compensation -> for this machine and not seen before?  apply it, then measure the requests
-//                   that waited for it
+//   compensation -> for this machine and not seen before?  apply it, record it, then measure the
+//                   requests that waited for it
 //
-// Each measured request is recorded in the state file before the next is taken, so a restarted
-// acquisition, which is replayed the durable request history, never moves the machine again for a
-// request it measured (at most the one in flight when it was killed).
+// Each measured request is recorded in the state file (with its set's outbox entry) before the
+// set is written, so a restarted acquisition, sent the request again, never moves the machine
+// again for a request it measured. Each applied compensation is recorded too: a restart restores
+// it into instruments that do not keep it themselves (the simulator), and never applies it twice.
+// on_request and on_compensation say when a sample is settled (recorded, or needs no record), the
+// moment the executable acknowledges it to its sender.
 #pragma once
 
 #include "ncqual/acquisition/instruments.hpp"
@@ -31,8 +34,10 @@
 namespace ncqual::acquisition {
 
 // The requests a machine measured, oldest first, kept in the service's state file as documents
-// "performed/<machine>/<request id>" = {"seq": N}. Only the newest `capacity` are kept: more than
-// the durable request history a restart can replay (500 per machine, deploy/qos).
+// "performed/<machine>/<request id>" = {"seq": N}; only the newest `capacity` are kept (a request
+// is sent again until this acquisition acknowledged it, so only a recent one can come back). And
+// the compensations applied to it, all of them, oldest first: "applied/<machine>/<request id>" =
+// {"seq": N, "correction": {...}}.
 class PerformedRequests {
  public:
   PerformedRequests(storage::StateFile& state, std::string machine_id, std::size_t capacity = 1000);
@@ -44,6 +49,10 @@ class PerformedRequests {
   void record(const std::string& request_id, const std::vector<storage::OutboxEntry>& queue = {});
   bool contains(const std::string& request_id) const { return ids_.count(request_id) > 0; }
   std::size_t size() const { return order_.size(); }
+  // Records that the compensation of `request_id` was applied. Throws StorageError as record().
+  void record_applied(const std::string& request_id, const Correction& correction);
+  // The compensations applied by earlier runs (as loaded), oldest first: request id, correction.
+  const std::vector<std::pair<std::string, Correction>>& applied() const { return applied_; }
 
  private:
   storage::StateFile& state_;
@@ -52,6 +61,7 @@ class PerformedRequests {
   std::set<std::string> ids_;
   std::deque<std::string> order_;
   std::int64_t next_seq_ = 0;
+  std::vector<std::pair<std::string, Correction>> applied_;
 };
 
 struct StationOptions {
@@ -77,16 +87,21 @@ class Station {
   const std::string& id() const { return machine_id_; }
 
   // A CheckRequest as received at `now_ns`; `malformed` is the wire's complaint about it ("" for
-  // a good sample): a malformed request is answered with a MeasurementSet that says so.
-  void on_request(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
-  // A Compensation as received at `now_ns` (corrections are applied once per request id).
-  void on_compensation(const Compensation& compensation, std::int64_t now_ns);
+  // a good sample): a malformed request is answered with a MeasurementSet that says so. True when
+  // the request is settled: measured and recorded (now or before), or history not to measure;
+  // false while it waits for a correction, or when its record could not be saved.
+  bool on_request(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
+  // A Compensation as received at `now_ns` (corrections are applied once per request id). True
+  // when it is settled: applied and recorded (now or before), or refused by the instruments
+  // (logged; applying it again would not change that).
+  bool on_compensation(const Compensation& compensation, std::int64_t now_ns);
 
   // Requests waiting for a correction to be applied.
   std::size_t waiting() const;
 
  private:
-  void measure(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
+  // Measures, records and publishes; false when the record could not be saved.
+  bool measure(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
 
   const std::string machine_id_;
   std::unique_ptr<Instruments> instruments_;
@@ -95,6 +110,8 @@ class Station {
   const Publish publish_;
   const Queue queue_;
   std::set<std::string> taken_;    // requests taken this run: measured, waiting or ignored
+  std::set<std::string> ignored_;  // taken as history, not measured (settled)
+  std::set<std::string> failed_;   // measured, but the record failed: measured again if sent again
   std::set<std::string> applied_;  // compensations, by the request id that issued them
   std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
 };
