@@ -5,6 +5,15 @@
 // DUPLICATE (the same sample again), CONFLICT (its id was stored with other content: kept beside
 // it, flagged) or REFUSED (it can never be stored). A sample the database could not take now
 // (locked, full, failing) is not acknowledged: its producer keeps it and sends it again.
+// Storage faults (ingest.hpp): what arrives while the database fails waits in a bounded backlog
+// and is retried with back-off; the file is checked every second (removed or replaced: every
+// attempt is held, and what the connection holds is copied to <file>.rescued-<time>); the
+// heartbeat carries the health (ok, degraded, failed), its detail, the backlog and the oldest
+// waiting sample, and goes out at once when the health changes. A damaged file is refused at
+// start (PRAGMA quick_check).
+#include "ingest.hpp"
+
+#include "ncqual/clock.hpp"
 #include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/acknowledged.hpp"
@@ -14,6 +23,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <iostream>
 
 namespace {
@@ -31,8 +43,7 @@ AckOutcome ack_outcome(StoreOutcome outcome) {
 }
 
 // Stores one received sample and acknowledges it. A bad sample is logged with its reason and
-// refused; a database failure is logged and not acknowledged; the historian keeps running with
-// everything already stored intact.
+// refused; a database failure is rethrown for the ingest to keep the sample (not acknowledged).
 template <typename Topic>
 void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const char* what,
            const ncqual::dds::Received<typename Topic::Model>& in, std::int64_t now_ns) {
@@ -43,37 +54,40 @@ void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const
     acks.acknowledge<Topic>(in, AckOutcome::Refused, in.error);
     return;
   }
+  ncqual::storage::StoreResult stored;
   try {
-    const auto stored = db.store(in.value, {in.content_hash, in.writer, now_ns});
-    switch (stored.outcome) {
-      case StoreOutcome::Stored: spdlog::debug("stored {} {} of {}", what, id, machine_id); break;
-      case StoreOutcome::Duplicate:
-        spdlog::debug("{} {} of {} already stored", what, id, machine_id);
-        break;
-      case StoreOutcome::Conflict:
-        spdlog::error(
-            "CONFLICT: {} {} of machine '{}' from writer {} differs from the one stored (content "
-            "{} against {}); both kept, the stored one unchanged",
-            what, id, machine_id, in.writer, in.content_hash.substr(0, 12),
-            stored.stored_hash.substr(0, 12));
-        break;
-    }
-    acks.acknowledge<Topic>(in, ack_outcome(stored.outcome),
-                            stored.outcome == StoreOutcome::Conflict
-                                ? "stored first with content " + stored.stored_hash
-                                : "");
+    stored = db.store(in.value, {in.content_hash, in.writer, now_ns});
   } catch (const ncqual::storage::StorageError& e) {
-    if (e.sqlite_code() == 0) {
-      // Refused by validation: it will never be stored, so the producer may drop it.
-      spdlog::error("{} {} of machine '{}' refused: {}", what, id, machine_id, e.what());
-      acks.acknowledge<Topic>(in, AckOutcome::Refused, e.what());
-    } else {
-      spdlog::error(
-          "{} {} of machine '{}' not stored (not acknowledged; its producer sends it "
-          "again): {}",
-          what, id, machine_id, e.what());
-    }
+    if (e.sqlite_code() != 0) throw;  // the database: the ingest keeps it and says so
+    // Refused by validation: it will never be stored, so the producer may drop it.
+    spdlog::error("{} {} of machine '{}' refused: {}", what, id, machine_id, e.what());
+    acks.acknowledge<Topic>(in, AckOutcome::Refused, e.what());
+    return;
   }
+  switch (stored.outcome) {
+    case StoreOutcome::Stored: spdlog::debug("stored {} {} of {}", what, id, machine_id); break;
+    case StoreOutcome::Duplicate:
+      spdlog::debug("{} {} of {} already stored", what, id, machine_id);
+      break;
+    case StoreOutcome::Conflict:
+      spdlog::error(
+          "CONFLICT: {} {} of machine '{}' from writer {} differs from the one stored (content "
+          "{} against {}); both kept, the stored one unchanged",
+          what, id, machine_id, in.writer, in.content_hash.substr(0, 12),
+          stored.stored_hash.substr(0, 12));
+      break;
+  }
+  acks.acknowledge<Topic>(in, ack_outcome(stored.outcome),
+                          stored.outcome == StoreOutcome::Conflict
+                              ? "stored first with content " + stored.stored_hash
+                              : "");
+}
+
+std::string rescue_name(const std::string& path, std::int64_t now_ns) {
+  char buffer[32];
+  std::string stamp(ncqual::format_iso8601(now_ns, buffer));
+  stamp.erase(std::remove(stamp.begin(), stamp.end(), ':'), stamp.end());
+  return path + ".rescued-" + stamp;
 }
 
 int run(int argc, char** argv) {
@@ -87,7 +101,13 @@ int run(int argc, char** argv) {
   return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const PlantConfig plant = std::move(loaded);
     const std::string db_path = db_flag.empty() ? plant.historian_database : db_flag;
-    auto db = storage::Database::open(db_path);
+    // A write past a file size limit fails (EFBIG) instead of ending the process: handled as
+    // the I/O error it is.
+    std::signal(SIGXFSZ, SIG_IGN);
+    auto db = storage::Database::open(db_path);  // refuses a damaged file (quick_check)
+    // A lock held by someone else holds up one attempt for at most this long; the sample waits
+    // in the backlog meanwhile and the historian keeps receiving.
+    db.set_busy_timeout(std::chrono::milliseconds(500));
     spdlog::info("historian database {}", db_path);
 
     ncqual::dds::Service service(service_main.service_options(plant));
@@ -101,31 +121,78 @@ int run(int argc, char** argv) {
     ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
     ncqual::dds::Reader<ncqual::dds::HeartbeatTopic> heartbeats(p);
 
-    // Every sample a reader receives is stored and acknowledged, named `what` in the log.
-    const auto ingest = [&](auto& reader, const char* what) {
+    historian::Ingest ingest(
+        {}, [&service, &db_path](storage::StorageHealth health, const std::string& detail) {
+          if (health == storage::StorageHealth::Ok) {
+            spdlog::info("storage health ok again: {} stores and acknowledges", db_path);
+          } else {
+            spdlog::error("storage health {}: {}", storage::to_string(health), detail);
+          }
+          service.beat("running");  // the alarm goes out now, not at the next period
+        });
+    service.on_heartbeat([&ingest](Heartbeat& beat) {
+      beat.health = std::string(storage::to_string(ingest.health()));
+      beat.health_detail = ingest.detail();
+      beat.outbox_depth = static_cast<std::int64_t>(ingest.backlog());
+      beat.oldest_unacknowledged_ns = ingest.oldest_received_ns();
+    });
+    const auto steady_now = [] { return std::chrono::steady_clock::now(); };
+
+    // Every sample a reader receives goes through the ingest: stored and acknowledged, or kept.
+    const auto ingest_from = [&](auto& reader, const char* what) {
       using Topic = typename std::remove_reference_t<decltype(reader)>::TopicType;
-      service.dispatcher().on(reader, [&db, &acks, &service, what](const auto& in) {
-        store<Topic>(db, acks, what, in, service.clock().now_ns());
+      service.dispatcher().on(reader, [&, what](const auto& in) {
+        const std::int64_t now = service.clock().now_ns();
+        ingest.submit(
+            now, [&db, &acks, what, in, now] { store<Topic>(db, acks, what, in, now); },
+            steady_now());
       });
     };
-    ingest(requests, "request");
-    ingest(sets, "measurement set");
-    ingest(results, "result");
-    ingest(statuses, "status");
-    ingest(compensations, "compensation");
-    ingest(interventions, "intervention");
-    service.dispatcher().on(heartbeats, [&db](const ncqual::dds::Received<Heartbeat>& in) {
+    ingest_from(requests, "request");
+    ingest_from(sets, "measurement set");
+    ingest_from(results, "result");
+    ingest_from(statuses, "status");
+    ingest_from(compensations, "compensation");
+    ingest_from(interventions, "intervention");
+    // Heartbeats are a service's latest word: stored when the database is well, else skipped.
+    service.dispatcher().on(heartbeats, [&](const ncqual::dds::Received<Heartbeat>& in) {
       if (!in.error.empty()) {
         spdlog::warn("heartbeat of {} {} ignored: {}", in.value.service, in.value.instance,
                      in.error);
         return;
       }
+      if (ingest.health() != storage::StorageHealth::Ok || ingest.backlog() > 0) return;
       try {
         db.store(in.value);
       } catch (const storage::StorageError& e) {
-        spdlog::error("heartbeat of {} {} not stored: {}", in.value.service, in.value.instance,
-                      e.what());
+        spdlog::warn("heartbeat of {} {} not stored: {}", in.value.service, in.value.instance,
+                     e.what());
       }
+    });
+    service.dispatcher().every(std::chrono::milliseconds(100), [&] { ingest.retry(steady_now()); });
+    // The file itself: removed or replaced while open means every later commit would go where
+    // nobody reads it. Hold, rescue what the connection holds, and say so; released when the
+    // path names the opened file again (moved back).
+    bool rescued = false;
+    service.dispatcher().every(std::chrono::seconds(1), [&] {
+      const std::string problem = db.file_problem();
+      if (!problem.empty() && !rescued) {
+        rescued = true;
+        const std::string copy = rescue_name(db_path, service.clock().now_ns());
+        try {
+          db.copy_to(copy);
+          spdlog::error("{}: everything stored until now is copied to {}", problem, copy);
+        } catch (const std::exception& e) {
+          spdlog::error("{}: what was stored could not be copied to {}: {}", problem, copy,
+                        e.what());
+        }
+      }
+      if (problem.empty()) rescued = false;
+      ingest.hold(problem.empty() ? ""
+                                  : problem +
+                                        "; nothing is stored or acknowledged until it "
+                                        "is back or the historian is restarted",
+                  steady_now());
     });
     return service.run();
   });

@@ -7,6 +7,10 @@
 
 #include "ncqual/json.hpp"
 
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <utility>
 
@@ -244,6 +248,8 @@ constexpr Sql kSelectServices{
     "ORDER BY service, instance"};
 
 constexpr Sql kIntegrityCheck{"integrity check", "PRAGMA integrity_check"};
+constexpr Sql kQuickCheck{"quick check", "PRAGMA quick_check"};
+constexpr Sql kCopyTo{"copy the database", "VACUUM INTO ?1"};
 constexpr Sql kJournalMode{"read journal mode", "PRAGMA journal_mode"};
 constexpr Sql kSynchronous{"read synchronous", "PRAGMA synchronous"};
 constexpr Sql kForeignKeys{"read foreign keys", "PRAGMA foreign_keys"};
@@ -288,6 +294,8 @@ struct Database::Impl {
   sqlite::StatementCache statements;
   std::string path;
   bool read_only;
+  // The file opened (st_dev, st_ino), to tell when the path no longer names it.
+  std::optional<std::pair<dev_t, ino_t>> identity;
 
   // Runs `body` in one write transaction; SQLite failures get `what` (e.g. "store CheckResult
   // 'r-17'") in front so the historian's log says which sample failed.
@@ -560,6 +568,21 @@ Database Database::open(const std::string& path) {
   sqlite3_busy_timeout(db.get(), kBusyTimeoutMs);
 
   refuse_foreign_file(db.get(), path);
+  if (path != ":memory:") {
+    // The first row: "ok", or the first problem (a page too damaged to check is one, too).
+    std::string problem;
+    try {
+      problem = sqlite::query_text(db.get(), "quick check", "PRAGMA quick_check");
+    } catch (const StorageError& e) {
+      problem = e.what();
+    }
+    if (problem != "ok") {
+      throw StorageError("'" + path + "' is corrupt (PRAGMA quick_check): " + problem +
+                             "; it is not opened. `ncqual db recover " + path +
+                             " NEW_FILE` salvages what can be read into a new file",
+                         SQLITE_CORRUPT);
+    }
+  }
 
   // WAL: the command-line tool reads while the historian writes, and a commit is one append.
   // synchronous=NORMAL: in WAL mode a commit survives a crash of the process (what the crash test
@@ -577,7 +600,10 @@ Database Database::open(const std::string& path) {
 
   schema::migrate(db.get(), path.c_str());
   check_application_id(db.get(), path);
-  return Database(std::make_unique<Impl>(std::move(db), path, false));
+  auto impl = std::make_unique<Impl>(std::move(db), path, false);
+  struct stat st {};
+  if (!in_memory && ::stat(path.c_str(), &st) == 0) impl->identity = {st.st_dev, st.st_ino};
+  return Database(std::move(impl));
 }
 
 Database Database::open_readonly(const std::string& path) {
@@ -623,14 +649,81 @@ ConnectionInfo Database::info() {
   return info;
 }
 
-std::string Database::integrity_check() {
-  Query q(impl_->statements, kIntegrityCheck);
+namespace {
+std::string check_report(Query& q) {
   std::string report;
   while (q.step()) {
     if (!report.empty()) report += '\n';
     report += q.text(0);
   }
   return report;
+}
+}  // namespace
+
+std::string Database::integrity_check() {
+  Query q(impl_->statements, kIntegrityCheck);
+  return check_report(q);
+}
+
+std::string Database::quick_check() {
+  Query q(impl_->statements, kQuickCheck);
+  return check_report(q);
+}
+
+std::string Database::file_problem() const {
+  if (!impl_->identity) return "";
+  struct stat st {};
+  if (::stat(impl_->path.c_str(), &st) != 0) {
+    const int error = errno;
+    return error == ENOENT ? "'" + impl_->path + "' was removed while open"
+                           : "'" + impl_->path + "' cannot be looked at: " + std::strerror(error);
+  }
+  if (st.st_dev != impl_->identity->first || st.st_ino != impl_->identity->second) {
+    return "'" + impl_->path + "' was replaced by another file while open";
+  }
+  return "";
+}
+
+void Database::set_busy_timeout(std::chrono::milliseconds timeout) {
+  sqlite3_busy_timeout(impl_->db.get(), static_cast<int>(timeout.count()));
+}
+
+void Database::copy_to(const std::string& path) {
+  if (std::filesystem::exists(path)) {
+    throw StorageError("copy to '" + path + "': the file exists; not overwritten");
+  }
+  Query q(impl_->statements, kCopyTo);
+  q.bind(path);
+  while (q.step()) {}
+}
+
+std::string_view to_string(StorageHealth health) {
+  switch (health) {
+    case StorageHealth::Ok: return "ok";
+    case StorageHealth::Degraded: return "degraded";
+    case StorageHealth::Failed: return "failed";
+  }
+  return "failed";
+}
+
+StorageHealth health_after(int sqlite_code) {
+  const int primary = sqlite_code & 0xff;
+  return primary == SQLITE_BUSY || primary == SQLITE_LOCKED ? StorageHealth::Degraded
+                                                            : StorageHealth::Failed;
+}
+
+std::string fault_name(int sqlite_code) {
+  switch (sqlite_code & 0xff) {
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED: return "database locked";
+    case SQLITE_FULL: return "disk full";
+    case SQLITE_IOERR: return "I/O error";
+    case SQLITE_CORRUPT:
+    case SQLITE_NOTADB: return "database corrupt";
+    case SQLITE_READONLY: return "database read-only";
+    case SQLITE_CANTOPEN: return "database file cannot be opened";
+    default: return sqlite3_errstr(sqlite_code);
+  }
 }
 
 // --- stores ------------------------------------------------------------------------------------

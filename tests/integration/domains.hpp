@@ -39,6 +39,7 @@ enum class TestDomain : int {
   Conflict = detail::test_domain(214),                    // Conflict.*
   CampaignReference = detail::test_domain(215),           // FaultCampaign.*: the undisturbed run
   CampaignKill = detail::test_domain(216),                // FaultCampaign.*: the disturbed one
+  StorageFaults = detail::test_domain(217),               // StorageFaults.*
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -60,7 +61,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::DefaultQos:
     case TestDomain::Conflict:
     case TestDomain::CampaignReference:
-    case TestDomain::CampaignKill: break;
+    case TestDomain::CampaignKill:
+    case TestDomain::StorageFaults: break;
   }
   return static_cast<int>(domain);
 }

@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,17 @@ class StorageError : public Error {
  private:
   int sqlite_code_;
 };
+
+// How well the historian can store: Ok; Degraded (the database is locked by someone else: samples
+// wait and are retried); Failed (disk full, I/O error, corruption, the file removed: nothing is
+// stored or acknowledged until it clears).
+enum class StorageHealth { Ok, Degraded, Failed };
+std::string_view to_string(StorageHealth health);
+// What a failure with this SQLite (extended) result code means: busy or locked -> Degraded,
+// anything else -> Failed.
+StorageHealth health_after(int sqlite_code);
+// The fault in a few words: "database locked", "disk full", "I/O error", "database corrupt", ...
+std::string fault_name(int sqlite_code);
 
 // Where a stored sample came from (acknowledged storage): the SHA-256 of its CDR serialization
 // and the GUID of the DataWriter that wrote it, as the historian received it. Empty for samples
@@ -131,8 +143,9 @@ struct ConnectionInfo {
 class Database {
  public:
   // Opens read-write, creating the file and its parent directories if missing, and brings the
-  // schema up to date. Refuses a file written by a newer ncqual (schema version above ours) or
-  // one that is not an ncqual database.
+  // schema up to date. Refuses a file written by a newer ncqual (schema version above ours), one
+  // that is not an ncqual database, and one that fails PRAGMA quick_check (the message names the
+  // file and the first problem; `ncqual db recover` salvages it into a new file).
   static Database open(const std::string& path);
   // Opens an existing, up-to-date database read-only; never migrates, never writes.
   static Database open_readonly(const std::string& path);
@@ -149,6 +162,17 @@ class Database {
   ConnectionInfo info();
   // "ok", or SQLite's list of problems one per line.
   std::string integrity_check();
+  // The same for PRAGMA quick_check (no index cross-checks: O(size), run at every open()).
+  std::string quick_check();
+  // "" while the path still names the file this connection opened; else what happened to it
+  // ("... was removed", "... was replaced by another file"). A connection keeps writing to the
+  // file it opened, so a historian must stop acknowledging as soon as this is not "".
+  std::string file_problem() const;
+  // How long a statement waits for another connection's lock before SQLITE_BUSY (default 5 s).
+  void set_busy_timeout(std::chrono::milliseconds timeout);
+  // A consistent copy of everything stored into the new file `path` (VACUUM INTO): e.g. to rescue
+  // what a connection still holds after its file was removed. Throws StorageError.
+  void copy_to(const std::string& path);
 
   // Each store says whether the sample was newly stored, a duplicate, or a conflict (its identity
   // was stored first with another content hash: it is kept in the conflicts table, the first row
