@@ -14,6 +14,7 @@ constexpr std::array<std::string_view, 6> kStateNames = {
     "UNKNOWN", "QUALIFIED", "CHECKING", "NEEDS_INTERVENTION", "OVERDUE", "OFFLINE"};
 constexpr std::array<std::string_view, 5> kAckNames = {"STORED", "DUPLICATE", "CONFLICT", "REFUSED",
                                                        "ACCEPTED"};
+constexpr std::array<std::string_view, 2> kAlarmNames = {"CONFLICT", "STORAGE"};
 
 }  // namespace
 
@@ -48,6 +49,11 @@ std::optional<MachineState> parse_machine_state(std::string_view name) {
 std::string_view to_string(AckOutcome outcome) { return name_of(kAckNames, outcome, "unknown"); }
 std::optional<AckOutcome> parse_ack_outcome(std::string_view name) {
   return enum_named<AckOutcome>(kAckNames, name);
+}
+
+std::string_view to_string(AlarmKind kind) { return name_of(kAlarmNames, kind, "unknown"); }
+std::optional<AlarmKind> parse_alarm_kind(std::string_view name) {
+  return enum_named<AlarmKind>(kAlarmNames, name);
 }
 
 std::string sample_id_of(const CheckRequest& v) { return v.request_id; }

@@ -10,7 +10,8 @@
 // attempt is held, and what the connection holds is copied to <file>.rescued-<time>); the
 // heartbeat carries the health (ok, degraded, failed), its detail, the backlog and the oldest
 // waiting sample, and goes out at once when the health changes. A damaged file is refused at
-// start (PRAGMA quick_check).
+// start (PRAGMA quick_check). Conflicts and storage faults are also published as Alarms
+// (ncqual/Alarm: raised, and cleared when the storage is well again).
 #include "ingest.hpp"
 
 #include "ncqual/clock.hpp"
@@ -25,12 +26,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <csignal>
 #include <iostream>
 
 namespace {
 
 using ncqual::AckOutcome;
+using ncqual::Alarm;
+using ncqual::AlarmKind;
 using ncqual::storage::StoreOutcome;
 
 AckOutcome ack_outcome(StoreOutcome outcome) {
@@ -44,9 +48,13 @@ AckOutcome ack_outcome(StoreOutcome outcome) {
 
 // Stores one received sample and acknowledges it. A bad sample is logged with its reason and
 // refused; a database failure is rethrown for the ingest to keep the sample (not acknowledged).
+// Raises an alarm (machine id, alarm id, text).
+using Raise = std::function<void(const std::string&, const std::string&, const std::string&)>;
+
 template <typename Topic>
-void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const char* what,
-           const ncqual::dds::Received<typename Topic::Model>& in, std::int64_t now_ns) {
+void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const Raise& raise,
+           const char* what, const ncqual::dds::Received<typename Topic::Model>& in,
+           std::int64_t now_ns) {
   const std::string& machine_id = in.value.machine_id;
   const std::string id = ncqual::sample_id_of(in.value);
   if (!in.error.empty()) {
@@ -69,13 +77,17 @@ void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const
     case StoreOutcome::Duplicate:
       spdlog::debug("{} {} of {} already stored", what, id, machine_id);
       break;
-    case StoreOutcome::Conflict:
-      spdlog::error(
+    case StoreOutcome::Conflict: {
+      const std::string text = fmt::format(
           "CONFLICT: {} {} of machine '{}' from writer {} differs from the one stored (content "
           "{} against {}); both kept, the stored one unchanged",
           what, id, machine_id, in.writer, in.content_hash.substr(0, 12),
           stored.stored_hash.substr(0, 12));
+      spdlog::error("{}", text);
+      raise(machine_id, "conflict/" + std::string(Topic::kName) + "/" + id + "/" + in.content_hash,
+            text);
       break;
+    }
   }
   acks.acknowledge<Topic>(in, ack_outcome(stored.outcome),
                           stored.outcome == StoreOutcome::Conflict
@@ -121,15 +133,38 @@ int run(int argc, char** argv) {
     ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
     ncqual::dds::Reader<ncqual::dds::HeartbeatTopic> heartbeats(p);
 
-    historian::Ingest ingest(
-        {}, [&service, &db_path](storage::StorageHealth health, const std::string& detail) {
-          if (health == storage::StorageHealth::Ok) {
-            spdlog::info("storage health ok again: {} stores and acknowledges", db_path);
-          } else {
-            spdlog::error("storage health {}: {}", storage::to_string(health), detail);
-          }
-          service.beat("running");  // the alarm goes out now, not at the next period
-        });
+    ncqual::dds::Writer<ncqual::dds::AlarmTopic> alarms(p);
+    const auto publish_alarm = [&](const std::string& machine_id, AlarmKind kind,
+                                   const std::string& alarm_id, bool active,
+                                   const std::string& text) {
+      Alarm alarm;
+      alarm.machine_id = machine_id;
+      alarm.alarm_id = alarm_id;
+      alarm.kind = kind;
+      alarm.active = active;
+      alarm.source = roles::kHistorian;
+      alarm.instance = service.instance();
+      alarm.text = text;
+      alarm.time_ns = service.clock().now_ns();
+      if (!alarms.write(alarm)) spdlog::error("alarm {} could not be published", alarm_id);
+    };
+    const Raise raise_conflict = [&](const std::string& machine_id, const std::string& alarm_id,
+                                     const std::string& text) {
+      publish_alarm(machine_id, AlarmKind::Conflict, alarm_id, true, text);
+    };
+
+    historian::Ingest ingest({}, [&](storage::StorageHealth health, const std::string& detail) {
+      const bool ok = health == storage::StorageHealth::Ok;
+      if (ok) {
+        spdlog::info("storage health ok again: {} stores and acknowledges", db_path);
+      } else {
+        spdlog::error("storage health {}: {}", storage::to_string(health), detail);
+      }
+      service.beat("running");  // the alarm goes out now, not at the next period
+      publish_alarm("", AlarmKind::Storage, "storage/" + service.instance(), !ok,
+                    ok ? db_path + " stores and acknowledges again"
+                       : std::string(storage::to_string(health)) + ": " + detail);
+    });
     service.on_heartbeat([&ingest](Heartbeat& beat) {
       beat.health = std::string(storage::to_string(ingest.health()));
       beat.health_detail = ingest.detail();
@@ -144,7 +179,10 @@ int run(int argc, char** argv) {
       service.dispatcher().on(reader, [&, what](const auto& in) {
         const std::int64_t now = service.clock().now_ns();
         ingest.submit(
-            now, [&db, &acks, what, in, now] { store<Topic>(db, acks, what, in, now); },
+            now,
+            [&db, &acks, &raise_conflict, what, in, now] {
+              store<Topic>(db, acks, raise_conflict, what, in, now);
+            },
             steady_now());
       });
     };

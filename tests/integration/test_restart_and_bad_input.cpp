@@ -212,6 +212,24 @@ TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
   EXPECT_EQ(outcome_of(genuine), AckOutcome::Duplicate);
   EXPECT_EQ(outcome_of(forged), AckOutcome::Conflict);
 
+  // It is raised as an alarm, for whoever watches the plant (durable: a late monitor sees it).
+  ncqual::dds::Reader<ncqual::dds::AlarmTopic> alarms(participant);
+  std::vector<Alarm> raised;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (raised.empty() && std::chrono::steady_clock::now() < deadline) {
+    for (const auto& in : alarms.take()) raised.push_back(in.value);
+    if (raised.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_EQ(raised.size(), 1u) << plant.log("historian");
+  EXPECT_EQ(raised[0].kind, AlarmKind::Conflict);
+  EXPECT_TRUE(raised[0].active);
+  EXPECT_EQ(raised[0].machine_id, "pm1");
+  EXPECT_EQ(raised[0].source, roles::kHistorian);
+  EXPECT_NE(raised[0].alarm_id.find("conflict/ncqual/CheckResult/" + genuine.request_id),
+            std::string::npos)
+      << raised[0].alarm_id;
+  EXPECT_NE(raised[0].text.find("CONFLICT"), std::string::npos) << raised[0].text;
+
   auto db = storage::Database::open_readonly(plant.db_path());
   const auto record = db.find_check(genuine.request_id);
   ASSERT_TRUE(record && record->result);

@@ -91,6 +91,7 @@ TEST(StorageFaults, LockedFullAndMovedAwayTheHistorianHoldsThenStoresEverything)
   dds::Participant participant(
       {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
   dds::Reader<dds::HeartbeatTopic> beats(participant);
+  dds::Reader<dds::AlarmTopic> alarms(participant);
   ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 5; }))
       << plant.log("historian");
 
@@ -108,6 +109,21 @@ TEST(StorageFaults, LockedFullAndMovedAwayTheHistorianHoldsThenStoresEverything)
     sqlite3_exec(other, "COMMIT", nullptr, nullptr, nullptr);
     sqlite3_close(other);
     EXPECT_NE(wait_for_health(beats, "ok"), "");
+    // Raised as an alarm, and cleared: the latest of the historian's storage alarm is inactive.
+    std::vector<Alarm> storage_alarms;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (std::chrono::steady_clock::now() < deadline &&
+           (storage_alarms.empty() || storage_alarms.back().active)) {
+      for (const auto& in : alarms.take()) {
+        if (in.value.kind == AlarmKind::Storage) storage_alarms.push_back(in.value);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ASSERT_GE(storage_alarms.size(), 2u);
+    EXPECT_TRUE(storage_alarms.front().active);
+    EXPECT_NE(storage_alarms.front().text.find("database locked"), std::string::npos)
+        << storage_alarms.front().text;
+    EXPECT_FALSE(storage_alarms.back().active);
   }
 
   // 2. Writes fail (the file size limit, as a full disk does).

@@ -340,4 +340,28 @@ Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error) {
   return v;
 }
 
+msg::Alarm to_wire(const Alarm& v) {
+  msg::Alarm w;
+  w.machine_id(v.machine_id);
+  w.alarm_id(v.alarm_id);
+  w.kind(static_cast<msg::AlarmKind>(static_cast<int>(v.kind)));
+  w.active(v.active);
+  w.source(v.source);
+  w.instance(v.instance);
+  w.text(v.text);
+  w.time_ns(v.time_ns);
+  return w;
+}
+Alarm from_wire(const msg::Alarm& w, std::string& error) {
+  Alarm v{w.machine_id(), w.alarm_id(), AlarmKind::Conflict, w.active(), w.source(),
+          w.instance(),   w.text(),     w.time_ns()};
+  const auto raw = static_cast<std::uint32_t>(w.kind());
+  if (raw > static_cast<std::uint32_t>(AlarmKind::Storage)) {
+    note(error, "kind = " + std::to_string(raw) + " is not a known alarm kind");
+  } else {
+    v.kind = static_cast<AlarmKind>(raw);
+  }
+  return v;
+}
+
 }  // namespace ncqual::dds

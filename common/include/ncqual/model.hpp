@@ -235,6 +235,25 @@ struct Acknowledgement {
   std::int64_t time_ns = 0;
 };
 
+// What people must look at now (docs/architecture.md, "Acknowledged storage").
+enum class AlarmKind : std::int32_t {
+  Conflict = 0,  // a sample whose id is stored with other content: kept beside it, flagged
+  Storage = 1,   // the historian cannot store
+};
+std::string_view to_string(AlarmKind kind);
+std::optional<AlarmKind> parse_alarm_kind(std::string_view name);
+
+struct Alarm {
+  std::string machine_id;  // "" for the plant
+  std::string alarm_id;    // conflict/<topic>/<sample id>/<content hash>; storage/<instance>
+  AlarmKind kind = AlarmKind::Conflict;
+  bool active = true;  // false: cleared
+  std::string source;  // roles::
+  std::string instance;
+  std::string text;
+  std::int64_t time_ns = 0;
+};
+
 // The id a sample is acknowledged and stored under: its request id; an intervention's id; a
 // status change's machine, time, state and request (the historian's identity of a status).
 std::string sample_id_of(const CheckRequest& v);

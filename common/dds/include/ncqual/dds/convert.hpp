@@ -21,6 +21,7 @@ msg::Intervention to_wire(const Intervention& v);
 msg::Compensation to_wire(const Compensation& v);
 msg::Heartbeat to_wire(const Heartbeat& v);
 msg::Acknowledgement to_wire(const Acknowledgement& v);
+msg::Alarm to_wire(const Alarm& v);
 
 // Each returns the model; `error` is set (and the model holds what could be read, at least
 // machine_id and the request id) when the sample is malformed.
@@ -33,5 +34,6 @@ Intervention from_wire(const msg::Intervention& w, std::string& error);
 Compensation from_wire(const msg::Compensation& w, std::string& error);
 Heartbeat from_wire(const msg::Heartbeat& w, std::string& error);
 Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error);
+Alarm from_wire(const msg::Alarm& w, std::string& error);
 
 }  // namespace ncqual::dds

@@ -47,6 +47,8 @@ inline constexpr const char* kCommandWriter = "ncqual_command_writer";
 inline constexpr const char* kCommandReader = "ncqual_command_reader";
 inline constexpr const char* kAckWriter = "ncqual_ack_writer";
 inline constexpr const char* kAckReader = "ncqual_ack_reader";
+inline constexpr const char* kAlarmWriter = "ncqual_alarm_writer";
+inline constexpr const char* kAlarmReader = "ncqual_alarm_reader";
 inline constexpr const char* kHeartbeatWriter = "ncqual_heartbeat_writer";
 inline constexpr const char* kHeartbeatReader = "ncqual_heartbeat_reader";
 }  // namespace profiles

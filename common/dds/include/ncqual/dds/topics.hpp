@@ -41,6 +41,9 @@ NCQUAL_TOPIC(InterventionTopic, "ncqual/Intervention", Intervention, profiles::k
 // state. Volatile: a producer that misses one sends the sample again and is acknowledged again.
 NCQUAL_TOPIC(AcknowledgementTopic, "ncqual/Acknowledgement", Acknowledgement, profiles::kAckWriter,
              profiles::kAckReader);
+// Alarms: the latest state of each alarm (active or cleared); durable, so a monitor that joins
+// late sees what was raised before it.
+NCQUAL_TOPIC(AlarmTopic, "ncqual/Alarm", Alarm, profiles::kAlarmWriter, profiles::kAlarmReader);
 NCQUAL_TOPIC(HeartbeatTopic, "ncqual/Heartbeat", Heartbeat, profiles::kHeartbeatWriter,
              profiles::kHeartbeatReader);
 
