@@ -52,6 +52,9 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
      {"--machine", "--plant", "--trials", "--seed", "--threads", "--search", "--json"}},
     {"config", {"check"}},
     {"config check", {"--plant", "--print", "--json"}},
+    {"db", {"check", "recover"}},
+    {"db check", {"--plant", "--db"}},
+    {"db recover", {"FROM", "TO"}},
 };
 
 TEST(CliUsage, HelpOfEveryCommandAndSubcommandNamesItsFlags) {

@@ -208,7 +208,11 @@ TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
     return answer.answers.count(roles::kHistorian) ? answer.answers.at(roles::kHistorian).outcome
                                                    : AckOutcome::Refused;
   };
-  EXPECT_EQ(outcome_of(genuine), AckOutcome::Stored);
+  // The first is stored; its answer is STORED, or DUPLICATE when the STORED one left before our
+  // acknowledgement reader was matched on the historian's side and the rewrite was answered
+  // instead (both say: stored). Once is what the database shows below.
+  const AckOutcome first = outcome_of(genuine);
+  EXPECT_TRUE(first == AckOutcome::Stored || first == AckOutcome::Duplicate) << to_string(first);
   EXPECT_EQ(outcome_of(genuine), AckOutcome::Duplicate);
   EXPECT_EQ(outcome_of(forged), AckOutcome::Conflict);
 

@@ -51,6 +51,7 @@ void add_intervene(CLI::App& app, Commands& commands);    // intervene.cpp
 void add_trend(CLI::App& app, Commands& commands);        // trend.cpp
 void add_uncertainty(CLI::App& app, Commands& commands);  // uncertainty.cpp
 void add_config(CLI::App& app, Commands& commands);       // config.cpp
+void add_db(CLI::App& app, Commands& commands);           // db.cpp
 void add_completion(CLI::App& app, Commands& commands);   // completion.cpp (hidden)
 
 // ---- What several commands share (options.cpp) -------------------------------------------------

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// `ncqual count [--plant F | --db F] [--machine M]`: the number of stored results (0 when there
-// is no historian database yet).
+// `ncqual count [--plant F | --db F] [--machine M]`: the number of stored results. Exit codes: 0,
+// 6 when there is no historian database at the path: a removed historian file must not look like
+// a plant with nothing stored (`ncqual wait --count N` waits for a database still to come).
 #include "commands.hpp"
 
 #include "ncqual/storage.hpp"
 
-#include <filesystem>
 #include <iostream>
 
 namespace ncqual::cli {
@@ -17,13 +17,9 @@ struct Options {
 };
 
 int run(const Options& o) {
-  const std::string path = database_path(o.db, o.plant);
-  if (!std::filesystem::exists(path)) {
-    std::cout << 0 << "\n";
-    return kExitOk;
-  }
-  auto db = storage::Database::open_readonly(path);
-  std::cout << db.count_results(o.machine) << "\n";
+  auto db = open_historian(database_path(o.db, o.plant), "count");
+  if (!db) return kExitNotFound;
+  std::cout << db->count_results(o.machine) << "\n";
   return kExitOk;
 }
 

@@ -1,0 +1,417 @@
+// SPDX-License-Identifier: Apache-2.0
+// `ncqual db check`, `ncqual db recover`, `ncqual count` and the services part of `ncqual status`
+// without DDS: historian files written here with storage::Database, damaged by overwriting a page,
+// and the built `ncqual` binary run on them. Recovery runs the sqlite3 shell (Debian package
+// sqlite3), which the tests also use to find a page of a given table (its dbstat table).
+#include "cli_runner.hpp"
+
+#include "ncqual/storage.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace ncqual {
+namespace {
+
+namespace fs = std::filesystem;
+
+using testing_cli::Capture;
+using testing_cli::CliRun;
+using testing_cli::run_cli;
+using testing_cli::run_command;
+
+constexpr int kChecks = 300;
+constexpr std::int64_t kT0 = 1'800'000'000'000'000'000;
+
+CheckRequest request(int i) {
+  CheckRequest r;
+  r.machine_id = "m1";
+  r.request_id = "req-" + std::to_string(i);
+  r.kind = CheckKind::MonumentPositioning;
+  r.requested_by = "scheduler";
+  r.time_ns = kT0 + std::int64_t{i} * 1'000'000'000;
+  return r;
+}
+
+MeasurementSet measurement(int i) {
+  MeasurementSet s;
+  s.machine_id = "m1";
+  s.request_id = "req-" + std::to_string(i);
+  s.kind = CheckKind::MonumentPositioning;
+  s.instrument = "touch_probe";
+  s.frame = "machine";
+  s.time_ns = kT0 + std::int64_t{i} * 1'000'000'000 + 1000;
+  for (int t = 0; t < 8; ++t) {
+    Touch touch;
+    touch.feature = "hole_edge";
+    touch.axes.x_mm = 1200 + t;
+    touch.axes.y_mm = 800 - t;
+    touch.axes.z_mm = 150;
+    touch.approach = Eigen::Vector3d(1, 0, 0);
+    s.touches.push_back(touch);
+  }
+  return s;
+}
+
+CheckResult result(int i) {
+  CheckResult r;
+  r.machine_id = "m1";
+  r.request_id = "req-" + std::to_string(i);
+  r.kind = CheckKind::MonumentPositioning;
+  r.verdict = i % 7 == 0 ? Verdict::Fail : Verdict::Pass;
+  r.reason = i % 7 == 0 ? "center_dy_mm out of tolerance" : "";
+  r.time_ns = kT0 + std::int64_t{i} * 1'000'000'000 + 2000;
+  r.produced_by = "ncqual-solver test";
+  r.metrics = {{"center_dx_mm", 0.001 * i, "mm", -0.025, 0.025, true},
+               {"center_dy_mm", -0.0001 * i, "mm", -0.025, 0.025, i % 7 != 0},
+               {"face_dz_mm", 0.002, "mm", -0.025, 0.025, true}};
+  return r;
+}
+
+std::int64_t wall_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Overwrites `size` bytes at `offset` of the file with 0xFF.
+void overwrite(const std::string& path, std::int64_t offset, std::size_t size) {
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  ASSERT_TRUE(f) << path;
+  f.seekp(offset);
+  const std::string garbage(size, '\xff');
+  f.write(garbage.data(), static_cast<std::streamsize>(garbage.size()));
+  ASSERT_TRUE(f) << path;
+}
+
+// `sqlite3 -readonly FILE SQL`: its output lines (list mode, '|' between columns).
+std::vector<std::string> sqlite_lines(const std::string& file, const std::string& sql) {
+  const CliRun r = run_command({"sqlite3", "-batch", "-readonly", "-noheader", "-list", file, sql},
+                               Capture::Separate);
+  EXPECT_EQ(r.exit_code, 0) << sql << "\n" << r.err;
+  std::vector<std::string> lines;
+  std::istringstream in(r.out);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+class DbCli : public ::testing::Test {
+ protected:
+  std::string path(const std::string& name) const { return (tmp_.path() / name).string(); }
+
+  // kChecks whole checks (request, measurement set with 8 touches, result with 3 metrics) and a
+  // status per check: 1200 stored samples, a file of over a hundred pages. Closing the last
+  // connection checkpoints the WAL into the file.
+  std::string historian(const std::string& name) {
+    std::string file = path(name);
+    {
+      auto db = storage::Database::open(file);
+      for (int i = 0; i < kChecks; ++i) {
+        db.store(request(i));
+        db.store(measurement(i));
+        db.store(result(i));
+        MachineStatus status;
+        status.machine_id = "m1";
+        status.request_id = "req-" + std::to_string(i);
+        status.state = i % 7 == 0 ? MachineState::NeedsIntervention : MachineState::Qualified;
+        status.time_ns = kT0 + std::int64_t{i} * 1'000'000'000 + 3000;
+        db.store(status);
+      }
+    }
+    EXPECT_TRUE(!fs::exists(file + "-wal") || fs::file_size(file + "-wal") == 0)
+        << "the WAL was not checkpointed into " << file;
+    return file;
+  }
+
+  std::string write_plant(const std::string& db_file) {
+    const std::string machine = tmp_.write("m1.yaml", R"(machine_id: m1
+probe: {tool_length_mm: 350.0, ball_radius_mm: 3.0}
+monument: {hole_center_mm: [1200.0, 800.0], hole_diameter_mm: 50.0, face_z_mm: 150.0}
+tolerances:
+  center_dx_mm: 0.025
+  center_dy_mm: 0.025
+  face_dz_mm: 0.025
+)");
+    return tmp_.write("plant.yaml", "plant: db-test\ndomain_id: 0\nhistorian:\n  database: " +
+                                        db_file + "\nmachines:\n  - " + machine + "\n");
+  }
+
+  testing_cli::TempDir tmp_{"ncqual-db-cli"};
+};
+
+TEST_F(DbCli, CheckOfAnIntactHistorianIsOk) {
+  const std::string file = historian("good.db");
+  const CliRun r = run_cli({"db", "check", "--db", file}, Capture::Separate);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(r.out, file + ": ok\n");
+}
+
+// A leaf page of the results table in the middle of the file is overwritten with 0xFF: the check
+// finds it, and the recovery keeps every other row (rows on that page cannot be read by anyone).
+TEST_F(DbCli, CheckFindsADamagedPageAndRecoverKeepsTheRest) {
+  const std::string file = historian("damaged.db");
+  const std::int64_t page_size = std::stoll(sqlite_lines(file, "PRAGMA page_size").at(0));
+  const std::int64_t pages = std::stoll(sqlite_lines(file, "PRAGMA page_count").at(0));
+  ASSERT_GT(pages, 100) << "too few pages for a page in the middle";
+  // The leaf of `results` nearest the middle, and how many rows it holds.
+  const auto leaves =
+      sqlite_lines(file,
+                   "SELECT pageno, ncell FROM dbstat WHERE name = 'results' AND pagetype = 'leaf' "
+                   "ORDER BY abs(pageno - " +
+                       std::to_string(pages / 2) + ") LIMIT 1");
+  ASSERT_EQ(leaves.size(), 1u);
+  const auto bar = leaves[0].find('|');
+  const std::int64_t page = std::stoll(leaves[0].substr(0, bar));
+  const int rows_on_page = std::stoi(leaves[0].substr(bar + 1));
+  ASSERT_GT(rows_on_page, 0);
+  ASSERT_LT(rows_on_page, kChecks / 4) << "a results page holds a few dozen rows";
+  overwrite(file, (page - 1) * page_size, static_cast<std::size_t>(page_size));
+  const std::string damaged = read_file(file);
+
+  const CliRun check = run_cli({"db", "check", "--db", file}, Capture::Separate);
+  EXPECT_EQ(check.exit_code, 7) << check.out << check.err;
+  EXPECT_EQ(check.out.rfind(file + ": CORRUPT\n", 0), 0u) << check.out;
+  // SQLite names the page, or (when its integrity_check stops at the page) says it is malformed.
+  EXPECT_TRUE(check.out.find("Page " + std::to_string(page)) != std::string::npos ||
+              check.out.find("malformed") != std::string::npos)
+      << check.out;
+  EXPECT_EQ(check.out.find(": ok"), std::string::npos) << check.out;
+
+  const bool had_wal = fs::exists(file + "-wal");  // a reader (db check) may have made one
+  const std::string to = path("recovered/historian.db");
+  const CliRun recover = run_cli({"db", "recover", file, to}, Capture::Separate);
+  ASSERT_EQ(recover.exit_code, 0) << recover.out << recover.err;
+  EXPECT_NE(recover.out.find(to + ": ok (PRAGMA integrity_check)"), std::string::npos)
+      << recover.out;
+  EXPECT_NE(recover.out.find("start the historian with --db " + to), std::string::npos)
+      << recover.out;
+  EXPECT_EQ(read_file(file), damaged) << "db recover wrote to " << file;
+  EXPECT_EQ(fs::exists(file + "-wal"), had_wal);
+
+  // TO is a historian of this build's schema (open_readonly checks application_id and
+  // user_version) that passes the integrity check, and everything in it reads back as stored.
+  ASSERT_TRUE(fs::exists(to));
+  auto db = storage::Database::open_readonly(to);
+  EXPECT_EQ(db.integrity_check(), "ok");
+  const std::int64_t results = db.count_results();
+  // Only the rows of the overwritten page are lost: the other pages of results are intact.
+  EXPECT_GE(results, kChecks - rows_on_page) << recover.out;
+  EXPECT_LT(results, kChecks) << "the rows of the overwritten page cannot have been read";
+  EXPECT_NE(recover.out.find("results           " + std::to_string(results) + "\n"),
+            std::string::npos)
+      << recover.out;
+  storage::HistoryQuery all;
+  all.limit = 0;
+  const auto records = db.history(all);
+  ASSERT_EQ(records.size(), static_cast<std::size_t>(kChecks))
+      << "requests and measurement sets lie on intact pages";
+  std::int64_t with_result = 0;
+  for (const auto& record : records) {
+    const int i = std::stoi(record.request_id.substr(4));
+    ASSERT_TRUE(record.request) << record.request_id;
+    EXPECT_EQ(record.request->time_ns, request(i).time_ns);
+    ASSERT_TRUE(record.measurement) << record.request_id;
+    EXPECT_EQ(record.measurement->touches, 8);
+    if (!record.result) continue;
+    ++with_result;
+    const CheckResult expected = result(i);
+    EXPECT_EQ(record.result->verdict, expected.verdict) << record.request_id;
+    EXPECT_EQ(record.result->time_ns, expected.time_ns) << record.request_id;
+    EXPECT_EQ(record.result->produced_by, expected.produced_by) << record.request_id;
+    ASSERT_EQ(record.result->metrics.size(), expected.metrics.size()) << record.request_id;
+    EXPECT_DOUBLE_EQ(record.result->metrics[0].value, expected.metrics[0].value);
+  }
+  EXPECT_EQ(with_result, results);
+  const auto set = db.load_measurement_set("req-" + std::to_string(kChecks - 1));
+  ASSERT_TRUE(set);
+  EXPECT_EQ(set->touches.size(), 8u);
+  EXPECT_DOUBLE_EQ(set->touches[3].axes.x_mm, 1203);
+}
+
+TEST_F(DbCli, CheckOfAFileTooDamagedToReadIsCorrupt) {
+  const std::string file = historian("schema-gone.db");
+  overwrite(file, 100, 4096 - 100);  // page 1 after the file header: the schema table
+  const CliRun r = run_cli({"db", "check", "--db", file}, Capture::Separate);
+  EXPECT_EQ(r.exit_code, 7) << r.out << r.err;
+  EXPECT_EQ(r.out.rfind(file + ": CORRUPT\n", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("malformed"), std::string::npos) << r.out;
+}
+
+TEST_F(DbCli, CheckOfAFileThatIsNoHistorianFailsNamingIt) {
+  const std::string text = tmp_.write("notes.db",
+                                      "not a database at all, but long enough to "
+                                      "fill the hundred bytes of a file header ......"
+                                      "..............................................");
+  const CliRun r = run_cli({"db", "check", "--db", text}, Capture::Separate);
+  EXPECT_EQ(r.exit_code, 1) << r.out << r.err;
+  EXPECT_EQ(r.out.find("ok"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not a database"), std::string::npos) << r.err;
+
+  const std::string other = path("other.db");
+  ASSERT_EQ(
+      run_command({"sqlite3", other, "CREATE TABLE t (x); INSERT INTO t VALUES (1);"}).exit_code,
+      0);
+  const CliRun foreign = run_cli({"db", "check", "--db", other}, Capture::Separate);
+  EXPECT_EQ(foreign.exit_code, 1) << foreign.out << foreign.err;
+  EXPECT_EQ(foreign.out.find("ok"), std::string::npos) << foreign.out;
+  EXPECT_NE(foreign.err.find("'" + other + "': no ncqual schema in it"), std::string::npos)
+      << foreign.err;
+}
+
+TEST_F(DbCli, RecoverRefusesAnExistingTargetAndAMissingSource) {
+  const std::string file = historian("from.db");
+  const std::string existing = tmp_.write("existing.db", "keep me");
+  const CliRun exists = run_cli({"db", "recover", file, existing}, Capture::Separate);
+  EXPECT_EQ(exists.exit_code, 1) << exists.out << exists.err;
+  EXPECT_NE(exists.err.find(existing + " exists; it is never overwritten"), std::string::npos)
+      << exists.err;
+  EXPECT_EQ(read_file(existing), "keep me");
+
+  const std::string missing = path("missing.db");
+  const std::string to = path("new.db");
+  const CliRun none = run_cli({"db", "recover", missing, to}, Capture::Separate);
+  EXPECT_EQ(none.exit_code, 6) << none.out << none.err;
+  EXPECT_NE(none.err.find("no historian database at " + missing), std::string::npos) << none.err;
+  EXPECT_FALSE(fs::exists(to));
+}
+
+// A historian of schema version 1 (tests/data/historian-v1.sql) recovers into a file of the same
+// version, which the historian of this build migrates when it opens it.
+TEST_F(DbCli, RecoverKeepsAnOlderSchemaVersionForTheHistorianToMigrate) {
+  const std::string v1 = path("v1.db");
+  ASSERT_EQ(run_command({"sqlite3", v1, ".read " NCQUAL_SOURCE_DIR "/tests/data/historian-v1.sql"})
+                .exit_code,
+            0);
+  const std::string to = path("v1-recovered.db");
+  const CliRun r = run_cli({"db", "recover", v1, to}, Capture::Separate);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find(to + " has schema version 1, this build's is " +
+                       std::to_string(storage::Database::latest_schema_version()) +
+                       ": the historian of this build migrates it"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("results           4\n"), std::string::npos) << r.out;
+  auto db = storage::Database::open(to);  // migrates, after PRAGMA quick_check
+  EXPECT_EQ(db.info().schema_version, storage::Database::latest_schema_version());
+  const auto precal = db.find_check("pm1-precal-1");
+  ASSERT_TRUE(precal && precal->result);
+  EXPECT_EQ(precal->result->verdict, Verdict::Fail);
+  ASSERT_EQ(precal->result->metrics.size(), 2u);
+  EXPECT_DOUBLE_EQ(precal->result->metrics[0].value, 0.046875);
+  EXPECT_TRUE(std::isinf(precal->result->metrics[1].lower)) << "a one-sided band survives";
+  EXPECT_EQ(db.count_results(), 4);
+}
+
+TEST_F(DbCli, CountOfAMissingDatabaseIsNotFound) {
+  const std::string missing = path("gone.db");
+  const CliRun r = run_cli({"count", "--db", missing}, Capture::Separate);
+  EXPECT_EQ(r.exit_code, 6) << r.out << r.err;
+  EXPECT_EQ(r.out, "") << "a missing historian must not print a count";
+  EXPECT_NE(r.err.find("ncqual count: no historian database at " + missing), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(missing)) << "count must not create the database";
+
+  const std::string file = historian("counted.db");
+  const CliRun counted = run_cli({"count", "--db", file}, Capture::Separate);
+  EXPECT_EQ(counted.exit_code, 0) << counted.err;
+  EXPECT_EQ(counted.out, std::to_string(kChecks) + "\n");
+}
+
+TEST_F(DbCli, StatusShowsServicesHealthSilenceAndConflicts) {
+  const std::string file = path("status.db");
+  const std::int64_t now = wall_now_ns();
+  {
+    auto db = storage::Database::open(file);
+    Heartbeat failed;
+    failed.service = "historian";
+    failed.instance = "host:101";
+    failed.state = "running";
+    failed.time_ns = now;
+    failed.health = "failed";
+    failed.health_detail = "disk full: /var/ncqual/historian.db";
+    db.store(failed);
+    Heartbeat busy;
+    busy.service = "solver";
+    busy.instance = "host:102";
+    busy.state = "running";
+    busy.time_ns = now;
+    busy.outbox_depth = 4;
+    busy.oldest_unacknowledged_ns = now - 90'000'000'000;
+    db.store(busy);
+    Heartbeat gone;
+    gone.service = "acquisition";
+    gone.instance = "host:103";
+    gone.machine_id = "m1";
+    gone.state = "running";
+    gone.time_ns = now - 3'600'000'000'000;  // an hour ago: silent
+    db.store(gone);
+    // Two results with one request id and other content: the second is kept as a conflict.
+    CheckResult first = result(1);
+    EXPECT_EQ(db.store(first, {"hash-a", "writer-1", now}).outcome, storage::StoreOutcome::Stored);
+    CheckResult second = result(1);
+    second.verdict = Verdict::Fail;
+    EXPECT_EQ(db.store(second, {"hash-b", "writer-2", now}).outcome,
+              storage::StoreOutcome::Conflict);
+  }
+  const std::string plant = write_plant(file);
+
+  const CliRun json = run_cli({"status", "--plant", plant, "--json"}, Capture::Separate);
+  ASSERT_EQ(json.exit_code, 0) << json.out << json.err;
+  const nlohmann::json doc = nlohmann::json::parse(json.out);
+  EXPECT_EQ(doc.at("plant"), "db-test");  // the keys that were there stay
+  ASSERT_EQ(doc.at("machines").size(), 1u);
+  EXPECT_EQ(doc.at("machines")[0].at("machine_id"), "m1");
+  EXPECT_TRUE(doc.at("machines")[0].contains("periods"));
+  EXPECT_EQ(doc.at("machines")[0].at("conflicts"), 1);
+  EXPECT_EQ(doc.at("heartbeat_period_ms"), 2000);
+  std::map<std::string, nlohmann::json> services;
+  for (const auto& s : doc.at("services")) services[s.at("service").get<std::string>()] = s;
+  ASSERT_EQ(services.size(), 3u) << json.out;
+  const auto& historian = services.at("historian");
+  EXPECT_EQ(historian.at("instance"), "host:101");
+  EXPECT_EQ(historian.at("health"), "failed");
+  EXPECT_EQ(historian.at("health_detail"), "disk full: /var/ncqual/historian.db");
+  EXPECT_EQ(historian.at("silent"), false);
+  EXPECT_EQ(historian.at("time_ns"), now);
+  EXPECT_TRUE(historian.at("oldest_unacknowledged_age_ns").is_null());
+  const auto& solver = services.at("solver");
+  EXPECT_EQ(solver.at("health"), "ok");
+  EXPECT_EQ(solver.at("outbox_depth"), 4);
+  EXPECT_EQ(solver.at("oldest_unacknowledged_age_ns"), 90'000'000'000);
+  const auto& acquisition = services.at("acquisition");
+  EXPECT_EQ(acquisition.at("silent"), true);
+  EXPECT_EQ(acquisition.at("machine_id"), "m1");
+  EXPECT_GE(acquisition.at("age_ns").get<std::int64_t>(), 3'600'000'000'000);
+
+  const CliRun text = run_cli({"status", "--plant", plant}, Capture::Separate);
+  EXPECT_EQ(text.exit_code, 0) << text.out << text.err;
+  EXPECT_NE(text.out.find("CONFLICT: 1"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("!! SERVICE FAILED: historian host:101: disk full: "
+                          "/var/ncqual/historian.db"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("FAILED"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("silent since"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("90 s"), std::string::npos) << "the solver's oldest sample\n" << text.out;
+}
+
+}  // namespace
+}  // namespace ncqual
