@@ -10,7 +10,10 @@ Ingest::Ingest(IngestOptions options, OnChange on_change)
     : options_(options), on_change_(std::move(on_change)), delay_(options_.first_retry) {}
 
 void Ingest::submit(std::int64_t received_ns, Store store, Steady now) {
-  if (waiting_.empty() && held_.empty() && attempt(store, now)) return;
+  if (waiting_.empty() && held_.empty() && attempt(store, now)) {
+    recovered();
+    return;
+  }
   if (waiting_.size() >= options_.max_backlog) {
     ++dropped_;  // not acknowledged: its producer keeps it and sends it again
     return;
@@ -19,11 +22,12 @@ void Ingest::submit(std::int64_t received_ns, Store store, Steady now) {
 }
 
 void Ingest::retry(Steady now) {
-  if (!held_.empty() || waiting_.empty() || now < next_try_) return;
+  if (!held_.empty() || now < next_try_) return;
   while (!waiting_.empty()) {
     if (!attempt(waiting_.front().store, now)) return;
     waiting_.pop_front();
   }
+  recovered();
 }
 
 void Ingest::hold(const std::string& why, Steady now) {
@@ -36,11 +40,7 @@ void Ingest::hold(const std::string& why, Steady now) {
   // Released: try at once.
   next_try_ = now;
   delay_ = options_.first_retry;
-  if (waiting_.empty()) {
-    set_health(storage::StorageHealth::Ok, "");
-  } else {
-    retry(now);
-  }
+  retry(now);
 }
 
 bool Ingest::attempt(const Store& store, Steady now) {
@@ -54,10 +54,11 @@ bool Ingest::attempt(const Store& store, Steady now) {
     return false;
   }
   delay_ = options_.first_retry;
-  if (health_ != storage::StorageHealth::Ok && waiting_.size() <= 1) {
-    set_health(storage::StorageHealth::Ok, "");
-  }
   return true;
+}
+
+void Ingest::recovered() {
+  if (health_ != storage::StorageHealth::Ok) set_health(storage::StorageHealth::Ok, "");
 }
 
 void Ingest::set_health(storage::StorageHealth health, std::string fault) {

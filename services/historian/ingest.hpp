@@ -69,6 +69,8 @@ class Ingest {
   };
   // Runs one store: true when committed; false (health updated) when the database failed.
   bool attempt(const Store& store, Steady now);
+  // Nothing waits and the last attempt committed: ok again (news only if it was not).
+  void recovered();
   void set_health(storage::StorageHealth health, std::string fault);
 
   const IngestOptions options_;

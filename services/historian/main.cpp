@@ -46,11 +46,12 @@ AckOutcome ack_outcome(StoreOutcome outcome) {
   return AckOutcome::Refused;
 }
 
-// Stores one received sample and acknowledges it. A bad sample is logged with its reason and
-// refused; a database failure is rethrown for the ingest to keep the sample (not acknowledged).
 // Raises an alarm (machine id, alarm id, text).
 using Raise = std::function<void(const std::string&, const std::string&, const std::string&)>;
 
+// Stores one received sample and acknowledges it; a conflict is also raised as an alarm. A bad
+// sample is logged with its reason and refused; a database failure is rethrown for the ingest to
+// keep the sample (not acknowledged).
 template <typename Topic>
 void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const Raise& raise,
            const char* what, const ncqual::dds::Received<typename Topic::Model>& in,

@@ -25,6 +25,7 @@
 #include "commands.hpp"
 
 #include "ncqual/storage.hpp"
+#include "ncqual/text.hpp"
 
 #include <fmt/format.h>
 
@@ -390,12 +391,10 @@ std::string first_lines(const std::string& text, std::size_t count) {
   return out;
 }
 
+// The non-empty lines of `text`.
 std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty()) lines.push_back(line);
-  }
+  std::vector<std::string> lines = split_at(text, '\n');
+  lines.erase(std::remove(lines.begin(), lines.end(), ""), lines.end());
   return lines;
 }
 

@@ -130,6 +130,13 @@ Station::Station(std::string machine_id, std::unique_ptr<Instruments> instrument
   }
 }
 
+bool Station::is_waiting(const std::string& request_id) const {
+  return std::any_of(waiting_.begin(), waiting_.end(), [&](const auto& entry) {
+    return std::any_of(entry.second.begin(), entry.second.end(),
+                       [&](const CheckRequest& r) { return r.request_id == request_id; });
+  });
+}
+
 std::size_t Station::waiting() const {
   std::size_t n = 0;
   for (const auto& [correction, requests] : waiting_) n += requests.size();
@@ -143,16 +150,14 @@ bool Station::on_request(const CheckRequest& req, const std::string& malformed,
     spdlog::debug("{} {}: already performed, not measured again", req.machine_id, req.request_id);
     return true;
   }
-  if (!taken_.insert(req.request_id).second) {
-    // Sent again: waiting for its correction, or its record failed (then it is measured again).
-    if (failed_.erase(req.request_id) == 0) return ignored_.count(req.request_id) > 0;
-  }
+  if (is_waiting(req.request_id)) return false;  // sent again while it waits for its correction
+  // Anything else not performed is taken afresh: one ignored as history is ignored again, one
+  // whose record failed is measured again.
   // Requests older than this are history, not work: a restarted acquisition must not move the
   // machine for checks long since answered.
   if (!options_.simulated_clock && now_ns - req.time_ns > options_.max_request_age_ns) {
     spdlog::info("{} {}: request from {} s ago ignored (older than --max-request-age-s)",
                  req.machine_id, req.request_id, (now_ns - req.time_ns) / 1000000000);
-    ignored_.insert(req.request_id);
     return true;
   }
   if (malformed.empty() && !req.verifies_correction_of.empty() &&
@@ -174,17 +179,15 @@ bool Station::on_compensation(const Compensation& c, std::int64_t now_ns) {
     spdlog::info("{}: applied {} zero offsets to {}", c.request_id, c.correction.offsets.size(),
                  c.correction.target);
   }
+  applied_.insert(c.request_id);  // never applied twice in this run, recorded or not
   try {
     performed_.record_applied(c.request_id, c.correction);
   } catch (const std::exception& e) {
-    // Applied but not recorded: a restart would not restore it. Not settled, so it comes again;
-    // it is not applied twice in this run.
+    // Applied but not recorded: a restart would not restore it. Not settled, so it comes again.
     spdlog::error("{}: compensation of {} applied but not recorded: {}", machine_id_, c.request_id,
                   e.what());
-    applied_.insert(c.request_id);
     return false;
   }
-  applied_.insert(c.request_id);
   // The requests that waited for this correction are measured now.
   if (auto it = waiting_.find(c.request_id); it != waiting_.end()) {
     const std::vector<CheckRequest> requests = std::move(it->second);
@@ -216,7 +219,6 @@ bool Station::measure(const CheckRequest& req, const std::string& malformed, std
     // measured again then.
     spdlog::error("{}: {} not recorded as performed (it will be measured again): {}", machine_id_,
                   req.request_id, e.what());
-    failed_.insert(req.request_id);
     return false;
   }
   if (!publish_(set)) {

@@ -3,7 +3,8 @@
 // Compensations of its machine, with no DDS (the executable wires the topics to it). It never
 // judges a measurement.
 //
-//   request  -> already taken (measured, waiting or refused before)?        ignore it
+//   request  -> already performed (recorded, also by an earlier run)?    ignore it (settled)
+//               already waiting for its correction?                        ignore it
 //               on the wall clock, older than the maximum age?              history: ignore it
 //               verifies a correction not yet applied?                      wait for it
 //               otherwise                                                   measure and publish
@@ -100,6 +101,7 @@ class Station {
   std::size_t waiting() const;
 
  private:
+  bool is_waiting(const std::string& request_id) const;
   // Measures, records and publishes; false when the record could not be saved.
   bool measure(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
 
@@ -109,9 +111,6 @@ class Station {
   const StationOptions options_;
   const Publish publish_;
   const Queue queue_;
-  std::set<std::string> taken_;    // requests taken this run: measured, waiting or ignored
-  std::set<std::string> ignored_;  // taken as history, not measured (settled)
-  std::set<std::string> failed_;   // measured, but the record failed: measured again if sent again
   std::set<std::string> applied_;  // compensations, by the request id that issued them
   std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
 };
