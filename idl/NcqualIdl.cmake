@@ -20,7 +20,9 @@ function(ncqual_idl_generate)
     get_filename_component(idl_dir ${idl_abs} DIRECTORY)
     get_filename_component(stem ${idl_abs} NAME_WE)
     # -typeobject: TypeObjects let Fast DDS evaluate content filters (per-machine readers) and
-    # let other DDS implementations discover our types (plant integration).
+    # let other DDS implementations discover our types (plant integration). The generated
+    # constructors' own registration calls are taken out (strip_registration.cmake: they made a
+    # large measurement set cost minutes to convert).
     set(generated
       ${out_dir}/${stem}.h ${out_dir}/${stem}.cxx
       ${out_dir}/${stem}PubSubTypes.h ${out_dir}/${stem}PubSubTypes.cxx
@@ -28,7 +30,9 @@ function(ncqual_idl_generate)
     add_custom_command(
       OUTPUT ${generated}
       COMMAND ${FASTDDSGEN_EXECUTABLE} -typeobject -replace -d ${out_dir} -I ${idl_dir} ${idl_abs}
-      DEPENDS ${idl_abs}
+      COMMAND ${CMAKE_COMMAND} -DFILE=${out_dir}/${stem}.cxx -DSTEM=${stem}
+              -P ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/strip_registration.cmake
+      DEPENDS ${idl_abs} ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/strip_registration.cmake
       COMMENT "fastddsgen ${stem}.idl"
       VERBATIM)
     list(APPEND sources ${out_dir}/${stem}.cxx ${out_dir}/${stem}PubSubTypes.cxx
