@@ -40,6 +40,8 @@ enum class TestDomain : int {
   CampaignReference = detail::test_domain(215),           // FaultCampaign.*: the undisturbed run
   CampaignKill = detail::test_domain(216),                // FaultCampaign.*: the disturbed one
   StorageFaults = detail::test_domain(217),               // StorageFaults.*
+  NetworkReference = detail::test_domain(218),  // FaultCampaign.ALossy...: the undisturbed run
+  NetworkImpaired = detail::test_domain(219),   // FaultCampaign.ALossy...: the impaired one
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -62,7 +64,9 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::Conflict:
     case TestDomain::CampaignReference:
     case TestDomain::CampaignKill:
-    case TestDomain::StorageFaults: break;
+    case TestDomain::StorageFaults:
+    case TestDomain::NetworkReference:
+    case TestDomain::NetworkImpaired: break;
   }
   return static_cast<int>(domain);
 }

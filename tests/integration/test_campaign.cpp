@@ -4,16 +4,23 @@
 // seconds apart, and restarted 0.2-2 s later. The historian of the disturbed run must hold exactly
 // what the undisturbed one holds, compared on an identity that does not depend on the run
 // (machine, kind, simulated request time): every request, measurement set, result and status
-// change stored once, the same verdicts, the same final states, no conflicts.
+// change stored once, the same verdicts, the same final states, no conflicts. A second campaign
+// runs the plant over a network that loses, duplicates and reorders datagrams (netem, or nftables
+// and HTB where the kernel has no netem) in a network namespace of its own, and compares the same.
 //
 // The size comes from the environment so that deploy/campaign.sh can run a longer one by hand:
 // NCQUAL_CAMPAIGN_MACHINES (default 10), NCQUAL_CAMPAIGN_DAYS (14), NCQUAL_CAMPAIGN_KILLS (24),
-// NCQUAL_CAMPAIGN_SEED (random; printed, so a failing campaign can be run again).
+// NCQUAL_CAMPAIGN_SEED (random; printed, so a failing campaign can be run again); the network one
+// NCQUAL_CAMPAIGN_NETWORK_MACHINES (4) and NCQUAL_CAMPAIGN_NETWORK_DAYS (7).
 #include "harness.hpp"
 
 #include <gtest/gtest.h>
 
+#include <sched.h>
+
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -159,6 +166,92 @@ std::string service_of(const std::string& name) {
   return name.rfind("acquisition", 0) == 0 ? "acquisition" : name;
 }
 
+// A plant of `machines` campaign machines (machine_file) over `days` simulated days, its five
+// processes started; `speed`: the scheduler's --speed (empty: as fast as it goes).
+Services set_up(Plant& plant, int machines, int days, unsigned seed, const std::string& speed) {
+  Services services{plant, std::to_string(days), speed, {"", ""}, {}};
+  for (int i = 1; i <= machines; ++i) {
+    plant.add_machine(machine_id(i), machine_file(i, seed));
+    auto& list = services.acquisition_lists[i <= (machines + 1) / 2 ? 0 : 1];
+    list += (list.empty() ? "" : ",") + machine_id(i);
+  }
+  plant.write_calendar_plant(kScheduler, "2026-03-02T00:00:00Z");
+  for (const char* name : {"historian", "solver", "acquisition0", "acquisition1", "scheduler"}) {
+    services.start(name);
+  }
+  return services;
+}
+
+// Waits for the scheduler's run to end and the historian to hold as much as `want` (complete
+// checks only, for an undisturbed run: an empty Snapshot), stops the others (they empty their
+// outboxes as they stop) and returns what the historian holds.
+Snapshot finish(Plant& plant, Services& services, const Snapshot& want,
+                std::chrono::seconds patience) {
+  Snapshot got;
+  EXPECT_EQ(services.running["scheduler"]->wait(), 0) << plant.log("scheduler");
+  EXPECT_TRUE(plant.wait_for_db(
+      [&](storage::Database& db) { return db.count_results() > 0 && caught_up(db, want); },
+      patience))
+      << plant.log("historian");
+  for (const char* name : {"acquisition0", "acquisition1", "solver", "historian"}) {
+    services.running[name]->terminate();
+    EXPECT_EQ(services.running[name]->wait(), 0) << name << "\n" << plant.log(service_of(name));
+  }
+  auto db = storage::Database::open_readonly(plant.db_path());
+  return snapshot(db);
+}
+
+// How a disturbed run differs from the undisturbed one. Lost: a sample of the reference not
+// stored; duplicated: one stored more than once (a second request id for the same check, a second
+// status change); extra: stored, not in the reference. Each difference is also a test failure.
+struct Tally {
+  std::int64_t lost = 0, duplicated = 0, extra = 0, different = 0;
+};
+
+Tally compare(const Snapshot& reference, const Snapshot& got) {
+  Tally t;
+  for (const auto& [key, want] : reference.checks) {
+    const auto it = got.checks.find(key);
+    const Snapshot::Check none;
+    const Snapshot::Check& have = it == got.checks.end() ? none : it->second;
+    t.lost += std::max(0, want.requests - have.requests) +
+              std::max(0, want.measurements - have.measurements) +
+              std::max(0, want.results - have.results);
+    t.duplicated += std::max(0, have.records - want.records);
+    if (have.records > 0 && have.verdict != want.verdict) {
+      ++t.different;
+      ADD_FAILURE() << key << ": " << have.verdict << ", undisturbed " << want.verdict;
+    }
+    if (have.records < want.records) ADD_FAILURE() << "lost: " << key;
+    if (have.records > want.records) ADD_FAILURE() << "stored twice: " << key;
+  }
+  for (const auto& [key, have] : got.checks) {
+    if (!reference.checks.count(key)) {
+      ++t.extra;
+      ADD_FAILURE() << "not in the undisturbed run: " << key;
+    }
+  }
+  for (const auto& [key, n] : reference.status_changes) {
+    const auto it = got.status_changes.find(key);
+    const int have = it == got.status_changes.end() ? 0 : it->second;
+    t.lost += std::max(0, n - have);
+    t.duplicated += std::max(0, have - n);
+    if (have != n) ADD_FAILURE() << "status change " << key << " stored " << have << " times";
+  }
+  for (const auto& [key, n] : got.status_changes) {
+    if (!reference.status_changes.count(key)) {
+      ++t.extra;
+      ADD_FAILURE() << "status change not in the undisturbed run: " << key;
+    }
+  }
+  EXPECT_EQ(t.lost, 0);
+  EXPECT_EQ(t.duplicated, 0);
+  EXPECT_EQ(t.extra, 0);
+  EXPECT_EQ(got.conflicts, 0U);
+  EXPECT_EQ(got.finals, reference.finals);
+  return t;
+}
+
 TEST(FaultCampaign, KilledServicesLoseAndDuplicateNothing) {
   const int machines = env_int("NCQUAL_CAMPAIGN_MACHINES", 10);
   const int days = env_int("NCQUAL_CAMPAIGN_DAYS", 14);
@@ -170,36 +263,12 @@ TEST(FaultCampaign, KilledServicesLoseAndDuplicateNothing) {
             << " machines, " << days << " simulated days, " << kills_wanted << " kills\n";
   SCOPED_TRACE("NCQUAL_CAMPAIGN_SEED=" + std::to_string(seed));
 
-  auto set_up = [&](Plant& plant, const std::string& speed) {
-    Services services{plant, std::to_string(days), speed, {"", ""}, {}};
-    for (int i = 1; i <= machines; ++i) {
-      plant.add_machine(machine_id(i), machine_file(i, seed));
-      auto& list = services.acquisition_lists[i <= (machines + 1) / 2 ? 0 : 1];
-      list += (list.empty() ? "" : ",") + machine_id(i);
-    }
-    plant.write_calendar_plant(kScheduler, "2026-03-02T00:00:00Z");
-    for (const char* name : {"historian", "solver", "acquisition0", "acquisition1", "scheduler"}) {
-      services.start(name);
-    }
-    return services;
-  };
-
   // The undisturbed run.
   Snapshot reference;
   {
     Plant plant("campaign-ref", TestDomain::CampaignReference);
-    Services services = set_up(plant, "");
-    ASSERT_EQ(services.running["scheduler"]->wait(), 0) << plant.log("scheduler");
-    ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
-      return db.count_results() > 0 && caught_up(db, Snapshot{});
-    })) << plant.log("historian");
-    // Every check is complete; the others empty their outboxes as they stop.
-    for (const char* name : {"acquisition0", "acquisition1", "solver", "historian"}) {
-      services.running[name]->terminate();
-      EXPECT_EQ(services.running[name]->wait(), 0) << name << "\n" << plant.log(service_of(name));
-    }
-    auto db = storage::Database::open_readonly(plant.db_path());
-    reference = snapshot(db);
+    Services services = set_up(plant, machines, days, seed, "");
+    reference = finish(plant, services, Snapshot{}, std::chrono::seconds(60));
   }
   ASSERT_GT(reference.results, 100) << "the campaign is too short to mean anything";
   EXPECT_EQ(reference.conflicts, 0U);
@@ -241,7 +310,7 @@ TEST(FaultCampaign, KilledServicesLoseAndDuplicateNothing) {
   // time for each to land while there is work; the decisions are the same at any speed.
   const double speed = days * 86400.0 / (3.0 * kills_wanted);
   Plant plant("campaign-kill", TestDomain::CampaignKill);
-  Services services = set_up(plant, std::to_string(speed));
+  Services services = set_up(plant, machines, days, seed, std::to_string(speed));
   std::map<std::string, int> kills;  // per service, of processes that were running
   int pairs = 0;
   const auto n_events = static_cast<std::int64_t>(events.size());
@@ -282,72 +351,123 @@ TEST(FaultCampaign, KilledServicesLoseAndDuplicateNothing) {
       services.start(name);
     }
   }
-  ASSERT_EQ(services.running["scheduler"]->wait(), 0) << plant.log("scheduler");
-  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) { return caught_up(db, reference); },
-                                std::chrono::seconds(180)))
-      << plant.log("historian");
-  for (const char* name : {"acquisition0", "acquisition1", "solver", "historian"}) {
-    services.running[name]->terminate();
-    EXPECT_EQ(services.running[name]->wait(), 0) << name;
-  }
-  auto db = storage::Database::open_readonly(plant.db_path());
-  const Snapshot got = snapshot(db);
-
-  // Lost: a sample of the reference not stored; duplicated: one stored more than once (a second
-  // request id for the same check, a second status change); extra: stored, not in the reference.
-  std::int64_t lost = 0, duplicated = 0, extra = 0, different = 0;
-  for (const auto& [key, want] : reference.checks) {
-    const auto it = got.checks.find(key);
-    const Snapshot::Check none;
-    const Snapshot::Check& have = it == got.checks.end() ? none : it->second;
-    lost += std::max(0, want.requests - have.requests) +
-            std::max(0, want.measurements - have.measurements) +
-            std::max(0, want.results - have.results);
-    duplicated += std::max(0, have.records - want.records);
-    if (have.records > 0 && have.verdict != want.verdict) {
-      ++different;
-      ADD_FAILURE() << key << ": " << have.verdict << ", undisturbed " << want.verdict;
-    }
-    if (have.records < want.records) ADD_FAILURE() << "lost: " << key;
-    if (have.records > want.records) ADD_FAILURE() << "stored twice: " << key;
-  }
-  for (const auto& [key, have] : got.checks) {
-    if (!reference.checks.count(key)) {
-      ++extra;
-      ADD_FAILURE() << "not in the undisturbed run: " << key;
-    }
-  }
-  for (const auto& [key, n] : reference.status_changes) {
-    const auto it = got.status_changes.find(key);
-    const int have = it == got.status_changes.end() ? 0 : it->second;
-    lost += std::max(0, n - have);
-    duplicated += std::max(0, have - n);
-    if (have != n) ADD_FAILURE() << "status change " << key << " stored " << have << " times";
-  }
-  for (const auto& [key, n] : got.status_changes) {
-    if (!reference.status_changes.count(key)) {
-      ++extra;
-      ADD_FAILURE() << "status change not in the undisturbed run: " << key;
-    }
-  }
+  const Snapshot got = finish(plant, services, reference, std::chrono::seconds(180));
+  const Tally t = compare(reference, got);
   int total_kills = 0;
   for (const auto& [service, n] : kills) total_kills += n;
   std::cout << "checks " << reference.checks.size() << ", kills " << total_kills << ", lost "
-            << lost << ", duplicated " << duplicated << ", conflicts " << got.conflicts << "\n"
-            << "(extra " << extra << ", different verdicts " << different << ", kill pairs "
+            << t.lost << ", duplicated " << t.duplicated << ", conflicts " << got.conflicts << "\n"
+            << "(extra " << t.extra << ", different verdicts " << t.different << ", kill pairs "
             << pairs << "; historian " << kills["historian"] << ", solver " << kills["solver"]
             << ", acquisition " << kills["acquisition"] << ", scheduler " << kills["scheduler"]
             << "; seed " << seed << ")\n";
-  EXPECT_EQ(lost, 0);
-  EXPECT_EQ(duplicated, 0);
-  EXPECT_EQ(extra, 0);
-  EXPECT_EQ(got.conflicts, 0U);
-  EXPECT_EQ(got.finals, reference.finals);
   EXPECT_GE(total_kills, 20);
   for (const auto& service : all) {
     EXPECT_GE(kills[service], 3) << service << " was not killed often enough while running";
   }
   EXPECT_GE(pairs, 2);
+}
+
+// The network made bad on purpose, inside a network namespace of this test's own (its services
+// inherit it, so nothing else on the machine is touched). netem where the kernel has it (loss,
+// duplication, reordering); else the same from nftables and HTB: 5 % of datagrams dropped and 5 %
+// duplicated as they arrive, 20 % sent through a slow lane so that later ones overtake them.
+// Returns what was set up, or why it could not be (the test is then skipped, saying so).
+struct Impairment {
+  std::string how;  // what was set up
+  std::string why;  // why it could not be, when `how` is empty
+  bool netem = false;
+};
+
+Outcome sh(const std::string& command) {
+  return run(Launch({"sh", "-c", command}, Output::Merged));
+}
+
+// The namespace's loopback up and multicast (for DDS discovery); empty, or why not.
+std::string bring_up_loopback() {
+  const Outcome up = sh("ip link set lo up && ip link set lo multicast on");
+  return up.exit_code == 0 ? "" : "`ip link set lo up` failed: " + up.out;
+}
+
+Impairment impair_loopback() {
+  Impairment imp;
+  const Outcome netem =
+      sh("tc qdisc add dev lo root netem loss 5% duplicate 5% delay 2ms reorder 75% 50% 2>&1");
+  if (netem.exit_code == 0) {
+    imp.netem = true;
+    imp.how = "tc netem: loss 5%, duplicate 5%, delay 2 ms with 25% sent at once (reordered)";
+    return imp;
+  }
+  const Outcome nft = sh(
+      "tc qdisc add dev lo root handle 1: htb default 10 && "
+      "tc class add dev lo parent 1: classid 1:10 htb rate 1gbit quantum 1514 && "
+      "tc class add dev lo parent 1: classid 1:20 htb rate 2mbit burst 2k cburst 2k && "
+      "nft add table inet ncqual_impair && "
+      "nft add chain inet ncqual_impair out '{ type filter hook output priority 0; }' && "
+      "nft add rule inet ncqual_impair out meta l4proto udp numgen random mod 100 '<' 20 "
+      "counter meta priority set 1:20 && "
+      "nft add table netdev ncqual_impair && "
+      "nft add chain netdev ncqual_impair in '{ type filter hook ingress device lo priority 0; }' "
+      "&& nft add rule netdev ncqual_impair in meta l4proto udp numgen random mod 100 '<' 5 "
+      "counter drop && "
+      "nft add rule netdev ncqual_impair in meta l4proto udp numgen random mod 100 '<' 5 "
+      "counter dup to lo");
+  if (nft.exit_code != 0) {
+    imp.why = "netem is not available (" + netem.out.substr(0, netem.out.find('\n')) +
+              ") and neither are nftables with HTB (" + nft.out +
+              "): install nftables, or run on a kernel with sch_netem";
+    return imp;
+  }
+  imp.how =
+      "nftables + HTB (this kernel has no sch_netem): 5% of UDP datagrams dropped, 5% duplicated, "
+      "20% through a 2 Mbit/s lane that later ones overtake";
+  return imp;
+}
+
+// What the impairment did: netem's or nftables' counters.
+std::string impairment_counters(const Impairment& imp) {
+  if (imp.netem) return sh("tc -s qdisc show dev lo").out;
+  return sh("nft list ruleset | grep counter; tc -s class show dev lo | grep -A1 '1:20'").out;
+}
+
+// Loss, duplication and reordering between the services change nothing stored: the reliable DDS
+// protocol repairs what it can, the outboxes resend what is not acknowledged, the historian
+// stores a duplicate once. Compared with an undisturbed run on the same (namespaced) loopback.
+TEST(FaultCampaign, ALossyDuplicatingReorderingNetworkChangesNothingStored) {
+  const int machines = env_int("NCQUAL_CAMPAIGN_NETWORK_MACHINES", 4);
+  const int days = env_int("NCQUAL_CAMPAIGN_NETWORK_DAYS", 7);
+  const unsigned seed = static_cast<unsigned>(
+      env_int("NCQUAL_CAMPAIGN_SEED", static_cast<int>(std::random_device{}() % 1000000U + 1U)));
+  SCOPED_TRACE("NCQUAL_CAMPAIGN_SEED=" + std::to_string(seed));
+  if (unshare(CLONE_NEWNET) != 0) {
+    GTEST_SKIP() << "cannot make a network namespace (unshare(CLONE_NEWNET): "
+                 << std::strerror(errno) << "); run as root or where user namespaces are allowed";
+  }
+  if (const std::string why = bring_up_loopback(); !why.empty()) GTEST_SKIP() << why;
+
+  Snapshot reference;
+  {
+    Plant plant("network-ref", TestDomain::NetworkReference);
+    Services services = set_up(plant, machines, days, seed, "");
+    reference = finish(plant, services, Snapshot{}, std::chrono::seconds(60));
+  }
+  ASSERT_GT(reference.results, 20) << "the run is too short to mean anything";
+
+  const Impairment imp = impair_loopback();
+  if (imp.how.empty()) GTEST_SKIP() << imp.why;
+  std::cerr << "network: " << imp.how << "\n";
+  Plant plant("network-bad", TestDomain::NetworkImpaired);
+  Services services = set_up(plant, machines, days, seed, "");
+  const Snapshot got = finish(plant, services, reference, std::chrono::seconds(240));
+  const std::string counters = impairment_counters(imp);
+  const Tally t = compare(reference, got);
+  std::cout << "checks " << reference.checks.size() << ", network " << (imp.netem ? "netem" : "nft")
+            << ", lost " << t.lost << ", duplicated " << t.duplicated << ", conflicts "
+            << got.conflicts << " (extra " << t.extra << ", different verdicts " << t.different
+            << "; seed " << seed << ")\n"
+            << counters;
+  // The network was bad: datagrams were dropped and duplicated (no counter stayed at zero).
+  EXPECT_EQ(counters.find(imp.netem ? "dropped 0," : "packets 0 "), std::string::npos) << counters;
 }
 
 }  // namespace
