@@ -42,6 +42,7 @@ enum class TestDomain : int {
   StorageFaults = detail::test_domain(217),               // StorageFaults.*
   NetworkReference = detail::test_domain(218),  // FaultCampaign.ALossy...: the undisturbed run
   NetworkImpaired = detail::test_domain(219),   // FaultCampaign.ALossy...: the impaired one
+  AckBench = detail::test_domain(220),          // ncqual_ack_bench (tests/bench), its smoke run
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -66,7 +67,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::CampaignKill:
     case TestDomain::StorageFaults:
     case TestDomain::NetworkReference:
-    case TestDomain::NetworkImpaired: break;
+    case TestDomain::NetworkImpaired:
+    case TestDomain::AckBench: break;
   }
   return static_cast<int>(domain);
 }
