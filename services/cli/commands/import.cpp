@@ -15,7 +15,8 @@
 //
 // Prints the request id of the set (`ncqual wait --request ID` waits for its result) once the
 // historian stored it and the solver saved its result (ncqual/dds/acknowledged_send.hpp). Exit
-// codes: 0 imported, 1 refused file (file:line:column on stderr) or no acknowledgement from the
+// codes: 0 imported, 1 refused file (file:line:column on stderr; values no instrument on the
+// machine can have read, solver::check_*_envelope, too) or no acknowledgement from the
 // solver or the historian within 60 s, 2 bad usage (and a machine the plant does not configure), 4
 // refused by a service.
 #include "commands.hpp"
@@ -56,6 +57,8 @@ int run(const Options& o) {
   }
   const GlobalCheckConfig& gc = *machine->global_check;
   const ProbeGeometry& target = gc.targets.front();
+  // Finite but impossible on this machine (a file in another unit): refused at the cell.
+  const solver::Envelope envelope = solver::machine_envelope(gc);
 
   const WallClock clock;
   MeasurementSet set;
@@ -73,7 +76,9 @@ int run(const Options& o) {
         throw UsageError("--axis '" + *a + "': expected x, y or z");
       axis = (*a)[0] - 'x';
     }
-    const solver::Iso230_2File run = solver::read_iso230_2_csv(read_csv_file(file));
+    const CsvTable table = read_csv_file(file);
+    const solver::Iso230_2File run = solver::read_iso230_2_csv(table);
+    solver::check_iso230_2_envelope(table, axis, envelope);
     set.kind = CheckKind::LinearAxisRun;
     set.frame = "machine";
     set.parameters.push_back({"axis", static_cast<double>(axis), ""});
@@ -82,7 +87,9 @@ int run(const Options& o) {
   } else if (o.what == "circle") {
     const std::string& file = o.file;
     const std::optional<solver::Plane> plane = plane_option(o.plane);
-    const solver::CircleFile circle = solver::read_circle_csv(read_csv_file(file), plane);
+    const CsvTable table = read_csv_file(file);
+    const solver::CircleFile circle = solver::read_circle_csv(table, plane);
+    solver::check_circle_envelope(table, envelope);
     set.kind = circle.input.plane == solver::Plane::XY   ? CheckKind::CircleXY
                : circle.input.plane == solver::Plane::YZ ? CheckKind::CircleYZ
                                                          : CheckKind::CircleXZ;
@@ -102,7 +109,12 @@ int run(const Options& o) {
     set.tracker_points =
         solver::tracker_points_for_circle(circle, stylus_ball_centre(centre, target), target);
   } else {
-    auto read = [](const std::string& f) { return solver::read_grid_csv(read_csv_file(f)); };
+    auto read = [&](const std::string& f) {
+      const CsvTable table = read_csv_file(f);
+      std::vector<solver::GridFilePoint> points = solver::read_grid_csv(table);
+      solver::check_grid_envelope(table, envelope);
+      return points;
+    };
     set.kind = CheckKind::GlobalGrid;
     set.tracker_points =
         solver::tracker_points_for_grid(read(o.x_run), read(o.y_run), read(o.grid), target);

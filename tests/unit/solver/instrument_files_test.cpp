@@ -4,8 +4,11 @@
 // refusal.
 #include "ncqual/solver/instrument_files.hpp"
 
+#include "ncqual/config.hpp"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -362,6 +365,119 @@ TEST(InstrumentFiles, ReadingsNoInstrumentCouldMakeAreRefusedAtTheirCell) {
   // A kilometre is the bound, not a machine's travel: 1e6 mm itself is still read.
   EXPECT_EQ(run_error(std::string(kRunHeader) + "1e6,1,up,0.001\n").find("beyond"),
             std::string::npos);
+}
+
+// ---- Plausibility against the machine -----------------------------------------------------------
+
+// A machine of X 0..2000, Y 0..1000, Z 0..500: span 2000 mm, so positions may lie up to 20000 mm
+// beyond the box and deviations may reach 200 mm (a tenth of the span).
+Envelope envelope_2000() {
+  Envelope e;
+  e.hi_mm = Eigen::Vector3d(2000, 1000, 500);
+  return e;
+}
+
+TEST(InstrumentFiles, EnvelopeRefusesARunInAnotherUnitAtItsCell) {
+  const Envelope e = envelope_2000();
+  EXPECT_DOUBLE_EQ(e.span_mm(), 2000);
+  const CsvTable good = read_csv(kGoodRun, "run.csv");
+  EXPECT_EQ(error_of([&] { check_iso230_2_envelope(good, 0, e); }), "(accepted)");
+  // On Z (0..500) a target may reach 500 + 20000 mm: 22000 is beyond.
+  EXPECT_TRUE(starts_with(error_of([&] {
+                            check_iso230_2_envelope(
+                                read_csv("target_mm,measured_mm\n0,0\n22000,22000\n", "z.csv"), 2,
+                                e);
+                          }),
+                          "z.csv:3:1: column 'target_mm' = '22000': beyond -20000..20500 mm"));
+  // The same on X (0..2000: up to 22000) is accepted.
+  EXPECT_EQ(error_of([&] {
+              check_iso230_2_envelope(
+                  read_csv("target_mm,measured_mm\n0,0\n22000,22000\n", "x.csv"), 0, e);
+            }),
+            "(accepted)");
+  // A run in micrometres read as millimetres: 100 mm = 100000.
+  EXPECT_TRUE(starts_with(
+      error_of([&] {
+        check_iso230_2_envelope(
+            read_csv("cycle,target_mm,measured_mm\n1,0,0.5\n1,100000,100004\n", "um.csv"), 0, e);
+      }),
+      "um.csv:3:2: column 'target_mm' = '100000': beyond -20000..22000 mm"));
+  // A deviation of 200.5 mm (more than a tenth of the span) at the measured cell.
+  const std::string deviation = error_of([&] {
+    check_iso230_2_envelope(read_csv("target_mm,measured_mm\n100,100.001\n300,500.5\n", "d.csv"), 0,
+                            e);
+  });
+  EXPECT_TRUE(starts_with(deviation,
+                          "d.csv:3:2: column 'measured_mm' = '500.5': 200.5 mm from "
+                          "target_mm 300, more than 200 mm"))
+      << deviation;
+}
+
+TEST(InstrumentFiles, EnvelopeRefusesACircleBeyondTenSpans) {
+  const Envelope e = envelope_2000();
+  EXPECT_EQ(error_of([&] {
+              check_circle_envelope(read_csv("angle_deg,radius_mm\n0,150\n90,150.001\n", "c.csv"),
+                                    e);
+            }),
+            "(accepted)");
+  const std::string far = error_of([&] {
+    check_circle_envelope(read_csv("x_mm,y_mm\n150,0\n0,150000\n-150,0\n", "um.csv"), e);
+  });
+  EXPECT_TRUE(starts_with(far, "um.csv:3:2: column 'y_mm' = '150000': beyond -20000..20000 mm"))
+      << far;
+}
+
+TEST(InstrumentFiles, EnvelopeRefusesAGridWhoseDistancesAreNotTheCommandedOnes) {
+  const Envelope e = envelope_2000();
+  // The tracker frame is the machine frame turned by 90 degrees about Z and moved: distances
+  // from the first point are kept (500 and 1000 mm; measured 500.002 and 999.998).
+  const char* good =
+      "point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\n"
+      "g0,0,0,0,3000,2000,-400\n"
+      "g1,500,0,0,3000,2500.002,-400\n"
+      "g2,500,1000,0,2000.002,2500,-400\n";
+  EXPECT_EQ(error_of([&] { check_grid_envelope(read_csv(good, "g.csv"), e); }), "(accepted)");
+  // g2 measured 1e4 mm away in micrometres: |1118.04 - 11180.3| mm apart, far beyond 200 mm.
+  const char* bad =
+      "point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\n"
+      "g0,0,0,0,0,0,0\n"
+      "g1,500,0,0,500,0,0\n"
+      "g2,500,1000,0,5000,10000,0\n";
+  const std::string err = error_of([&] { check_grid_envelope(read_csv(bad, "g.csv"), e); });
+  EXPECT_TRUE(starts_with(err,
+                          "g.csv:4:5: measured 11180.3 mm from the first point (line 2) "
+                          "where commanded 1118.03 mm"))
+      << err;
+  // A commanded position beyond ten spans: y_cmd 1e5.
+  EXPECT_TRUE(starts_with(
+      error_of([&] {
+        check_grid_envelope(
+            read_csv("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\ng0,0,100000,0,0,0,0\n",
+                     "c.csv"),
+            e);
+      }),
+      "c.csv:2:3: column 'y_cmd' = '100000': beyond -20000..21000 mm"));
+}
+
+TEST(InstrumentFiles, TheMachineEnvelopeHoldsEveryProgrammedPosition) {
+  // pm1's grid (deploy/machines/pm1.yaml) lies inside the envelope; the box's corners are
+  // programmed positions (no slack), and nothing is empty.
+  const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
+  ASSERT_TRUE(m.global_check);
+  const GlobalCheckConfig& gc = *m.global_check;
+  const Envelope e = machine_envelope(gc);
+  for (double x : gc.grid_x_mm) {
+    EXPECT_GE(x, e.lo_mm.x());
+    EXPECT_LE(x, e.hi_mm.x());
+  }
+  for (double z : gc.grid_z_mm) {
+    EXPECT_GE(z, e.lo_mm.z());
+    EXPECT_LE(z, e.hi_mm.z());
+  }
+  const auto [gx_lo, gx_hi] = std::minmax_element(gc.grid_x_mm.begin(), gc.grid_x_mm.end());
+  EXPECT_LE(e.lo_mm.x(), *gx_lo);
+  EXPECT_GE(e.hi_mm.x(), *gx_hi);
+  EXPECT_GE(e.span_mm(), *gx_hi - *gx_lo);
 }
 
 }  // namespace

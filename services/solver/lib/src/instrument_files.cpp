@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/instrument_files.hpp"
 
+#include "ncqual/check_kinds.hpp"
 #include "ncqual/units.hpp"
 #include "result_building.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <tuple>
 
@@ -321,6 +323,111 @@ std::vector<TrackerPoint> tracker_points_for_circle(const CircleFile& circle,
                                 at, at, target));
   }
   return out;
+}
+
+// ---- Plausibility against the machine
+// -------------------------------------------------------------
+
+double Envelope::span_mm() const { return std::max(100.0, (hi_mm - lo_mm).maxCoeff()); }
+
+Envelope machine_envelope(const GlobalCheckConfig& config) {
+  Envelope e;
+  e.lo_mm = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  e.hi_mm = -e.lo_mm;
+  for (const auto& info : check_kinds()) {
+    if (!is_tracker_check(info.kind)) continue;
+    for (const TrackerMove& m : global_check_program(info.kind, config)) {
+      const Eigen::Vector3d p(m.commanded.x_mm, m.commanded.y_mm, m.commanded.z_mm);
+      e.lo_mm = e.lo_mm.cwiseMin(p);
+      e.hi_mm = e.hi_mm.cwiseMax(p);
+    }
+  }
+  if (!e.lo_mm.allFinite()) e.lo_mm = e.hi_mm = Eigen::Vector3d::Zero();
+  return e;
+}
+
+namespace {
+
+constexpr double kSpansBeyond = 10;  // how far beyond the envelope a position may lie
+using detail::format_number;
+constexpr double kDeviationShare = 0.1;  // how large a deviation may be, as a share of the span
+
+std::string mm(double v) { return format_number(v) + " mm"; }
+
+std::string envelope_text(const Envelope& e) {
+  std::string out = "the machine's envelope";
+  const char* const axes = "XYZ";
+  for (int k = 0; k < 3; ++k) {
+    out += std::string(k ? "," : "") + " " + axes[k] + " " + format_number(e.lo_mm[k]) + ".." +
+           format_number(e.hi_mm[k]);
+  }
+  return out + " mm (span " + mm(e.span_mm()) + ", from its monthly programs)";
+}
+
+// A position in column `c` of `row` on machine axis `axis` (-1: an offset about the centre,
+// compared with ten spans either way).
+void check_position(const CsvTable& t, const CsvRow& row, std::size_t c, int axis,
+                    const Envelope& e) {
+  const double v = t.number(row, c);
+  const double reach = kSpansBeyond * e.span_mm();
+  const double lo = axis < 0 ? -reach : e.lo_mm[axis] - reach;
+  const double hi = axis < 0 ? reach : e.hi_mm[axis] + reach;
+  if (v >= lo && v <= hi) return;
+  t.fail(row.line, c,
+         "column '" + t.header[c] + "' = '" + t.cell(row, c) + "': beyond " + format_number(lo) +
+             ".." + format_number(hi) + " mm, ten spans round " + envelope_text(e) +
+             "; a file in another unit?");
+}
+
+}  // namespace
+
+void check_iso230_2_envelope(const CsvTable& t, int axis, const Envelope& e) {
+  const std::size_t c_target = t.require_column("target_mm");
+  const std::size_t c_measured = t.require_column("measured_mm");
+  const double most = kDeviationShare * e.span_mm();
+  for (const CsvRow& row : t.rows) {
+    check_position(t, row, c_target, axis, e);
+    const double deviation = t.number(row, c_measured) - t.number(row, c_target);
+    if (std::abs(deviation) > most) {
+      t.fail(row.line, c_measured,
+             "column 'measured_mm' = '" + t.cell(row, c_measured) + "': " + mm(deviation) +
+                 " from target_mm " + t.cell(row, c_target) + ", more than " + mm(most) +
+                 ", a tenth of the span of " + envelope_text(e));
+    }
+  }
+}
+
+void check_circle_envelope(const CsvTable& t, const Envelope& e) {
+  for (const char* name : {"x_mm", "y_mm", "z_mm", "u_mm", "v_mm", "radius_mm"}) {
+    const std::optional<std::size_t> c = t.find_column(name);
+    if (!c) continue;
+    for (const CsvRow& row : t.rows) check_position(t, row, *c, -1, e);
+  }
+}
+
+void check_grid_envelope(const CsvTable& t, const Envelope& e) {
+  const char* const cmd_names[] = {"x_cmd", "y_cmd", "z_cmd"};
+  const char* const meas_names[] = {"x_meas", "y_meas", "z_meas"};
+  std::size_t c_cmd[3], c_meas[3];
+  for (int k = 0; k < 3; ++k) c_cmd[k] = t.require_column(cmd_names[k]);
+  for (int k = 0; k < 3; ++k) c_meas[k] = t.require_column(meas_names[k]);
+  const auto vector = [&](const CsvRow& row, const std::size_t(&c)[3]) {
+    return Eigen::Vector3d(t.number(row, c[0]), t.number(row, c[1]), t.number(row, c[2]));
+  };
+  const double most = kDeviationShare * e.span_mm();
+  for (const CsvRow& row : t.rows) {
+    for (int k = 0; k < 3; ++k) check_position(t, row, c_cmd[k], k, e);
+    const CsvRow& first = t.rows.front();
+    const double commanded = (vector(row, c_cmd) - vector(first, c_cmd)).norm();
+    const double measured = (vector(row, c_meas) - vector(first, c_meas)).norm();
+    if (std::abs(measured - commanded) > most) {
+      t.fail(row.line, c_meas[0],
+             "measured " + mm(measured) + " from the first point (line " +
+                 std::to_string(first.line) + ") where commanded " + mm(commanded) +
+                 ": more than " + mm(most) + " apart, a tenth of the span of " + envelope_text(e) +
+                 "; a file in another unit?");
+    }
+  }
 }
 
 }  // namespace ncqual::solver

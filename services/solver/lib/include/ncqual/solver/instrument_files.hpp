@@ -37,6 +37,7 @@
 #pragma once
 
 #include "ncqual/csv.hpp"
+#include "ncqual/global_check.hpp"
 #include "ncqual/kinematics.hpp"
 #include "ncqual/model.hpp"
 #include "ncqual/solver/circular_test.hpp"
@@ -108,5 +109,32 @@ std::vector<TrackerPoint> tracker_points_for_linear_run(const Iso230_2File& run,
 std::vector<TrackerPoint> tracker_points_for_circle(const CircleFile& circle,
                                                     const Eigen::Vector3d& centre_mm,
                                                     const ProbeGeometry& target);
+
+// ---- Plausibility against the machine -----------------------------------------------------------
+// A reading can be finite and still impossible on this machine: a file in micrometres read as
+// millimetres, a broken export. `ncqual import` refuses those before anything is published.
+
+// The box the machine's monthly programs move the spindle's pivot in (the commanded positions of
+// every tracker check kind `config` plans, ncqual/global_check.hpp).
+struct Envelope {
+  Eigen::Vector3d lo_mm = Eigen::Vector3d::Zero(), hi_mm = Eigen::Vector3d::Zero();
+  // Its largest side, at least 100 mm (a program over a single point still has a machine round it).
+  double span_mm() const;
+};
+Envelope machine_envelope(const GlobalCheckConfig& config);
+
+// Refused, as a CsvError at the cell (file:line:column, the value, the envelope): a position more
+// than ten spans beyond the envelope (an order of magnitude), and a deviation from the commanded
+// position, or a circle's radius deviation, of more than a tenth of the span (two orders and more
+// above any machine error).
+//   ISO 230-2 (axis 0, 1, 2: the run's machine axis): target_mm within the envelope's extent on
+//     that axis grown by ten spans; measured_mm - target_mm within a tenth of the span.
+//   Circle: every coordinate (u, v or radius about the centre) within ten spans.
+//   Grid: x_cmd, y_cmd, z_cmd within the envelope grown by ten spans; the measured distance of each
+//     point from the file's first point (the tracker frame is the machine frame moved rigidly)
+//     within a tenth of the span of the commanded one.
+void check_iso230_2_envelope(const CsvTable& table, int axis, const Envelope& envelope);
+void check_circle_envelope(const CsvTable& table, const Envelope& envelope);
+void check_grid_envelope(const CsvTable& table, const Envelope& envelope);
 
 }  // namespace ncqual::solver
