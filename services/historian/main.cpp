@@ -84,6 +84,11 @@ void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const
           "{} against {}); both kept, the stored one unchanged",
           what, id, machine_id, in.writer, in.content_hash.substr(0, 12),
           stored.stored_hash.substr(0, 12));
+      // Raised once: a resend of the same content is answered CONFLICT again, not re-raised.
+      if (!stored.new_conflict) {
+        spdlog::debug("{} (sent again; already kept)", text);
+        break;
+      }
       spdlog::error("{}", text);
       raise(machine_id, "conflict/" + std::string(Topic::kName) + "/" + id + "/" + in.content_hash,
             text);

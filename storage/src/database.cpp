@@ -341,11 +341,12 @@ struct Database::Impl {
     if (!stored_hash || origin.content_hash.empty() || *stored_hash == origin.content_hash) {
       return StoreResult{StoreOutcome::Duplicate, stored_hash.value_or("")};
     }
-    Query(statements, kInsertConflict)
+    Query insert(statements, kInsertConflict);
+    insert
         .bind(topic, sample_id_of(sample), sample.machine_id, origin.content_hash, *stored_hash,
               origin.writer, origin.received_ns, nlohmann::json(sample).dump())
         .run();
-    return StoreResult{StoreOutcome::Conflict, *stored_hash};
+    return StoreResult{StoreOutcome::Conflict, *stored_hash, insert.changes() > 0};
   }
 
   void touch_machine(const std::string& machine_id, std::int64_t time_ns) {

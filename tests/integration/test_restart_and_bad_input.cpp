@@ -224,7 +224,10 @@ TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
     for (const auto& in : alarms.take()) raised.push_back(in.value);
     if (raised.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
-  ASSERT_EQ(raised.size(), 1u) << plant.log("historian");
+  // Once, though the forged result may reach the historian twice (a resend before its answer).
+  std::string listed;
+  for (const auto& a : raised) listed += a.alarm_id + ": " + a.text + "\n";
+  ASSERT_EQ(raised.size(), 1u) << listed << plant.log("historian");
   EXPECT_EQ(raised[0].kind, AlarmKind::Conflict);
   EXPECT_TRUE(raised[0].active);
   EXPECT_EQ(raised[0].machine_id, "pm1");

@@ -63,7 +63,10 @@ int run_check(const Options& o) {
   const std::string path = plant_file(o.plant);
   const ConfigReport report = check_plant_config(path);
   if (o.json) {
-    ConfigCheckDocument doc{path, report.problems.empty(), report.problems};
+    ConfigCheckDocument doc;
+    doc.plant_file = path;
+    doc.ok = report.problems.empty();
+    doc.problems = report.problems;
     if (report.plant) {
       doc.plant = report.plant->plant;
       doc.domain_id = report.plant->domain_id;

@@ -76,6 +76,9 @@ enum class StoreOutcome {
 struct StoreResult {
   StoreOutcome outcome = StoreOutcome::Stored;
   std::string stored_hash;  // Duplicate/Conflict: the hash of the sample stored first ('' if none)
+  // Conflict: false when this very content was already kept as a conflict (a resend): the
+  // conflict is known, nothing new to raise.
+  bool new_conflict = false;
   explicit operator bool() const { return outcome == StoreOutcome::Stored; }
 };
 

@@ -184,6 +184,27 @@ TEST_F(StorageRoundTrip, ResendWithDifferentContentKeepsTheFirst) {
   EXPECT_EQ(raw.count("metrics"), 3);
 }
 
+// With content hashes: the same content again is a duplicate; other content a conflict, kept
+// once, and a resend of that conflicting content says it is no new conflict (nothing to raise).
+TEST_F(StorageRoundTrip, AConflictIsKeptOnceAndItsResendIsNoNewConflict) {
+  const CheckResult first = make_result("r1");
+  CheckResult forged = first;
+  forged.verdict = Verdict::Pass;
+  const Origin a{"hash-a", "writer-1", 1};
+  const Origin b{"hash-b", "writer-2", 2};
+  EXPECT_EQ(db_.store(first, a).outcome, StoreOutcome::Stored);
+  EXPECT_EQ(db_.store(first, a).outcome, StoreOutcome::Duplicate);
+  const StoreResult conflict = db_.store(forged, b);
+  EXPECT_EQ(conflict.outcome, StoreOutcome::Conflict);
+  EXPECT_EQ(conflict.stored_hash, "hash-a");
+  EXPECT_TRUE(conflict.new_conflict);
+  const StoreResult again = db_.store(forged, b);
+  EXPECT_EQ(again.outcome, StoreOutcome::Conflict);
+  EXPECT_FALSE(again.new_conflict);
+  EXPECT_EQ(db_.conflicts().size(), 1u);
+  EXPECT_EQ(db_.find_check("r1")->result->verdict, first.verdict);
+}
+
 TEST_F(StorageRoundTrip, MachineStatusComesBackAndIsStoredOnce) {
   MachineStatus status;
   status.machine_id = "M1";
