@@ -42,7 +42,12 @@ enum class TestDomain : int {
   StorageFaults = detail::test_domain(217),               // StorageFaults.*
   NetworkReference = detail::test_domain(218),  // FaultCampaign.ALossy...: the undisturbed run
   NetworkImpaired = detail::test_domain(219),   // FaultCampaign.ALossy...: the impaired one
-  AckBench = detail::test_domain(220),          // ncqual_ack_bench (tests/bench), its smoke run
+  AckBench = detail::test_domain(220),
+  ImportLarge = detail::test_domain(221),  // Import.ALargeCircle...
+  ImportBench = detail::test_domain(222),
+  StorageDamaged = detail::test_domain(
+      223),  // StorageFaults.ADamagedFile...  // ncqual_import_bench (tests/bench), its smoke run
+             // // ncqual_ack_bench (tests/bench), its smoke run
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -68,7 +73,10 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::StorageFaults:
     case TestDomain::NetworkReference:
     case TestDomain::NetworkImpaired:
-    case TestDomain::AckBench: break;
+    case TestDomain::AckBench:
+    case TestDomain::ImportLarge:
+    case TestDomain::ImportBench:
+    case TestDomain::StorageDamaged: break;
   }
   return static_cast<int>(domain);
 }

@@ -16,6 +16,7 @@
 #include <sqlite3.h>
 #include <sys/resource.h>
 
+#include <fstream>
 #include <regex>
 
 namespace ncqual::testing {
@@ -76,6 +77,39 @@ bool plant_goes_on(const Plant& plant, std::size_t more) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return false;
+}
+
+// Stops the producers and checks that each did so with its outbox empty (the historian has all
+// they sent), and that the historian holds every check the scheduler requested, complete but for
+// the last one or two the stop may have cut short, none a retry. Returns "N checks (C complete)".
+std::string expect_everything_stored(Plant& plant, const std::vector<Process*>& producers) {
+  for (Process* p : producers) {
+    EXPECT_TRUE(p->running());
+    p->terminate();
+    EXPECT_EQ(p->wait(), 0);
+  }
+  for (const char* service : {"scheduler", "acquisition", "solver"}) {
+    const std::string log = plant.log(service);
+    EXPECT_NE(log.find("every sample acknowledged"), std::string::npos)
+        << service << ":\n"
+        << log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
+  }
+  const std::size_t requested = count_of(plant.log("scheduler"), ": requesting ");
+  auto db = storage::Database::open_readonly(plant.db_path());
+  storage::HistoryQuery q;
+  q.limit = 0;
+  const auto records = db.history(q);
+  EXPECT_EQ(records.size(), requested);
+  std::size_t complete = 0;
+  for (const auto& r : records) {
+    // The last request or two may have been cut short by the stop: measured or not, not solved.
+    if (r.request && r.measurement && r.result) ++complete;
+    EXPECT_FALSE(std::regex_search(r.request_id, std::regex("-r[0-9]+$")))
+        << r.request_id << ": a retry, so something waited too long";
+  }
+  EXPECT_GE(complete + 2, records.size());
+  EXPECT_EQ(db.integrity_check(), "ok");
+  return std::to_string(records.size()) + " checks (" + std::to_string(complete) + " complete)";
 }
 
 TEST(StorageFaults, LockedFullAndMovedAwayTheHistorianHoldsThenStoresEverything) {
@@ -160,34 +194,72 @@ TEST(StorageFaults, LockedFullAndMovedAwayTheHistorianHoldsThenStoresEverything)
   }
 
   // Every producer stops with its outbox empty: the historian has all they sent.
-  for (Process* p : {&scheduler, &acquisition, &solver}) {
-    ASSERT_TRUE(p->running());
-    p->terminate();
-    EXPECT_EQ(p->wait(), 0);
+  std::cerr << expect_everything_stored(plant, {&scheduler, &acquisition, &solver})
+            << " stored through a lock, failing writes and a move\n";
+}
+
+// Damaged while the historian was stopped: it refuses the file at start, naming it and the first
+// problem, while the plant goes on with every sample kept in the producers' outboxes; `ncqual db
+// recover` salvages the file, the operator puts the salvaged one in place and starts the
+// historian again, and the producers' resends fill in everything sent meanwhile. The page damaged
+// is the `services` table's (the latest heartbeat per service, which the next heartbeats rewrite),
+// so after the recovery nothing of the checks may be missing at all.
+TEST(StorageFaults, ADamagedFileIsRefusedRecoveredAndRefilledByTheProducers) {
+  Plant plant("storage-damaged", TestDomain::StorageDamaged);
+  plant.add_machine("sd1", machine("sd1"));
+  plant.write_calendar_plant(kScheduler, "2026-03-02T00:00:00Z");
+  Process* historian = &plant.start("historian");
+  Process& solver = plant.start("solver");
+  Process& acquisition = plant.start("acquisition", {"--all"});
+  Process& scheduler = plant.start("scheduler", {"--days", "30", "--speed", "20000"});
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 5; }))
+      << plant.log("historian");
+  historian->terminate();
+  ASSERT_EQ(historian->wait(), 0) << plant.log("historian");
+
+  // The services table's page overwritten with 0xFF, as a failing disk or a stray write leaves it.
+  const std::string file = plant.db_path();
+  const auto sql = [&](const std::string& statement) {
+    const Outcome r = run(Launch({"sqlite3", "-readonly", file, statement}));
+    EXPECT_EQ(r.exit_code, 0) << statement << ": " << r.err;
+    return r.out;
+  };
+  const std::int64_t page_size = std::stoll(sql("PRAGMA page_size"));
+  const std::int64_t page =
+      std::stoll(sql("SELECT rootpage FROM sqlite_schema WHERE name = 'services'"));
+  ASSERT_GT(page, 1);
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp((page - 1) * page_size);
+    const std::string garbage(static_cast<std::size_t>(page_size), '\xff');
+    f.write(garbage.data(), static_cast<std::streamsize>(garbage.size()));
   }
-  for (const char* service : {"scheduler", "acquisition", "solver"}) {
-    const std::string log = plant.log(service);
-    EXPECT_NE(log.find("every sample acknowledged"), std::string::npos)
-        << service << ":\n"
-        << log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
-  }
-  const std::size_t requested = count_of(plant.log("scheduler"), ": requesting ");
-  auto db = storage::Database::open_readonly(plant.db_path());
-  storage::HistoryQuery q;
-  q.limit = 0;
-  const auto records = db.history(q);
-  EXPECT_EQ(records.size(), requested);
-  std::size_t complete = 0;
-  for (const auto& r : records) {
-    // The last request or two may have been cut short by the stop: measured or not, not solved.
-    if (r.request && r.measurement && r.result) ++complete;
-    EXPECT_FALSE(std::regex_search(r.request_id, std::regex("-r[0-9]+$")))
-        << r.request_id << ": a retry, so something waited too long";
-  }
-  EXPECT_GE(complete + 2, records.size());
-  EXPECT_EQ(db.integrity_check(), "ok");
-  std::cerr << records.size() << " checks (" << complete
-            << " complete) stored through a lock, failing writes and a move\n";
+
+  // Refused at start, naming the file, the problem and the remedy; the plant goes on meanwhile.
+  const std::size_t from = plant.log("historian").size();
+  historian = &plant.start("historian");
+  EXPECT_NE(historian->wait(), 0) << plant.log("historian").substr(from);
+  const std::string refusal = plant.log("historian").substr(from);
+  EXPECT_NE(refusal.find(file), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find("ncqual db recover"), std::string::npos) << refusal;
+  EXPECT_TRUE(plant_goes_on(plant, 4));
+
+  // Recovered into a new file, put in place of the damaged one, the historian started again.
+  const std::string salvaged = file + ".recovered";
+  const Outcome recover =
+      run(Launch({Plant::executable("ncqual"), "db", "recover", file, salvaged}));
+  ASSERT_EQ(recover.exit_code, 0) << recover.out << recover.err;
+  fs::rename(file, file + ".damaged");
+  fs::remove(file + "-wal");
+  fs::remove(file + "-shm");
+  fs::rename(salvaged, file);
+  historian = &plant.start("historian");
+  EXPECT_TRUE(plant_goes_on(plant, 4));
+
+  std::cerr << expect_everything_stored(plant, {&scheduler, &acquisition, &solver})
+            << " stored through a damaged file and its recovery\n";
+  historian->terminate();
+  EXPECT_EQ(historian->wait(), 0);
 }
 
 }  // namespace
