@@ -4,10 +4,10 @@
 // A real ncqual-historian (Fast DDS on a private domain, its SQLite file in a temporary directory)
 // stores CheckResults as the solver sends them: one monument check of deploy/machines/pm1.yaml,
 // simulated and judged by the solver library, renamed per sample over --machines machines.
-//   with     every result goes through a ncqual::dds::Outbox (in a state file of its own, awaiting
-//   the
-//            historian) as services/solver sends it; latency: from handing it to the outbox to
-//            the historian's acknowledgement; throughput: a burst until the outbox is empty.
+//   with     every result goes through a ncqual::dds::Outbox (in a state file of its own,
+//            awaiting the historian) as services/solver sends it; latency: from handing it to the
+//            outbox to the historian's acknowledgement; throughput: a burst until the outbox is
+//            empty.
 //   without  the same results through the same DataWriter, no outbox; latency: from the write
 //            until the row is visible in the historian's file (read-only, polled every 0.05 ms);
 //            throughput: a burst until the file holds all of them.
