@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <utility>
@@ -461,8 +462,10 @@ struct Database::Impl {
       Query q(statements, kSelectMetrics);
       q.bind(request_id);
       while (q.step()) {
+        // NULL: a value that could not be evaluated (schema version 5), NaN as it was sent.
+        const double value = q.is_null(1) ? std::nan("") : q.real(1);
         result.metrics.push_back(
-            Metric{q.text(0), q.real(1), q.text(2), q.real(3), q.real(4), q.int64(5) != 0});
+            Metric{q.text(0), value, q.text(2), q.real(3), q.real(4), q.int64(5) != 0});
       }
     }
     {
@@ -807,8 +810,9 @@ StoreResult Database::store(const CheckResult& result, const Origin& origin) {
     for (std::size_t i = 0; i < result.metrics.size(); ++i) {
       const Metric& m = result.metrics[i];
       Query(impl_->statements, kInsertMetric)
-          .bind(result.request_id, static_cast<std::int64_t>(i), m.name, m.value, m.unit, m.lower,
-                m.upper, m.pass)
+          .bind(result.request_id, static_cast<std::int64_t>(i), m.name,
+                std::isfinite(m.value) ? std::optional<double>(m.value) : std::nullopt, m.unit,
+                m.lower, m.upper, m.pass)
           .run();
     }
     for (std::size_t i = 0; i < result.likely_causes.size(); ++i) {

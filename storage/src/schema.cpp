@@ -273,12 +273,34 @@ ALTER TABLE services ADD COLUMN outbox_depth INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE services ADD COLUMN oldest_unacknowledged_ns INTEGER NOT NULL DEFAULT 0;
 )sql";
 
+// Version 5: a metric that could not be evaluated (NaN or infinite) is kept with its value NULL,
+// so every result the historian receives is stored (read back as NaN). SQLite cannot drop a NOT
+// NULL constraint: the table is rebuilt, its rows copied.
+constexpr const char* kVersion5 = R"sql(
+CREATE TABLE metrics_v5 (
+  request_id TEXT NOT NULL REFERENCES results (request_id) ON DELETE CASCADE,
+  idx        INTEGER NOT NULL,
+  name       TEXT NOT NULL,
+  value      REAL,
+  unit       TEXT NOT NULL,
+  lower      REAL NOT NULL,
+  upper      REAL NOT NULL,
+  pass       INTEGER NOT NULL CHECK (pass IN (0, 1)),
+  PRIMARY KEY (request_id, idx)
+) STRICT, WITHOUT ROWID;
+INSERT INTO metrics_v5 (request_id, idx, name, value, unit, lower, upper, pass)
+  SELECT request_id, idx, name, value, unit, lower, upper, pass FROM metrics;
+DROP TABLE metrics;
+ALTER TABLE metrics_v5 RENAME TO metrics;
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
     {2, "store request and measurement parameters", kVersion2},
     {3, "store the software that judged each result", kVersion3},
     {4, "content hashes, writers, conflicts and service health", kVersion4},
+    {5, "keep a metric that could not be evaluated, its value NULL", kVersion5},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

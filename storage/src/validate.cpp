@@ -30,7 +30,9 @@ void non_empty(const std::string& value, const std::string& field, const std::st
 }
 
 // SQLite stores NaN as NULL, so a NaN would come back as something else (or break NOT NULL):
-// refused everywhere. Infinity is refused where it can only be a fault (a measured value).
+// refused everywhere but in a metric's value (kept as NULL, read back as NaN: a result is never
+// refused for a figure it could not evaluate). Infinity is refused where it can only be a fault
+// (a measured value).
 void finite(double value, const std::string& field, const std::string& owner) {
   if (!std::isfinite(value)) throw StorageError(field + " is " + describe(value) + owner);
 }
@@ -141,7 +143,8 @@ void check(const CheckResult& result) {
     const Metric& metric = result.metrics[i];
     non_empty(metric.name, "Metric.name of metric " + std::to_string(i), owner);
     const std::string which = " of " + quoted(metric.name);
-    finite(metric.value, "Metric.value" + which, owner);
+    // A value that could not be evaluated (NaN, infinite) is stored as NULL: the result is kept
+    // (its verdict and reason say what happened), never refused.
     // An infinite bound is a one-sided tolerance band (e.g. flatness <= 0.01 mm).
     not_nan(metric.lower, "Metric.lower" + which, owner);
     not_nan(metric.upper, "Metric.upper" + which, owner);

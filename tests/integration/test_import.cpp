@@ -84,6 +84,27 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
   EXPECT_NEAR(value("linear_E_mm"), 0.008, 1e-9);
   EXPECT_NEAR(value("linear_A_mm"), 0.014, 1e-9);
 
+  // A run in one direction only cannot give ISO 230-2's A and B: the check is INVALID, saying
+  // why, and is stored like any other, so `ncqual wait --request` ends (it waited for ever while
+  // the NaN metrics of such a result were refused by the historian).
+  std::ofstream(plant.dir() / "oneway.csv") << "target_mm,cycle,direction,measured_mm\n"
+                                               "1000,1,up,1000.001\n1000,2,up,1000.002\n"
+                                               "1100,1,up,1100.004\n1100,2,up,1100.006\n"
+                                               "1200,1,up,1199.999\n1200,2,up,1200.001\n";
+  const auto [one_code, one_out] =
+      cli({"import", "iso230-2", (plant.dir() / "oneway.csv").string(), "--machine", "pm1",
+           "--plant", plant.plant_file(), "--domain", std::to_string(plant.domain())});
+  ASSERT_EQ(one_code, 0) << one_out;
+  const auto one_way = stored_import(plant, one_out);
+  ASSERT_TRUE(one_way && one_way->result);
+  EXPECT_EQ(one_way->result->verdict, Verdict::Invalid);
+  EXPECT_NE(one_way->result->reason.find("went up (+) only"), std::string::npos)
+      << one_way->result->reason;
+  const auto [wait_code, wait_out] = cli(
+      {"wait", "--request", one_way->request_id, "--plant", plant.plant_file(), "--timeout", "30"});
+  EXPECT_EQ(wait_code, 0) << wait_out;
+  EXPECT_NE(wait_out.find("INVALID"), std::string::npos) << wait_out;
+
   // A bad file is refused before anything is published, naming file, line and column.
   std::ofstream(plant.dir() / "bad.csv") << "target_mm,cycle,direction,measured_mm\n0,1,up,x\n";
   const auto [bad_code, bad_out] = cli({"import", "iso230-2", (plant.dir() / "bad.csv").string(),

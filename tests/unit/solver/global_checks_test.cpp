@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -139,6 +140,30 @@ TEST(GlobalChecks, LinearRunSeesTheReversalAndFailsWithBacklashFirst) {
   EXPECT_NEAR(metric(r, "linear_B_mm").value, 0.030, 5 * sigma);
   ASSERT_FALSE(r.likely_causes.empty());
   EXPECT_NE(r.likely_causes[0].find("backlash"), std::string::npos) << r.likely_causes[0];
+}
+
+// A run that went one way only (an import of a one-direction file) has no bidirectional A or B:
+// INVALID, saying so, not metrics of NaN that no historian could store.
+TEST(GlobalChecks, ALinearRunInOneDirectionIsInvalidSayingWhy) {
+  const MachineConfig m = pm1();
+  const sim::TrackerSimulator tracker(m, perfect(m, 0, 0));
+  CheckRequest req;
+  req.machine_id = m.machine_id;
+  req.request_id = "one-way";
+  req.kind = CheckKind::LinearAxisRun;
+  MeasurementSet set = tracker.perform(req, 1);
+  const auto down = [](const TrackerPoint& p) {
+    return p.label.find(":down:") != std::string::npos;
+  };
+  const std::size_t before = set.tracker_points.size();
+  set.tracker_points.erase(
+      std::remove_if(set.tracker_points.begin(), set.tracker_points.end(), down),
+      set.tracker_points.end());
+  ASSERT_LT(set.tracker_points.size(), before) << "no down points to take out";
+  const CheckResult r = solve(set, m, 2);
+  EXPECT_EQ(r.verdict, Verdict::Invalid);
+  EXPECT_NE(r.reason.find("went up (+) only"), std::string::npos) << r.reason;
+  for (const Metric& metric : r.metrics) EXPECT_TRUE(std::isfinite(metric.value)) << metric.name;
 }
 
 TEST(GlobalChecks, TheExampleMachinePassesEveryTrackerCheckItImplements) {

@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 namespace ncqual::storage {
 namespace {
 
@@ -148,6 +151,26 @@ TEST_F(StorageRoundTrip, CheckResultComesBackWithMetricsCausesInOrderAndCorrecti
   EXPECT_EQ(raw.count("causes"), 3);
   EXPECT_EQ(raw.count("result_offsets"), 2);
   EXPECT_EQ(db_.count_results(), 1);
+}
+
+// A figure that could not be evaluated is kept (NULL in the file) and comes back as NaN; the
+// result is never refused for it (issue 14: a NaN metric left an imported check pending forever).
+TEST_F(StorageRoundTrip, AMetricThatCouldNotBeEvaluatedIsStoredAndComesBackNaN) {
+  CheckResult result = make_result("r-nan");
+  result.verdict = Verdict::Invalid;
+  result.reason = "linear_A_mm could not be evaluated";
+  result.metrics[0].value = std::nan("");
+  result.metrics[1].value = std::numeric_limits<double>::infinity();
+  ASSERT_TRUE(db_.store(result));
+  const auto record = db_.find_check("r-nan");
+  ASSERT_TRUE(record && record->result);
+  ASSERT_EQ(record->result->metrics.size(), result.metrics.size());
+  EXPECT_TRUE(std::isnan(record->result->metrics[0].value));
+  EXPECT_TRUE(std::isnan(record->result->metrics[1].value));  // infinite is stored NULL too
+  EXPECT_EQ(record->result->metrics[2].value, result.metrics[2].value);
+  EXPECT_EQ(record->result->reason, result.reason);
+  RawDb raw(path_);
+  EXPECT_EQ(raw.count("metrics"), static_cast<std::int64_t>(result.metrics.size()));
 }
 
 TEST_F(StorageRoundTrip, CorrectionPresentWithoutOffsetsDiffersFromNoCorrection) {

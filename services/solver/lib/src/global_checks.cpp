@@ -528,6 +528,15 @@ CheckResult check_linear_axis_run(const MeasurementSet& set, const MachineConfig
   } catch (const std::invalid_argument& e) {
     return detail::invalid(result, std::string("linear axis run: ") + e.what());
   }
+  if (!iso.has_up || !iso.has_down) {
+    // ISO 230-2's A and B (what the tolerances judge) are bidirectional figures.
+    return detail::invalid(
+        result, "the linear axis run went " + std::string(iso.has_up ? "up (+)" : "down (-)") +
+                    " only (" + std::to_string(readings.size()) +
+                    " readings): its bidirectional accuracy A and reversal B need both "
+                    "directions; measure the run both ways (`ncqual analyze iso230-2` reports "
+                    "the unidirectional figures of this one)");
+  }
   const double nan = std::nan("");
   add(result, machine, "linear_A_mm", iso.A_mm.value_or(nan), "mm");
   add(result, machine, "linear_E_mm", iso.E_mm.value_or(nan), "mm");

@@ -8,6 +8,7 @@
 #include "ncqual/solver/part_setpoints.hpp"
 #include "result_building.hpp"
 
+#include <cmath>
 #include <exception>
 #include <string>
 
@@ -79,6 +80,15 @@ CheckResult solve(const MeasurementSet& set, const MachineConfig& machine, std::
       result = detail::invalid(result, "MeasurementSet.error: " + set.error);
     } else {
       result = dispatch(set, machine);
+      // The last line against a figure no check could evaluate: a NaN or infinite metric cannot
+      // be judged, so neither can the check.
+      std::string unevaluated;
+      for (const Metric& m : result.metrics) {
+        if (!std::isfinite(m.value)) unevaluated += (unevaluated.empty() ? "" : ", ") + m.name;
+      }
+      if (!unevaluated.empty()) {
+        result = detail::invalid(result, "could not be evaluated: " + unevaluated);
+      }
     }
   } catch (const std::exception& e) {
     // Checks do not throw on bad data; this is the last line against a verdict-less result.
