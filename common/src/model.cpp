@@ -4,7 +4,10 @@
 #include "ncqual/check_kinds.hpp"
 #include "ncqual/enum_names.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
 
 namespace ncqual {
 namespace {
@@ -72,6 +75,26 @@ const Metric* find_metric(const CheckResult& result, std::string_view name) {
     if (m.name == name) return &m;
   }
   return nullptr;
+}
+
+int metric_decimals(const Metric& metric) {
+  const bool lower = std::isfinite(metric.lower);
+  const bool upper = std::isfinite(metric.upper);
+  const double band = lower && upper ? metric.upper - metric.lower
+                      : lower        ? std::abs(metric.lower)
+                      : upper        ? std::abs(metric.upper)
+                                     : 0.0;
+  if (!(band > 0)) return 4;
+  // Rounded first, so a tenth of 0.05 (0.005000000000000001) is 3 decimals, not 4.
+  const double digits = std::ceil(-std::log10(band / 10) - 1e-9);
+  return static_cast<int>(std::clamp(digits, 0.0, 9.0));
+}
+
+std::string format_metric_value(const Metric& metric) {
+  if (!std::isfinite(metric.value)) return "n/a";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", metric_decimals(metric), metric.value);
+  return buffer;
 }
 
 MeasurementSet measurement_set_for(const CheckRequest& request, std::int64_t time_ns) {

@@ -320,6 +320,29 @@ TEST_F(DbCli, RecoverKeepsAnOlderSchemaVersionForTheHistorianToMigrate) {
   EXPECT_EQ(db.count_results(), 4);
 }
 
+// `ncqual history` and `trend` show a metric with the resolution its tolerance needs (a tenth of
+// the band):
+// 350.0601 mm against +-0.025 mm is 350.060, out of tolerance, never a rounded 350.1.
+TEST_F(DbCli, HistoryShowsAMetricToATenthOfItsTolerance) {
+  const std::string file = path("resolution.db");
+  {
+    auto db = storage::Database::open(file);
+    CheckResult r = result(1);
+    r.verdict = Verdict::Fail;
+    r.metrics = {{"tool_length_mm", 350.0601, "mm", 349.975, 350.025, false}};
+    db.store(request(1));
+    db.store(r);
+  }
+  const CliRun r = run_cli({"history", "--db", file}, Capture::Separate);
+  ASSERT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("tool_length_mm=350.060(!)"), std::string::npos) << r.out;
+  // `trend` printed it as 350.1 mm (4 significant digits).
+  const CliRun t = run_cli({"trend", "--machine", "m1", "--db", file, "--plant", write_plant(file)},
+                           Capture::Separate);
+  ASSERT_EQ(t.exit_code, 0) << t.out << t.err;
+  EXPECT_NE(t.out.find("350.060 mm (!)"), std::string::npos) << t.out;
+}
+
 TEST_F(DbCli, CountOfAMissingDatabaseIsNotFound) {
   const std::string missing = path("gone.db");
   const CliRun r = run_cli({"count", "--db", missing}, Capture::Separate);

@@ -267,6 +267,15 @@ std::string sample_id_of(const MachineStatus& v);
 // Looks up a metric by name; nullptr when absent.
 const Metric* find_metric(const CheckResult& result, std::string_view name);
 
+// The decimals a metric is shown with: enough that one step of the last digit is at most a tenth
+// of its tolerance band (upper - lower; the finite bound's size for a one-sided band), so no
+// display rounds a value across a tolerance (350.0601 mm against +-0.025 mm: 350.060, never 350.1);
+// 4 when the band gives no scale (no finite bound, or zero), at most 9.
+int metric_decimals(const Metric& metric);
+// The value with metric_decimals(), without its unit; "n/a" for a value that could not be
+// evaluated (NaN, infinite). Every text display of a metric goes through it.
+std::string format_metric_value(const Metric& metric);
+
 // The MeasurementSet that answers `request`, taken at `time_ns`, with nothing measured yet: its
 // machine, request id, kind and parameters.
 MeasurementSet measurement_set_for(const CheckRequest& request, std::int64_t time_ns);

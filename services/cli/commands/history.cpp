@@ -39,7 +39,7 @@ std::string format_metrics(const std::vector<Metric>& metrics) {
   std::string out;
   for (const Metric* m : shown) {
     if (!out.empty()) out += "  ";
-    out += fmt::format("{}={:.4f}{}", m->name, m->value, m->pass ? "" : "(!)");
+    out += fmt::format("{}={}{}", m->name, format_metric_value(*m), m->pass ? "" : "(!)");
   }
   if (shown.size() < metrics.size()) {
     out += fmt::format("  (+{} more; --json for all)", metrics.size() - shown.size());

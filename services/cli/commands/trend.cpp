@@ -105,11 +105,11 @@ int run(const Options& o) {
                                      fmt::format("{}/{}/{}", b.pass, b.fail, b.invalid));
       for (const auto& [use, name] : ranked) {
         auto it = b.worst.find(name);
-        line += fmt::format("{:<26}",
-                            it == b.worst.end()
-                                ? std::string()
-                                : fmt::format("{:.4g} {}{}", it->second.value, it->second.unit,
-                                              band_use(it->second) > 1 ? " (!)" : ""));
+        line += fmt::format(
+            "{:<26}", it == b.worst.end()
+                          ? std::string()
+                          : fmt::format("{} {}{}", format_metric_value(it->second), it->second.unit,
+                                        band_use(it->second) > 1 ? " (!)" : ""));
       }
       fmt::print("{}\n", line);
     }
