@@ -94,7 +94,10 @@ std::string format_metric_value(const Metric& metric) {
   if (!std::isfinite(metric.value)) return "n/a";
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", metric_decimals(metric), metric.value);
-  return buffer;
+  std::string text = buffer;
+  // -0.0002 at 3 decimals is 0.000, not "-0.000": the sign of nothing shown says nothing.
+  if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
+  return text;
 }
 
 MeasurementSet measurement_set_for(const CheckRequest& request, std::int64_t time_ns) {

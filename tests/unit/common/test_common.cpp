@@ -56,6 +56,12 @@ TEST(MetricFormat, ShowsATenthOfTheToleranceBand) {
   EXPECT_EQ(format_metric_value(m), "123");
   m.lower = m.upper = 0;  // no scale: 4 decimals
   EXPECT_EQ(format_metric_value(m), "123.4560");
+  m.lower = -0.025;  // a value that rounds to nothing has no sign
+  m.upper = 0.025;
+  m.value = -0.0002;
+  EXPECT_EQ(format_metric_value(m), "0.000");
+  m.value = -0.0006;
+  EXPECT_EQ(format_metric_value(m), "-0.001");
   m.value = std::nan("");
   EXPECT_EQ(format_metric_value(m), "n/a");
 }
