@@ -6,6 +6,7 @@
 #include "result_building.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -57,6 +58,19 @@ struct CoordinatePair {
 };
 constexpr CoordinatePair kPairs[] = {
     {Plane::XY, "x_mm", "y_mm"}, {Plane::YZ, "y_mm", "z_mm"}, {Plane::XZ, "x_mm", "z_mm"}};
+
+// The columns of a grid file: commanded and measured X, Y, Z.
+struct GridColumns {
+  std::array<std::size_t, 3> commanded{}, measured{};
+};
+GridColumns grid_columns(const CsvTable& t) {
+  GridColumns c;
+  const char* const cmd_names[] = {"x_cmd", "y_cmd", "z_cmd"};
+  const char* const meas_names[] = {"x_meas", "y_meas", "z_meas"};
+  for (int k = 0; k < 3; ++k) c.commanded[k] = t.require_column(cmd_names[k]);
+  for (int k = 0; k < 3; ++k) c.measured[k] = t.require_column(meas_names[k]);
+  return c;
+}
 
 }  // namespace
 
@@ -201,11 +215,7 @@ CircleFile read_circle_csv(std::string_view text, const std::string& file,
 
 std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
   const std::size_t c_point = t.require_column("point");
-  const char* const cmd_names[] = {"x_cmd", "y_cmd", "z_cmd"};
-  const char* const meas_names[] = {"x_meas", "y_meas", "z_meas"};
-  std::size_t c_cmd[3], c_meas[3];
-  for (int k = 0; k < 3; ++k) c_cmd[k] = t.require_column(cmd_names[k]);
-  for (int k = 0; k < 3; ++k) c_meas[k] = t.require_column(meas_names[k]);
+  const GridColumns c = grid_columns(t);
 
   std::vector<GridFilePoint> out;
   std::map<std::string, int> names;
@@ -215,8 +225,8 @@ std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
     g.line = row.line;
     g.point = t.cell(row, c_point);
     if (g.point.empty()) t.fail(row.line, c_point, "column 'point' is empty: name the point");
-    for (int k = 0; k < 3; ++k) g.commanded_mm(k) = length_mm(t, row, c_cmd[k]);
-    for (int k = 0; k < 3; ++k) g.measured_mm(k) = length_mm(t, row, c_meas[k]);
+    for (int k = 0; k < 3; ++k) g.commanded_mm(k) = length_mm(t, row, c.commanded[k]);
+    for (int k = 0; k < 3; ++k) g.measured_mm(k) = length_mm(t, row, c.measured[k]);
     const auto [name_it, fresh_name] = names.emplace(g.point, row.line);
     if (!fresh_name) {
       t.fail(row.line, c_point,
@@ -225,7 +235,7 @@ std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
     const auto key = std::make_tuple(g.commanded_mm.x(), g.commanded_mm.y(), g.commanded_mm.z());
     const auto [pos_it, fresh_pos] = positions.emplace(key, std::make_pair(g.point, row.line));
     if (!fresh_pos) {
-      t.fail(row.line, c_cmd[0],
+      t.fail(row.line, c.commanded[0],
              "point '" + g.point + "': commanded position (" +
                  detail::quote_number(g.commanded_mm.x()) + ", " +
                  detail::quote_number(g.commanded_mm.y()) + ", " +
@@ -325,8 +335,7 @@ std::vector<TrackerPoint> tracker_points_for_circle(const CircleFile& circle,
   return out;
 }
 
-// ---- Plausibility against the machine
-// -------------------------------------------------------------
+// ---- Plausibility against the machine ----------------------------------------------------------
 
 double Envelope::span_mm() const { return std::max(100.0, (hi_mm - lo_mm).maxCoeff()); }
 
@@ -348,8 +357,9 @@ Envelope machine_envelope(const GlobalCheckConfig& config) {
 
 namespace {
 
-constexpr double kSpansBeyond = 10;  // how far beyond the envelope a position may lie
 using detail::format_number;
+
+constexpr double kSpansBeyond = 10;      // how far beyond the envelope a position may lie
 constexpr double kDeviationShare = 0.1;  // how large a deviation may be, as a share of the span
 
 std::string mm(double v) { return format_number(v) + " mm"; }
@@ -406,22 +416,22 @@ void check_circle_envelope(const CsvTable& t, const Envelope& e) {
 }
 
 void check_grid_envelope(const CsvTable& t, const Envelope& e) {
-  const char* const cmd_names[] = {"x_cmd", "y_cmd", "z_cmd"};
-  const char* const meas_names[] = {"x_meas", "y_meas", "z_meas"};
-  std::size_t c_cmd[3], c_meas[3];
-  for (int k = 0; k < 3; ++k) c_cmd[k] = t.require_column(cmd_names[k]);
-  for (int k = 0; k < 3; ++k) c_meas[k] = t.require_column(meas_names[k]);
-  const auto vector = [&](const CsvRow& row, const std::size_t(&c)[3]) {
-    return Eigen::Vector3d(t.number(row, c[0]), t.number(row, c[1]), t.number(row, c[2]));
+  if (t.rows.empty()) return;
+  const GridColumns c = grid_columns(t);
+  const auto vector = [&](const CsvRow& row, const std::array<std::size_t, 3>& columns) {
+    return Eigen::Vector3d(t.number(row, columns[0]), t.number(row, columns[1]),
+                           t.number(row, columns[2]));
   };
   const double most = kDeviationShare * e.span_mm();
+  const CsvRow& first = t.rows.front();
+  const Eigen::Vector3d first_commanded = vector(first, c.commanded);
+  const Eigen::Vector3d first_measured = vector(first, c.measured);
   for (const CsvRow& row : t.rows) {
-    for (int k = 0; k < 3; ++k) check_position(t, row, c_cmd[k], k, e);
-    const CsvRow& first = t.rows.front();
-    const double commanded = (vector(row, c_cmd) - vector(first, c_cmd)).norm();
-    const double measured = (vector(row, c_meas) - vector(first, c_meas)).norm();
+    for (int k = 0; k < 3; ++k) check_position(t, row, c.commanded[k], k, e);
+    const double commanded = (vector(row, c.commanded) - first_commanded).norm();
+    const double measured = (vector(row, c.measured) - first_measured).norm();
     if (std::abs(measured - commanded) > most) {
-      t.fail(row.line, c_meas[0],
+      t.fail(row.line, c.measured[0],
              "measured " + mm(measured) + " from the first point (line " +
                  std::to_string(first.line) + ") where commanded " + mm(commanded) +
                  ": more than " + mm(most) + " apart, a tenth of the span of " + envelope_text(e) +
