@@ -15,22 +15,26 @@ void note(std::string& error, const std::string& what) {
   if (error.empty()) error = what;
 }
 
-CheckKind model_kind(msg::CheckKind k, const char* field, std::string& error) {
-  const auto raw = static_cast<std::uint32_t>(k);
-  if (raw >= static_cast<std::uint32_t>(kCheckKindCount)) {
-    note(error, std::string(field) + " = " + std::to_string(raw) + " is not a known check kind");
-    return CheckKind::MonumentPositioning;
+// A wire enum as the model's, whose values run from 0 to `last` with the same numbers: an
+// unknown one is noted ("<field> = 7 is not a known <what>") and becomes `fallback`.
+template <typename Model, typename Wire>
+Model model_enum(Wire w, Model last, Model fallback, const std::string& field, const char* what,
+                 std::string& error) {
+  const auto raw = static_cast<std::uint32_t>(w);
+  if (raw > static_cast<std::uint32_t>(last)) {
+    note(error, field + " = " + std::to_string(raw) + " is not a known " + what);
+    return fallback;
   }
-  return static_cast<CheckKind>(raw);
+  return static_cast<Model>(raw);
+}
+
+CheckKind model_kind(msg::CheckKind k, const char* field, std::string& error) {
+  return model_enum(k, static_cast<CheckKind>(kCheckKindCount - 1), CheckKind::MonumentPositioning,
+                    field, "check kind", error);
 }
 
 Verdict model_verdict(msg::Verdict v, const char* field, std::string& error) {
-  const auto raw = static_cast<std::uint32_t>(v);
-  if (raw > static_cast<std::uint32_t>(Verdict::Invalid)) {
-    note(error, std::string(field) + " = " + std::to_string(raw) + " is not a known verdict");
-    return Verdict::Invalid;
-  }
-  return static_cast<Verdict>(raw);
+  return model_enum(v, Verdict::Invalid, Verdict::Invalid, field, "verdict", error);
 }
 
 msg::AxisPosition wire_axes(const AxisPosition& a) {
@@ -242,12 +246,8 @@ MachineStatus from_wire(const msg::MachineStatus& w, std::string& error) {
   MachineStatus v;
   v.machine_id = w.machine_id();
   v.request_id = w.request_id();
-  const auto raw = static_cast<std::uint32_t>(w.state());
-  if (raw > static_cast<std::uint32_t>(MachineState::Offline)) {
-    note(error, "MachineStatus.state = " + std::to_string(raw) + " is not a known state");
-  } else {
-    v.state = static_cast<MachineState>(raw);
-  }
+  v.state =
+      model_enum(w.state(), MachineState::Offline, v.state, "MachineStatus.state", "state", error);
   if (w.has_last_check()) {
     v.last_kind = model_kind(w.last_kind(), "MachineStatus.last_kind", error);
     v.last_verdict = model_verdict(w.last_verdict(), "MachineStatus.last_verdict", error);
@@ -328,16 +328,16 @@ msg::Acknowledgement to_wire(const Acknowledgement& v) {
   return w;
 }
 Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error) {
-  Acknowledgement v{w.machine_id(),   w.topic(),           w.sample_id(),
-                    w.content_hash(), AckOutcome::Refused, w.by(),
-                    w.instance(),     w.detail(),          w.time_ns()};
-  const auto raw = static_cast<std::uint32_t>(w.outcome());
-  if (raw > static_cast<std::uint32_t>(AckOutcome::Accepted)) {
-    note(error, "outcome = " + std::to_string(raw) + " is not a known acknowledgement outcome");
-  } else {
-    v.outcome = static_cast<AckOutcome>(raw);
-  }
-  return v;
+  return Acknowledgement{w.machine_id(),
+                         w.topic(),
+                         w.sample_id(),
+                         w.content_hash(),
+                         model_enum(w.outcome(), AckOutcome::Accepted, AckOutcome::Refused,
+                                    "outcome", "acknowledgement outcome", error),
+                         w.by(),
+                         w.instance(),
+                         w.detail(),
+                         w.time_ns()};
 }
 
 msg::Alarm to_wire(const Alarm& v) {
@@ -353,15 +353,15 @@ msg::Alarm to_wire(const Alarm& v) {
   return w;
 }
 Alarm from_wire(const msg::Alarm& w, std::string& error) {
-  Alarm v{w.machine_id(), w.alarm_id(), AlarmKind::Conflict, w.active(), w.source(),
-          w.instance(),   w.text(),     w.time_ns()};
-  const auto raw = static_cast<std::uint32_t>(w.kind());
-  if (raw > static_cast<std::uint32_t>(AlarmKind::Storage)) {
-    note(error, "kind = " + std::to_string(raw) + " is not a known alarm kind");
-  } else {
-    v.kind = static_cast<AlarmKind>(raw);
-  }
-  return v;
+  return Alarm{
+      w.machine_id(),
+      w.alarm_id(),
+      model_enum(w.kind(), AlarmKind::Storage, AlarmKind::Conflict, "kind", "alarm kind", error),
+      w.active(),
+      w.source(),
+      w.instance(),
+      w.text(),
+      w.time_ns()};
 }
 
 }  // namespace ncqual::dds

@@ -304,5 +304,42 @@ TEST(WireConversion, MeasurementSetAndResultRoundTrip) {
   EXPECT_NE(error.find("MeasurementSet.kind = 99"), std::string::npos) << error;
 }
 
+// Every enum from the wire is checked: a number this version does not know is reported with its
+// field and becomes a safe value, never an out-of-range enum.
+TEST(WireConversion, UnknownEnumNumbersAreReportedNamingTheField) {
+  std::string error;
+  CheckResult r;
+  r.machine_id = "pm1";
+  auto result = dds::to_wire(r);
+  result.verdict(static_cast<msg::Verdict>(9));
+  EXPECT_EQ(dds::from_wire(result, error).verdict, Verdict::Invalid);
+  EXPECT_EQ(error, "CheckResult.verdict = 9 is not a known verdict");
+
+  error.clear();
+  MachineStatus st;
+  auto status = dds::to_wire(st);
+  status.state(static_cast<msg::MachineState>(42));
+  EXPECT_EQ(dds::from_wire(status, error).state, MachineState::Unknown);
+  EXPECT_EQ(error, "MachineStatus.state = 42 is not a known state");
+
+  error.clear();
+  auto ack = dds::to_wire(Acknowledgement{});
+  ack.outcome(static_cast<msg::AckOutcome>(17));
+  EXPECT_EQ(dds::from_wire(ack, error).outcome, AckOutcome::Refused);
+  EXPECT_EQ(error, "outcome = 17 is not a known acknowledgement outcome");
+
+  error.clear();
+  auto alarm = dds::to_wire(Alarm{});
+  alarm.kind(static_cast<msg::AlarmKind>(5));
+  EXPECT_EQ(dds::from_wire(alarm, error).kind, AlarmKind::Conflict);
+  EXPECT_EQ(error, "kind = 5 is not a known alarm kind");
+
+  error.clear();
+  auto known = dds::to_wire(Alarm{});
+  known.kind(msg::AlarmKind::ALARM_STORAGE);
+  EXPECT_EQ(dds::from_wire(known, error).kind, AlarmKind::Storage);
+  EXPECT_TRUE(error.empty()) << error;
+}
+
 }  // namespace
 }  // namespace ncqual
