@@ -92,12 +92,16 @@ struct TrackerPoint {
   Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();
 };
 
+// MeasurementSet::instrument of a set published by `ncqual import` from an instrument's file:
+// no CheckRequest precedes it.
+inline constexpr std::string_view kImportedInstrument = "import";
+
 // Raw measurements answering one CheckRequest. Never the answer: judging is the solver's.
 struct MeasurementSet {
   std::string machine_id;
   std::string request_id;
   CheckKind kind = CheckKind::MonumentPositioning;
-  std::string instrument;  // "touch_probe", "laser_tracker"
+  std::string instrument;  // "touch_probe", "laser_tracker", kImportedInstrument
   std::string frame;       // frame of the coordinates: "machine", "tracker"
   std::int64_t time_ns = 0;
   std::vector<Touch> touches;

@@ -64,7 +64,7 @@ int run(const Options& o) {
   MeasurementSet set;
   set.machine_id = machine_id;
   set.request_id = new_sample_id("import", machine_id);
-  set.instrument = "import";
+  set.instrument = kImportedInstrument;
   set.frame = "tracker";
   set.time_ns = clock.now_ns();
   set.parameters.push_back({"imported", 1, ""});

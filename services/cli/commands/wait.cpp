@@ -41,7 +41,7 @@ int run(const Options& o) {
   // imported set (`ncqual import`) has no request.
   auto complete = [](const std::optional<storage::CheckRecord>& rec) {
     return rec && rec->measurement && rec->result &&
-           (rec->request || rec->measurement->instrument == "import");
+           (rec->request || rec->measurement->instrument == kImportedInstrument);
   };
   while (true) {
     if (std::filesystem::exists(path)) {
