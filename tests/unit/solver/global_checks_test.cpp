@@ -124,6 +124,36 @@ TEST(GlobalChecks, GridRecoversInjectedSquarenessScaleAndThermalExpansion) {
   }
 }
 
+// Issue 14: `analyze grid` took two Z planes while `import grid` refused them ("commanded Z has 2
+// distinct position(s)") because only the service identifies the rigid-body errors. One rule now:
+// an axis with two positions gets linear error functions, with one it is refused by both.
+TEST(GlobalChecks, AGridOfTwoZPlanesIsJudgedAndItsVolumetricModelIsLinearInZ) {
+  MachineConfig m = pm1();
+  ASSERT_TRUE(m.tolerances.count("volumetric_residual_after_mm"));
+  GlobalCheckConfig& g = *m.global_check;
+  ASSERT_GE(g.grid_z_mm.size(), 3U);
+  g.grid_z_mm = {g.grid_z_mm.front(), g.grid_z_mm.back()};
+  sim::SimulatorConfig c = perfect(m, 20e-6, 0.004);
+  c.volumetric.rigid_body.ec0xy_rad = 40e-6;
+  c.volumetric.rigid_body.ea0yz_rad = 30e-6;
+  c.volumetric.temperature_C = Eigen::Vector3d(20.0, 20.0, 22.0);  // Z +23 um/m
+  const CheckResult grid = run(m, c, CheckKind::GlobalGrid, "two-planes");
+  ASSERT_NE(grid.verdict, Verdict::Invalid) << grid.reason;
+  const double sigma = worst_point_sigma(m, c);
+  const std::size_t nx = g.grid_x_mm.size(), ny = g.grid_y_mm.size();
+  const double sy = slope_sigma(g.grid_y_mm, nx * 2, sigma);
+  const double sz = slope_sigma(g.grid_z_mm, nx * ny, sigma);
+  EXPECT_NEAR(metric(grid, "grid_squareness_yz_urad").value, 30, 5 * std::hypot(sy, sz) * 1e6);
+  EXPECT_NEAR(metric(grid, "grid_scale_z_um_per_m").value, 23, 5 * sz * 1e6);
+  // A linear machine seen through a linear-in-Z model leaves only the tracker's noise.
+  EXPECT_LT(metric(grid, "volumetric_residual_after_mm").value, 6 * sigma);
+
+  g.grid_z_mm = {g.grid_z_mm.front()};
+  const CheckResult flat = run(m, c, CheckKind::GlobalGrid, "one-plane");
+  EXPECT_EQ(flat.verdict, Verdict::Invalid);
+  EXPECT_NE(flat.reason.find("plane"), std::string::npos) << flat.reason;
+}
+
 TEST(GlobalChecks, LinearRunSeesTheReversalAndFailsWithBacklashFirst) {
   const MachineConfig m = pm1();
   sim::SimulatorConfig c = perfect(m, 20e-6, 0.004);

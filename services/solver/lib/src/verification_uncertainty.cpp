@@ -245,7 +245,8 @@ LinearIdentification linearise(const VerificationDesign& design,
   const detail::AxisGauge gauge =
       detail::axis_gauge(commanded, design.max_degree, std::nullopt, [](char axis, int distinct) {
         return "VerificationDesign.points: commanded " + std::string(1, axis) + " = " +
-               std::to_string(distinct) + " distinct position(s): at least 3 are needed per axis";
+               std::to_string(distinct) + " distinct position(s): at least " +
+               std::to_string(detail::kMinimumAxisPositions) + " are needed per axis";
       });
   const std::vector<Param> params =
       detail::candidate_parameters(gauge.cap, detail::CandidateSet::TrackerPoints);

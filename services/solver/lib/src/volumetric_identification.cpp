@@ -510,12 +510,13 @@ void check_options(const IdentificationOptions& o) {
   }
 }
 
-// The axis gauge of the commanded positions, refusing an axis with fewer than 3 distinct positions.
+// The axis gauge of the commanded positions, refusing an axis with fewer than 2 distinct positions.
 detail::AxisGauge axis_gauge(const std::vector<Vector3d>& commanded, const IdentificationOptions& o,
                              const std::string& field) {
   return detail::axis_gauge(commanded, o.max_degree, o.axis_range_mm, [&](char axis, int distinct) {
     return field + ": commanded " + std::string(1, axis) + " has " + std::to_string(distinct) +
-           " distinct position(s); at least 3 are needed per axis";
+           " distinct position(s); at least " + std::to_string(detail::kMinimumAxisPositions) +
+           " are needed per axis";
   });
 }
 

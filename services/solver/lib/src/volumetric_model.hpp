@@ -102,14 +102,19 @@ inline int distinct_positions(std::vector<double> q) {
 
 // Per axis X, Y, Z: the range [lo, hi] (mm) the Legendre polynomials are normalised over and the
 // highest order the design supports, min(max_degree, distinct positions - 1).
+// The fewest distinct commanded positions an axis needs, the same for every identification.
+inline constexpr int kMinimumAxisPositions = 2;
+
 struct AxisGauge {
   std::array<double, 3> lo{}, hi{};
   std::array<int, 3> cap{};
 };
 
 // The AxisGauge of the commanded positions, [lo, hi] = `range` if given, else the commanded min
-// and max. Refuses the first axis with fewer than 3 distinct positions with too_few(axis letter,
-// distinct positions) as the message.
+// and max. Refuses the first axis with fewer than 2 distinct positions with too_few(axis letter,
+// distinct positions) as the message: two positions give an axis linear error functions (its
+// scale, its squareness, linear straightness and angular terms), which is also all the affine
+// grid analysis (global_grid.hpp) takes from them; one is refused by both.
 inline AxisGauge axis_gauge(const std::vector<Eigen::Vector3d>& commanded, int max_degree,
                             const std::optional<std::array<std::array<double, 2>, 3>>& range,
                             const std::function<std::string(char axis, int distinct)>& too_few) {
@@ -119,7 +124,7 @@ inline AxisGauge axis_gauge(const std::vector<Eigen::Vector3d>& commanded, int m
     q.reserve(commanded.size());
     for (const auto& c : commanded) q.push_back(c[static_cast<Eigen::Index>(a)]);
     const int distinct = distinct_positions(q);
-    if (distinct < 3) throw std::invalid_argument(too_few("XYZ"[a], distinct));
+    if (distinct < kMinimumAxisPositions) throw std::invalid_argument(too_few("XYZ"[a], distinct));
     const auto [mn, mx] = std::minmax_element(q.begin(), q.end());
     g.lo[a] = range ? (*range)[a][0] : *mn;
     g.hi[a] = range ? (*range)[a][1] : *mx;

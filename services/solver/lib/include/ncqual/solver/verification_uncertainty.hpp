@@ -193,7 +193,7 @@ struct VerificationUncertainty {
 // comment: what is propagated, the measurand, the method). Pure: same inputs, same results,
 // whatever options.threads. Refuses (std::invalid_argument naming field and value): an empty
 // design, non-finite design points, duplicate (commanded, tool offset) pairs, an axis with fewer
-// than 3 distinct positions, fewer observations than unknowns, a design that cannot fix the
+// than 2 distinct positions, fewer observations than unknowns, a design that cannot fix the
 // frame; identification settings out of range; non-finite tracker pose, negative or non-finite
 // sigmas, samples_per_point < 1, a point at the tracker; non-finite or negative sources (alpha,
 // Delta T may be of either sign); error functions with coefficients over an empty range;

@@ -191,7 +191,7 @@ struct IdentifiedErrors {
 // Input A. Identifies the errors and the 6-dof instrument frame from tracker points.
 // Refuses (std::invalid_argument naming the field and the value): an empty list; non-finite
 // commanded, tool offset or measured coordinates; sigma_mm not finite and > 0; duplicate
-// (commanded, tool offset) pairs (equal within 1e-6 mm); an axis with fewer than 3 distinct
+// (commanded, tool offset) pairs (equal within 1e-6 mm); an axis with fewer than 2 distinct
 // commanded positions (1e-3 mm apart); fewer observations (3 per point) than unknowns of the
 // candidate model (both counts named); options out of range; data that cannot fix the frame.
 IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& points,
@@ -214,7 +214,7 @@ IdentifiedErrors identify_rigid_body_errors(const std::vector<VolumetricPoint>& 
 // offset. Refuses (std::invalid_argument naming the field and the value): an empty list; diagonal
 // not in 0..3; non-finite values; direction not a unit vector (1e-6); sigma_mm not finite and > 0;
 // a start reading (first of its diagonal) with displacement_mm != 0; a diagonal with a repeated
-// commanded position; an axis with fewer than 3 distinct positions; fewer moved readings than
+// commanded position; an axis with fewer than 2 distinct positions; fewer moved readings than
 // unknowns (both counts named); options out of range.
 IdentifiedErrors identify_from_diagonals(const std::vector<DiagonalReading>& readings,
                                          const IdentificationOptions& options = {});
