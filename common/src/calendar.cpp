@@ -242,10 +242,14 @@ std::int64_t Calendar::next_due(const PeriodConfig& period,
   return due(period, last_pass_ns, t_ns) ? t_ns : next_period_start(period, t_ns);
 }
 
-std::string Calendar::local_text(std::int64_t t_ns) const {
-  const date::sys_time<std::chrono::minutes> sys =
-      date::floor<std::chrono::minutes>(date::sys_time<nanoseconds>{nanoseconds(t_ns)});
-  return date::format("%F %R %Z", date::make_zoned(zone_, sys));
+std::string Calendar::local_text(std::int64_t t_ns, bool seconds) const {
+  const date::sys_time<nanoseconds> t{nanoseconds(t_ns)};
+  if (seconds) {
+    return date::format("%F %T %Ez %Z",
+                        date::make_zoned(zone_, date::floor<std::chrono::seconds>(t)));
+  }
+  return date::format("%F %R %Ez %Z",
+                      date::make_zoned(zone_, date::floor<std::chrono::minutes>(t)));
 }
 
 std::int64_t Calendar::utc_ns(int year, int month, int day, int hour, int minute) const {

@@ -142,6 +142,7 @@ std::string Scheduler::request_id_for(Machine& m, CheckKind kind) {
 }
 
 void Scheduler::start(const std::vector<CheckKind>& cycle) {
+  cycle_ = cycle;
   for (auto& [id, m] : machines_) {
     // Whatever was pending when the last run stopped goes out again under the same id: an
     // acquisition that already measured it ignores it, one that never got it measures now.
@@ -326,11 +327,57 @@ std::string Scheduler::command(const CheckCommand& cmd) {
   for (const auto& p : m.run.pending) {
     if (contains(p.request_ids, cmd.request_id)) return "";  // a resent order: already issued
   }
+  if (std::string why = refusal_while_held(m, cmd.kind); !why.empty()) {
+    spdlog::warn("{}: order {} of {} by {} refused: {}", cmd.machine_id, cmd.request_id,
+                 to_string(cmd.kind), cmd.requested_by, why);
+    return why;
+  }
   // Beside the sequence: an operator's order neither waits for it nor holds it up.
   issue(m, cmd.kind, cmd.requested_by.empty() ? "operator" : cmd.requested_by, cmd.parameters, "",
         false, false, cmd.request_id);
   commit(m);
   return "";
+}
+
+std::size_t Scheduler::sequence_rank(CheckKind kind) const {
+  const CheckKindInfo& info = check_kind_info(kind);
+  if (info.cadence == Cadence::AfterCorrection && info.satisfies) kind = *info.satisfies;
+  std::vector<CheckKind> plan;
+  if (calendar_) {
+    for (const auto& period : calendar_->config().periods) {
+      plan.insert(plan.end(), period.checks.begin(), period.checks.end());
+    }
+    const auto& parts = calendar_->config().parts.checks;
+    plan.insert(plan.end(), parts.begin(), parts.end());
+  } else {
+    plan = cycle_;
+  }
+  const auto at = std::find(plan.begin(), plan.end(), kind);
+  if (at != plan.end()) return static_cast<std::size_t>(at - plan.begin());
+  return plan.size() + static_cast<std::size_t>(check_kind_info(kind).cadence) * kCheckKindCount +
+         static_cast<std::size_t>(kind);
+}
+
+std::string Scheduler::refusal_while_held(const Machine& m, CheckKind kind) const {
+  if (!m.run.hold) return "";
+  const Hold& h = *m.run.hold;
+  const bool held_check = kind == h.rerun || intervention_matches(kind, h.kind);
+  const bool part_check = check_kind_info(kind).cadence == Cadence::PerPart;
+  if (held_check || (!part_check && sequence_rank(kind) < sequence_rank(h.kind))) return "";
+  std::vector<CheckKind> allowed;
+  for (const auto& info : check_kinds()) {
+    if (!has_sections_for(*m.config, info.kind)) continue;
+    if (info.kind == h.rerun || intervention_matches(info.kind, h.kind) ||
+        (info.cadence != Cadence::PerPart && sequence_rank(info.kind) < sequence_rank(h.kind))) {
+      allowed.push_back(info.kind);
+    }
+  }
+  return "CheckCommand.kind '" + std::string(to_string(kind)) + "': machine '" +
+         m.config->machine_id + "' is held (NEEDS_INTERVENTION) by " +
+         std::string(to_string(h.kind)) + " (request " + h.request_id +
+         "); a PASS of this check would look like a release of production. While held, only " +
+         "the held check and the checks before it may be ordered (" + kind_list(allowed) +
+         "); the hold: " + h.detail;
 }
 
 void Scheduler::result(const CheckResult& res) {

@@ -25,6 +25,10 @@
 // Without a calendar: start() runs the given checks once per machine, in order (the first
 // failure holds the machine, interventions re-arm it), then the machine is QUALIFIED.
 // Operator orders (CheckCommand) run at once beside the sequence; their verdicts count like any.
+// While a machine is held, an order is taken only for the held check (or what its intervention
+// re-runs) and for the checks before it in the plant's sequence (diagnostics); a later check, and
+// any part check unless a part check is what holds it, is refused naming the hold: its PASS would
+// look like a release of production. Every request names who ordered it (requested_by).
 //
 // Durable state: every decision is written to the state file (storage::StateFile), with the
 // outbox entries of the requests and statuses it produced, before any of them leaves; so a kill at
@@ -122,7 +126,8 @@ class Scheduler {
   // Takes the decisions the time calls for: shift starts, parts, timeouts and retries.
   void tick();
 
-  // An operator's order. Returns an empty string, or why it was refused (naming the field).
+  // An operator's order. Returns an empty string, or why it was refused (naming the field, and
+  // the hold when the machine is held).
   std::string command(const CheckCommand& cmd);
   // A result from the solver. Results of requests this scheduler did not issue are ignored.
   void result(const CheckResult& res);
@@ -166,6 +171,13 @@ class Scheduler {
   void update_state(Machine& m, const std::string& request_id, std::optional<CheckKind> kind,
                     std::optional<Verdict> verdict, const std::string& detail_if_changed = "");
   std::string request_id_for(Machine& m, CheckKind kind);
+  // The place of `kind` in the plant's qualification sequence (smaller runs first): the
+  // calendar's periods in their order, then its part checks; without a calendar the cycle given
+  // to start(); kinds in neither after them, by cadence. A check that verifies a correction
+  // stands where the kind it satisfies does.
+  std::size_t sequence_rank(CheckKind kind) const;
+  // Why an order of `kind` is refused while `m` is held; empty when it is allowed.
+  std::string refusal_while_held(const Machine& m, CheckKind kind) const;
   // Writes the state, then sends what the decision produced.
   void commit(Machine& m);
 
@@ -178,6 +190,7 @@ class Scheduler {
   std::map<std::string, int> rotation_;
   std::vector<CheckRequest> outbox_requests_;
   std::vector<MachineStatus> outbox_statuses_;
+  std::vector<CheckKind> cycle_;  // start()'s, for sequence_rank without a calendar
   // The calendar's (or the default's) timeout and retries.
   double check_timeout_min_ = 0;
   std::int64_t check_timeout_ns_ = 0;

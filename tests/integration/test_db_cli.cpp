@@ -140,7 +140,7 @@ class DbCli : public ::testing::Test {
     return file;
   }
 
-  std::string write_plant(const std::string& db_file) {
+  std::string write_plant(const std::string& db_file, const std::string& extra = "") {
     const std::string machine = tmp_.write("m1.yaml", R"(machine_id: m1
 probe: {tool_length_mm: 350.0, ball_radius_mm: 3.0}
 monument: {hole_center_mm: [1200.0, 800.0], hole_diameter_mm: 50.0, face_z_mm: 150.0}
@@ -150,7 +150,7 @@ tolerances:
   face_dz_mm: 0.025
 )");
     return tmp_.write("plant.yaml", "plant: db-test\ndomain_id: 0\nhistorian:\n  database: " +
-                                        db_file + "\nmachines:\n  - " + machine + "\n");
+                                        db_file + "\nmachines:\n  - " + machine + "\n" + extra);
   }
 
   testing_cli::TempDir tmp_{"ncqual-db-cli"};
@@ -341,6 +341,36 @@ TEST_F(DbCli, HistoryShowsAMetricToATenthOfItsTolerance) {
                            Capture::Separate);
   ASSERT_EQ(t.exit_code, 0) << t.out << t.err;
   EXPECT_NE(t.out.find("350.060 mm (!)"), std::string::npos) << t.out;
+}
+
+// Issue 14: `history` printed UTC while `status` printed the plant's local time, and nothing said
+// who ordered a check. Both now read in the plant's zone with the offset; each row names who
+// ordered it.
+TEST_F(DbCli, HistoryIsInThePlantsTimeZoneWithTheOffsetAndSaysWhoOrdered) {
+  const std::string file = path("zone.db");
+  {
+    auto db = storage::Database::open(file);
+    CheckRequest ordered = request(1);
+    ordered.requested_by = "operator:ann";
+    db.store(ordered);
+    db.store(result(1));
+    db.store(request(2));  // the scheduler's, no result yet
+  }
+  // 2027-01-15 08:00:01Z is 09:00:01 in Berlin (CET, +01:00).
+  const CliRun local =
+      run_cli({"history", "--db", file, "--plant",
+               write_plant(file, "scheduler:\n  calendar:\n    time_zone: Europe/Berlin\n")},
+              Capture::Separate);
+  ASSERT_EQ(local.exit_code, 0) << local.out << local.err;
+  EXPECT_NE(local.out.find("time (Europe/Berlin)"), std::string::npos) << local.out;
+  EXPECT_NE(local.out.find("2027-01-15 09:00:01 +01:00 CET"), std::string::npos) << local.out;
+  EXPECT_NE(local.out.find("ordered by"), std::string::npos) << local.out;
+  EXPECT_NE(local.out.find("operator:ann"), std::string::npos) << local.out;
+  EXPECT_NE(local.out.find("pending  scheduler"), std::string::npos) << local.out;
+  // Without a plant config: UTC, still with its offset.
+  const CliRun utc = run_cli({"history", "--db", file}, Capture::Separate);
+  ASSERT_EQ(utc.exit_code, 0) << utc.out << utc.err;
+  EXPECT_NE(utc.out.find("2027-01-15 08:00:01 +00:00 UTC"), std::string::npos) << utc.out;
 }
 
 TEST_F(DbCli, CountOfAMissingDatabaseIsNotFound) {

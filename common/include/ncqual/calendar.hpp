@@ -119,8 +119,12 @@ class Calendar {
   std::int64_t next_due(const PeriodConfig& period, std::optional<std::int64_t> last_pass_ns,
                         std::int64_t t_ns) const;
 
-  // "2026-03-29 06:00 CEST": t in the plant's zone, to the minute.
-  std::string local_text(std::int64_t t_ns) const;
+  // "2026-03-29 06:00 +02:00 CEST": t in the plant's zone with its offset from UTC, to the
+  // minute, or to the second ("2026-03-29 06:00:07 +02:00 CEST") with `seconds`. Every time a
+  // person reads (status, history, trend, the scheduler's log) is written this way.
+  std::string local_text(std::int64_t t_ns, bool seconds = false) const;
+  // The plant's time zone ("Europe/Berlin").
+  const std::string& zone_name() const { return config_.time_zone; }
   // The UTC instant of a local date and time in the plant's zone (DST rules as above).
   std::int64_t utc_ns(int year, int month, int day, int hour, int minute) const;
 

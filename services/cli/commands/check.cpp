@@ -94,7 +94,7 @@ int run(const Options& o) {
   if (o.json) {
     std::cout << storage::to_json(rec).dump(2) << "\n";
   } else {
-    print_check_records({rec});
+    print_check_records({rec}, Calendar(plant.calendar.value_or(default_calendar_config())));
   }
   return exit_code_of(got->verdict);
 }

@@ -6,6 +6,7 @@
 
 #include "exit_codes.hpp"
 
+#include "ncqual/calendar.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/model.hpp"
 #include "ncqual/storage.hpp"
@@ -95,6 +96,9 @@ PlantConfig plant_from(const std::string& plant_flag);
 // The plant's machine `machine_id`; UsageError naming it when the plant has no such machine.
 const MachineConfig& configured_machine(const PlantConfig& plant, const std::string& machine_id);
 
+// The calendar of the plant config of --plant or NCQUAL_PLANT (its time zone is the one people
+// read times in); the default calendar (UTC) when neither names one.
+Calendar plant_calendar(const std::string& plant_flag);
 // The historian database of history, wait and count: --db, else the plant config's (--plant or
 // NCQUAL_PLANT), else the demo's var/historian.db ($NCQUAL_VAR); UsageError when there is none.
 std::string database_path(const std::optional<std::string>& db, const std::string& plant_flag);
@@ -125,8 +129,10 @@ std::optional<solver::Plane> plane_option(const std::optional<std::string>& text
 // --centre-mm U,V: two numbers (mm); UsageError naming the value otherwise.
 std::pair<double, double> centre_option(const std::string& text);
 
-// Checks as a table (history, check --wait; history.cpp): one row per check, with the reason
-// and the first likely cause of those that did not pass.
-void print_check_records(const std::vector<storage::CheckRecord>& records);
+// Checks as a table (history, check --wait; history.cpp): one row per check (its time in the
+// calendar's zone with the offset, who ordered it), with the reason and the first likely cause of
+// those that did not pass.
+void print_check_records(const std::vector<storage::CheckRecord>& records,
+                         const Calendar& calendar);
 
 }  // namespace ncqual::cli

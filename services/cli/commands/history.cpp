@@ -4,11 +4,13 @@
 //   ncqual history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--since-ns T]
 //                  [--json]
 //
-// The table shows per check its time, machine, kind, verdict and at most six metrics; --json
-// prints every stored record (ncqual/storage_json.hpp). Exit codes: 0, 6 when there is no
-// historian database at the path.
+// The table shows per check its time (in the plant's time zone with the offset, UTC without a
+// plant config), machine, kind, verdict, who ordered it and at most six metrics; --json prints
+// every stored record (ncqual/storage_json.hpp; times as ns since the epoch, UTC). Exit codes: 0, 6
+// when there is no historian database at the path.
 #include "commands.hpp"
 
+#include "ncqual/calendar.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/storage_json.hpp"
@@ -70,24 +72,32 @@ int run(const Options& o) {
   if (o.json) {
     std::cout << nlohmann::json(records).dump(2) << "\n";
   } else {
-    print_check_records(records);
+    print_check_records(records, plant_calendar(o.plant));
   }
   return kExitOk;
 }
 
 }  // namespace
 
-void print_check_records(const std::vector<storage::CheckRecord>& records) {
-  constexpr const char* kRow = "{:<24} {:<10} {:<22} {:<8} {}\n";
-  fmt::print(kRow, "time (UTC)", "machine", "check", "verdict", "metrics ((!) = out of tolerance)");
+void print_check_records(const std::vector<storage::CheckRecord>& records,
+                         const Calendar& calendar) {
+  constexpr const char* kRow = "{:<30} {:<10} {:<22} {:<8} {:<16} {}\n";
+  fmt::print(kRow, "time (" + calendar.zone_name() + ")", "machine", "check", "verdict",
+             "ordered by", "metrics ((!) = out of tolerance)");
+  constexpr std::size_t kIndent = 65;  // under the verdict
   for (const auto& r : records) {
-    char buf[32];
     const std::int64_t t = r.result ? r.result->time_ns : (r.request ? r.request->time_ns : 0);
     const std::string_view verdict = r.result ? to_string(r.result->verdict) : "pending";
     const std::string_view kind = r.result    ? to_string(r.result->kind)
                                   : r.request ? to_string(r.request->kind)
                                               : "?";
-    fmt::print(kRow, format_iso8601(t, buf), r.machine_id, kind, verdict,
+    // Who ordered it: the scheduler's plan, an intervention, an operator; an imported file has no
+    // request; "?" while the historian has the result without its request.
+    const std::string by = r.request ? r.request->requested_by
+                           : r.measurement && r.measurement->instrument == kImportedInstrument
+                               ? std::string(kImportedInstrument)
+                               : std::string("?");
+    fmt::print(kRow, calendar.local_text(t, true), r.machine_id, kind, verdict, by,
                r.result ? format_metrics(r.result->metrics) : "");
     if (r.result && r.result->verdict != Verdict::Pass) {
       if (!r.result->reason.empty()) {
@@ -95,17 +105,17 @@ void print_check_records(const std::vector<storage::CheckRecord>& records) {
         constexpr std::size_t kShownReason = 300;
         std::string reason = r.result->reason;
         if (reason.size() > kShownReason) reason = reason.substr(0, kShownReason) + " ...";
-        fmt::print("{:59} reason: {}\n", "", reason);
+        fmt::print("{:{}} reason: {}\n", "", kIndent, reason);
       }
       if (!r.result->likely_causes.empty()) {
-        fmt::print("{:59} first likely cause: {}\n", "", r.result->likely_causes.front());
+        fmt::print("{:{}} first likely cause: {}\n", "", kIndent, r.result->likely_causes.front());
       }
     }
     if (r.conflicts > 0) {
       // Another sample with this request id and other content reached the historian: the row
       // above is the one stored first; `ncqual conflicts` shows the other.
-      fmt::print("{:59} CONFLICT: {} other sample(s) with this request id kept beside it\n", "",
-                 r.conflicts);
+      fmt::print("{:{}} CONFLICT: {} other sample(s) with this request id kept beside it\n", "",
+                 kIndent, r.conflicts);
     }
   }
 }

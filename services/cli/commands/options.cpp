@@ -90,6 +90,12 @@ const MachineConfig& configured_machine(const PlantConfig& plant, const std::str
   return *m;
 }
 
+Calendar plant_calendar(const std::string& plant_flag) {
+  const std::string plant = plant_config_path(plant_flag);
+  if (plant.empty()) return Calendar(default_calendar_config());
+  return Calendar(load_plant_config(plant).calendar.value_or(default_calendar_config()));
+}
+
 std::string database_path(const std::optional<std::string>& db, const std::string& plant_flag) {
   if (db) return *db;
   const std::string plant = plant_config_path(plant_flag);

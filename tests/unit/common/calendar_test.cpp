@@ -76,8 +76,9 @@ TEST(Calendar, NightShiftIsAnHourShorterWhenTheClocksSpringForward) {
   EXPECT_EQ(fall->start_ns, utc("2026-10-24T20:00:00Z"));
   EXPECT_EQ(fall->end_ns, utc("2026-10-25T05:00:00Z"));
   EXPECT_EQ(fall->end_ns - fall->start_ns, 9 * kHour);
-  EXPECT_EQ(cal.local_text(fall->end_ns), "2026-10-25 06:00 CET");
-  EXPECT_EQ(cal.local_text(s->end_ns), "2026-03-29 06:00 CEST");
+  EXPECT_EQ(cal.local_text(fall->end_ns), "2026-10-25 06:00 +01:00 CET");
+  EXPECT_EQ(cal.local_text(s->end_ns), "2026-03-29 06:00 +02:00 CEST");
+  EXPECT_EQ(cal.local_text(s->end_ns + 7'400'000'000, true), "2026-03-29 06:00:07 +02:00 CEST");
 }
 
 TEST(Calendar, LocalTimesInTheGapStartAfterItAndRepeatedOnesTakeTheFirst) {

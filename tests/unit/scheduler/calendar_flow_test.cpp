@@ -291,6 +291,79 @@ TEST(CalendarFlow, AFailureHoldsTheMachineUntilAnInterventionReArmsTheCheck) {
   EXPECT_EQ(s.state("m1"), MachineState::Qualified);
 }
 
+// Issue 14: a part check ordered on a held machine passed and released nothing on paper, but
+// looked like production had resumed. Orders on a held machine: the held check and the checks
+// before it run (diagnostics, the machine stays held); later checks and part checks are refused
+// naming the hold; every request names who ordered it.
+TEST(CalendarFlow, OrdersThatWouldReleaseAHeldMachineAreRefusedNamingTheHold) {
+  PlantConfig p = plant({machine("m1")});
+  p.calendar->periods = {default_calendar_config().periods[2]};
+  p.calendar->parts.checks = {CheckKind::PartSetPoints};
+  Driver d(utc("2026-01-05T00:00:00Z"));
+  d.answer = [&](const CheckRequest& r) {
+    if (r.kind == CheckKind::MonumentToolLength && r.requested_by == "scheduler") {
+      return Answer{Verdict::Fail, {"bent stylus"}};
+    }
+    return Answer{};
+  };
+  Scheduler s(p, d.clock, d.outputs());
+  s.start({});
+  d.run(s, utc("2026-01-05T12:00:00Z"));
+  ASSERT_EQ(s.state("m1"), MachineState::NeedsIntervention);
+  const std::string held_request = d.requests.back().request_id;
+  const std::size_t before = d.requests.size();
+
+  for (CheckKind later :
+       {CheckKind::PartSetPoints, CheckKind::MonumentPositioning, CheckKind::MonumentCRotation}) {
+    const std::string why =
+        s.command({"m1", "order-" + std::string(to_string(later)), later, "operator:ann", 0, {}});
+    EXPECT_NE(why.find("CheckCommand.kind '" + std::string(to_string(later)) + "'"),
+              std::string::npos)
+        << why;
+    EXPECT_NE(why.find("held (NEEDS_INTERVENTION) by monument_tool_length (request " +
+                       held_request + ")"),
+              std::string::npos)
+        << why;
+    EXPECT_NE(why.find("bent stylus"), std::string::npos) << why;
+    EXPECT_NE(why.find("(monument_c_alignment, monument_tool_length)"), std::string::npos) << why;
+  }
+  EXPECT_EQ(d.requests.size(), before);
+
+  // The held check and the one before it may be ordered; their PASS leaves the machine held.
+  EXPECT_EQ(s.command({"m1", "diag-1", CheckKind::MonumentToolLength, "operator:ann", 0, {}}), "");
+  EXPECT_EQ(s.command({"m1", "diag-2", CheckKind::MonumentCAlignment, "operator:bob", 0, {}}), "");
+  ASSERT_EQ(d.requests.size(), before + 2);
+  EXPECT_EQ(d.requests[before].requested_by, "operator:ann");
+  EXPECT_EQ(d.requests[before + 1].requested_by, "operator:bob");
+  d.run(s, utc("2026-01-05T13:00:00Z"));
+  EXPECT_EQ(s.state("m1"), MachineState::NeedsIntervention);
+
+  // After the intervention the part check may be ordered again.
+  EXPECT_EQ(s.intervention({"m1", "iv-1", CheckKind::MonumentToolLength, "stylus", "ann", 0}), "");
+  EXPECT_EQ(s.command({"m1", "part-1", CheckKind::PartSetPoints, "operator:ann", 0, {}}), "");
+}
+
+// Without a calendar the order of the cycle given to start() is the sequence.
+TEST(CalendarFlow, WithoutACalendarTheCycleOrdersTheChecksAHoldAllows) {
+  PlantConfig p = plant({machine("m1")});
+  p.calendar.reset();
+  Driver d(utc("2026-01-05T00:00:00Z"));
+  d.answer = [&](const CheckRequest& r) {
+    return r.kind == CheckKind::MonumentToolLength ? Answer{Verdict::Invalid, {}} : Answer{};
+  };
+  Scheduler s(p, d.clock, d.outputs());
+  s.start({CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
+           CheckKind::MonumentPositioning});
+  while (d.deliver_one(s)) {}
+  ASSERT_EQ(s.state("m1"), MachineState::NeedsIntervention);
+  EXPECT_EQ(s.command({"m1", "a", CheckKind::MonumentCAlignment, "operator:ann", 0, {}}), "");
+  EXPECT_NE(
+      s.command({"m1", "b", CheckKind::MonumentPositioning, "operator:ann", 0, {}}).find("is held"),
+      std::string::npos);
+  EXPECT_NE(s.command({"m1", "c", CheckKind::PartSetPoints, "operator:ann", 0, {}}).find("is held"),
+            std::string::npos);
+}
+
 TEST(CalendarFlow, FixtureLoopCorrectsAndTheWeekIsDone) {
   PlantConfig p = plant({machine("m1", "F")});
   p.calendar->periods = {default_calendar_config().periods[1],
