@@ -84,6 +84,26 @@ struct PartSetPointsConfig {
   std::vector<SetPointConfig> points;  // empty: the machine has no set-point check
 };
 
+// The `probing:` section: how the machine's control runs the touch plans of the probe checks
+// (ncqual/probing/plan.hpp: the simulator runs the same plans) and in which coordinates and units
+// it writes them and logs the touches (docs/connecting-a-machine.md). The defaults are the
+// simulator's.
+inline constexpr double kDefaultProbingClearanceMm = 5.0;
+inline constexpr double kDefaultProbingOvertravelMm = 5.0;
+struct ProbingConfig {
+  double clearance_mm = kDefaultProbingClearanceMm;    // ball to surface at a probing move's start
+  double overtravel_mm = kDefaultProbingOvertravelMm;  // searched beyond the expected contact
+  double probe_feed_mm_per_min = 100.0;      // the probing moves (G38.2, G31)
+  double approach_feed_mm_per_min = 1000.0;  // straight G1 approaches and retracts
+  // Pivot Z of the moves between touches (head turns, moves over the next start); none: 50 mm
+  // above the highest start of the plan.
+  std::optional<double> safe_z_mm;
+  std::string work_offset = "G54";  // G54 .. G59: the programs' and the logs' coordinates
+  // That offset's value in machine coordinates: pivot = program coordinates + work_offset_mm.
+  Eigen::Vector3d work_offset_mm = Eigen::Vector3d::Zero();
+  bool inch = false;  // units: mm (G21) or inch (G20), of the programs and the logs
+};
+
 struct MachineConfig {
   std::string machine_id;
   std::string description;
@@ -95,6 +115,7 @@ struct MachineConfig {
   std::optional<solver::ErrorBudgetConfig> budget;  // the `budget:` section, if any
   std::optional<FixtureConfig> fixture;  // the `fixture:` section (ncqual/fixture.hpp), if any
   PartSetPointsConfig setpoints;         // the `setpoints:` section
+  ProbingConfig probing;                 // the `probing:` section
   std::optional<GlobalCheckConfig> global_check;  // the `global_check:` section (monthly, tracker)
 
   // Tolerance of a metric; throws ConfigError naming the machine and metric when absent.

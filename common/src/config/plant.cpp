@@ -152,6 +152,36 @@ PartSetPointsConfig read_setpoints(const Node& node) {
   return c;
 }
 
+ProbingConfig read_probing(const Node& node) {
+  ProbingConfig c;
+  if (!node.map_of({"clearance_mm", "overtravel_mm", "probe_feed_mm_per_min",
+                    "approach_feed_mm_per_min", "safe_z_mm", "work_offset", "work_offset_mm",
+                    "units"})) {
+    return c;
+  }
+  c.clearance_mm = node["clearance_mm"].length(c.clearance_mm);
+  c.overtravel_mm = node["overtravel_mm"].length(c.overtravel_mm);
+  if (!(c.clearance_mm > 0)) node["clearance_mm"].problem("must be positive");
+  if (!(c.overtravel_mm > 0)) node["overtravel_mm"].problem("must be positive");
+  c.probe_feed_mm_per_min = node["probe_feed_mm_per_min"].number(c.probe_feed_mm_per_min);
+  c.approach_feed_mm_per_min = node["approach_feed_mm_per_min"].number(c.approach_feed_mm_per_min);
+  if (!(c.probe_feed_mm_per_min > 0)) node["probe_feed_mm_per_min"].problem("must be positive");
+  if (!(c.approach_feed_mm_per_min > 0)) {
+    node["approach_feed_mm_per_min"].problem("must be positive");
+  }
+  if (node["safe_z_mm"].present()) c.safe_z_mm = node["safe_z_mm"].length();
+  c.work_offset = node["work_offset"].text(c.work_offset);
+  if (c.work_offset.size() != 3 || c.work_offset.compare(0, 2, "G5") != 0 ||
+      c.work_offset[2] < '4' || c.work_offset[2] > '9') {
+    node["work_offset"].problem("expected one of G54, G55, G56, G57, G58, G59");
+  }
+  c.work_offset_mm = node["work_offset_mm"].lengths(3, Eigen::VectorXd::Zero(3));
+  const std::string units = node["units"].text("mm");
+  if (units != "mm" && units != "inch") node["units"].problem("expected mm or inch");
+  c.inch = units == "inch";
+  return c;
+}
+
 MachineConfig read_machine(const Node& root) {
   MachineConfig m;
   m.source_path = root.file();
@@ -161,7 +191,7 @@ MachineConfig read_machine(const Node& root) {
     return m;
   }
   root.map_of({"machine_id", "description", "probe", "monument", "tolerances", "simulator",
-               "budget", "setpoints", "fixture", "global_check"});
+               "budget", "setpoints", "fixture", "global_check", "probing"});
   const Node id = root["machine_id"];
   m.machine_id = id.required_text().value_or("");
   if (id.present() && !valid_id(m.machine_id)) {
@@ -205,6 +235,7 @@ MachineConfig read_machine(const Node& root) {
     if (const auto t = read_tolerance(node, metric)) m.tolerances[metric] = *t;
   }
   if (root["setpoints"].present()) m.setpoints = read_setpoints(root["setpoints"]);
+  if (root["probing"].present()) m.probing = read_probing(root["probing"]);
   if (root["fixture"].present()) m.fixture = read_fixture(root["fixture"]);
   if (root["global_check"].present()) m.global_check = read_global_check(root["global_check"]);
   if (root["budget"].present()) m.budget = read_budget(root["budget"]);

@@ -470,7 +470,7 @@ TEST(FixtureSimulator, BadRequestsYieldNoTouchesAndSayWhy) {
        "the request's parameter fixture_configuration = 10 is not an integer in 0..9"},
       {fixture_request("pm1", "c", kPost, -1), "fixture_configuration = -1 is not an integer"},
       {fixture_request("pm1", "d", CheckKind::MonumentPositioning, 1),
-       "performs only 'fixture_precal' and 'fixture_postcal', not 'monument_positioning'"},
+       "is for 'fixture_precal' and 'fixture_postcal', not 'monument_positioning'"},
       {fixture_request("pm2", "e", kPre, 1), "the request is for machine 'pm2'"},
   };
   for (const auto& c : cases) {

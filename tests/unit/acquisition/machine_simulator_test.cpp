@@ -285,12 +285,12 @@ TEST(MachineSimulator, GroundTruthIsTheConfiguredErrors) {
 
 TEST(MachineSimulator, ProgramStartsPutTheNominalBallWhereIntended) {
   const MachineConfig m = pm1_like_machine();
-  for (const ProbingMove& move : monument_positioning_program(m)) {
+  for (const ProbingMove& move : probing::monument_positioning_program(m)) {
     const Eigen::Vector3d b = stylus_ball_centre(move.start, m.probe);
     if (move.feature == "hole_edge") {
       EXPECT_NEAR((b - Eigen::Vector3d(1200, 800, 145)).norm(), 0, 1e-12);
     } else {
-      EXPECT_NEAR((b - Eigen::Vector3d(1235, 800, 150 + 3 + kFaceApproachClearanceMm)).norm(), 0,
+      EXPECT_NEAR((b - Eigen::Vector3d(1235, 800, 150 + 3 + kDefaultProbingClearanceMm)).norm(), 0,
                   1e-12);
     }
   }

@@ -2,7 +2,7 @@
 #include "ncqual/sim/fixture_simulator.hpp"
 
 #include "ncqual/sim/contact.hpp"
-#include "ncqual/sim/programs.hpp"
+#include "ncqual/probing/plan.hpp"
 #include "ncqual/sim/request_random.hpp"
 
 #include <cmath>
@@ -14,7 +14,8 @@
 namespace ncqual::sim {
 namespace {
 
-constexpr std::string_view kConfigurationParameter = "fixture_configuration";
+using probing::FixtureMove;
+using probing::FixturePlan;
 // Contact points computed in machine coordinates (~1e3 mm) carry rounding of ~1e-13 mm.
 constexpr double kOnFaceTolMm = 1e-9;
 
@@ -22,103 +23,6 @@ std::string format_number(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.6g", v);
   return buffer;
-}
-
-// ---- The program ----------------------------------------------------------------------------
-
-// One probing move of the fixture program and the pogo placement it probes.
-struct FixtureMove {
-  ProbingMove move;
-  std::size_t placement = 0;  // index into the flattened placements
-  PogoFace face = PogoFace::Top;
-};
-
-struct FixtureProgram {
-  std::vector<PogoPlacement> placements;  // every probed placement, configurations in order
-  std::vector<FixtureMove> moves;
-  std::string error;  // non-empty when the request cannot be performed
-};
-
-// The five touches of one pogo, against its commanded position q = origin + c in the machine
-// frame, with the nominal probe (the machine's program knows nothing better):
-//   top: ball centre starts at q + (0, 0, r + clearance), moves along -Z;
-//   side face with outward normal n: starts at q + (h + r + clearance) n - d e_z, moves along -n;
-// travel clearance + overtravel, head at home (A = C = 0, W = 0).
-void add_pogo_moves(const FixtureConfig& f, const ProbeGeometry& nominal_probe,
-                    const PogoPlacement& placement, int configuration, std::size_t index,
-                    std::vector<FixtureMove>* moves) {
-  const Eigen::Vector3d q = f.to_machine(placement.commanded_mm);
-  const double r = nominal_probe.ball_radius_mm;
-  const double h = f.block_half_size_mm();
-  for (PogoFace face : kPogoFaces) {
-    const Eigen::Vector3d n = outward_normal(face);
-    Eigen::Vector3d start;
-    if (face == PogoFace::Top) {
-      start = q + (r + kFaceApproachClearanceMm) * n;
-    } else {
-      start = q + (h + r + kFaceApproachClearanceMm) * n;
-      start.z() -= f.probe_depth_mm;
-    }
-    FixtureMove m;
-    m.move.feature = pogo_touch_feature(placement.pogo, configuration, face);
-    m.move.start = axes_placing_ball_at(start, 0, 0, 0, nominal_probe);
-    m.move.direction = approach_direction(face);
-    m.move.travel_mm = kFaceApproachClearanceMm + kSearchOvertravelMm;
-    m.placement = index;
-    m.face = face;
-    moves->push_back(std::move(m));
-  }
-}
-
-// "fixture_configuration" of the request: an integer in 0 .. count - 1.
-std::optional<int> configuration_parameter(const CheckRequest& request, int count,
-                                           std::string* error) {
-  const NamedValue* value = find_value(request.parameters, kConfigurationParameter);
-  if (!value) return std::nullopt;
-  const double k = value->value;
-  if (!std::isfinite(k) || k != std::floor(k) || k < 0 || k > count - 1) {
-    *error = "the request's parameter " + std::string(kConfigurationParameter) + " = " +
-             format_number(k) + " is not an integer in 0.." + std::to_string(count - 1);
-    return std::nullopt;
-  }
-  return static_cast<int>(k);
-}
-
-FixtureProgram fixture_program(const FixtureConfig& f, const ProbeGeometry& nominal_probe,
-                               const CheckRequest& request) {
-  FixtureProgram program;
-  const int pre_count = f.precalibration_configuration_count();
-  const auto k = configuration_parameter(request, pre_count, &program.error);
-  if (!program.error.empty()) return program;
-  std::vector<std::vector<PogoPlacement>> configurations;
-  if (request.kind == CheckKind::FixturePreCalibration) {
-    if (!k) {
-      program.error = "a fixture pre-calibration request needs the parameter " +
-                      std::string(kConfigurationParameter) + " (0.." +
-                      std::to_string(pre_count - 1) + ")";
-      return program;
-    }
-    // The pre-calibration probes one configuration; its index in the features is k itself.
-    configurations.assign(static_cast<std::size_t>(*k), {});
-    configurations.push_back(precalibration_configuration(f, *k));
-  } else if (request.kind == CheckKind::FixturePostCalibration) {
-    configurations =
-        postcalibration_configurations(f, k ? precalibration_rows(f, *k) : RowSelection::All);
-  } else {
-    program.error = "the fixture simulator performs only '" +
-                    std::string(to_string(CheckKind::FixturePreCalibration)) + "' and '" +
-                    std::string(to_string(CheckKind::FixturePostCalibration)) + "', not '" +
-                    std::string(to_string(request.kind)) + "'";
-    return program;
-  }
-  for (std::size_t j = 0; j < configurations.size(); ++j) {
-    for (const PogoPlacement& placement : configurations[j]) {
-      program.placements.push_back(placement);
-      add_pogo_moves(f, nominal_probe, placement, static_cast<int>(j),
-                     program.placements.size() - 1, &program.moves);
-    }
-  }
-  return program;
 }
 
 // ---- The touch on the true block --------------------------------------------------------------
@@ -261,8 +165,8 @@ MeasurementSet perform_fixture_check(const MachineSimulator& machine,
                 "' but this simulator is machine '" + machine.machine().machine_id + "'";
     return set;
   }
-  const FixtureProgram program =
-      fixture_program(fixture.fixture(), machine.machine().probe, request);
+  const FixturePlan program = probing::fixture_plan(fixture.fixture(), machine.machine().probe,
+                                                    machine.machine().probing, request);
   if (!program.error.empty()) {
     set.error = program.error;
     return set;

@@ -165,7 +165,11 @@ MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64
                 "' but this simulator is machine '" + machine_.machine_id + "'";
     return set;
   }
-  const auto program = program_for(request.kind, machine_);
+  // The monument and set-point plans run here; the fixture's are perform_fixture_check's.
+  const probing::TouchPlan plan = probing::touch_plan(request, machine_);
+  const std::optional<std::vector<ProbingMove>> program =
+      plan.error.empty() && !is_fixture_check(request.kind) ? std::optional(plan.moves)
+                                                             : std::nullopt;
   if (!program) {
     set.error = "the simulator cannot perform check kind '" + std::string(to_string(request.kind)) +
                 "' yet";

@@ -9,7 +9,7 @@
 #include "ncqual/kinematics.hpp"
 #include "ncqual/model.hpp"
 #include "ncqual/sim/contact.hpp"
-#include "ncqual/sim/programs.hpp"
+#include "ncqual/probing/plan.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 
 #include <cstdint>
@@ -19,6 +19,8 @@
 #include <string>
 
 namespace ncqual::sim {
+
+using probing::ProbingMove;
 
 class MachineSimulator {
  public:
