@@ -93,8 +93,8 @@ inline constexpr double kDefaultProbingOvertravelMm = 5.0;
 struct ProbingConfig {
   double clearance_mm = kDefaultProbingClearanceMm;    // ball to surface at a probing move's start
   double overtravel_mm = kDefaultProbingOvertravelMm;  // searched beyond the expected contact
-  double probe_feed_mm_per_min = 100.0;      // the probing moves (G38.2, G31)
-  double approach_feed_mm_per_min = 1000.0;  // straight G1 approaches and retracts
+  double probe_feed_mm_per_min = 100.0;                // the probing moves (G38.2, G31)
+  double approach_feed_mm_per_min = 1000.0;            // straight G1 approaches and retracts
   // Pivot Z of the moves between touches (head turns, moves over the next start); none: 50 mm
   // above the highest start of the plan.
   std::optional<double> safe_z_mm;

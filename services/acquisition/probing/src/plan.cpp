@@ -153,8 +153,8 @@ std::string format_number(double v) {
 // The five touches of one pogo, against its commanded position q = origin + c in the machine
 // frame, with the nominal probe.
 void add_pogo_moves(const FixtureConfig& f, const ProbeGeometry& nominal_probe,
-                    const ProbingConfig& probing, const PogoPlacement& placement,
-                    int configuration, std::size_t index, std::vector<FixtureMove>* moves) {
+                    const ProbingConfig& probing, const PogoPlacement& placement, int configuration,
+                    std::size_t index, std::vector<FixtureMove>* moves) {
   const Eigen::Vector3d q = f.to_machine(placement.commanded_mm);
   const double r = nominal_probe.ball_radius_mm;
   const double h = f.block_half_size_mm();

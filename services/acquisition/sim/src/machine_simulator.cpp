@@ -169,7 +169,7 @@ MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64
   const probing::TouchPlan plan = probing::touch_plan(request, machine_);
   const std::optional<std::vector<ProbingMove>> program =
       plan.error.empty() && !is_fixture_check(request.kind) ? std::optional(plan.moves)
-                                                             : std::nullopt;
+                                                            : std::nullopt;
   if (!program) {
     set.error = "the simulator cannot perform check kind '" + std::string(to_string(request.kind)) +
                 "' yet";

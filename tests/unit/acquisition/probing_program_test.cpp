@@ -1,0 +1,295 @@
+// SPDX-License-Identifier: Apache-2.0
+// Probing programs for real controls and their touch logs (ncqual/probing/program.hpp):
+//  - the programs of pm1 in the three dialects are golden files (tests/data/programs/, reviewed
+//    by eye; NCQUAL_UPDATE_GOLDEN=1 rewrites them);
+//  - every program is parsed back here with a G-code reader of this test's own: each probing
+//    move runs from its start to start + travel * direction of the touch plan;
+//  - touch logs written as each control writes them (this test formats them itself from the
+//    simulator's touches) give the same MeasurementSet, and so the same figures, as the simulator's
+//    own set, and those figures find the injected truth;
+//  - logs that do not belong to their program are refused saying why.
+#include "ncqual/probing/plan.hpp"
+#include "ncqual/probing/program.hpp"
+
+#include "ncqual/sim/machine_simulator.hpp"
+#include "ncqual/solver/solve.hpp"
+#include "ncqual/units.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+namespace ncqual::probing {
+namespace {
+
+MachineConfig pm1() { return load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml"); }
+
+CheckRequest request(const MachineConfig& m, CheckKind kind, const std::string& id,
+                     std::vector<NamedValue> parameters = {}) {
+  CheckRequest r;
+  r.machine_id = m.machine_id;
+  r.request_id = id;
+  r.kind = kind;
+  r.requested_by = "test";
+  r.parameters = std::move(parameters);
+  return r;
+}
+
+const Dialect kDialects[] = {Dialect::LinuxCnc, Dialect::Fanuc, Dialect::GenericCsv};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(ProbingProgram, GoldenProgramsOfTheDailyPositioningCheck) {
+  const MachineConfig m = pm1();
+  const CheckRequest r = request(m, CheckKind::MonumentPositioning, "pm1-golden-1");
+  for (Dialect d : kDialects) {
+    const std::string text = write_program(r, m, d, "ncqual test");
+    const std::string path = std::string(NCQUAL_SOURCE_DIR "/tests/data/programs/pm1-") +
+                             std::string(to_string(d)) + ".nc";
+    if (std::getenv("NCQUAL_UPDATE_GOLDEN")) std::ofstream(path) << text;
+    EXPECT_EQ(text, read_text(path)) << path << " (NCQUAL_UPDATE_GOLDEN=1 rewrites it)";
+  }
+}
+
+// A G-code reader of this test's own: the X, Y, Z of every G38.2/G31 line and of the line's
+// position before it (the modal position after the previous motion lines).
+struct ProbingLine {
+  Eigen::Vector3d from, to;
+  std::string touch_comment;
+};
+
+std::vector<ProbingLine> probing_lines(const std::string& program) {
+  std::vector<ProbingLine> out;
+  Eigen::Vector3d at = Eigen::Vector3d::Constant(NAN);
+  std::string last_comment;
+  std::istringstream in(program);
+  std::string line;
+  const std::regex word(R"(([XYZ])(-?[0-9]*\.?[0-9]+))");
+  while (std::getline(in, line)) {
+    if (line.rfind("(NCQUAL TOUCH", 0) == 0) last_comment = line;
+    if (line.empty() || line[0] == '(' || line.rfind("IF", 0) == 0 || line.rfind("DPRNT", 0) == 0) {
+      continue;
+    }
+    Eigen::Vector3d next = at;
+    for (auto it = std::sregex_iterator(line.begin(), line.end(), word);
+         it != std::sregex_iterator(); ++it) {
+      next[(*it)[1].str()[0] - 'X'] = std::stod((*it)[2].str());
+    }
+    if (line.rfind("G38.2", 0) == 0 || line.rfind("G31", 0) == 0) {
+      out.push_back({at, next, last_comment});
+    }
+    at = next;
+  }
+  return out;
+}
+
+TEST(ProbingProgram, EveryProgramRunsThePlanAndDescribesItself) {
+  MachineConfig m = pm1();
+  std::vector<CheckRequest> requests;
+  for (CheckKind k :
+       {CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
+        CheckKind::MonumentPositioning, CheckKind::MonumentCRotation, CheckKind::PartSetPoints}) {
+    requests.push_back(request(m, k, "r-" + std::string(to_string(k))));
+  }
+  ASSERT_TRUE(m.fixture);
+  requests.push_back(
+      request(m, CheckKind::FixturePreCalibration, "r-pre", {{"fixture_configuration", 3, ""}}));
+  for (bool inch : {false, true}) {
+    m.probing.inch = inch;
+    m.probing.work_offset_mm = inch ? Eigen::Vector3d(100, -200, 50) : Eigen::Vector3d::Zero();
+    const double unit = inch ? 25.4 : 1;
+    const double resolution = inch ? 0.5e-5 * 25.4 : 0.5e-4;
+    for (const CheckRequest& r : requests) {
+      const TouchPlan plan = touch_plan(r, m);
+      ASSERT_EQ(plan.error, "");
+      for (Dialect d : kDialects) {
+        const std::string text = write_program(r, m, d, "ncqual test");
+        SCOPED_TRACE(std::string(to_string(r.kind)) + " " + std::string(to_string(d)) +
+                     (inch ? " inch" : " mm"));
+        EXPECT_EQ(text.find("G10"), std::string::npos);
+        EXPECT_EQ(text.find("G92"), std::string::npos);
+        EXPECT_NE(text.find(inch ? "G20 " : "G21 "), std::string::npos);
+        const ProgramDescription desc = read_program(text, "p.nc");
+        EXPECT_EQ(desc.request_id, r.request_id);
+        EXPECT_EQ(desc.kind, r.kind);
+        EXPECT_EQ(desc.dialect, d);
+        EXPECT_EQ(desc.parameters.size(), r.parameters.size());
+        const auto lines = probing_lines(text);
+        ASSERT_EQ(desc.touches.size(), plan.moves.size());
+        ASSERT_EQ(lines.size(), plan.moves.size());
+        for (std::size_t i = 0; i < plan.moves.size(); ++i) {
+          const ProbingMove& p = plan.moves[i];
+          EXPECT_EQ(desc.touches[i].feature, p.feature);
+          EXPECT_LT((desc.touches[i].approach - p.direction).norm(), 1e-8);
+          EXPECT_NEAR(desc.touches[i].a_rad, p.start.a_rad, 1e-6);
+          EXPECT_NEAR(desc.touches[i].c_rad, p.start.c_rad, 1e-6);
+          const Eigen::Vector3d start(p.start.x_mm, p.start.y_mm, p.start.z_mm);
+          const Eigen::Vector3d from = lines[i].from * unit + m.probing.work_offset_mm;
+          const Eigen::Vector3d to = lines[i].to * unit + m.probing.work_offset_mm;
+          EXPECT_LT((from - start).cwiseAbs().maxCoeff(), resolution) << i;
+          EXPECT_LT((to - (start + p.travel_mm * p.direction)).cwiseAbs().maxCoeff(), resolution)
+              << i;
+          EXPECT_NE(lines[i].touch_comment.find("TOUCH " + std::to_string(i + 1) + " "),
+                    std::string::npos)
+              << "the comment before the probing move names its touch";
+        }
+      }
+    }
+  }
+}
+
+// The log a control writes for the simulator's touches, formatted here as the control does.
+std::string control_log(Dialect d, const ProgramDescription& program, const MeasurementSet& set,
+                        const MachineConfig& m) {
+  std::string out;
+  char line[256];
+  const double unit = m.probing.inch ? 25.4 : 1;
+  if (d == Dialect::Fanuc) out = "NCQUAL " + program.request_id + "\n";
+  if (d == Dialect::GenericCsv) out = "# request " + program.request_id + "\ntouch,x,y,z\n";
+  int n = 0;
+  for (const Touch& t : set.touches) {
+    const Eigen::Vector3d q =
+        (Eigen::Vector3d(t.axes.x_mm, t.axes.y_mm, t.axes.z_mm) - m.probing.work_offset_mm) / unit;
+    ++n;
+    if (d == Dialect::LinuxCnc) {
+      std::snprintf(line, sizeof line, "%f %f %f %f %f %f %f %f %f\n", q.x(), q.y(), q.z(),
+                    units::rad_to_deg(t.axes.a_rad), 0.0, units::rad_to_deg(t.axes.c_rad), 0.0, 0.0,
+                    t.axes.w_mm / unit);
+    } else if (d == Dialect::Fanuc) {
+      // DPRNT with [54] (mm) or [45] (inch): sign or blank, leading blanks.
+      const int decimals = m.probing.inch ? 5 : 4;
+      std::snprintf(line, sizeof line, "T%d X% 10.*f Y% 10.*f Z% 10.*f\r\n", n, decimals, q.x(),
+                    decimals, q.y(), decimals, q.z());
+    } else {
+      std::snprintf(line, sizeof line, "%d,%.6f,%.6f,%.6f\n", n, q.x(), q.y(), q.z());
+    }
+    out += line;
+  }
+  return out;
+}
+
+TEST(ProbingProgram, LogsOfEachDialectGiveTheSimulatorsFiguresAndTheInjectedTruth) {
+  MachineConfig m = pm1();
+  m.simulator.errors.machine_shift_mm = Eigen::Vector3d(0.030, -0.020, 0.015);
+  m.simulator.errors.tool_length_error_mm = 0.012;
+  for (bool inch : {false, true}) {
+    m.probing.inch = inch;
+    m.probing.work_offset_mm = inch ? Eigen::Vector3d(100, -200, 50) : Eigen::Vector3d::Zero();
+    const sim::MachineSimulator simulator(m, m.simulator);
+    for (CheckKind k :
+         {CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
+          CheckKind::MonumentPositioning, CheckKind::MonumentCRotation, CheckKind::PartSetPoints}) {
+      const CheckRequest r = request(m, k, "log-" + std::string(to_string(k)));
+      const MeasurementSet truth_set = simulator.perform(r, 1'000'000'000);
+      ASSERT_EQ(truth_set.error, "");
+      const CheckResult expected = solver::solve(truth_set, m, 2);
+      for (Dialect d : kDialects) {
+        SCOPED_TRACE(std::string(to_string(k)) + " " + std::string(to_string(d)) +
+                     (inch ? " inch" : " mm"));
+        const ProgramDescription program =
+            read_program(write_program(r, m, d, "ncqual test"), "p.nc");
+        const std::string file = "/inbox/" + results_file_name(r.request_id, d);
+        const TouchLog log = read_touch_log(control_log(d, program, truth_set, m), file, d);
+        const MeasurementSet set =
+            measurement_set_from_log(program, log, file, m, truth_set.time_ns);
+        const CheckResult got = solver::solve(set, m, 2);
+        EXPECT_EQ(got.verdict, expected.verdict) << got.reason;
+        ASSERT_EQ(got.metrics.size(), expected.metrics.size());
+        // The log's resolution (6 decimals, or Fanuc's 4 of mm and 5 of inch) moves no figure
+        // by more than a 25th of its tolerance band (Fanuc in inch: 0.25 um steps).
+        for (std::size_t i = 0; i < got.metrics.size(); ++i) {
+          const Metric& e = expected.metrics[i];
+          ASSERT_TRUE(std::isfinite(e.upper - e.lower)) << e.name;
+          EXPECT_NEAR(got.metrics[i].value, e.value, (e.upper - e.lower) / 25) << e.name;
+        }
+        if (k == CheckKind::MonumentPositioning) {
+          // The monument positioning check sees the machine shift (the sign: the ball is truly
+          // at readout + shift, the hole where taught, so the readouts centre at -shift).
+          const Metric* dx = find_metric(got, "center_dx_mm");
+          ASSERT_NE(dx, nullptr);
+          EXPECT_NEAR(dx->value, -0.030, 0.003);
+        }
+      }
+    }
+  }
+}
+
+TEST(ProbingProgram, ALogThatIsNotItsProgramsIsRefusedSayingWhy) {
+  const MachineConfig m = pm1();
+  const CheckRequest r = request(m, CheckKind::MonumentPositioning, "pm1-r7");
+  const sim::MachineSimulator simulator(m, m.simulator);
+  const MeasurementSet truth = simulator.perform(r, 1);
+  ASSERT_EQ(truth.touches.size(), 5u);
+  auto refusal = [&](Dialect d, const std::string& text, const std::string& file) {
+    const ProgramDescription program = read_program(write_program(r, m, d, "t"), "p.nc");
+    try {
+      measurement_set_from_log(program, read_touch_log(text, file, d), file, m, 1);
+    } catch (const ProgramError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const ProgramDescription generic =
+      read_program(write_program(r, m, Dialect::GenericCsv, "t"), "p.nc");
+  const std::string good = control_log(Dialect::GenericCsv, generic, truth, m);
+  const std::string file = "in/ncqual-pm1-r7.csv";
+  EXPECT_EQ(refusal(Dialect::GenericCsv, good, file), "accepted");
+
+  // Touch 3 missing.
+  std::string missing = good;
+  const auto third = missing.find("\n3,");
+  missing.erase(third + 1, missing.find('\n', third + 1) - third);
+  std::string why = refusal(Dialect::GenericCsv, missing, file);
+  EXPECT_NE(why.find("expected 5 touches, found 4; touch 3 is missing"), std::string::npos) << why;
+  // Touch 2 twice.
+  std::string twice = good;
+  const auto second = twice.find("\n2,");
+  twice.insert(second + 1, twice.substr(second + 1, twice.find('\n', second + 1) - second));
+  why = refusal(Dialect::GenericCsv, twice, file);
+  EXPECT_NE(why.find("touch 2 again, out of order (expected touch 3)"), std::string::npos) << why;
+  // The log of another request, by its comment and by its file name.
+  std::string other = good;
+  other.replace(other.find("pm1-r7"), 6, "pm1-r8");
+  why = refusal(Dialect::GenericCsv, other, file);
+  EXPECT_NE(why.find("names request 'pm1-r8'"), std::string::npos) << why;
+  why = refusal(Dialect::GenericCsv, good, "in/ncqual-pm1-r8.csv");
+  EXPECT_NE(why.find("named for request 'pm1-r8'"), std::string::npos) << why;
+  // LinuxCNC logs carry no numbers: the counts and what LinuxCNC leaves out.
+  const ProgramDescription lcnc = read_program(write_program(r, m, Dialect::LinuxCnc, "t"), "p.nc");
+  std::string short_log = control_log(Dialect::LinuxCnc, lcnc, truth, m);
+  short_log.erase(short_log.rfind('\n', short_log.size() - 2) + 1);
+  why = refusal(Dialect::LinuxCnc, short_log, "in/ncqual-pm1-r7.txt");
+  EXPECT_NE(why.find("expected 5 touches, found 4"), std::string::npos) << why;
+  EXPECT_NE(why.find("line equal to the one before"), std::string::npos) << why;
+  // A malformed line names file, line and field.
+  why = refusal(Dialect::GenericCsv, "# request pm1-r7\n1,2,x3,4\n", file);
+  EXPECT_NE(why.find(file + ":2: y = 'x3' is no number"), std::string::npos) << why;
+  // Fanuc: the first line names the request.
+  why = refusal(Dialect::Fanuc, "T1 X1 Y2 Z3\n", "in/fanuc.txt");
+  EXPECT_NE(why.find("in/fanuc.txt:1:"), std::string::npos) << why;
+  EXPECT_NE(why.find("first line of a Fanuc touch log is NCQUAL <request id>"), std::string::npos)
+      << why;
+}
+
+TEST(ProbingProgram, ARequestWithoutATouchPlanIsRefused) {
+  const MachineConfig m = pm1();
+  try {
+    write_program(request(m, CheckKind::GlobalGrid, "g"), m, Dialect::LinuxCnc, "t");
+    FAIL() << "a tracker check has no probing program";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("laser tracker"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ncqual::probing
