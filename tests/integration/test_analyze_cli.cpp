@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string>
 
 namespace {
@@ -369,6 +370,86 @@ TEST_F(AnalyzeCli, BadGridFilesNameFileLineAndColumn) {
   refused(std::string(kGridHeader) + a + b + c + d + grid_line("g0", 1200, 500, 700), "6:1:");
   refused(std::string(kGridHeader) + a + b + c + d, "5:");                   // 4 < 5 points
   refused(std::string(kGridHeader) + a + b + c + d + e + "g5,1,2\n", "7:");  // cell count
+}
+
+// ---- touches ------------------------------------------------------------------------------------
+
+// The touch log of pm1's daily positioning program as a control writes it, worked by hand: the
+// machine's axes read the true pivot minus `shift`; the ball (r = 3) meets the bore (R = 25) 22 mm
+// from the taught centre (1200, 800), 5 mm below the face (z = 145), and the face (z = 150) with
+// its centre at z = 153 beside the hole (x = 1235); the pivot is 350 mm above the ball.
+std::string positioning_log(const std::string& request, Vec3 shift) {
+  std::string log = "# request " + request + "\r\ntouch;x;y;z\r\n";
+  const double ball[5][3] = {
+      {1222, 800, 145}, {1200, 822, 145}, {1178, 800, 145}, {1200, 778, 145}, {1235, 800, 153}};
+  for (int k = 0; k < 5; ++k) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%d;%.6f;%.6f;%.6f\r\n", k + 1, ball[k][0] - shift.v[0],
+                  ball[k][1] - shift.v[1], ball[k][2] + 350 - shift.v[2]);
+    log += line;
+  }
+  return log;
+}
+
+TEST_F(AnalyzeCli, TouchesOfAHandWorkedLogAreJudgedAsTheServiceJudgesThem) {
+  const std::string plant = std::string(NCQUAL_SOURCE_DIR) + "/deploy/plant.yaml";
+  const std::string program = (dir_ / "daily3.nc").string();
+  const CliRun p = run({"program", "--plant", plant, "--machine", "pm1", "--check",
+                        "monument_positioning", "--dialect", "generic-csv", "--out", program});
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  const auto at = p.err.find("(request ");
+  ASSERT_NE(at, std::string::npos) << p.err;
+  const std::string request = p.err.substr(at + 9, p.err.find(')', at) - at - 9);
+  EXPECT_NE(p.err.find("writes its touches to ncqual-" + request + ".csv"), std::string::npos);
+
+  // 10 um, -4 um, 6 um: inside the +-25 um tolerances, PASS (exit 0) with the negated shift.
+  const std::string log =
+      write("ncqual-" + request + ".csv", positioning_log(request, {{0.010, -0.004, 0.006}}));
+  const json r = run_json(
+      {"analyze", "touches", log, "--program", program, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(r["verdict"], "PASS") << r.dump(2);
+  EXPECT_EQ(r["request_id"], request);
+  EXPECT_EQ(r["measurement"]["touches"], 5);
+  std::map<std::string, double> value;
+  for (const auto& m : r["metrics"]) value[m["name"]] = m["value"];
+  EXPECT_NEAR(value["center_dx_mm"], -0.010, 1e-5);
+  EXPECT_NEAR(value["center_dy_mm"], 0.004, 1e-5);
+  EXPECT_NEAR(value["face_dz_mm"], -0.006, 1e-5);
+
+  // 40 um in X: FAIL, exit 3, the metric flagged.
+  const std::string bad =
+      write("ncqual-" + request + ".csv", positioning_log(request, {{0.040, 0, 0}}));
+  const CliRun fail =
+      run({"analyze", "touches", bad, "--program", program, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(fail.exit_code, 3) << fail.out << fail.err;
+  EXPECT_NE(fail.out.find("center_dx_mm"), std::string::npos) << fail.out;
+  EXPECT_NE(fail.out.find("(!) out of tolerance"), std::string::npos) << fail.out;
+  EXPECT_NE(fail.out.find("likely cause 1:"), std::string::npos) << fail.out;
+
+  // A log with touch 4 missing: refused (exit 1) naming the log and the first missing touch.
+  std::string text = positioning_log(request, {{0, 0, 0}});
+  const auto four = text.find("\r\n4;");
+  text.erase(four + 2, text.find("\r\n", four + 2) - four);
+  const std::string missing = write("ncqual-" + request + ".csv", text);
+  const CliRun refused = run(
+      {"analyze", "touches", missing, "--program", program, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  EXPECT_NE(refused.err.find(missing + ":"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("expected 5 touches, found 4; touch 4 is missing"), std::string::npos)
+      << refused.err;
+
+  // A check without a touch plan on the machine: no program, the reason said.
+  const CliRun tracker = run({"program", "--plant", plant, "--machine", "pm1", "--check",
+                              "global_grid", "--dialect", "linuxcnc"});
+  EXPECT_EQ(tracker.exit_code, 1);
+  EXPECT_NE(tracker.err.find("laser tracker"), std::string::npos) << tracker.err;
+  const CliRun dialect = run({"program", "--plant", plant, "--machine", "pm1", "--check",
+                              "monument_positioning", "--dialect", "heidenhain"});
+  EXPECT_EQ(dialect.exit_code, 2);
+  EXPECT_NE(
+      dialect.err.find("--dialect 'heidenhain': expected one of linuxcnc, fanuc, generic-csv"),
+      std::string::npos)
+      << dialect.err;
 }
 
 }  // namespace

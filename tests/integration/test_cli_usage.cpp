@@ -37,14 +37,17 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
       "--timeout"}},
     {"count", {"--plant", "--db", "--machine"}},
     {"budget", {"--machine", "--plant", "--db", "--last", "--json"}},
-    {"analyze", {"iso230-2", "circle", "grid"}},
+    {"analyze", {"iso230-2", "circle", "grid", "touches"}},
     {"analyze iso230-2", {"FILE", "--json"}},
     {"analyze circle", {"FILE", "--plane", "--nominal-radius-mm", "--centre-mm", "--json"}},
     {"analyze grid", {"--x-run", "--y-run", "--grid", "--json"}},
-    {"import", {"iso230-2", "circle", "grid"}},
+    {"analyze touches", {"LOG", "--program", "--machine", "--plant", "--json"}},
+    {"import", {"iso230-2", "circle", "grid", "touches"}},
     {"import iso230-2", {"FILE", "--machine", "--axis", "--plant", "--domain"}},
     {"import circle", {"FILE", "--machine", "--plane", "--nominal-radius-mm", "--centre-mm"}},
     {"import grid", {"--x-run", "--y-run", "--grid", "--machine"}},
+    {"import touches", {"FILE", "--program", "--machine", "--plant", "--domain"}},
+    {"program", {"--machine", "--check", "--dialect", "--parameters", "--out", "--plant"}},
     {"status", {"--plant", "--db", "--machine", "--json"}},
     {"intervene", {"--machine", "--check", "--note", "--operator", "--plant", "--domain"}},
     {"trend", {"--machine", "--kind", "--every", "--metrics", "--plant", "--db"}},
@@ -173,7 +176,7 @@ bool has(const std::vector<std::string>& v, const std::string& s) {
 TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
   const auto commands = complete("ncqual \"\"");
   for (const char* c : {"history", "check", "wait", "count", "budget", "analyze", "import",
-                        "status", "intervene", "trend", "uncertainty"}) {
+                        "program", "status", "intervene", "trend", "uncertainty"}) {
     EXPECT_TRUE(has(commands, c)) << c;
   }
   EXPECT_FALSE(has(commands, "completion"));

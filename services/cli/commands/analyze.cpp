@@ -19,6 +19,12 @@
 //       (ncqual::solver::analyze_grid); files: point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas (mm,
 //       commanded in machine axes, measured in the tracker frame).
 //
+//   ncqual analyze touches LOG --program PROG --machine M [--plant F] [--json]
+//       a real control's touch log of a probing program written by `ncqual program` (or the
+//       control-files instrument), judged exactly as the solver service judges the check: the
+//       same metrics against the machine's tolerances, verdict, likely causes and correction.
+//       --json: the check record of `ncqual history --json` (ncqual/storage_json.hpp).
+//
 // Without --json a table of the figures in mm (4 decimals) is printed. --json prints one
 // document (the *Document structs below); its names are a public interface (append, never
 // rename); lengths in mm, absent figures null:
@@ -47,9 +53,10 @@
 //     "planes": [{"z_mm", "points", "worst_point", "worst_deviation_mm", "rms_deviation_mm"}],
 //     "per_point": [{"point", "commanded_mm", "master_mm", "deviation_mm", "deviation_norm_mm"}]}
 //
-// Exit codes: 0 printed; 1 the file was refused (the CsvError "<file>:<line>:<column>: message"
-// on stderr, or "<file>: message" for a refusal of the evaluation), or not found; 2 bad usage
-// (the message and the usage of `ncqual analyze` on stderr).
+// Exit codes: 0 printed (touches: PASS); 3 FAIL and 4 INVALID (touches); 1 the file was refused
+// (the CsvError "<file>:<line>:<column>: message" on stderr, or "<file>: message" for a refusal of
+// the evaluation), or not found; 2 bad usage (the message and the usage of `ncqual analyze` on
+// stderr).
 #include "commands.hpp"
 
 #include "ncqual/csv.hpp"
@@ -59,6 +66,10 @@
 #include "ncqual/solver/global_grid.hpp"
 #include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/solver/iso230_2.hpp"
+#include "ncqual/solver/solve.hpp"
+#include "ncqual/clock.hpp"
+#include "ncqual/storage_json.hpp"
+#include "ncqual/version.hpp"
 
 #include <fmt/format.h>
 
@@ -187,7 +198,55 @@ struct Options {
   std::optional<double> nominal_radius_mm;  // circle
   std::optional<std::string> centre_mm;     // circle
   std::string x_run, y_run, grid;           // grid
+  std::string program, machine, plant;      // touches
 };
+
+// ---- touches ------------------------------------------------------------------------------------
+
+int run_touches(const Options& o) {
+  const PlantConfig plant = plant_from(o.plant);
+  const MachineConfig& machine = configured_machine(plant, o.machine);
+  const std::int64_t now = WallClock().now_ns();
+  const MeasurementSet set = touches_from_files(o.file, o.program, machine, now);
+  CheckResult r = solver::solve(set, machine, now);
+  r.produced_by = version_line("ncqual analyze");
+  if (o.json) {
+    storage::CheckRecord rec;
+    rec.machine_id = r.machine_id;
+    rec.request_id = r.request_id;
+    rec.kind = r.kind;
+    rec.result = r;
+    storage::MeasurementSummary measured;
+    measured.instrument = set.instrument;
+    measured.frame = set.frame;
+    measured.time_ns = set.time_ns;
+    measured.touches = static_cast<std::int64_t>(set.touches.size());
+    rec.measurement = measured;
+    std::cout << storage::to_json(rec).dump(2) << "\n";
+  } else {
+    fmt::print("{} on {}: {} touches of {} (program {}, request {}): {}\n", to_string(r.kind),
+               r.machine_id, set.touches.size(), o.file, o.program, r.request_id,
+               to_string(r.verdict));
+    for (const Metric& m : r.metrics) {
+      fmt::print("  {:<28} {:>12} {:<6} [{}, {}]{}\n", m.name, format_metric_value(m), m.unit,
+                 format_metric_value(Metric{m.name, m.lower, m.unit, m.lower, m.upper, true}),
+                 format_metric_value(Metric{m.name, m.upper, m.unit, m.lower, m.upper, true}),
+                 m.pass ? "" : "  (!) out of tolerance");
+    }
+    if (!r.reason.empty()) fmt::print("reason: {}\n", r.reason);
+    for (std::size_t i = 0; i < r.likely_causes.size(); ++i) {
+      fmt::print("likely cause {}: {}\n", i + 1, r.likely_causes[i]);
+    }
+    if (r.correction) {
+      for (const auto& c : r.correction->offsets) {
+        fmt::print("correction {}: {} = {} {}\n", r.correction->target, c.name, c.value, c.unit);
+      }
+    }
+  }
+  return r.verdict == Verdict::Pass   ? kExitOk
+         : r.verdict == Verdict::Fail ? kExitFail
+                                      : kExitInvalid;
+}
 
 int run_iso230_2(const Options& o) {
   const std::string& file = o.file;
@@ -548,7 +607,7 @@ void add_analyze(CLI::App& app, Commands& commands) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "evaluate an instrument export (ISO 230-2 positioning run, ISO 230-4 circular test,\n"
-      "tracker grid) on its own, without services");
+      "tracker grid, a control's touch log) on its own, without services");
   analyze->require_subcommand(1);
 
   CLI::App* iso = analyze->add_subcommand(
@@ -594,6 +653,19 @@ void add_analyze(CLI::App& app, Commands& commands) {
   grid->add_option("--grid", o->grid, "the grid's points")->type_name("F")->required();
   add_json_flag(grid, o->json);
   commands.push_back({grid, [o] { return refusing("", run_grid, *o); }});
+
+  CLI::App* touches = analyze->add_subcommand(
+      "touches",
+      "judge a real control's touch log of a program written by `ncqual program`, exactly as\n"
+      "the solver service judges the check (exit code: its verdict)");
+  touches->add_option("LOG", o->file, "the control's touch log")->required();
+  touches->add_option("--program", o->program, "the program that wrote it")
+      ->type_name("PROG")
+      ->required();
+  add_machine_option(touches, o->machine, "the machine that ran it");
+  add_plant_option(touches, o->plant);
+  add_json_flag(touches, o->json);
+  commands.push_back({touches, [o] { return refusing(o->file, run_touches, *o); }});
 }
 
 }  // namespace ncqual::cli

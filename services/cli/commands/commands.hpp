@@ -47,6 +47,7 @@ void add_count(CLI::App& app, Commands& commands);        // count.cpp
 void add_budget(CLI::App& app, Commands& commands);       // budget.cpp
 void add_analyze(CLI::App& app, Commands& commands);      // analyze.cpp
 void add_import(CLI::App& app, Commands& commands);       // import.cpp
+void add_program(CLI::App& app, Commands& commands);      // program.cpp
 void add_status(CLI::App& app, Commands& commands);       // status.cpp
 void add_intervene(CLI::App& app, Commands& commands);    // intervene.cpp
 void add_trend(CLI::App& app, Commands& commands);        // trend.cpp
@@ -106,6 +107,12 @@ std::string database_path(const std::optional<std::string>& db, const std::strin
 // database at <path>" on stderr, when there is no such file (the command exits kExitNotFound).
 std::optional<storage::Database> open_historian(const std::string& path,
                                                 const std::string& command);
+
+// The MeasurementSet of a control's touch log and the probing program that wrote it
+// (ncqual/probing/program.hpp; program.cpp), for `analyze touches` and `import touches`; throws
+// probing::ProgramError naming the file and line.
+MeasurementSet touches_from_files(const std::string& log_file, const std::string& program_file,
+                                  const MachineConfig& machine, std::int64_t time_ns);
 
 // The operator: $USER, else the host name.
 std::string operator_name();

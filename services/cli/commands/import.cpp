@@ -12,6 +12,9 @@
 //       kind circle_xy|yz|xz; F about the given reference, else the least-squares circle
 //   ncqual import grid --x-run F --y-run F --grid F --machine M [--plant F] [--domain N]
 //       kind global_grid with its master-frame runs
+//   ncqual import touches LOG --program PROG --machine M [--plant F] [--domain N]
+//       a real control's touch log of a program written by `ncqual program`, as the check the
+//       program names, under the program's request id (ncqual/probing/program.hpp)
 //
 // Prints the request id of the set (`ncqual wait --request ID` waits for its result) once the
 // historian stored it and the solver saved its result (ncqual/dds/acknowledged_send.hpp). Exit
@@ -45,12 +48,22 @@ struct Options {
   std::optional<std::string> axis, plane, centre_mm;
   std::optional<double> nominal_radius_mm;
   std::string x_run, y_run, grid;
+  std::string program;  // touches
 };
+
+// Publishes an imported set: done once the historian stored it and the solver saved its result.
+int publish(const PlantConfig& plant, int domain_flag, const MeasurementSet& set,
+            const std::string& what);
 
 int run(const Options& o) {
   const PlantConfig plant = plant_from(o.plant);
   const std::string& machine_id = o.machine;
   const MachineConfig* machine = &configured_machine(plant, machine_id);
+  if (o.what == "touches") {
+    MeasurementSet set = touches_from_files(o.file, o.program, *machine, WallClock().now_ns());
+    set.instrument = kImportedInstrument;
+    return publish(plant, o.domain, set, std::to_string(set.touches.size()) + " touches");
+  }
   if (!machine->global_check) {
     throw UsageError("machine '" + machine_id + "' has no global_check: section (" +
                      machine->source_path + "): its tracker checks cannot be judged");
@@ -120,7 +133,12 @@ int run(const Options& o) {
         solver::tracker_points_for_grid(read(o.x_run), read(o.y_run), read(o.grid), target);
   }
 
-  const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
+  return publish(plant, o.domain, set, std::to_string(set.tracker_points.size()) + " points");
+}
+
+int publish(const PlantConfig& plant, int domain_flag, const MeasurementSet& set,
+            const std::string& what) {
+  const int domain = ncqual::dds::resolve_domain_id(domain_flag, plant.domain_id);
   ncqual::dds::Participant participant(
       {domain, plant.qos_profiles_file, "ncqual-import", plant.allow_default_qos});
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
@@ -138,8 +156,8 @@ int run(const Options& o) {
               << refused->detail << "\n";
     return kExitInvalid;
   }
-  std::cerr << "imported " << set.tracker_points.size() << " points as " << to_string(set.kind)
-            << " of " << machine_id << "\n";
+  std::cerr << "imported " << what << " as " << to_string(set.kind) << " of " << set.machine_id
+            << "\n";
   std::cout << set.request_id << "\n";
   return kExitOk;
 }
@@ -182,6 +200,11 @@ void add_import(CLI::App& app, Commands& commands) {
       ->type_name("F")
       ->required();
   grid->add_option("--grid", grid_o->grid, "the grid's points")->type_name("F")->required();
+  const auto [touches, touches_o] =
+      add("touches", "a control's touch log, as the check its program names", true);
+  touches->add_option("--program", touches_o->program, "the probing program that wrote it")
+      ->type_name("PROG")
+      ->required();
 }
 
 }  // namespace ncqual::cli

@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: Apache-2.0
+// `ncqual program`: the probing program of a check for a real control, and the reading of the
+// touch log that control writes back (for `analyze touches` and `import touches`).
+//
+//   ncqual program --machine M --check KIND --dialect linuxcnc|fanuc|generic-csv
+//                  [--parameters k=v,...] [--out FILE] [--plant F]
+//       writes the program (ncqual/probing/program.hpp; docs/connecting-a-machine.md) of the
+//       check's touch plan from the machine config (its probing: section), under a new request
+//       id, to FILE or stdout; says on stderr where the control will write its results.
+//
+// Exit codes: 0 written; 1 the check has no touch plan on this machine (a tracker check, a
+// missing section or parameter; the reason on stderr) or FILE cannot be written; 2 bad usage.
+#include "commands.hpp"
+
+#include "ncqual/probing/program.hpp"
+
+#include "ncqual/clock.hpp"
+#include "ncqual/version.hpp"
+
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace ncqual::cli {
+namespace {
+
+struct Options {
+  std::string plant, machine, dialect, parameters, out;
+  std::optional<CheckKind> kind;
+};
+
+// "k=v,k2=v2" -> parameters; UsageError naming the bad one.
+std::vector<NamedValue> parameters_option(const std::string& text) {
+  std::vector<NamedValue> out;
+  std::istringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    const auto eq = item.find('=');
+    double value = 0;
+    std::size_t used = 0;
+    try {
+      if (eq != std::string::npos) value = std::stod(item.substr(eq + 1), &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (eq == std::string::npos || eq == 0 || used == 0 || used != item.size() - eq - 1) {
+      throw UsageError("--parameters '" + item + "': expected name=number");
+    }
+    NamedValue v;
+    v.name = item.substr(0, eq);
+    v.value = value;
+    out.push_back(v);
+  }
+  return out;
+}
+
+int run(const Options& o) {
+  const PlantConfig plant = plant_from(o.plant);
+  const MachineConfig& machine = configured_machine(plant, o.machine);
+  const auto dialect = probing::dialect_from(o.dialect);
+  if (!dialect) {
+    throw UsageError("--dialect '" + o.dialect + "': expected one of " + probing::dialect_names());
+  }
+  CheckRequest request;
+  request.machine_id = machine.machine_id;
+  request.request_id = new_sample_id("program", machine.machine_id);
+  request.kind = *o.kind;
+  request.requested_by = "operator:" + operator_name();
+  request.time_ns = WallClock().now_ns();
+  request.parameters = parameters_option(o.parameters);
+  std::string text;
+  try {
+    text = probing::write_program(request, machine, *dialect, version_line("ncqual"));
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "ncqual program: no probing program for " << to_string(request.kind) << " on "
+              << machine.machine_id << ": " << e.what() << "\n";
+    return kExitError;
+  }
+  if (o.out.empty()) {
+    std::cout << text;
+  } else {
+    std::ofstream file(o.out, std::ios::binary);
+    file << text;
+    if (!file.flush()) {
+      std::cerr << "ncqual program: cannot write " << o.out << "\n";
+      return kExitError;
+    }
+  }
+  std::cerr << "program of " << to_string(request.kind) << " on " << machine.machine_id
+            << " (request " << request.request_id << ") for " << o.dialect
+            << "; the control writes its touches to "
+            << probing::results_file_name(request.request_id, *dialect) << "\n";
+  return kExitOk;
+}
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw probing::ProgramError(path, 0, "cannot read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+MeasurementSet touches_from_files(const std::string& log_file, const std::string& program_file,
+                                  const MachineConfig& machine, std::int64_t time_ns) {
+  const probing::ProgramDescription program =
+      probing::read_program(read_text_file(program_file), program_file);
+  const probing::TouchLog log =
+      probing::read_touch_log(read_text_file(log_file), log_file, program.dialect);
+  return probing::measurement_set_from_log(program, log, log_file, machine, time_ns);
+}
+
+void add_program(CLI::App& app, Commands& commands) {
+  const auto [cmd, o] = add_command(
+      app, commands, "program",
+      "write the probing program of a check for a real control (LinuxCNC, Fanuc-style macro\n"
+      "controls, any control that writes CSV) from the machine config",
+      run);
+  add_machine_option(cmd, o->machine, "the machine whose control runs it");
+  add_kind_option(cmd, "--check", o->kind, "the check to program")->required();
+  cmd->add_option("--dialect", o->dialect, "the control's language")
+      ->type_name("linuxcnc|fanuc|generic-csv")
+      ->required();
+  cmd->add_option("--parameters", o->parameters,
+                  "the request's parameters (e.g. fixture_configuration=3)")
+      ->type_name("k=v,...");
+  cmd->add_option("--out", o->out, "write the program here (default: stdout)")->type_name("FILE");
+  add_plant_option(cmd, o->plant);
+}
+
+}  // namespace ncqual::cli
