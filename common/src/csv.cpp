@@ -29,14 +29,29 @@ std::string lower(std::string_view s) {
   return out;
 }
 
-// Splits one line (no line ending) into trimmed cells, unquoting quoted cells.
-std::vector<std::string> split_cells(std::string_view line, const std::string& file, int line_no) {
+// The separator of a file, from its header line: ';' or a tab when the header has one outside
+// quotes (exports of spreadsheets and of instruments set to a decimal comma), else ','.
+char separator_of(std::string_view header) {
+  bool quoted = false, semicolon = false, tab = false;
+  for (char c : header) {
+    if (c == '"') quoted = !quoted;
+    if (quoted) continue;
+    semicolon |= c == ';';
+    tab |= c == '\t';
+  }
+  return semicolon ? ';' : tab ? '\t' : ',';
+}
+
+// Splits one line (no line ending) into trimmed cells at `sep`, unquoting quoted cells.
+std::vector<std::string> split_cells(std::string_view line, char sep, const std::string& file,
+                                     int line_no) {
   std::vector<std::string> cells;
   std::size_t i = 0;
   const std::size_t n = line.size();
+  const auto blank = [sep](char c) { return c == ' ' || (c == '\t' && sep != '\t'); };
   while (true) {
     const int column = static_cast<int>(cells.size()) + 1;
-    while (i < n && is_blank_char(line[i])) ++i;
+    while (i < n && blank(line[i])) ++i;
     std::string cell;
     if (i < n && line[i] == '"') {
       ++i;
@@ -58,19 +73,19 @@ std::vector<std::string> split_cells(std::string_view line, const std::string& f
         throw CsvError(file, line_no, column,
                        "unterminated quote (a quoted cell must end on its line)");
       }
-      while (i < n && is_blank_char(line[i])) ++i;
-      if (i < n && line[i] != ',') {
+      while (i < n && blank(line[i])) ++i;
+      if (i < n && line[i] != sep) {
         throw CsvError(file, line_no, column,
                        "text after the closing quote: '" + std::string(line.substr(i)) + "'");
       }
     } else {
       const std::size_t start = i;
-      while (i < n && line[i] != ',') ++i;
+      while (i < n && line[i] != sep) ++i;
       cell = std::string(trim(line.substr(start, i - start)));
     }
     cells.push_back(std::move(cell));
     if (i >= n) break;
-    ++i;  // the ','; a line ending in ',' has an empty last cell
+    ++i;  // the separator; a line ending in one has an empty last cell
   }
   return cells;
 }
@@ -131,7 +146,17 @@ double CsvTable::number(const CsvRow& row, std::size_t column) const {
   const std::string& text = cell(row, column);
   const std::string what = "column '" + header[column] + "' = " + in_quotes(text) + ": ";
   if (text.empty()) fail(row.line, column, what + "expected a number, the cell is empty");
+  std::string comma_text;
   std::string_view digits = text;
+  if (decimal_comma && text.find(',') != std::string::npos) {
+    if (text.find('.') != std::string::npos || text.find(',') != text.rfind(',')) {
+      fail(row.line, column,
+           what + "expected a number with one decimal comma (no thousands separators)");
+    }
+    comma_text = text;
+    comma_text[comma_text.find(',')] = '.';
+    digits = comma_text;
+  }
   if (digits.size() > 1 && digits.front() == '+' && digits[1] != '-' && digits[1] != '+') {
     digits.remove_prefix(1);  // from_chars takes no '+'
   }
@@ -208,7 +233,11 @@ CsvTable read_csv(std::string_view text, const std::string& file) {
     const std::string_view content = trim(line);
     if (content.empty() || content.front() == '#') continue;
 
-    std::vector<std::string> cells = split_cells(line, file, line_no);
+    if (table.header_line == 0) {
+      table.separator = separator_of(line);
+      table.decimal_comma = table.separator != ',';
+    }
+    std::vector<std::string> cells = split_cells(line, table.separator, file, line_no);
     if (table.header_line == 0) {
       std::map<std::string, std::size_t> seen;
       for (std::size_t c = 0; c < cells.size(); ++c) {

@@ -8,8 +8,12 @@
 //     mark at the start of the file is ignored.
 //   - The first other line is the header. Column names are trimmed and case-sensitive; an empty
 //     or repeated name is refused.
-//   - Cells are separated by ',' and trimmed of spaces and tabs. A cell may be quoted
-//     ("a, b" with "" for a quote inside); a quoted cell cannot span lines.
+//   - Cells are separated by ',', or by ';' or a tab when the header line has one (outside
+//     quotes): the separators of spreadsheet and instrument exports set to a decimal comma. With
+//     ';' or a tab, numbers may use the decimal comma ("0,0012"); a number with both '.' and ','
+//     or with two commas is refused (no thousands separators). Cells are trimmed of spaces (and of
+//     tabs, unless the tab separates). A cell may be quoted ("a, b" with "" for a quote inside);
+//     a quoted cell cannot span lines.
 //   - Every row has as many cells as the header; a row with more or fewer is refused.
 //
 // Every problem is a CsvError whose what() is "<file>:<line>:<column>: <message>", line 1-based
@@ -66,6 +70,8 @@ struct CsvTable {
   int header_line = 0;              // 1-based
   std::vector<std::string> header;  // trimmed column names
   std::vector<CsvRow> rows;         // data rows in file order
+  char separator = ',';             // ',', ';' or '\t', from the header line
+  bool decimal_comma = false;       // numbers may write ',' for '.' (separator ';' or tab)
 
   // Index of the column named `name` (exact, case-sensitive), or nullopt.
   std::optional<std::size_t> find_column(std::string_view name) const;

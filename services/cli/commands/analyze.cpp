@@ -612,8 +612,8 @@ void add_analyze(CLI::App& app, Commands& commands) {
 
   CLI::App* iso = analyze->add_subcommand(
       "iso230-2",
-      "evaluate a linear-axis positioning run (target_mm,cycle,direction,measured_mm)\n"
-      "per ISO 230-2:2014: A, E, M, R, B per axis and per target");
+      "evaluate a linear-axis positioning run (target_mm,cycle,direction,measured_mm; or\n"
+      "error_um, inches, ';' with the decimal comma, +/-) per ISO 230-2:2014: A, E, M, R, B");
   iso->add_option("FILE", o->file, "the run's CSV file")->required();
   add_json_flag(iso, o->json);
   commands.push_back({iso, [o] { return refusing(o->file, run_iso230_2, *o); }});

@@ -87,8 +87,8 @@ const char* kRunHeader = "target_mm,cycle,direction,measured_mm\n";
 
 TEST(InstrumentFiles, Iso230_2MissingColumn) {
   EXPECT_EQ(run_error("# x\ntarget_mm,cycle,direction,measured\n0,1,up,0\n"),
-            "run.csv:2: missing column 'measured_mm'; the header has: target_mm, cycle, "
-            "direction, measured");
+            "run.csv:2:4: column 'measured' names no unit: write it as measured_mm, measured_um "
+            "or measured_in");
 }
 
 TEST(InstrumentFiles, Iso230_2NonNumericCell) {
@@ -102,7 +102,8 @@ TEST(InstrumentFiles, Iso230_2NonNumericCell) {
 
 TEST(InstrumentFiles, Iso230_2BadDirectionWord) {
   EXPECT_EQ(run_error(std::string(kRunHeader) + "0,1,up,0\n0,2,left,0\n"),
-            "run.csv:3:3: column 'direction' = 'left': expected one of up, down");
+            "run.csv:3:3: column 'direction' = 'left': expected one of up, +, fwd, forward, pos, "
+            "positive, down, -, bwd, back, backward, rev, reverse, neg, negative");
 }
 
 TEST(InstrumentFiles, Iso230_2WrongCellCount) {
@@ -481,4 +482,66 @@ TEST(InstrumentFiles, TheMachineEnvelopeHoldsEveryProgrammedPosition) {
 }
 
 }  // namespace
+// Issue 14: interferometer exports as they really come. Each file of tests/data/instrument/corpus
+// is the twin of iso230-2_x.csv written as another instrument or spreadsheet writes it
+// (make_corpus.py); each must give the long form's readings and figures.
+TEST(InstrumentFiles, Iso230_2ExportsAsTheyComeGiveTheFiguresOfTheirLongFormTwin) {
+  const std::string dir = NCQUAL_SOURCE_DIR "/tests/data/instrument/";
+  const Iso230_2File long_form = read_iso230_2_csv(read_csv_file(dir + "iso230-2_x.csv"));
+  const Iso230_2Result expected = evaluate_iso230_2(long_form.readings);
+  struct Twin {
+    const char* file;
+    double resolution_mm;  // of the twin's numbers
+  } twins[] = {
+      {"corpus/iso230-2_x_semicolon_um.csv", 1e-9},  // BOM, CRLF, ';', decimal comma, um, +/-
+      {"corpus/iso230-2_x_inch_tab.txt", 2e-7},      // tab, inch to 8 decimals, fwd/bwd
+  };
+  for (const Twin& twin : twins) {
+    SCOPED_TRACE(twin.file);
+    const Iso230_2File f = read_iso230_2_csv(read_csv_file(dir + twin.file));
+    ASSERT_EQ(f.readings.size(), long_form.readings.size());
+    for (std::size_t k = 0; k < f.readings.size(); ++k) {
+      const PositioningReading &a = f.readings[k], &b = long_form.readings[k];
+      EXPECT_NEAR(a.target_mm, b.target_mm, twin.resolution_mm) << k;
+      EXPECT_NEAR(a.measured_mm, b.measured_mm, twin.resolution_mm) << k;
+      EXPECT_EQ(a.cycle, b.cycle) << k;
+      EXPECT_EQ(a.direction, b.direction) << k;
+    }
+    const Iso230_2Result r = evaluate_iso230_2(f.readings);
+    ASSERT_EQ(r.targets.size(), expected.targets.size());
+    for (const auto& [got, want] :
+         {std::pair{r.A_mm, expected.A_mm}, std::pair{r.E_mm, expected.E_mm},
+          std::pair{r.M_mm, expected.M_mm}, std::pair{r.R_mm, expected.R_mm},
+          std::pair{r.B_mm, expected.B_mm}}) {
+      ASSERT_TRUE(got && want);
+      EXPECT_NEAR(*got, *want, 4 * twin.resolution_mm);
+    }
+  }
+}
+
+// A unit the header does not name is not guessed; a decimal comma only where ',' cannot separate.
+TEST(InstrumentFiles, Iso230_2UnitsComeFromTheHeaderAndAreNeverGuessed) {
+  EXPECT_EQ(run_error("Target;cycle;direction;measured_mm\n0;1;up;0\n"),
+            "run.csv:1:1: column 'Target' names no unit: write it as target_mm, target_um or "
+            "target_in ('Target (mm)')");
+  EXPECT_EQ(run_error("target (ft),cycle,direction,measured_mm\n0,1,up,0\n"),
+            "run.csv:1:1: column 'target (ft)': unit 'ft' is not mm, um or in");
+  EXPECT_EQ(run_error("target_mm;cycle;direction;error_um\n0;1;up;1.234,5\n"),
+            "run.csv:2:4: column 'error_um' = '1.234,5': expected a number with one decimal "
+            "comma (no thousands separators)");
+  // With ',' separating, "0,5" is two cells.
+  EXPECT_EQ(run_error("target_mm,cycle,direction,measured_mm\n0,1,up,0,5\n"),
+            "run.csv:2:5: 5 cells, but the header (line 1) has 4 columns: target_mm, cycle, "
+            "direction, measured_mm");
+  // The deviation form: measured = target + error, in the error's unit.
+  const Iso230_2File f = read_iso230_2_csv(
+      "target_in;cycle;dir;deviation_um\n1;1;+;2,5\n1;2;+;3\n1;1;-;-1\n1;2;-;0\n"
+      "2;1;+;0\n2;2;+;0\n2;1;-;0\n2;2;-;0\n",
+      "dev.csv");
+  ASSERT_EQ(f.readings.size(), 8u);
+  EXPECT_DOUBLE_EQ(f.readings[0].target_mm, 25.4);
+  EXPECT_NEAR(f.readings[0].measured_mm, 25.4025, 1e-12);
+  EXPECT_EQ(f.readings[2].direction, Approach::Down);
+}
+
 }  // namespace ncqual::solver

@@ -72,23 +72,158 @@ GridColumns grid_columns(const CsvTable& t) {
   return c;
 }
 
+// A length column of an instrument export and the unit its header names.
+struct LengthColumn {
+  std::size_t index = 0;
+  double to_mm = 1;
+  std::string unit = "mm";  // as the header names it: mm, um, in
+  bool deviation = false;   // the error from the target, not the position
+};
+
+// A header name without case, spaces and '_' / '-' around the unit: "Target (mm)" -> "target(mm)".
+std::string normalised(std::string_view name) {
+  std::string out;
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(name[i]);
+    if (c == ' ' || c == '\t') continue;
+    // U+00B5 (micro sign) and U+03BC (Greek mu) as 'u'.
+    if ((c == 0xC2 && i + 1 < name.size() && static_cast<unsigned char>(name[i + 1]) == 0xB5) ||
+        (c == 0xCE && i + 1 < name.size() && static_cast<unsigned char>(name[i + 1]) == 0xBC)) {
+      out += 'u';
+      ++i;
+      continue;
+    }
+    out += static_cast<char>(std::tolower(c));
+  }
+  return out;
+}
+
+// The millimetres of one `unit` ("mm", "um", "in", "inch"); nothing for another word.
+std::optional<double> mm_per(std::string_view unit) {
+  if (unit == "mm") return 1.0;
+  if (unit == "um" || unit == "micron" || unit == "microns") return 1e-3;
+  if (unit == "in" || unit == "inch" || unit == "inches") return 25.4;
+  return std::nullopt;
+}
+
+// The first column named <base> with a unit, "<base>_<unit>", "<base>(<unit>)" or
+// "<base>[<unit>]" (any case and spacing), for each base in order. A column named <base> alone
+// is refused: its unit would be a guess.
+std::optional<LengthColumn> find_length_column(const CsvTable& t,
+                                               std::initializer_list<const char*> bases,
+                                               const std::string& example) {
+  for (const char* base : bases) {
+    const std::string b = base;
+    for (std::size_t c = 0; c < t.header.size(); ++c) {
+      const std::string n = normalised(t.header[c]);
+      if (n.rfind(b, 0) != 0) continue;
+      std::string unit = n.substr(b.size());
+      if (unit.empty()) {
+        t.fail(t.header_line, c,
+               "column '" + t.header[c] + "' names no unit: write it as " + example);
+      }
+      if ((unit.front() == '(' && unit.back() == ')') ||
+          (unit.front() == '[' && unit.back() == ']')) {
+        unit = unit.substr(1, unit.size() - 2);
+      } else if (unit.front() == '_' || unit.front() == '-') {
+        unit = unit.substr(1);
+      } else {
+        continue;  // another word that starts like the base ("targets", "errorcode")
+      }
+      const auto scale = mm_per(unit);
+      if (!scale) {
+        t.fail(t.header_line, c,
+               "column '" + t.header[c] + "': unit '" + unit + "' is not mm, um or in");
+      }
+      LengthColumn col;
+      col.index = c;
+      col.to_mm = *scale;
+      col.unit = *scale == 1.0 ? "mm" : *scale < 1 ? "um" : "in";
+      return col;
+    }
+  }
+  return std::nullopt;
+}
+
+// The columns of an ISO 230-2 run: the target, and the measured position or the deviation from
+// the target, each in the unit its header names; the cycle and the direction.
+struct Iso230_2Columns {
+  LengthColumn target, measured;
+  std::size_t cycle = 0, direction = 0;
+};
+
+// `words`: also the cycle and direction columns (the envelope check reads lengths only).
+Iso230_2Columns iso230_2_columns(const CsvTable& t, bool words = true) {
+  Iso230_2Columns c;
+  const auto target = find_length_column(t, {"target", "nominal"},
+                                         "target_mm, target_um or target_in ('Target (mm)')");
+  if (!target) {
+    fail_header(t, "no target column: expected target_mm (or target_in, target_um, 'Target (mm)')");
+  }
+  c.target = *target;
+  if (auto measured = find_length_column(t, {"measured", "actual"},
+                                         "measured_mm, measured_um or measured_in")) {
+    c.measured = *measured;
+  } else if (auto deviation =
+                 find_length_column(t, {"error", "deviation"}, "error_um, error_mm or error_in")) {
+    c.measured = *deviation;
+    c.measured.deviation = true;
+  } else {
+    fail_header(t,
+                "no measured column: expected measured_mm (or measured_in, measured_um), or the "
+                "deviation from the target as error_um (or error_mm, error_in, deviation_um)");
+  }
+  const auto word_column = [&](std::initializer_list<const char*> names, const char* what) {
+    for (const char* name : names) {
+      for (std::size_t k = 0; k < t.header.size(); ++k) {
+        if (normalised(t.header[k]) == name) return k;
+      }
+    }
+    fail_header(t, std::string("no ") + what + " column: expected '" + *names.begin() + "'");
+  };
+  if (!words) return c;
+  c.cycle = word_column({"cycle", "run"}, "cycle");
+  c.direction = word_column({"direction", "dir"}, "direction");
+  return c;
+}
+
+double target_mm(const CsvTable& t, const CsvRow& row, const Iso230_2Columns& c) {
+  return t.number_within(row, c.target.index, kMaxLengthMm / c.target.to_mm, c.target.unit,
+                         "no machine or instrument reaches 1 km") *
+         c.target.to_mm;
+}
+
+double measured_mm(const CsvTable& t, const CsvRow& row, const Iso230_2Columns& c) {
+  const double v = t.number_within(row, c.measured.index, kMaxLengthMm / c.measured.to_mm,
+                                   c.measured.unit, "no machine or instrument reaches 1 km") *
+                   c.measured.to_mm;
+  return c.measured.deviation ? target_mm(t, row, c) + v : v;
+}
+
+// The words of an approach in + and in -, as instruments write them.
+const std::vector<std::string> kUpWords = {"up", "+", "fwd", "forward", "pos", "positive"};
+const std::vector<std::string> kDownWords = {"down", "-",       "bwd", "back",    "backward",
+                                             "rev",  "reverse", "neg", "negative"};
+
 }  // namespace
 
 // ---- ISO 230-2 ----------------------------------------------------------------------------------
 
 Iso230_2File read_iso230_2_csv(const CsvTable& t) {
-  const std::size_t c_target = t.require_column("target_mm");
-  const std::size_t c_cycle = t.require_column("cycle");
-  const std::size_t c_direction = t.require_column("direction");
-  const std::size_t c_measured = t.require_column("measured_mm");
+  const Iso230_2Columns c = iso230_2_columns(t);
+  std::vector<std::string> words = kUpWords;
+  words.insert(words.end(), kDownWords.begin(), kDownWords.end());
   Iso230_2File out;
   out.file = t.file;
   for (const CsvRow& row : t.rows) {
     PositioningReading r;
-    r.target_mm = length_mm(t, row, c_target);
-    r.cycle = t.integer(row, c_cycle);
-    r.direction = t.word(row, c_direction, {"up", "down"}) == "up" ? Approach::Up : Approach::Down;
-    r.measured_mm = length_mm(t, row, c_measured);
+    r.target_mm = target_mm(t, row, c);
+    r.cycle = t.integer(row, c.cycle);
+    const std::string word = t.word(row, c.direction, words);
+    r.direction = std::find(kUpWords.begin(), kUpWords.end(), word) != kUpWords.end()
+                      ? Approach::Up
+                      : Approach::Down;
+    r.measured_mm = measured_mm(t, row, c);
     out.readings.push_back(r);
     out.lines.push_back(row.line);
   }
@@ -377,8 +512,8 @@ std::string envelope_text(const Envelope& e) {
 // A position in column `c` of `row` on machine axis `axis` (-1: an offset about the centre,
 // compared with ten spans either way).
 void check_position(const CsvTable& t, const CsvRow& row, std::size_t c, int axis,
-                    const Envelope& e) {
-  const double v = t.number(row, c);
+                    const Envelope& e, double to_mm = 1) {
+  const double v = t.number(row, c) * to_mm;
   const double reach = kSpansBeyond * e.span_mm();
   const double lo = axis < 0 ? -reach : e.lo_mm[axis] - reach;
   const double hi = axis < 0 ? reach : e.hi_mm[axis] + reach;
@@ -392,16 +527,16 @@ void check_position(const CsvTable& t, const CsvRow& row, std::size_t c, int axi
 }  // namespace
 
 void check_iso230_2_envelope(const CsvTable& t, int axis, const Envelope& e) {
-  const std::size_t c_target = t.require_column("target_mm");
-  const std::size_t c_measured = t.require_column("measured_mm");
+  const Iso230_2Columns c = iso230_2_columns(t, false);
   const double most = kDeviationShare * e.span_mm();
   for (const CsvRow& row : t.rows) {
-    check_position(t, row, c_target, axis, e);
-    const double deviation = t.number(row, c_measured) - t.number(row, c_target);
+    check_position(t, row, c.target.index, axis, e, c.target.to_mm);
+    const double deviation = measured_mm(t, row, c) - target_mm(t, row, c);
     if (std::abs(deviation) > most) {
-      t.fail(row.line, c_measured,
-             "column 'measured_mm' = '" + t.cell(row, c_measured) + "': " + mm(deviation) +
-                 " from target_mm " + t.cell(row, c_target) + ", more than " + mm(most) +
+      t.fail(row.line, c.measured.index,
+             "column '" + t.header[c.measured.index] + "' = '" + t.cell(row, c.measured.index) +
+                 "': " + mm(deviation) + " from " + t.header[c.target.index] + " " +
+                 t.cell(row, c.target.index) + ", more than " + mm(most) +
                  ", a tenth of the span of " + envelope_text(e));
     }
   }

@@ -7,10 +7,16 @@
 // carry extras: temperatures, time stamps). Lengths in mm, angles in degrees in the file, radians
 // inside.
 //
-// ISO 230-2 run (laser interferometer):
+// ISO 230-2 run (laser interferometer), long form:
 //     target_mm,cycle,direction,measured_mm
 //     0,1,up,0.0012
-//   direction is "up" (approach in +) or "down" (in -), any case; cycle an integer.
+//   The lengths take the unit their header names: target_mm | target_um | target_in, also
+//   written "Target (mm)" or "target [in]" (any case and spacing; "nominal" for "target"); the
+//   measured position measured_* ("actual"), or instead the deviation from the target error_*
+//   ("deviation"), e.g. "Error (µm)". A length column without a unit, or in another unit, is
+//   refused at the header, never guessed. cycle (or "run") an integer; direction (or "dir") up,
+//   +, fwd, forward, pos, positive (approach in +) or down, -, bwd, back, backward, rev, reverse,
+//   neg, negative (in -), any case. Separators and the decimal comma: ncqual/csv.hpp.
 //   Refused besides cell errors, with the line of the offending reading: a repeated (target,
 //   cycle, direction) naming the first line too; a target and direction with a single cycle; a
 //   target measured in one direction only while other targets have both; and, at the last
