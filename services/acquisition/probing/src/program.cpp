@@ -19,6 +19,8 @@ namespace {
 
 constexpr double kMmPerInch = 25.4;
 constexpr double kSafeZAboveHighestStartMm = 50.0;
+// A skip position this close to the probing move's end: the probe did not trip (Fanuc).
+constexpr double kNoTripMm = 0.001;
 
 std::string fixed(double v, int decimals) {
   char buffer[64];
@@ -84,7 +86,7 @@ std::optional<int> parse_integer(const std::string& s) {
 // The program text, as the control reads it.
 class Writer {
  public:
-  Writer(const MachineConfig& machine, Dialect dialect) : p_(machine.probing), dialect_(dialect) {}
+  explicit Writer(const MachineConfig& machine) : p_(machine.probing) {}
 
   void line(const std::string& s) { out_ << s << "\n"; }
   void comment(const std::string& s) { line("(" + comment_safe(s) + ")"); }
@@ -93,20 +95,19 @@ class Writer {
   std::string feed(double mm_per_min) const {
     return p_.inch ? fixed(mm_per_min / kMmPerInch, 2) : fixed(mm_per_min, 1);
   }
-  // X, Y, Z words of a pivot position (machine coordinates, mm) in program coordinates.
+  // A pivot position (machine coordinates, mm) in the work offset's coordinates (mm).
+  Eigen::Vector3d program(const Eigen::Vector3d& pivot) const { return pivot - p_.work_offset_mm; }
+  // X, Y, Z words of a pivot position in program coordinates and units.
   std::string xyz(const Eigen::Vector3d& pivot) const {
-    const Eigen::Vector3d q = pivot - p_.work_offset_mm;
+    const Eigen::Vector3d q = program(pivot);
     return "X" + length(q.x()) + " Y" + length(q.y()) + " Z" + length(q.z());
   }
-  std::string z(double pivot_z) const { return "Z" + length(pivot_z - p_.work_offset_mm.z()); }
+  std::string z(double pivot_z) const { return length(pivot_z - p_.work_offset_mm.z()); }
 
   std::string text() const { return out_.str(); }
-  const ProbingConfig& probing() const { return p_; }
-  Dialect dialect() const { return dialect_; }
 
  private:
   const ProbingConfig& p_;
-  Dialect dialect_;
   std::ostringstream out_;
 };
 
@@ -160,7 +161,7 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
   const double safe_z = p.safe_z_mm.value_or(highest + kSafeZAboveHighestStartMm);
   const std::string results = results_file_name(request.request_id, dialect);
 
-  Writer w(machine, dialect);
+  Writer w(machine);
   if (dialect == Dialect::Fanuc) {
     w.line("%");
     w.line("O8000 (NCQUAL PROBING)");
@@ -180,7 +181,7 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
             general(p.work_offset_mm.z()) + "] mm; angles in degrees");
   w.comment("tool length compensation off; no offset is changed; probe feed " +
             w.feed(p.probe_feed_mm_per_min) + ", approach " + w.feed(p.approach_feed_mm_per_min) +
-            ", safe Z " + w.length(safe_z - p.work_offset_mm.z()));
+            ", safe Z " + w.z(safe_z));
   w.line(std::string(p.inch ? "G20" : "G21") + " G90 G94 G17 G40 G49" +
          (dialect == Dialect::Fanuc ? " G80" : ""));
   w.line(p.work_offset);
@@ -196,7 +197,6 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
   }
 
   const std::string fanuc_xyz = p.inch ? "[45]" : "[54]";
-  const double no_trip = p.inch ? 0.00004 : 0.001;
   std::optional<ProbingMove> previous;
   for (std::size_t i = 0; i < moves.size(); ++i) {
     const ProbingMove& m = moves[i];
@@ -206,14 +206,14 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
                            previous->start.c_rad == m.start.c_rad &&
                            previous->start.w_mm == m.start.w_mm;
     if (!(same_head && (xyz_of(previous->start) - start).norm() < 1e-9)) {
-      w.line("G0 " + w.z(safe_z));
+      w.line("G0 Z" + w.z(safe_z));
       if (head && !same_head) {
         w.line("G0 A" + degrees(m.start.a_rad) + " C" + degrees(m.start.c_rad) +
                (m.start.w_mm != 0 || previous ? " W" + w.length(m.start.w_mm) : ""));
       }
-      const Eigen::Vector3d q = start - p.work_offset_mm;
+      const Eigen::Vector3d q = w.program(start);
       w.line("G0 X" + w.length(q.x()) + " Y" + w.length(q.y()));
-      w.line("G1 " + w.z(start.z()) + " F" + w.feed(p.approach_feed_mm_per_min));
+      w.line("G1 Z" + w.z(start.z()) + " F" + w.feed(p.approach_feed_mm_per_min));
     }
     w.comment("NCQUAL TOUCH " + std::to_string(n) + " feature=" + m.feature +
               " approach=" + general(m.direction.x()) + "," + general(m.direction.y()) + "," +
@@ -223,9 +223,9 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
     const std::string probe = dialect == Dialect::LinuxCnc ? "G38.2 " : "G31 ";
     w.line(probe + w.xyz(target) + " F" + w.feed(p.probe_feed_mm_per_min));
     if (dialect == Dialect::Fanuc) {
-      const Eigen::Vector3d t = target - p.work_offset_mm;
+      const Eigen::Vector3d t = w.program(target);
       w.line("IF[[ABS[#5061-" + w.length(t.x()) + "]+ABS[#5062-" + w.length(t.y()) +
-             "]+ABS[#5063-" + w.length(t.z()) + "]]LT" + fixed(no_trip, p.inch ? 5 : 4) +
+             "]+ABS[#5063-" + w.length(t.z()) + "]]LT" + w.length(kNoTripMm) +
              "]THEN#3000=1(NCQUAL NO TOUCH " + std::to_string(n) + ")");
       w.line("DPRNT[T" + std::to_string(n) + "*X#5061" + fanuc_xyz + "*Y#5062" + fanuc_xyz +
              "*Z#5063" + fanuc_xyz + "]");
@@ -235,7 +235,7 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
     w.line("G1 " + w.xyz(start) + " F" + w.feed(p.approach_feed_mm_per_min));
     previous = m;
   }
-  w.line("G0 " + w.z(safe_z));
+  w.line("G0 Z" + w.z(safe_z));
   switch (dialect) {
     case Dialect::LinuxCnc:
       w.line("(PROBECLOSE)");
