@@ -361,14 +361,15 @@ std::size_t Scheduler::sequence_rank(CheckKind kind) const {
 std::string Scheduler::refusal_while_held(const Machine& m, CheckKind kind) const {
   if (!m.run.hold) return "";
   const Hold& h = *m.run.hold;
-  const bool held_check = kind == h.rerun || intervention_matches(kind, h.kind);
-  const bool part_check = check_kind_info(kind).cadence == Cadence::PerPart;
-  if (held_check || (!part_check && sequence_rank(kind) < sequence_rank(h.kind))) return "";
+  const std::size_t held_rank = sequence_rank(h.kind);
+  const auto allowed_while_held = [&](CheckKind k) {
+    return k == h.rerun || intervention_matches(k, h.kind) ||
+           (check_kind_info(k).cadence != Cadence::PerPart && sequence_rank(k) < held_rank);
+  };
+  if (allowed_while_held(kind)) return "";
   std::vector<CheckKind> allowed;
   for (const auto& info : check_kinds()) {
-    if (!has_sections_for(*m.config, info.kind)) continue;
-    if (info.kind == h.rerun || intervention_matches(info.kind, h.kind) ||
-        (info.cadence != Cadence::PerPart && sequence_rank(info.kind) < sequence_rank(h.kind))) {
+    if (has_sections_for(*m.config, info.kind) && allowed_while_held(info.kind)) {
       allowed.push_back(info.kind);
     }
   }
