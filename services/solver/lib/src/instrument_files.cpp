@@ -21,8 +21,12 @@ namespace {
 constexpr double kMaxLengthMm = 1e6;
 constexpr double kMaxAngleDeg = 1e5;  // about 280 turns of a circle test
 
-double length_mm(const CsvTable& t, const CsvRow& row, std::size_t column) {
-  return t.number_within(row, column, kMaxLengthMm, "mm", "no machine or instrument reaches 1 km");
+// The cell in mm, from a column in `unit` (`to_mm` mm each).
+double length_mm(const CsvTable& t, const CsvRow& row, std::size_t column, double to_mm = 1,
+                 const std::string& unit = "mm") {
+  return t.number_within(row, column, kMaxLengthMm / to_mm, unit,
+                         "no machine or instrument reaches 1 km") *
+         to_mm;
 }
 
 using units::kPi;
@@ -187,16 +191,16 @@ Iso230_2Columns iso230_2_columns(const CsvTable& t, bool words = true) {
   return c;
 }
 
+double length_mm(const CsvTable& t, const CsvRow& row, const LengthColumn& c) {
+  return length_mm(t, row, c.index, c.to_mm, c.unit);
+}
+
 double target_mm(const CsvTable& t, const CsvRow& row, const Iso230_2Columns& c) {
-  return t.number_within(row, c.target.index, kMaxLengthMm / c.target.to_mm, c.target.unit,
-                         "no machine or instrument reaches 1 km") *
-         c.target.to_mm;
+  return length_mm(t, row, c.target);
 }
 
 double measured_mm(const CsvTable& t, const CsvRow& row, const Iso230_2Columns& c) {
-  const double v = t.number_within(row, c.measured.index, kMaxLengthMm / c.measured.to_mm,
-                                   c.measured.unit, "no machine or instrument reaches 1 km") *
-                   c.measured.to_mm;
+  const double v = length_mm(t, row, c.measured);
   return c.measured.deviation ? target_mm(t, row, c) + v : v;
 }
 
