@@ -1,16 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/csv.hpp"
 
+#include "ncqual/text.hpp"
+
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
-#include <system_error>
 
 namespace ncqual {
 namespace {
@@ -274,21 +271,10 @@ CsvTable read_csv(std::string_view text, const std::string& file) {
 }
 
 CsvTable read_csv_file(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) {
-    throw CsvError(path, 0, 0, "cannot read: is a directory");
-  }
-  errno = 0;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw CsvError(path, 0, 0,
-                   std::string("cannot read: ") + (err ? std::strerror(err) : "cannot open"));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw CsvError(path, 0, 0, "cannot read: read error");
-  return read_csv(text.str(), path);
+  std::string why;
+  const std::optional<std::string> text = read_text_file(path, &why);
+  if (!text) throw CsvError(path, 0, 0, "cannot read: " + why);
+  return read_csv(*text, path);
 }
 
 }  // namespace ncqual

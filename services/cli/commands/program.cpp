@@ -15,6 +15,7 @@
 #include "ncqual/probing/program.hpp"
 
 #include "ncqual/clock.hpp"
+#include "ncqual/text.hpp"
 #include "ncqual/version.hpp"
 
 #include <fstream>
@@ -93,12 +94,11 @@ int run(const Options& o) {
   return kExitOk;
 }
 
-std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw probing::ProgramError(path, 0, "cannot read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+std::string program_text(const std::string& path) {
+  std::string why;
+  std::optional<std::string> text = read_text_file(path, &why);
+  if (!text) throw probing::ProgramError(path, 0, "cannot read: " + why);
+  return std::move(*text);
 }
 
 }  // namespace
@@ -106,9 +106,9 @@ std::string read_text_file(const std::string& path) {
 MeasurementSet touches_from_files(const std::string& log_file, const std::string& program_file,
                                   const MachineConfig& machine, std::int64_t time_ns) {
   const probing::ProgramDescription program =
-      probing::read_program(read_text_file(program_file), program_file);
+      probing::read_program(program_text(program_file), program_file);
   const probing::TouchLog log =
-      probing::read_touch_log(read_text_file(log_file), log_file, program.dialect);
+      probing::read_touch_log(program_text(log_file), log_file, program.dialect);
   return probing::measurement_set_from_log(program, log, log_file, machine, time_ns);
 }
 
