@@ -26,6 +26,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ncqual {
@@ -104,6 +105,28 @@ struct ProbingConfig {
   bool inch = false;  // units: mm (G21) or inch (G20), of the programs and the logs
 };
 
+// The language of a control's probing programs and touch logs (ncqual/probing/program.hpp).
+enum class ControlDialect { LinuxCnc, Fanuc, GenericCsv };
+std::string_view to_string(ControlDialect dialect);  // "linuxcnc", "fanuc", "generic-csv"
+std::optional<ControlDialect> control_dialect_from(std::string_view name);
+std::string control_dialect_names();  // "linuxcnc, fanuc, generic-csv"
+
+// The `instrument:` section: what measures the machine's checks for ncqual-acquisition
+// (ncqual/acquisition/instruments.hpp; docs/connecting-a-machine.md).
+//   simulator      the simulator: section stands in for the machine and its instruments;
+//   control-files  for each request the probing program is written into `outbox` (a folder the
+//                  control reads: a network share, a DNC folder) and the control's touch log is
+//                  awaited in `inbox`; both are moved to `archive` once read. What does not come
+//                  back within `timeout_s` is a MeasurementSet with its error.
+enum class InstrumentDriver { Simulator, ControlFiles };
+std::string_view to_string(InstrumentDriver driver);  // "simulator", "control-files"
+struct InstrumentConfig {
+  InstrumentDriver driver = InstrumentDriver::Simulator;
+  ControlDialect dialect = ControlDialect::LinuxCnc;
+  std::string outbox, inbox, archive;  // absolute; archive defaults to <inbox>/archive
+  double timeout_s = 3600;             // from the program written to its results read
+};
+
 struct MachineConfig {
   std::string machine_id;
   std::string description;
@@ -116,6 +139,7 @@ struct MachineConfig {
   std::optional<FixtureConfig> fixture;  // the `fixture:` section (ncqual/fixture.hpp), if any
   PartSetPointsConfig setpoints;         // the `setpoints:` section
   ProbingConfig probing;                 // the `probing:` section
+  InstrumentConfig instrument;           // the `instrument:` section
   std::optional<GlobalCheckConfig> global_check;  // the `global_check:` section (monthly, tracker)
 
   // Tolerance of a metric; throws ConfigError naming the machine and metric when absent.

@@ -182,6 +182,41 @@ ProbingConfig read_probing(const Node& node) {
   return c;
 }
 
+InstrumentConfig read_instrument(const Node& node) {
+  InstrumentConfig c;
+  if (!node.map_of({"driver", "dialect", "outbox", "inbox", "archive", "timeout_s"})) return c;
+  const std::string driver = node["driver"].text("simulator");
+  if (driver == "control-files") {
+    c.driver = InstrumentDriver::ControlFiles;
+  } else if (driver != "simulator") {
+    node["driver"].problem("expected simulator or control-files");
+  }
+  const std::string dialect = node["dialect"].text("linuxcnc");
+  if (const auto d = control_dialect_from(dialect)) {
+    c.dialect = *d;
+  } else {
+    node["dialect"].problem("expected one of " + control_dialect_names());
+  }
+  c.timeout_s = node["timeout_s"].number(c.timeout_s);
+  if (!(c.timeout_s > 0)) node["timeout_s"].problem("must be positive");
+  if (c.driver != InstrumentDriver::ControlFiles) {
+    for (const char* key : {"outbox", "inbox", "archive"}) {
+      if (node[key].present()) node[key].problem("only the control-files driver reads it");
+    }
+    return c;
+  }
+  // Folders relative to the machine file, so a plant's config tree can be moved as a whole.
+  c.outbox = resolve(node.file(), node["outbox"].required_text().value_or(""));
+  c.inbox = resolve(node.file(), node["inbox"].required_text().value_or(""));
+  c.archive = node["archive"].present()
+                  ? resolve(node.file(), node["archive"].text(""))
+                  : (c.inbox.empty() ? "" : (fs::path(c.inbox) / "archive").string());
+  if (!c.outbox.empty() && c.outbox == c.inbox) {
+    node["inbox"].problem("must not be the outbox: programs and results need folders of their own");
+  }
+  return c;
+}
+
 MachineConfig read_machine(const Node& root) {
   MachineConfig m;
   m.source_path = root.file();
@@ -191,7 +226,7 @@ MachineConfig read_machine(const Node& root) {
     return m;
   }
   root.map_of({"machine_id", "description", "probe", "monument", "tolerances", "simulator",
-               "budget", "setpoints", "fixture", "global_check", "probing"});
+               "budget", "setpoints", "fixture", "global_check", "probing", "instrument"});
   const Node id = root["machine_id"];
   m.machine_id = id.required_text().value_or("");
   if (id.present() && !valid_id(m.machine_id)) {
@@ -236,6 +271,7 @@ MachineConfig read_machine(const Node& root) {
   }
   if (root["setpoints"].present()) m.setpoints = read_setpoints(root["setpoints"]);
   if (root["probing"].present()) m.probing = read_probing(root["probing"]);
+  if (root["instrument"].present()) m.instrument = read_instrument(root["instrument"]);
   if (root["fixture"].present()) m.fixture = read_fixture(root["fixture"]);
   if (root["global_check"].present()) m.global_check = read_global_check(root["global_check"]);
   if (root["budget"].present()) m.budget = read_budget(root["budget"]);
@@ -490,6 +526,29 @@ sim::SimulatorConfig parse_simulator_config(std::string_view machine_yaml_text,
   sim::SimulatorConfig c = config::read_simulator(root["simulator"], machine);
   diagnostics.throw_if_any();
   return c;
+}
+
+std::string_view to_string(ControlDialect dialect) {
+  switch (dialect) {
+    case ControlDialect::LinuxCnc: return "linuxcnc";
+    case ControlDialect::Fanuc: return "fanuc";
+    case ControlDialect::GenericCsv: return "generic-csv";
+  }
+  return "?";
+}
+
+std::optional<ControlDialect> control_dialect_from(std::string_view name) {
+  for (ControlDialect d :
+       {ControlDialect::LinuxCnc, ControlDialect::Fanuc, ControlDialect::GenericCsv}) {
+    if (to_string(d) == name) return d;
+  }
+  return std::nullopt;
+}
+
+std::string control_dialect_names() { return "linuxcnc, fanuc, generic-csv"; }
+
+std::string_view to_string(InstrumentDriver driver) {
+  return driver == InstrumentDriver::ControlFiles ? "control-files" : "simulator";
 }
 
 }  // namespace ncqual

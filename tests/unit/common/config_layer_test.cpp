@@ -156,6 +156,55 @@ std::vector<std::string> idl_check_kinds() {
   return names;
 }
 
+// The instrument: section: the simulator by default; the control-files driver with folders
+// relative to the machine file, the archive inside the inbox unless named; every mistake named.
+TEST_F(ConfigLayer, TheInstrumentSectionNamesItsDriverAndFoldersRelativeToTheMachineFile) {
+  EXPECT_EQ(load_machine_config(kPm1).instrument.driver, InstrumentDriver::Simulator);
+  const std::string good = write("ctl.yaml", "extends: " + kPm1 + R"(
+machine_id: ctl
+instrument: {driver: control-files, dialect: fanuc, outbox: dnc/in, inbox: /srv/dnc/out,
+             timeout_s: 900}
+)");
+  const InstrumentConfig c = load_machine_config(good).instrument;
+  EXPECT_EQ(c.driver, InstrumentDriver::ControlFiles);
+  EXPECT_EQ(c.dialect, ControlDialect::Fanuc);
+  EXPECT_EQ(c.outbox, (dir_ / "dnc/in").string());
+  EXPECT_EQ(c.inbox, "/srv/dnc/out");
+  EXPECT_EQ(c.archive, "/srv/dnc/out/archive");
+  EXPECT_EQ(c.timeout_s, 900);
+
+  const std::string bad = write("bad.yaml", "extends: " + kPm1 + R"(
+machine_id: bad
+instrument: {driver: control-file, dialect: heidenhain, inbox: x, timeout_s: 0}
+)");
+  try {
+    load_machine_config(bad);
+    FAIL() << "loaded a bad instrument section";
+  } catch (const ConfigError& e) {
+    const auto& p = e.problems();
+    EXPECT_TRUE(names(p, bad + ": instrument.driver = 'control-file': expected simulator or "
+                               "control-files"))
+        << e.what();
+    EXPECT_TRUE(names(p, bad + ": instrument.dialect = 'heidenhain': expected one of linuxcnc, "
+                               "fanuc, generic-csv"))
+        << e.what();
+    EXPECT_TRUE(names(p, bad + ": instrument.timeout_s = '0': must be positive")) << e.what();
+    EXPECT_TRUE(names(p, bad + ": instrument.inbox = 'x': only the control-files driver reads it"))
+        << e.what();
+  }
+  const std::string same = write("same.yaml", "extends: " + kPm1 + R"(
+machine_id: same
+instrument: {driver: control-files, inbox: share}
+)");
+  try {
+    load_machine_config(same);
+    FAIL() << "loaded a control-files driver without an outbox";
+  } catch (const ConfigError& e) {
+    EXPECT_TRUE(names(e.problems(), same + ": instrument.outbox = (missing): required"))
+        << e.what();
+  }
+}
+
 TEST(CheckKindTable, OneRowPerKindOfTheWireContractInItsOrder) {
   const std::vector<std::string> idl = idl_check_kinds();
   ASSERT_EQ(idl.size(), static_cast<std::size_t>(kCheckKindCount));

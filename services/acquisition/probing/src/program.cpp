@@ -117,26 +117,12 @@ std::string degrees(double rad) { return fixed(units::rad_to_deg(rad), 4); }
 
 }  // namespace
 
-std::string_view to_string(Dialect dialect) {
-  switch (dialect) {
-    case Dialect::LinuxCnc: return "linuxcnc";
-    case Dialect::Fanuc: return "fanuc";
-    case Dialect::GenericCsv: return "generic-csv";
-  }
-  return "?";
-}
-
-std::optional<Dialect> dialect_from(std::string_view name) {
-  for (Dialect d : {Dialect::LinuxCnc, Dialect::Fanuc, Dialect::GenericCsv}) {
-    if (to_string(d) == name) return d;
-  }
-  return std::nullopt;
-}
-
-std::string dialect_names() { return "linuxcnc, fanuc, generic-csv"; }
-
 ProgramError::ProgramError(const std::string& file, int line, const std::string& message)
     : Error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message) {}
+
+std::string program_file_name(const std::string& request_id, Dialect dialect) {
+  return "ncqual-" + request_id + (dialect == Dialect::LinuxCnc ? ".ngc" : ".nc");
+}
 
 std::string results_file_name(const std::string& request_id, Dialect dialect) {
   return "ncqual-" + request_id + (dialect == Dialect::GenericCsv ? ".csv" : ".txt");
@@ -280,7 +266,8 @@ double number_field(const std::map<std::string, std::string>& fields, const std:
                     const std::string& comment, const std::string& file, int line) {
   const std::string& text = field(fields, key, comment, file, line);
   const auto v = parse_number(text);
-  if (!v) throw ProgramError(file, line, comment + ": " + key + " = '" + text + "' is no number");
+  if (!v)
+    throw ProgramError(file, line, comment + ": " + key + " = '" + text + "' is not a number");
   return *v;
 }
 
@@ -410,7 +397,8 @@ LoggedTouch fanuc_touch(const std::string& raw, const std::string& file, int ln)
   for (int k = 0; k < 3; ++k) {
     const auto v = parse_number(parts[k]);
     if (!v) {
-      throw ProgramError(file, ln, std::string(1, "XYZ"[k]) + " = '" + parts[k] + "' is no number");
+      throw ProgramError(file, ln,
+                         std::string(1, "XYZ"[k]) + " = '" + parts[k] + "' is not a number");
     }
     t.position[k] = *v;
   }
@@ -436,7 +424,7 @@ TouchLog read_touch_log(const std::string& text, const std::string& file, Dialec
         if (!v) {
           throw ProgramError(file, ln,
                              "field " + std::to_string(values.size() + 1) + " = '" + word +
-                                 "' is no number (LinuxCNC's probe log: X Y Z A B C U V W)");
+                                 "' is not a number (LinuxCNC's probe log: X Y Z A B C U V W)");
         }
         values.push_back(*v);
       }
@@ -496,7 +484,7 @@ TouchLog read_touch_log(const std::string& text, const std::string& file, Dialec
         if (!v) {
           throw ProgramError(file, ln,
                              std::string(1, "xyz"[k]) + " = '" +
-                                 parts[static_cast<std::size_t>(k) + 1] + "' is no number");
+                                 parts[static_cast<std::size_t>(k) + 1] + "' is not a number");
         }
         t.position[k] = *v;
       }

@@ -41,11 +41,14 @@
 
 namespace ncqual::probing {
 
-enum class Dialect { LinuxCnc, Fanuc, GenericCsv };
-std::string_view to_string(Dialect dialect);  // "linuxcnc", "fanuc", "generic-csv"
-std::optional<Dialect> dialect_from(std::string_view name);
-// "linuxcnc, fanuc, generic-csv"
-std::string dialect_names();
+// The dialects, their names and the one list of them are ncqual/config.hpp's (a machine's
+// `instrument:` section names one).
+using Dialect = ControlDialect;
+inline std::optional<Dialect> dialect_from(std::string_view name) {
+  return control_dialect_from(name);
+}
+inline std::string dialect_names() { return control_dialect_names(); }
+using ncqual::to_string;
 
 // A program or log that cannot be used: what() is "<file>:<line>: <message>" (line 0 left out).
 class ProgramError : public Error {
@@ -62,6 +65,10 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
 // The name of the results file a program of `request` has the control write ("ncqual-<request
 // id>.txt" or ".csv"; for Fanuc the control's own file, whose first line names the request).
 std::string results_file_name(const std::string& request_id, Dialect dialect);
+
+// The file a program of `request` is handed to a control in: "ncqual-<request id>.ngc" for
+// LinuxCNC, ".nc" for the others.
+std::string program_file_name(const std::string& request_id, Dialect dialect);
 
 // One touch as a program describes it.
 struct ProgramTouch {
