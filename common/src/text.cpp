@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/text.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -39,6 +43,39 @@ std::optional<std::string> read_text_file(const std::string& path, std::string* 
     return std::nullopt;
   }
   return text.str();
+}
+
+bool write_file_atomically(const std::string& path, const std::string& text, std::string* why) {
+  const std::filesystem::path target(path);
+  const std::string part =
+      (target.parent_path() / ("." + target.filename().string() + ".part")).string();
+  const int fd = ::open(part.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    *why = std::strerror(errno);
+    return false;
+  }
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  const int write_errno = done == text.size() ? 0 : (errno ? errno : EIO);
+  const bool synced = write_errno == 0 && ::fsync(fd) == 0;
+  const int sync_errno = synced ? 0 : errno;
+  ::close(fd);
+  if (write_errno != 0 || !synced) {
+    *why = std::strerror(write_errno != 0 ? write_errno : sync_errno);
+    std::remove(part.c_str());
+    return false;
+  }
+  if (std::rename(part.c_str(), path.c_str()) != 0) {
+    *why = std::strerror(errno);
+    std::remove(part.c_str());
+    return false;
+  }
+  return true;
 }
 
 }  // namespace ncqual

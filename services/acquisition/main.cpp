@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // ncqual-acquisition: answers the CheckRequests of its machine tool(s) by measuring with the
-// instruments (here: the simulator) and publishing the raw MeasurementSet; it never judges one.
+// instruments each machine config's `instrument:` section names (the simulator, or the machine's
+// own control through program and results files) and publishing the raw MeasurementSet; it never
+// judges one.
 // It also stands for the holding fixture's control unit: it applies the zero offsets the solver
 // publishes as Compensations (kept in its state file, so a restart restores them), and a
 // post-calibration waits until the correction it verifies is applied. It acknowledges requests
@@ -16,6 +18,7 @@
 #include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
+#include "ncqual/version.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -56,6 +59,10 @@ class Served {
             acks.acknowledge<ncqual::dds::CheckRequestTopic>(in, AckOutcome::Accepted);
           }
         });
+    // Measurements that go on outside the process (a control running its program) come back
+    // here; their requests are acknowledged when they are sent again.
+    service.dispatcher().every(std::chrono::milliseconds(1000),
+                               [&s, &clock] { s.poll(clock.now_ns()); });
   }
 
  private:
@@ -94,7 +101,10 @@ int run(int argc, char** argv) {
   using namespace ncqual;
   ncqual::dds::ServiceMain service_main(
       "acquisition",
-      "Simulates the machines' instruments from each machine config's simulator section.\n"
+      "Measures the checks of the machines named with the instruments each machine config's\n"
+      "instrument: section names: the simulator (its simulator: section), or the machine's own\n"
+      "control, handed a probing program in a folder and read back from its results file\n"
+      "(control-files; docs/connecting-a-machine.md).\n"
       "One process serves every machine named; each keeps its own state.");
   CLI::App& app = service_main.app();
   MachineSelection selection;
@@ -150,12 +160,20 @@ int run(int argc, char** argv) {
     const acquisition::StationOptions station_options{plant.simulated_clock, max_age_ns};
     std::vector<std::unique_ptr<Served>> stations;
     for (const auto& m : machines) {
+      if (m.instrument.driver == InstrumentDriver::ControlFiles) {
+        spdlog::info(
+            "{}: measured by its control ({}): programs to {}, results from {}, archived "
+            "in {}, timeout {} s",
+            m.machine_id, to_string(m.instrument.dialect), m.instrument.outbox, m.instrument.inbox,
+            m.instrument.archive, m.instrument.timeout_s);
+      }
       acquisition::PerformedRequests performed(state, m.machine_id);
       performed.load(documents);
       stations.push_back(std::make_unique<Served>(
           service, acks,
           std::make_unique<acquisition::Station>(
-              m.machine_id, std::make_unique<acquisition::SimulatedInstruments>(m),
+              m.machine_id,
+              acquisition::make_instruments(m, service.clock(), version_line("ncqual")),
               std::move(performed), station_options, publish, queue)));
     }
     spdlog::info("serving {} machine(s): {}", stations.size(), served);

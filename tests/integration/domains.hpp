@@ -42,12 +42,14 @@ enum class TestDomain : int {
   StorageFaults = detail::test_domain(217),               // StorageFaults.*
   NetworkReference = detail::test_domain(218),  // FaultCampaign.ALossy...: the undisturbed run
   NetworkImpaired = detail::test_domain(219),   // FaultCampaign.ALossy...: the impaired one
-  AckBench = detail::test_domain(220),
-  ImportLarge = detail::test_domain(221),  // Import.ALargeCircle...
+  AckBench = detail::test_domain(220),          // ncqual_ack_bench (tests/bench), its smoke run
+  ImportLarge = detail::test_domain(221),       // Import.ALargeCircle...
+  // ncqual_import_bench (tests/bench), its smoke run
   ImportBench = detail::test_domain(222),
-  StorageDamaged = detail::test_domain(
-      223),  // StorageFaults.ADamagedFile...  // ncqual_import_bench (tests/bench), its smoke run
-             // // ncqual_ack_bench (tests/bench), its smoke run
+  // StorageFaults.ADamagedFile...
+  StorageDamaged = detail::test_domain(223),
+  // ControlFiles.*: the control-files driver with a stand-in control
+  ControlFiles = detail::test_domain(224),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -76,7 +78,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::AckBench:
     case TestDomain::ImportLarge:
     case TestDomain::ImportBench:
-    case TestDomain::StorageDamaged: break;
+    case TestDomain::StorageDamaged:
+    case TestDomain::ControlFiles: break;
   }
   return static_cast<int>(domain);
 }

@@ -91,23 +91,32 @@ class Plant {
   int domain() const { return domain_; }
   const std::string& plant_file() const { return plant_file_; }
 
+  // Looks again until `done` holds or the timeout passes (what a service did, in a file).
+  static bool wait_for(const std::function<bool()>& done,
+                       std::chrono::seconds timeout = std::chrono::seconds(60)) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (done()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  }
+
   // Re-reads the database until `done` holds or the timeout passes. The historian's commit is
   // the event waited for; there is no fixed sleep.
   bool wait_for_db(const std::function<bool(storage::Database&)>& done,
                    std::chrono::seconds timeout = std::chrono::seconds(60)) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (fs::exists(db_path())) {
-        try {
-          auto db = storage::Database::open_readonly(db_path());
-          if (done(db)) return true;
-        } catch (const std::exception&) {
-          // The historian may be creating the schema right now; look again.
-        }
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
+    return wait_for(
+        [&] {
+          if (!fs::exists(db_path())) return false;
+          try {
+            auto db = storage::Database::open_readonly(db_path());
+            return done(db);
+          } catch (const std::exception&) {
+            return false;  // the historian may be creating the schema right now; look again
+          }
+        },
+        timeout);
   }
 
   std::string log(const std::string& service) const {

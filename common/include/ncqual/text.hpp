@@ -17,4 +17,9 @@ std::vector<std::string> split_at(std::string_view text, char sep);
 // system's reason, "read error"), when it cannot be read. Callers name the file in their error.
 std::optional<std::string> read_text_file(const std::string& path, std::string* why);
 
+// Writes `text` to `path` so that a reader never sees part of it: into ".<name>.part" beside it,
+// flushed to disk, then renamed over `path`. False, with `*why` (the system's reason), when it
+// could not; then `path` is as it was and the part file is removed.
+bool write_file_atomically(const std::string& path, const std::string& text, std::string* why);
+
 }  // namespace ncqual

@@ -4,10 +4,12 @@
 //    by eye; NCQUAL_UPDATE_GOLDEN=1 rewrites them);
 //  - every program is parsed back here with a G-code reader of this test's own: each probing
 //    move runs from its start to start + travel * direction of the touch plan;
-//  - touch logs written as each control writes them (this test formats them itself from the
-//    simulator's touches) give the same MeasurementSet, and so the same figures, as the simulator's
-//    own set, and those figures find the injected truth;
+//  - touch logs written as each control writes them (tests/support/control_emulator.hpp formats
+//    them from the simulator's touches) give the same MeasurementSet, and so the same figures, as
+//    the simulator's own set, and those figures find the injected truth;
 //  - logs that do not belong to their program are refused saying why.
+#include "control_emulator.hpp"
+
 #include "ncqual/probing/plan.hpp"
 #include "ncqual/probing/program.hpp"
 
@@ -148,34 +150,10 @@ TEST(ProbingProgram, EveryProgramRunsThePlanAndDescribesItself) {
   }
 }
 
-// The log a control writes for the simulator's touches, formatted here as the control does.
+// The log a control writes for the simulator's touches, formatted as the control does.
 std::string control_log(Dialect d, const ProgramDescription& program, const MeasurementSet& set,
                         const MachineConfig& m) {
-  std::string out;
-  char line[256];
-  const double unit = m.probing.inch ? 25.4 : 1;
-  if (d == Dialect::Fanuc) out = "NCQUAL " + program.request_id + "\n";
-  if (d == Dialect::GenericCsv) out = "# request " + program.request_id + "\ntouch,x,y,z\n";
-  int n = 0;
-  for (const Touch& t : set.touches) {
-    const Eigen::Vector3d q =
-        (Eigen::Vector3d(t.axes.x_mm, t.axes.y_mm, t.axes.z_mm) - m.probing.work_offset_mm) / unit;
-    ++n;
-    if (d == Dialect::LinuxCnc) {
-      std::snprintf(line, sizeof line, "%f %f %f %f %f %f %f %f %f\n", q.x(), q.y(), q.z(),
-                    units::rad_to_deg(t.axes.a_rad), 0.0, units::rad_to_deg(t.axes.c_rad), 0.0, 0.0,
-                    t.axes.w_mm / unit);
-    } else if (d == Dialect::Fanuc) {
-      // DPRNT with [54] (mm) or [45] (inch): sign or blank, leading blanks.
-      const int decimals = m.probing.inch ? 5 : 4;
-      std::snprintf(line, sizeof line, "T%d X% 10.*f Y% 10.*f Z% 10.*f\r\n", n, decimals, q.x(),
-                    decimals, q.y(), decimals, q.z());
-    } else {
-      std::snprintf(line, sizeof line, "%d,%.6f,%.6f,%.6f\n", n, q.x(), q.y(), q.z());
-    }
-    out += line;
-  }
-  return out;
+  return testing::control_log(d, program.request_id, set.touches, m);
 }
 
 TEST(ProbingProgram, LogsOfEachDialectGiveTheSimulatorsFiguresAndTheInjectedTruth) {
@@ -273,7 +251,7 @@ TEST(ProbingProgram, ALogThatIsNotItsProgramsIsRefusedSayingWhy) {
   EXPECT_NE(why.find("line equal to the one before"), std::string::npos) << why;
   // A malformed line names file, line and field.
   why = refusal(Dialect::GenericCsv, "# request pm1-r7\n1,2,x3,4\n", file);
-  EXPECT_NE(why.find(file + ":2: y = 'x3' is no number"), std::string::npos) << why;
+  EXPECT_NE(why.find(file + ":2: y = 'x3' is not a number"), std::string::npos) << why;
   // Fanuc: the first line names the request.
   why = refusal(Dialect::Fanuc, "T1 X1 Y2 Z3\n", "in/fanuc.txt");
   EXPECT_NE(why.find("in/fanuc.txt:1:"), std::string::npos) << why;

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <unistd.h>
 
 #include <filesystem>
@@ -24,14 +26,21 @@ struct Recorder {
   std::vector<std::string> measured;  // request ids, in order
   std::vector<std::string> applied;   // correction targets, in order
   std::vector<std::string> restored;  // correction targets restored at start, in order
+  // Asynchronous instruments (a control running programs): measure() hands over, and what the
+  // test moves into `finished` comes back from the next poll().
+  bool asynchronous = false;
+  std::vector<MeasurementSet> finished;
 };
 class RecordingInstruments : public Instruments {
  public:
   explicit RecordingInstruments(Recorder& r) : r_(r) {}
-  MeasurementSet measure(const CheckRequest& request, std::int64_t time_ns) override {
+  std::optional<MeasurementSet> measure(const CheckRequest& request,
+                                        std::int64_t time_ns) override {
     r_.measured.push_back(request.request_id);
+    if (r_.asynchronous) return std::nullopt;
     return unmeasured(request, time_ns, "");
   }
+  std::vector<MeasurementSet> poll() override { return std::exchange(r_.finished, {}); }
   std::string apply(const Correction& correction) override {
     r_.applied.push_back(correction.target);
     return "";
@@ -249,6 +258,46 @@ TEST_F(StationTest, SettledSamplesAreRecordedAndCompensationsAreRestoredAfterARe
   EXPECT_EQ(recorder_.measured.back(), "post-2");
 }
 
+// Instruments that measure outside the call (a control running a program): the request is not
+// settled while it runs and a resend does not start it again; poll() brings the set back, which
+// is recorded and published like any other, stamped with the instrument's time on a simulated
+// clock; the request is settled when it is sent again. A set the instruments never were asked
+// for is not published.
+TEST_F(StationTest, AMeasurementHandedToAControlIsPublishedWhenItComesBack) {
+  recorder_.asynchronous = true;
+  StationOptions simulated;
+  simulated.simulated_clock = true;
+  auto s = station(simulated);
+  const std::int64_t asked = kNow - 3600 * kSecond;
+  EXPECT_FALSE(s->on_request(request("r1", asked), "", kNow));
+  EXPECT_FALSE(s->on_request(request("r1", asked), "", kNow + kSecond));  // sent again
+  EXPECT_FALSE(s->on_request(request("r2", asked), "", kNow));
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1", "r2"}));
+  EXPECT_EQ(s->running(), 2u);
+  EXPECT_EQ(s->poll(kNow), 0u);
+  EXPECT_TRUE(published_.empty());
+  EXPECT_TRUE(state_->outbox_index().empty());
+
+  recorder_.finished.push_back(unmeasured(request("r2", asked), kNow + 5 * kSecond, ""));
+  recorder_.finished.push_back(unmeasured(request("stranger", asked), kNow, ""));
+  EXPECT_EQ(s->poll(kNow + 6 * kSecond), 1u);
+  ASSERT_EQ(published_.size(), 1u);
+  EXPECT_EQ(published_[0].request_id, "r2");
+  // Daily check 3 takes 6 minutes (the check-kind table), on the simulated clock.
+  EXPECT_EQ(published_[0].time_ns, asked + 6 * 60 * kSecond);
+  ASSERT_EQ(state_->outbox_index().size(), 1u);
+  EXPECT_EQ(s->running(), 1u);
+  EXPECT_TRUE(s->on_request(request("r2", asked), "", kNow));   // sent again: settled now
+  EXPECT_FALSE(s->on_request(request("r1", asked), "", kNow));  // still running
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1", "r2"}));
+
+  // A restart while r1 runs: it was not performed, so it is handed over again.
+  s = station(simulated);
+  EXPECT_FALSE(s->on_request(request("r1", asked), "", kNow));
+  EXPECT_TRUE(s->on_request(request("r2", asked), "", kNow));
+  EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1", "r2", "r1"}));
+}
+
 // The simulated instruments behind a station: the example machine's fixture and tracker
 // measure their checks; a machine without those sections says so in the set.
 TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
@@ -260,7 +309,7 @@ TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
     if (row.kind == CheckKind::FixturePostCalibration) continue;  // needs its pre-calibration's set
     if (row.kind == CheckKind::FixturePreCalibration)
       r.parameters.push_back({"fixture_configuration", 0, ""});
-    const MeasurementSet set = full.measure(r, kNow);
+    const MeasurementSet set = full.measure(r, kNow).value();
     EXPECT_TRUE(set.error.empty()) << row.name << ": " << set.error;
     EXPECT_FALSE(set.touches.empty() && set.tracker_points.empty()) << row.name;
   }
@@ -268,9 +317,10 @@ TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
   bare.fixture.reset();
   bare.global_check.reset();
   SimulatedInstruments monument_only(bare);
-  EXPECT_EQ(monument_only.measure(request("f", kNow, CheckKind::FixturePreCalibration), kNow).error,
-            "machine 'pm1' has no fixture: section to probe");
-  EXPECT_EQ(monument_only.measure(request("g", kNow, CheckKind::GlobalGrid), kNow).error,
+  EXPECT_EQ(
+      monument_only.measure(request("f", kNow, CheckKind::FixturePreCalibration), kNow)->error,
+      "machine 'pm1' has no fixture: section to probe");
+  EXPECT_EQ(monument_only.measure(request("g", kNow, CheckKind::GlobalGrid), kNow)->error,
             "machine 'pm1' has no global_check: section for the laser tracker");
   Correction zero;
   zero.target = "fixture:UHF1";

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/acquisition/instruments.hpp"
 
+#include "ncqual/acquisition/control_files.hpp"
+
 #include "ncqual/check_kinds.hpp"
 
 #include <stdexcept>
@@ -14,13 +16,24 @@ MeasurementSet unmeasured(const CheckRequest& request, std::int64_t time_ns,
   return set;
 }
 
+std::unique_ptr<Instruments> make_instruments(const MachineConfig& machine, const Clock& clock,
+                                              const std::string& version) {
+  switch (machine.instrument.driver) {
+    case InstrumentDriver::ControlFiles:
+      return std::make_unique<ControlFilesInstruments>(machine, clock, version);
+    case InstrumentDriver::Simulator: break;
+  }
+  return std::make_unique<SimulatedInstruments>(machine);
+}
+
 SimulatedInstruments::SimulatedInstruments(const MachineConfig& machine)
     : machine_(machine), simulator_(machine_, machine_.simulator) {
   if (machine_.fixture) fixture_ = sim::FixtureSimulator::for_machine(machine_, machine_.simulator);
   if (machine_.global_check) tracker_.emplace(machine_, machine_.simulator);
 }
 
-MeasurementSet SimulatedInstruments::measure(const CheckRequest& request, std::int64_t time_ns) {
+std::optional<MeasurementSet> SimulatedInstruments::measure(const CheckRequest& request,
+                                                            std::int64_t time_ns) {
   switch (check_kind_info(request.kind).instrument) {
     case Instrument::FixtureProbe:
       if (!fixture_) {

@@ -131,6 +131,7 @@ Station::Station(std::string machine_id, std::unique_ptr<Instruments> instrument
 }
 
 bool Station::is_waiting(const std::string& request_id) const {
+  if (running_.count(request_id)) return true;
   return std::any_of(waiting_.begin(), waiting_.end(), [&](const auto& entry) {
     return std::any_of(entry.second.begin(), entry.second.end(),
                        [&](const CheckRequest& r) { return r.request_id == request_id; });
@@ -199,14 +200,48 @@ bool Station::on_compensation(const Compensation& c, std::int64_t now_ns) {
 
 // On a simulated clock the measurement is taken at the request's time and takes the
 // instrument's time; on the wall clock it is taken now.
+std::int64_t Station::measured_at(const CheckRequest& req, std::int64_t now_ns) const {
+  return options_.simulated_clock
+             ? req.time_ns +
+                   static_cast<std::int64_t>(check_kind_info(req.kind).duration_min * 60e9)
+             : now_ns;
+}
+
 bool Station::measure(const CheckRequest& req, const std::string& malformed, std::int64_t now_ns) {
-  const std::int64_t at =
-      options_.simulated_clock
-          ? req.time_ns + static_cast<std::int64_t>(check_kind_info(req.kind).duration_min * 60e9)
-          : now_ns;
-  const MeasurementSet set = malformed.empty()
-                                 ? instruments_->measure(req, at)
-                                 : unmeasured(req, at, "malformed CheckRequest: " + malformed);
+  const std::int64_t at = measured_at(req, now_ns);
+  if (!malformed.empty()) {
+    return finish(req, unmeasured(req, at, "malformed CheckRequest: " + malformed));
+  }
+  std::optional<MeasurementSet> set = instruments_->measure(req, at);
+  if (!set) {
+    // Handed over (a control runs the program): not settled until poll() brings the set back.
+    running_[req.request_id] = req;
+    return false;
+  }
+  return finish(req, *set);
+}
+
+std::size_t Station::poll(std::int64_t now_ns) {
+  std::size_t finished = 0;
+  for (MeasurementSet& set : instruments_->poll()) {
+    const auto it = running_.find(set.request_id);
+    if (it == running_.end()) {
+      spdlog::error(
+          "{}: the instruments returned a measurement of {}, a request not handed to "
+          "them in this run; not published",
+          machine_id_, set.request_id);
+      continue;
+    }
+    const CheckRequest req = std::move(it->second);
+    running_.erase(it);
+    if (options_.simulated_clock) set.time_ns = measured_at(req, now_ns);
+    finish(req, set);
+    ++finished;
+  }
+  return finished;
+}
+
+bool Station::finish(const CheckRequest& req, const MeasurementSet& set) {
   spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
                to_string(set.kind), set.touches.size(), set.tracker_points.size(),
                set.error.empty() ? "" : " (" + set.error + ")");

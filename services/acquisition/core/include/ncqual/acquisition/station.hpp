@@ -4,10 +4,12 @@
 // judges a measurement.
 //
 //   request  -> already performed (recorded, also by an earlier run)?    ignore it (settled)
-//               already waiting for its correction?                        ignore it
+//               already waiting for its correction, or being measured?     ignore it
 //               on the wall clock, older than the maximum age?              history: ignore it
 //               verifies a correction not yet applied?                      wait for it
+//               being measured by the instruments (a control's program)?   ignore it
 //               otherwise                                                   measure and publish
+//   poll         -> measurements the instruments finished since: record and publish them
 //   compensation -> for this machine and not seen before?  apply it, record it, then measure the
 //                   requests that waited for it
 //
@@ -97,13 +99,26 @@ class Station {
   // (logged; applying it again would not change that).
   bool on_compensation(const Compensation& compensation, std::int64_t now_ns);
 
+  // Collects what the instruments finished measuring since the last call (a control's results
+  // file), at `now_ns`: each is recorded and published like a measurement taken at once. The
+  // executable calls it about once a second. Returns how many were finished. Their requests are
+  // settled when they are sent again.
+  std::size_t poll(std::int64_t now_ns);
+
   // Requests waiting for a correction to be applied.
   std::size_t waiting() const;
+  // Requests the instruments are measuring (handed to a control, not back yet).
+  std::size_t running() const { return running_.size(); }
 
  private:
   bool is_waiting(const std::string& request_id) const;
-  // Measures, records and publishes; false when the record could not be saved.
+  // Measures, records and publishes; false when the record could not be saved or the
+  // measurement goes on (handed to a control).
   bool measure(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
+  // Records and publishes a measurement; false when the record could not be saved.
+  bool finish(const CheckRequest& request, const MeasurementSet& set);
+  // The time a measurement of `request` is stamped with when it is taken at `now_ns`.
+  std::int64_t measured_at(const CheckRequest& request, std::int64_t now_ns) const;
 
   const std::string machine_id_;
   std::unique_ptr<Instruments> instruments_;
@@ -113,6 +128,7 @@ class Station {
   const Queue queue_;
   std::set<std::string> applied_;  // compensations, by the request id that issued them
   std::map<std::string, std::vector<CheckRequest>> waiting_;  // by the correction they verify
+  std::map<std::string, CheckRequest> running_;  // handed to the instruments, by request id
 };
 
 }  // namespace ncqual::acquisition

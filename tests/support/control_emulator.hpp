@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: Apache-2.0
+// A stand-in for a machine's NC control, for tests of the control-files driver and of touch logs:
+// it "runs" the probing programs it finds on ncqual's simulator (the machine config's
+// simulator: section is its true machine) and writes each control's touch log as that control
+// formats it. Physics only: it knows nothing of the acquisition's code paths beyond the files.
+#pragma once
+
+#include "ncqual/config.hpp"
+#include "ncqual/model.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ncqual::testing {
+
+// The touch log the control of `dialect` writes for `touches` (axis readouts, machine
+// coordinates) of the program of `request_id` on machine `m`: in the work offset's coordinates
+// and the program's units, formatted as that control does (LinuxCNC: "%f" x 9; Fanuc: DPRNT's
+// "T<n> X.. Y.. Z.." with CRLF; generic-csv: "n,x,y,z").
+std::string control_log(ControlDialect dialect, const std::string& request_id,
+                        const std::vector<Touch>& touches, const MachineConfig& m);
+
+// One look at `m`'s instrument outbox: every probing program there whose results file is not in
+// the inbox yet is run on the simulator (measured at `time_ns`) and its log written into the
+// inbox, in two writes as a control appends it. Returns the request ids answered.
+std::vector<std::string> answer_programs(const MachineConfig& m, std::int64_t time_ns);
+
+}  // namespace ncqual::testing
