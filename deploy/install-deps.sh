@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: Apache-2.0
 # Installs the Debian 12 packages ncqual builds and runs with, when they are missing.
 # Everything comes from Debian's archive; nothing else is downloaded.
-# Usage: install-deps.sh [--test]   (--test adds what only the test suite needs: the linters, and
-#        iproute2 and nftables for the lossy-network test, which impairs a namespace's loopback)
+# Usage: install-deps.sh [--test]   (--test adds what only the test suite needs: the linters,
+#        iproute2 and nftables for the lossy-network test, which impairs a namespace's loopback, and
+#        LinuxCNC for the test that runs a probing program on a real controller)
 set -euo pipefail
 
 packages=(
@@ -14,7 +15,7 @@ packages=(
   libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev
 )
 if [ "${1:-}" = "--test" ]; then
-  packages+=(clang-format-14 clang-tidy-14 iproute2 nftables)
+  packages+=(clang-format-14 clang-tidy-14 iproute2 nftables linuxcnc-uspace)
 fi
 
 missing=()

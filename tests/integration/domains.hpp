@@ -50,6 +50,8 @@ enum class TestDomain : int {
   StorageDamaged = detail::test_domain(223),
   // ControlFiles.*: the control-files driver with a stand-in control
   ControlFiles = detail::test_domain(224),
+  // LinuxCnc.*: a daily check on LinuxCNC through the control-files driver
+  LinuxCnc = detail::test_domain(225),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -79,7 +81,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::ImportLarge:
     case TestDomain::ImportBench:
     case TestDomain::StorageDamaged:
-    case TestDomain::ControlFiles: break;
+    case TestDomain::ControlFiles:
+    case TestDomain::LinuxCnc: break;
   }
   return static_cast<int>(domain);
 }

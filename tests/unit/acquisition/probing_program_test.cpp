@@ -202,6 +202,41 @@ TEST(ProbingProgram, LogsOfEachDialectGiveTheSimulatorsFiguresAndTheInjectedTrut
   }
 }
 
+// A program and the probe log LinuxCNC 2.9 wrote running it (tests/data/linuxcnc, recorded by
+// LinuxCnc.ADailyCheckRunsOnLinuxCncThroughTheControlFilesDriver; its README says how): the
+// machine config writes the same program again, and the log gives the injected shift. This keeps
+// LinuxCNC's own log format covered where LinuxCNC cannot run.
+TEST(ProbingProgram, RecordedLinuxCncLogsGiveTheInjectedShift) {
+  const std::string dir = NCQUAL_SOURCE_DIR "/tests/data/linuxcnc/";
+  const std::string id = "lc1-monument_positioning-20261124T150933Z-1";
+  const MachineConfig m = load_machine_config(dir + "lc1.yaml");
+  const std::string program_file = dir + "ncqual-" + id + ".ngc";
+  const std::string log_file = dir + "ncqual-" + id + ".txt";
+  const ProgramDescription recorded = read_program(read_text(program_file), program_file);
+  EXPECT_EQ(recorded.request_id, id);
+  // The program of that request from the committed machine: the same moves (only the version
+  // line may differ).
+  CheckRequest r = request(m, CheckKind::MonumentPositioning, id);
+  const std::string again = write_program(r, m, Dialect::LinuxCnc, "ncqual test");
+  const auto without_version = [](const std::string& text) {
+    return std::regex_replace(text, std::regex(R"(\(NCQUAL VERSION [^)]*\)\n)"), "");
+  };
+  EXPECT_EQ(without_version(again), without_version(read_text(program_file)));
+
+  const TouchLog log = read_touch_log(read_text(log_file), log_file, Dialect::LinuxCnc);
+  ASSERT_EQ(log.touches.size(), 5u);
+  const MeasurementSet set = measurement_set_from_log(recorded, log, log_file, m, 1);
+  const CheckResult result = solver::solve(set, m, 2);
+  EXPECT_EQ(result.verdict, Verdict::Fail) << result.reason;
+  // Check 3 sees the monument relative to the machine; LinuxCNC's probe tripped at most one
+  // servo period (1 um at this feed) past each contact.
+  const auto& truth = m.simulator.errors;
+  const Eigen::Vector3d expected = truth.monument_shift_mm - truth.machine_shift_mm;
+  EXPECT_NEAR(find_metric(result, "center_dx_mm")->value, expected.x(), 0.0006);
+  EXPECT_NEAR(find_metric(result, "center_dy_mm")->value, expected.y(), 0.0006);
+  EXPECT_NEAR(find_metric(result, "face_dz_mm")->value, expected.z(), 0.0015);
+}
+
 TEST(ProbingProgram, ALogThatIsNotItsProgramsIsRefusedSayingWhy) {
   const MachineConfig m = pm1();
   const CheckRequest r = request(m, CheckKind::MonumentPositioning, "pm1-r7");
