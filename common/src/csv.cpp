@@ -228,6 +228,9 @@ CsvTable read_csv(std::string_view text, const std::string& file) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     const std::string_view content = trim(line);
+    if (!content.empty() && content.front() == '#' && table.header_line == 0) {
+      table.comments.emplace_back(line_no, std::string(trim(content.substr(1))));
+    }
     if (content.empty() || content.front() == '#') continue;
 
     if (table.header_line == 0) {

@@ -4,8 +4,9 @@
 //
 // Format:
 //   - Lines end in LF or CRLF. Blank lines and lines whose first non-blank character is '#' are
-//     skipped everywhere (comments may carry the instrument's own header). A UTF-8 byte order
-//     mark at the start of the file is ignored.
+//     skipped everywhere (comments may carry the instrument's own header; those before the header
+//     line are kept in CsvTable::comments for readers that take a declared unit). A UTF-8 byte
+//     order mark at the start of the file is ignored.
 //   - The first other line is the header. Column names are trimmed and case-sensitive; an empty
 //     or repeated name is refused.
 //   - Cells are separated by ',', or by ';' or a tab when the header line has one (outside
@@ -30,6 +31,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace ncqual {
@@ -70,8 +72,11 @@ struct CsvTable {
   int header_line = 0;              // 1-based
   std::vector<std::string> header;  // trimmed column names
   std::vector<CsvRow> rows;         // data rows in file order
-  char separator = ',';             // ',', ';' or '\t', from the header line
-  bool decimal_comma = false;       // numbers may write ',' for '.' (separator ';' or tab)
+  // The '#' comment lines before the header (an instrument's own header: units, settings), as
+  // (line, text after the '#', trimmed).
+  std::vector<std::pair<int, std::string>> comments;
+  char separator = ',';        // ',', ';' or '\t', from the header line
+  bool decimal_comma = false;  // numbers may write ',' for '.' (separator ';' or tab)
 
   // Index of the column named `name` (exact, case-sensitive), or nullopt.
   std::optional<std::size_t> find_column(std::string_view name) const;

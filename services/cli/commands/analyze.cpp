@@ -32,7 +32,8 @@
 //     (largest n), "directions": ["up", "down"] (those measured),
 //     "A", "A_up", "A_down", "E", "E_up", "E_down", "M", "R", "R_up", "R_down", "B", "B_mean",
 //     "per_target": [{"target_mm", "up": {"n", "mean", "s", "R", "min", "max"} | null,
-//                     "down": {...} | null, "B", "R", "mean" (x̄_i)}]}
+//                     "down": {...} | null, "B", "R", "mean" (x̄_i)}],
+//     "warnings": [text] (where the run departs from ISO 230-2, solver::iso230_2_conformance)}
 //   circle: {"standard": "ISO 230-4", "file", "unit": "mm", "plane", "layout": "polar" |
 //     "coordinates", "points", "lsc_centre_mm": [u, v], "lsc_radius_mm" (all points),
 //     "G_mm" (the larger of the directions), "G_b_mm", "H_mm" (null unless both directions),
@@ -116,12 +117,13 @@ struct Iso230_2Document {
   std::vector<std::string> directions;
   std::optional<double> A, A_up, A_down, E, E_up, E_down, M, R, R_up, R_down, B, B_mean;
   std::vector<TargetDocument> per_target;
+  std::vector<std::string> warnings;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DirectionDocument, n, mean, s, R, min, max)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TargetDocument, target_mm, up, down, B, R, mean)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Iso230_2Document, standard, file, unit, targets, cycles,
                                    directions, A, A_up, A_down, E, E_up, E_down, M, R, R_up, R_down,
-                                   B, B_mean, per_target)
+                                   B, B_mean, per_target, warnings)
 
 std::optional<DirectionDocument> direction_document(
     const std::optional<solver::DirectionFigures>& d) {
@@ -145,6 +147,7 @@ Iso230_2Document document_of(const solver::Iso230_2Result& r, const std::string&
     d.per_target.push_back({t.target_mm, direction_document(t.up), direction_document(t.down),
                             t.B_mm, t.R_mm, t.mean_mm});
   }
+  d.warnings = solver::iso230_2_conformance(r);
   return d;
 }
 
@@ -188,6 +191,10 @@ void print_iso230_2(const solver::Iso230_2Result& r, const std::string& file) {
     line += fmt::format("{:>9}{:>8}{:>9}", mm(t.B_mm), mm(t.R_mm), mm(t.mean_mm));
     fmt::print("{}\n", line);
   }
+  const std::vector<std::string> warnings = solver::iso230_2_conformance(r);
+  fmt::print("\nConformance to ISO 230-2:2014: {}\n",
+             warnings.empty() ? "the test plan conforms" : "the figures above are given, but");
+  for (const auto& w : warnings) fmt::print("  warning: {}\n", w);
 }
 
 // What the analyses take on the command line.

@@ -92,6 +92,9 @@ int run(const Options& o) {
     const CsvTable table = read_csv_file(file);
     const solver::Iso230_2File run = solver::read_iso230_2_csv(table);
     solver::check_iso230_2_envelope(table, axis, envelope);
+    for (const auto& w : solver::iso230_2_conformance(solver::evaluate_iso230_2(run.readings))) {
+      std::cerr << "warning: " << file << ": " << w << "\n";
+    }
     set.kind = CheckKind::LinearAxisRun;
     set.frame = "machine";
     set.parameters.push_back({"axis", static_cast<double>(axis), ""});

@@ -29,3 +29,28 @@ with open("corpus/iso230-2_x_inch_tab.txt", "w", newline="") as f:
     f.write("target_in\tcycle\tdirection\tmeasured_in\n")
     for t, c, d, m in rows:
         f.write("%.8f\t%d\t%s\t%.8f\n" % (t / 25.4, c, "fwd" if d == "up" else "bwd", m / 25.4))
+
+# The wide form: one row per target, one column per run and direction.
+targets = sorted({t for t, _, _, _ in rows})
+cycles = sorted({c for _, c, _, _ in rows})
+by_key = {(t, c, d): m for t, c, d, m in rows}
+
+# A laser calibration system's export: deviations in micrometres, "Run n Fwd/Bwd (µm)" columns,
+# what the values are said in a comment before the header.
+with open("corpus/iso230-2_x_wide_um.csv", "w", encoding="utf-8", newline="") as f:
+    f.write("# Linear axis calibration, X\n# Values: deviation\n")
+    f.write("Target (mm)," + ",".join("Run %d %s (µm)" % (c, "Fwd" if d == "up" else "Bwd")
+                                      for c in cycles for d in ("up", "down")) + "\n")
+    for t in targets:
+        f.write("%.1f," % t + ",".join("%.2f" % ((by_key[(t, c, d)] - t) * 1000.0)
+                                       for c in cycles for d in ("up", "down")) + "\n")
+
+# The wide form with the unit only in the instrument's header comment: positions in inches,
+# tab separated, "Cycle n +/-" columns.
+with open("corpus/iso230-2_x_wide_declared_in.txt", "w", newline="") as f:
+    f.write("# Axis: X\n# Units: in\n# Values: measured\n")
+    f.write("Target\t" + "\t".join("Cycle %d %s" % (c, "+" if d == "up" else "-")
+                                   for c in cycles for d in ("up", "down")) + "\n")
+    for t in targets:
+        f.write("%.8f\t" % (t / 25.4) + "\t".join("%.8f" % (by_key[(t, c, d)] / 25.4)
+                                                  for c in cycles for d in ("up", "down")) + "\n")

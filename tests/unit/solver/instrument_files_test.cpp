@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <tuple>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -88,7 +89,8 @@ const char* kRunHeader = "target_mm,cycle,direction,measured_mm\n";
 TEST(InstrumentFiles, Iso230_2MissingColumn) {
   EXPECT_EQ(run_error("# x\ntarget_mm,cycle,direction,measured\n0,1,up,0\n"),
             "run.csv:2:4: column 'measured' names no unit: write it as measured_mm, measured_um "
-            "or measured_in");
+            "or measured_in, or declare the file's unit in a comment before the header ('# "
+            "Units: mm')");
 }
 
 TEST(InstrumentFiles, Iso230_2NonNumericCell) {
@@ -495,13 +497,28 @@ TEST(InstrumentFiles, Iso230_2ExportsAsTheyComeGiveTheFiguresOfTheirLongFormTwin
   } twins[] = {
       {"corpus/iso230-2_x_semicolon_um.csv", 1e-9},  // BOM, CRLF, ';', decimal comma, um, +/-
       {"corpus/iso230-2_x_inch_tab.txt", 2e-7},      // tab, inch to 8 decimals, fwd/bwd
+      // The wide form, one column per run and direction: deviations in um named by the header
+      // ("Run 1 Fwd (µm)", "# Values: deviation"); positions in inches named only by the
+      // instrument's header comments ("Cycle 1 +", "# Units: in", "# Values: measured").
+      {"corpus/iso230-2_x_wide_um.csv", 1e-9},
+      {"corpus/iso230-2_x_wide_declared_in.txt", 2e-7},
   };
+  // The readings in one order (the wide form lists them target by target).
+  const auto sorted = [](std::vector<PositioningReading> v) {
+    std::sort(v.begin(), v.end(), [](const PositioningReading& a, const PositioningReading& b) {
+      return std::tie(a.target_mm, a.cycle, a.direction) <
+             std::tie(b.target_mm, b.cycle, b.direction);
+    });
+    return v;
+  };
+  const std::vector<PositioningReading> want = sorted(long_form.readings);
   for (const Twin& twin : twins) {
     SCOPED_TRACE(twin.file);
     const Iso230_2File f = read_iso230_2_csv(read_csv_file(dir + twin.file));
     ASSERT_EQ(f.readings.size(), long_form.readings.size());
-    for (std::size_t k = 0; k < f.readings.size(); ++k) {
-      const PositioningReading &a = f.readings[k], &b = long_form.readings[k];
+    const std::vector<PositioningReading> got = sorted(f.readings);
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      const PositioningReading &a = got[k], &b = want[k];
       EXPECT_NEAR(a.target_mm, b.target_mm, twin.resolution_mm) << k;
       EXPECT_NEAR(a.measured_mm, b.measured_mm, twin.resolution_mm) << k;
       EXPECT_EQ(a.cycle, b.cycle) << k;
@@ -519,11 +536,38 @@ TEST(InstrumentFiles, Iso230_2ExportsAsTheyComeGiveTheFiguresOfTheirLongFormTwin
   }
 }
 
+// The wide form takes what its columns do not say from the instrument's header comments, and
+// refuses, saying what to write, what neither says.
+TEST(InstrumentFiles, Iso230_2WideFormSaysItsUnitAndValuesOrIsRefused) {
+  const Iso230_2File f = read_iso230_2_csv(
+      "# Units: um\nTarget,Run 1 Up Error,Run 1 Down Error,Run 2 Up Error,"
+      "Run 2 Down Error,Run 3 Up Error,Run 3 Down Error\n0,1,-1,2,0,1,0\n"
+      "1000,3,,4,2,3,1\n",
+      "wide.csv");
+  ASSERT_EQ(f.readings.size(), 11u) << "the empty cell is a reading not taken";
+  EXPECT_DOUBLE_EQ(f.readings[6].target_mm, 1.0);
+  EXPECT_DOUBLE_EQ(f.readings[6].measured_mm, 1.003);
+  EXPECT_EQ(f.readings[7].cycle, 2);
+  EXPECT_EQ(f.readings[7].direction, Approach::Up);
+  EXPECT_EQ(f.lines[7], 4);  // the second data row, after the comment and the header
+  EXPECT_EQ(run_error("Target (mm),Run 1 Fwd,Run 1 Bwd\n0,1,2\n"),
+            "run.csv:1:2: column 'Run 1 Fwd' names no unit: write it as 'Run 1 Fwd (um)' (or "
+            "mm, in), or declare the file's unit in a comment before the header ('# Units: um')");
+  EXPECT_EQ(run_error("Target (mm),Run 1 Fwd (um),Run 1 Bwd (um)\n0,1,2\n"),
+            "run.csv:1:2: column 'Run 1 Fwd (um)' does not say whether it holds deviations from "
+            "the target or measured positions: name it like 'Run 1 Fwd Error (um)' or 'Run 1 "
+            "Fwd Measured (mm)', or say it in a comment before the header ('# Values: "
+            "deviation' or '# Values: measured')");
+  EXPECT_EQ(run_error("# Units: furlong\nTarget,Run 1 Fwd Error\n0,1\n"),
+            "run.csv:1: the comment declares unit 'furlong': expected mm, um or in");
+}
+
 // A unit the header does not name is not guessed; a decimal comma only where ',' cannot separate.
 TEST(InstrumentFiles, Iso230_2UnitsComeFromTheHeaderAndAreNeverGuessed) {
   EXPECT_EQ(run_error("Target;cycle;direction;measured_mm\n0;1;up;0\n"),
             "run.csv:1:1: column 'Target' names no unit: write it as target_mm, target_um or "
-            "target_in ('Target (mm)')");
+            "target_in ('Target (mm)'), or declare the file's unit in a comment before the "
+            "header ('# Units: mm')");
   EXPECT_EQ(run_error("target (ft),cycle,direction,measured_mm\n0,1,up,0\n"),
             "run.csv:1:1: column 'target (ft)': unit 'ft' is not mm, um or in");
   EXPECT_EQ(run_error("target_mm;cycle;direction;error_um\n0;1;up;1.234,5\n"),

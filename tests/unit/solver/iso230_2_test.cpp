@@ -296,3 +296,43 @@ TEST(Iso230_2, RefusesDuplicateTargetCycleDirection) {
 
 }  // namespace
 }  // namespace ncqual::solver
+
+namespace ncqual::solver {
+namespace {
+
+// Where a plan departs from ISO 230-2, worked by hand:
+//  - example 1: 3 cycles, 3 targets over 200 mm (5 needed in all), every 100 mm;
+//  - up only: also the missing direction;
+//  - 5 cycles at 6 uneven targets over 1000 mm: conforms; over 1500 mm the travel needs 8.
+TEST(Iso230_2, ConformanceSaysWhereThePlanDepartsFromTheStandard) {
+  EXPECT_EQ(iso230_2_conformance(evaluate_iso230_2(example_1())),
+            (std::vector<std::string>{
+                "3 approach(es) at target 0 mm up (+): ISO 230-2 asks for 5 in each direction "
+                "at each target",
+                "3 targets over 200 mm of travel: ISO 230-2 asks for at least 5 per metre and 5 "
+                "in all (5 here)",
+                "targets at one even interval of 100 mm: ISO 230-2 spaces them unevenly (e.g. at "
+                "random) so that periodic errors, a ball screw's pitch or a scale's period, are "
+                "not sampled at one phase"}));
+  const auto up_only = iso230_2_conformance(evaluate_iso230_2(example_1(false)));
+  ASSERT_EQ(up_only.size(), 4u);
+  EXPECT_EQ(up_only[1],
+            "measured in one direction only (up): ISO 230-2 approaches each target in both; the "
+            "bidirectional figures and the reversal B are not given");
+
+  const auto plan = [](double scale) {
+    std::vector<R> r;
+    for (double p : {0.0, 180.0, 410.0, 590.0, 820.0, 1000.0}) {
+      add(&r, p * scale, Approach::Up, {1, 2, 3, 2, 1});
+      add(&r, p * scale, Approach::Down, {-1, 0, 1, 0, -1});
+    }
+    return evaluate_iso230_2(r);
+  };
+  EXPECT_EQ(iso230_2_conformance(plan(1.0)), std::vector<std::string>{});
+  EXPECT_EQ(iso230_2_conformance(plan(1.5)),
+            std::vector<std::string>{"6 targets over 1500 mm of travel: ISO 230-2 asks for at "
+                                     "least 5 per metre and 5 in all (8 here)"});
+}
+
+}  // namespace
+}  // namespace ncqual::solver

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <regex>
 #include <tuple>
 
 namespace ncqual::solver {
@@ -104,15 +105,59 @@ std::string normalised(std::string_view name) {
 
 // The millimetres of one `unit` ("mm", "um", "in", "inch"); nothing for another word.
 std::optional<double> mm_per(std::string_view unit) {
-  if (unit == "mm") return 1.0;
+  if (unit == "mm" || unit == "millimetre" || unit == "millimetres" || unit == "millimeter" ||
+      unit == "millimeters") {
+    return 1.0;
+  }
   if (unit == "um" || unit == "micron" || unit == "microns") return 1e-3;
   if (unit == "in" || unit == "inch" || unit == "inches") return 25.4;
   return std::nullopt;
 }
 
+LengthColumn length_column(std::size_t index, double to_mm) {
+  LengthColumn col;
+  col.index = index;
+  col.to_mm = to_mm;
+  col.unit = to_mm == 1.0 ? "mm" : to_mm < 1 ? "um" : "in";
+  return col;
+}
+
+// The value of a comment "<key>: <value>" (or "<key> = <value>") before the header, with its
+// line: an instrument's own header ("# Units: um", "# Values: deviation"). Keys any case.
+std::optional<std::pair<int, std::string>> declared(const CsvTable& t,
+                                                    std::initializer_list<const char*> keys) {
+  for (const auto& [line, text] : t.comments) {
+    const std::size_t at = text.find_first_of(":=");
+    if (at == std::string::npos) continue;
+    const std::string key = normalised(text.substr(0, at));
+    for (const char* k : keys) {
+      if (key == k) {
+        std::string value = normalised(text.substr(at + 1));
+        return std::make_pair(line, value);
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+// The length unit the file declares in a comment before its header ("# Units: um"), in mm per
+// unit; nothing when it declares none. A declared unit that is not a length unit is refused at
+// its line.
+std::optional<double> declared_unit(const CsvTable& t) {
+  const auto d = declared(t, {"unit", "units", "lengthunit", "lengthunits"});
+  if (!d) return std::nullopt;
+  const auto scale = mm_per(d->second);
+  if (!scale) {
+    throw CsvError(t.file, d->first, 0,
+                   "the comment declares unit '" + d->second + "': expected mm, um or in");
+  }
+  return scale;
+}
+
 // The first column named <base> with a unit, "<base>_<unit>", "<base>(<unit>)" or
 // "<base>[<unit>]" (any case and spacing), for each base in order. A column named <base> alone
-// is refused: its unit would be a guess.
+// takes the unit a comment before the header declares ("# Units: um"), else it is refused: its
+// unit would be a guess.
 std::optional<LengthColumn> find_length_column(const CsvTable& t,
                                                std::initializer_list<const char*> bases,
                                                const std::string& example) {
@@ -123,8 +168,10 @@ std::optional<LengthColumn> find_length_column(const CsvTable& t,
       if (n.rfind(b, 0) != 0) continue;
       std::string unit = n.substr(b.size());
       if (unit.empty()) {
+        if (const auto scale = declared_unit(t)) return length_column(c, *scale);
         t.fail(t.header_line, c,
-               "column '" + t.header[c] + "' names no unit: write it as " + example);
+               "column '" + t.header[c] + "' names no unit: write it as " + example +
+                   ", or declare the file's unit in a comment before the header ('# Units: mm')");
       }
       if ((unit.front() == '(' && unit.back() == ')') ||
           (unit.front() == '[' && unit.back() == ']')) {
@@ -139,24 +186,84 @@ std::optional<LengthColumn> find_length_column(const CsvTable& t,
         t.fail(t.header_line, c,
                "column '" + t.header[c] + "': unit '" + unit + "' is not mm, um or in");
       }
-      LengthColumn col;
-      col.index = c;
-      col.to_mm = *scale;
-      col.unit = *scale == 1.0 ? "mm" : *scale < 1 ? "um" : "in";
-      return col;
+      return length_column(c, *scale);
     }
   }
   return std::nullopt;
 }
 
-// The columns of an ISO 230-2 run: the target, and the measured position or the deviation from
-// the target, each in the unit its header names; the cycle and the direction.
+// The words of an approach in + and in -, as instruments write them.
+const std::vector<std::string> kUpWords = {"up", "+", "fwd", "forward", "pos", "positive"};
+const std::vector<std::string> kDownWords = {"down", "-",       "bwd", "back",    "backward",
+                                             "rev",  "reverse", "neg", "negative"};
+
+// One column of a wide-form run: its readings' cycle and direction, and the unit and kind of its
+// values.
+struct RunColumn {
+  LengthColumn value;
+  int cycle = 0;
+  Approach direction = Approach::Up;
+};
+
+// The columns of an ISO 230-2 run: the target, each in the unit its header names; then either
+// (long form) the measured position or the deviation from the target, the cycle and the
+// direction, or (wide form) one column per run and direction.
 struct Iso230_2Columns {
   LengthColumn target, measured;
   std::size_t cycle = 0, direction = 0;
+  std::vector<RunColumn> runs;  // the wide form; empty for the long form
 };
 
-// `words`: also the cycle and direction columns (the envelope check reads lengths only).
+// The wide form's run columns ("Run 1 Fwd (um)", "run_2_down_error_mm", "Cycle 3 - (in)", "R1
+// up"): run or cycle and its number, a direction word, optionally what the values are (error,
+// deviation; measured, actual, position) and a unit; what the column does not say comes from the
+// comments before the header ("# Units: um", "# Values: deviation"), else the column is refused.
+std::vector<RunColumn> run_columns(const CsvTable& t) {
+  static const std::regex kRun(
+      R"(^(run|cycle|r)[_-]?([0-9]+)[_-]?(up|down|fwd|forward|bwd|backward|back|reverse|rev|positive|pos|negative|neg|\+|-)[_-]?(error|deviation|dev|measured|actual|position)?[_-]?(\((mm|um|in)\)|\[(mm|um|in)\]|_(mm|um|in))?$)");
+  std::vector<RunColumn> out;
+  for (std::size_t c = 0; c < t.header.size(); ++c) {
+    const std::string n = normalised(t.header[c]);
+    std::smatch m;
+    if (!std::regex_match(n, m, kRun)) continue;
+    RunColumn r;
+    r.cycle = std::stoi(m[2].str());
+    const std::string dir = m[3].str();
+    r.direction = std::find(kUpWords.begin(), kUpWords.end(), dir) != kUpWords.end()
+                      ? Approach::Up
+                      : Approach::Down;
+    const std::string unit = m[6].matched ? m[6].str() : m[7].matched ? m[7].str() : m[8].str();
+    std::optional<double> scale = unit.empty() ? declared_unit(t) : mm_per(unit);
+    if (!scale) {
+      t.fail(t.header_line, c,
+             "column '" + t.header[c] + "' names no unit: write it as '" + t.header[c] +
+                 " (um)' (or mm, in), or declare the file's unit in a comment before the header "
+                 "('# Units: um')");
+    }
+    r.value = length_column(c, *scale);
+    std::string kind = m[4].str();
+    if (kind.empty()) {
+      if (const auto d = declared(t, {"values", "value", "data", "readings"})) kind = d->second;
+    }
+    if (kind == "error" || kind == "deviation" || kind == "dev" || kind == "errors" ||
+        kind == "deviations") {
+      r.value.deviation = true;
+    } else if (kind != "measured" && kind != "actual" && kind != "position" &&
+               kind != "positions") {
+      t.fail(t.header_line, c,
+             "column '" + t.header[c] +
+                 "' does not say whether it holds deviations from the target or measured "
+                 "positions: name it like 'Run 1 Fwd Error (um)' or 'Run 1 Fwd Measured (mm)', "
+                 "or say it in a comment before the header ('# Values: deviation' or '# Values: "
+                 "measured')");
+    }
+    out.push_back(r);
+  }
+  return out;
+}
+
+// `words`: also the cycle and direction columns of the long form (the envelope check reads
+// lengths only).
 Iso230_2Columns iso230_2_columns(const CsvTable& t, bool words = true) {
   Iso230_2Columns c;
   const auto target = find_length_column(t, {"target", "nominal"},
@@ -165,6 +272,20 @@ Iso230_2Columns iso230_2_columns(const CsvTable& t, bool words = true) {
     fail_header(t, "no target column: expected target_mm (or target_in, target_um, 'Target (mm)')");
   }
   c.target = *target;
+  const auto word_column = [&](std::initializer_list<const char*> names) {
+    for (const char* name : names) {
+      for (std::size_t k = 0; k < t.header.size(); ++k) {
+        if (normalised(t.header[k]) == name) return std::optional<std::size_t>(k);
+      }
+    }
+    return std::optional<std::size_t>();
+  };
+  const auto cycle = word_column({"cycle", "run"});
+  const auto direction = word_column({"direction", "dir"});
+  if (!cycle && !direction) {
+    c.runs = run_columns(t);
+    if (!c.runs.empty()) return c;  // the wide form
+  }
   if (auto measured = find_length_column(t, {"measured", "actual"},
                                          "measured_mm, measured_um or measured_in")) {
     c.measured = *measured;
@@ -175,19 +296,14 @@ Iso230_2Columns iso230_2_columns(const CsvTable& t, bool words = true) {
   } else {
     fail_header(t,
                 "no measured column: expected measured_mm (or measured_in, measured_um), or the "
-                "deviation from the target as error_um (or error_mm, error_in, deviation_um)");
+                "deviation from the target as error_um (or error_mm, error_in, deviation_um); or, "
+                "in the wide form, one column per run and direction ('Run 1 Fwd (um)')");
   }
-  const auto word_column = [&](std::initializer_list<const char*> names, const char* what) {
-    for (const char* name : names) {
-      for (std::size_t k = 0; k < t.header.size(); ++k) {
-        if (normalised(t.header[k]) == name) return k;
-      }
-    }
-    fail_header(t, std::string("no ") + what + " column: expected '" + *names.begin() + "'");
-  };
   if (!words) return c;
-  c.cycle = word_column({"cycle", "run"}, "cycle");
-  c.direction = word_column({"direction", "dir"}, "direction");
+  if (!cycle) fail_header(t, "no cycle column: expected 'cycle' (or 'run')");
+  if (!direction) fail_header(t, "no direction column: expected 'direction' (or 'dir')");
+  c.cycle = *cycle;
+  c.direction = *direction;
   return c;
 }
 
@@ -195,19 +311,62 @@ double length_mm(const CsvTable& t, const CsvRow& row, const LengthColumn& c) {
   return length_mm(t, row, c.index, c.to_mm, c.unit);
 }
 
-double target_mm(const CsvTable& t, const CsvRow& row, const Iso230_2Columns& c) {
-  return length_mm(t, row, c.target);
+// One reading as the file has it: its row, the target's column and the value's (the measured
+// position or the deviation), its cycle and direction.
+struct ReadingCells {
+  const CsvRow* row = nullptr;
+  const LengthColumn* target = nullptr;
+  const LengthColumn* value = nullptr;
+  int cycle = 0;
+  Approach direction = Approach::Up;
+};
+
+// Every reading of the run, row by row (in the wide form, the row's run columns left to right;
+// an empty cell there is a reading the run did not take). `read_words`: read the long form's
+// cycle and direction too (else they are left 0 and Up).
+std::vector<ReadingCells> reading_cells(const CsvTable& t, const Iso230_2Columns& c,
+                                        bool read_words = true) {
+  std::vector<std::string> words = kUpWords;
+  words.insert(words.end(), kDownWords.begin(), kDownWords.end());
+  std::vector<ReadingCells> out;
+  for (const CsvRow& row : t.rows) {
+    if (c.runs.empty()) {
+      ReadingCells r;
+      r.row = &row;
+      r.target = &c.target;
+      r.value = &c.measured;
+      if (read_words) {
+        r.cycle = t.integer(row, c.cycle);
+        const std::string word = t.word(row, c.direction, words);
+        r.direction = std::find(kUpWords.begin(), kUpWords.end(), word) != kUpWords.end()
+                          ? Approach::Up
+                          : Approach::Down;
+      }
+      out.push_back(r);
+      continue;
+    }
+    for (const RunColumn& run : c.runs) {
+      if (t.cell(row, run.value.index).empty()) continue;
+      ReadingCells r;
+      r.row = &row;
+      r.target = &c.target;
+      r.value = &run.value;
+      r.cycle = run.cycle;
+      r.direction = run.direction;
+      out.push_back(r);
+    }
+  }
+  return out;
 }
 
-double measured_mm(const CsvTable& t, const CsvRow& row, const Iso230_2Columns& c) {
-  const double v = length_mm(t, row, c.measured);
-  return c.measured.deviation ? target_mm(t, row, c) + v : v;
+double target_mm(const CsvTable& t, const ReadingCells& r) {
+  return length_mm(t, *r.row, *r.target);
 }
 
-// The words of an approach in + and in -, as instruments write them.
-const std::vector<std::string> kUpWords = {"up", "+", "fwd", "forward", "pos", "positive"};
-const std::vector<std::string> kDownWords = {"down", "-",       "bwd", "back",    "backward",
-                                             "rev",  "reverse", "neg", "negative"};
+double measured_mm(const CsvTable& t, const ReadingCells& r) {
+  const double v = length_mm(t, *r.row, *r.value);
+  return r.value->deviation ? target_mm(t, r) + v : v;
+}
 
 }  // namespace
 
@@ -215,21 +374,16 @@ const std::vector<std::string> kDownWords = {"down", "-",       "bwd", "back",  
 
 Iso230_2File read_iso230_2_csv(const CsvTable& t) {
   const Iso230_2Columns c = iso230_2_columns(t);
-  std::vector<std::string> words = kUpWords;
-  words.insert(words.end(), kDownWords.begin(), kDownWords.end());
   Iso230_2File out;
   out.file = t.file;
-  for (const CsvRow& row : t.rows) {
+  for (const ReadingCells& cells : reading_cells(t, c)) {
     PositioningReading r;
-    r.target_mm = target_mm(t, row, c);
-    r.cycle = t.integer(row, c.cycle);
-    const std::string word = t.word(row, c.direction, words);
-    r.direction = std::find(kUpWords.begin(), kUpWords.end(), word) != kUpWords.end()
-                      ? Approach::Up
-                      : Approach::Down;
-    r.measured_mm = measured_mm(t, row, c);
+    r.target_mm = target_mm(t, cells);
+    r.cycle = cells.cycle;
+    r.direction = cells.direction;
+    r.measured_mm = measured_mm(t, cells);
     out.readings.push_back(r);
-    out.lines.push_back(row.line);
+    out.lines.push_back(cells.row->line);
   }
   if (const auto p = find_iso230_2_problem(out.readings)) {
     fail_at_lines(t, out.lines, p->index, p->first_index, p->message);
@@ -533,12 +687,13 @@ void check_position(const CsvTable& t, const CsvRow& row, std::size_t c, int axi
 void check_iso230_2_envelope(const CsvTable& t, int axis, const Envelope& e) {
   const Iso230_2Columns c = iso230_2_columns(t, false);
   const double most = kDeviationShare * e.span_mm();
-  for (const CsvRow& row : t.rows) {
+  for (const ReadingCells& r : reading_cells(t, c, false)) {
+    const CsvRow& row = *r.row;
     check_position(t, row, c.target.index, axis, e, c.target.to_mm);
-    const double deviation = measured_mm(t, row, c) - target_mm(t, row, c);
+    const double deviation = measured_mm(t, r) - target_mm(t, r);
     if (std::abs(deviation) > most) {
-      t.fail(row.line, c.measured.index,
-             "column '" + t.header[c.measured.index] + "' = '" + t.cell(row, c.measured.index) +
+      t.fail(row.line, r.value->index,
+             "column '" + t.header[r.value->index] + "' = '" + t.cell(row, r.value->index) +
                  "': " + mm(deviation) + " from " + t.header[c.target.index] + " " +
                  t.cell(row, c.target.index) + ", more than " + mm(most) +
                  ", a tenth of the span of " + envelope_text(e));

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <tuple>
@@ -203,6 +204,58 @@ Iso230_2Result evaluate_iso230_2(const std::vector<PositioningReading>& readings
     out.R_mm = r_both.value;
     out.B_mm = b_abs.value;
     out.B_mean_mm = b_sum / static_cast<double>(out.targets.size());
+  }
+  return out;
+}
+
+std::vector<std::string> iso230_2_conformance(const Iso230_2Result& r) {
+  std::vector<std::string> out;
+  if (r.targets.empty()) return out;
+  const auto text = [](double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%g", v);
+    return std::string(buffer);
+  };
+  // The fewest approaches in any measured direction at any target, and where.
+  int fewest = std::numeric_limits<int>::max();
+  std::string where;
+  for (const TargetFigures& t : r.targets) {
+    for (const auto& [d, name] : {std::pair{&t.up, "up (+)"}, std::pair{&t.down, "down (-)"}}) {
+      if (*d && (*d)->cycles < fewest) {
+        fewest = (*d)->cycles;
+        where = text(t.target_mm) + " mm " + name;
+      }
+    }
+  }
+  if (fewest < 5) {
+    out.push_back(std::to_string(fewest) + " approach(es) at target " + where +
+                  ": ISO 230-2 asks for 5 in each direction at each target");
+  }
+  if (r.has_up != r.has_down) {
+    out.push_back(std::string("measured in one direction only (") + (r.has_up ? "up" : "down") +
+                  "): ISO 230-2 approaches each target in both; the bidirectional figures and "
+                  "the reversal B are not given");
+  }
+  const double travel = r.targets.back().target_mm - r.targets.front().target_mm;
+  const auto needed = static_cast<std::size_t>(std::max(5.0, std::ceil(5.0 * travel / 1000.0)));
+  if (r.targets.size() < needed) {
+    out.push_back(std::to_string(r.targets.size()) + " targets over " + text(travel) +
+                  " mm of travel: ISO 230-2 asks for at least 5 per metre and 5 in all (" +
+                  std::to_string(needed) + " here)");
+  }
+  if (r.targets.size() >= 3) {
+    const double first = r.targets[1].target_mm - r.targets[0].target_mm;
+    bool even = first > 0;
+    for (std::size_t i = 2; i < r.targets.size() && even; ++i) {
+      const double interval = r.targets[i].target_mm - r.targets[i - 1].target_mm;
+      even = std::abs(interval - first) <= 1e-6 * std::max(1.0, first);
+    }
+    if (even) {
+      out.push_back("targets at one even interval of " + text(first) +
+                    " mm: ISO 230-2 spaces them unevenly (e.g. at random) so that periodic "
+                    "errors, a ball screw's pitch or a scale's period, are not sampled at one "
+                    "phase");
+    }
   }
   return out;
 }

@@ -17,6 +17,16 @@
 //   refused at the header, never guessed. cycle (or "run") an integer; direction (or "dir") up,
 //   +, fwd, forward, pos, positive (approach in +) or down, -, bwd, back, backward, rev, reverse,
 //   neg, negative (in -), any case. Separators and the decimal comma: ncqual/csv.hpp.
+//   A length column without a unit takes the unit a comment before the header declares
+//   ("# Units: um", "# unit = in"; mm, um, in and their long names).
+// ISO 230-2 run, wide form (one row per target, one column per run and direction):
+//     Target (mm),Run 1 Fwd Error (µm),Run 1 Bwd Error (µm),Run 2 Fwd Error (µm),...
+//   taken when the header has no cycle and direction columns but has run columns: "run", "cycle"
+//   or "r", its number, a direction word as above, optionally what the values are ("error",
+//   "deviation": from the target; "measured", "actual", "position") and a unit. What a column
+//   does not say comes from the comments before the header ("# Units: um", "# Values:
+//   deviation"), else the column is refused saying what to write. An empty cell is a reading the
+//   run did not take. The readings come row by row, each row's run columns left to right.
 //   Refused besides cell errors, with the line of the offending reading: a repeated (target,
 //   cycle, direction) naming the first line too; a target and direction with a single cycle; a
 //   target measured in one direction only while other targets have both; and, at the last

@@ -30,9 +30,10 @@
 //
 // The standard asks for at least 5 targets per metre and n = 5 cycles; this evaluation only
 // needs what the formulas need (2 targets, 2 cycles) so that short checks can be evaluated too,
-// and leaves the conformity of the test plan to the user. Data with one approach direction only
-// (a unidirectional test) is evaluated: the figures of the missing direction and the
-// bidirectional ones (B_i, R_i, x̄_i, B, B̄, R, E, M, A) are then absent (std::nullopt), not 0.
+// and iso230_2_conformance says where a run's plan departs from the standard. Data with one
+// approach direction only (a unidirectional test) is evaluated: the figures of the missing
+// direction and the bidirectional ones (B_i, R_i, x̄_i, B, B̄, R, E, M, A) are then absent
+// (std::nullopt), not 0.
 #pragma once
 
 #include <cstddef>
@@ -114,5 +115,16 @@ struct Iso230_2Result {
 // "evaluate_iso230_2: readings[k]: <problem> (first at readings[f])" for the problems
 // find_iso230_2_problem finds. Targets are grouped by exact equality of target_mm.
 Iso230_2Result evaluate_iso230_2(const std::vector<PositioningReading>& readings);
+
+// Where the run's test plan departs from ISO 230-2:2014 (the figures are still evaluated), one
+// sentence each, empty when it conforms:
+//  - fewer than 5 approaches in a direction at a target (the fewest, where, and the standard's 5);
+//  - one direction only (the bidirectional figures are absent);
+//  - fewer targets than 5 per metre of travel, with at least 5 in all (how many there are and
+//    how many the travel needs);
+//  - targets at one even interval (3 targets or more): the standard spaces them unevenly, e.g.
+//    at random, so that periodic errors (a ball screw's pitch, a scale's period) are sampled
+//    fairly rather than at one phase.
+std::vector<std::string> iso230_2_conformance(const Iso230_2Result& result);
 
 }  // namespace ncqual::solver
