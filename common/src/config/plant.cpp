@@ -185,11 +185,12 @@ ProbingConfig read_probing(const Node& node) {
 InstrumentConfig read_instrument(const Node& node) {
   InstrumentConfig c;
   if (!node.map_of({"driver", "dialect", "outbox", "inbox", "archive", "timeout_s"})) return c;
-  const std::string driver = node["driver"].text("simulator");
-  if (driver == "control-files") {
+  const std::string driver = node["driver"].text(std::string(to_string(c.driver)));
+  if (driver == to_string(InstrumentDriver::ControlFiles)) {
     c.driver = InstrumentDriver::ControlFiles;
-  } else if (driver != "simulator") {
-    node["driver"].problem("expected simulator or control-files");
+  } else if (driver != to_string(InstrumentDriver::Simulator)) {
+    node["driver"].problem("expected " + std::string(to_string(InstrumentDriver::Simulator)) +
+                           " or " + std::string(to_string(InstrumentDriver::ControlFiles)));
   }
   const std::string dialect = node["dialect"].text("linuxcnc");
   if (const auto d = control_dialect_from(dialect)) {

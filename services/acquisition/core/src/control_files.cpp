@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/acquisition/control_files.hpp"
 
-#include "ncqual/probing/plan.hpp"
 #include "ncqual/text.hpp"
 
 #include <spdlog/spdlog.h>
@@ -9,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 namespace ncqual::acquisition {
@@ -54,13 +54,6 @@ ControlFilesInstruments::ControlFilesInstruments(const MachineConfig& machine, c
 std::optional<MeasurementSet> ControlFilesInstruments::measure(const CheckRequest& request,
                                                                std::int64_t time_ns) {
   const InstrumentConfig& cfg = machine_.instrument;
-  const probing::TouchPlan plan = probing::touch_plan(request, machine_);
-  if (!plan.error.empty()) {
-    // A tracker check, a machine without the section the kind needs, a bad parameter.
-    return unmeasured(
-        request, time_ns,
-        "the control-files driver cannot hand this check to the control: " + plan.error);
-  }
   Running r;
   r.request = request;
   r.program_path =
@@ -71,6 +64,12 @@ std::optional<MeasurementSet> ControlFilesInstruments::measure(const CheckReques
   try {
     text = probing::write_program(request, machine_, cfg.dialect, version_);
     r.program = probing::read_program(text, r.program_path);
+  } catch (const std::invalid_argument& e) {
+    // No touch plan: a tracker check, a machine without the section the kind needs, a bad
+    // parameter (write_program's refusal).
+    return unmeasured(
+        request, time_ns,
+        std::string("the control-files driver cannot hand this check to the control: ") + e.what());
   } catch (const std::exception& e) {
     return unmeasured(request, time_ns, std::string("no probing program: ") + e.what());
   }

@@ -211,11 +211,7 @@ Iso230_2Result evaluate_iso230_2(const std::vector<PositioningReading>& readings
 std::vector<std::string> iso230_2_conformance(const Iso230_2Result& r) {
   std::vector<std::string> out;
   if (r.targets.empty()) return out;
-  const auto text = [](double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%g", v);
-    return std::string(buffer);
-  };
+  const auto text = detail::quote_number;
   // The fewest approaches in any measured direction at any target, and where.
   int fewest = std::numeric_limits<int>::max();
   std::string where;

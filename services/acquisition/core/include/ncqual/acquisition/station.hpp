@@ -7,8 +7,8 @@
 //               already waiting for its correction, or being measured?     ignore it
 //               on the wall clock, older than the maximum age?              history: ignore it
 //               verifies a correction not yet applied?                      wait for it
-//               being measured by the instruments (a control's program)?   ignore it
 //               otherwise                                                   measure and publish
+//                                                  (or hand it over to a control: then poll)
 //   poll         -> measurements the instruments finished since: record and publish them
 //   compensation -> for this machine and not seen before?  apply it, record it, then measure the
 //                   requests that waited for it
