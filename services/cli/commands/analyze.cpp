@@ -9,9 +9,10 @@
 //                              [--json]
 //       a circular test (ballbar, grid encoder, tracker), evaluated per ISO 230-4
 //       (ncqual::solver::evaluate_circular_test). --plane is needed for angle_deg,radius_mm and
-//       u_mm,v_mm files, and must agree with an x_mm,y_mm-like header; --nominal-radius-mm and
-//       --centre-mm (in the plane's u, v) are the reference of the radial deviation F (default:
-//       the least-squares circle).
+//       u_mm,v_mm files that do not declare it ('# Plane: XZ'), and must agree with an
+//       x_mm,y_mm-like header; --nominal-radius-mm (default: the radius the file declares,
+//       '# Radius: 150 mm') and --centre-mm (in the plane's u, v) are the reference of the radial
+//       deviation F (default: the least-squares circle).
 //
 //   ncqual analyze grid --x-run F --y-run F --grid F [--json]
 //       the monthly laser-tracker grid: the master frame from the X and Y runs
@@ -35,15 +36,21 @@
 //                     "down": {...} | null, "B", "R", "mean" (x̄_i)}],
 //     "warnings": [text] (where the run departs from ISO 230-2, solver::iso230_2_conformance)}
 //   circle: {"standard": "ISO 230-4", "file", "unit": "mm", "plane", "layout": "polar" |
-//     "coordinates", "points", "lsc_centre_mm": [u, v], "lsc_radius_mm" (all points),
-//     "G_mm" (the larger of the directions), "G_b_mm", "H_mm" (null unless both directions),
-//     "F_max_mm", "F_min_mm", "F_reference": {"centre": "nominal" | "lsc", "radius": "nominal" |
-//     "lsc", "centre_mm": [u, v], "radius_mm"}, "scale_mismatch_um_per_m", "squareness_urad"
-//     (from all points), "harmonics_mm": {"a0", "a1", "b1", "a2", "b2", "residual_rms"},
-//     "directions": {"ccw": {...} | null, "cw": {...} | null} with per direction "points",
-//     "lsc_centre_mm", "lsc_radius_mm", "lsc_rms_mm", "G_mm", "F_max_mm", "F_min_mm",
-//     "F_reference", "max_gap_deg", "scale_mismatch_um_per_m", "squareness_urad",
-//     "harmonics_mm"}
+//     "deviations" (polar, radial deviations from the nominal radius) | "coordinates", "points",
+//     "lsc_centre_mm": [u, v], "lsc_radius_mm" (all points), "G_mm" (the larger of the directions),
+//     "G_b_mm", "H_mm" (null unless both directions), "F_max_mm", "F_min_mm", "F_reference":
+//     {"centre": "nominal" | "lsc", "radius": "nominal" | "lsc", "centre_mm": [u, v], "radius_mm"},
+//     "scale_mismatch_um_per_m", "squareness_urad" (from all points), "harmonics_mm": {"a0", "a1",
+//     "b1", "a2", "b2", "residual_rms"}, "directions": {"ccw": {...} | null, "cw": {...} | null}
+//     with per direction "points", "lsc_centre_mm", "lsc_radius_mm", "lsc_rms_mm", "G_mm",
+//     "F_max_mm", "F_min_mm", "F_reference", "max_gap_deg", "scale_mismatch_um_per_m",
+//     "squareness_urad", "harmonics_mm", "arc", "shape_noise_gain"}, "arc": {"full_circle",
+//     "from_deg", "span_deg"} (the part of the circle measured; a partial arc per ISO 230-4), the
+//     shape figures (scale mismatch, squareness, harmonics) null where the arc does not resolve
+//     them
+//     ("shape_noise_gain" above 3, solver/circular_test.hpp), "H_overlap_deg" (the angles both
+//     directions cover, where H compares them), "warnings": [text] (where the test departs from
+//     ISO 230-4, solver::iso230_4_conformance)
 //   grid: {"unit": "mm", "grid_file", "points", "max_deviation_mm", "max_deviation_point",
 //     "rms_deviation_mm", "max_abs_dx_mm", "max_abs_dy_mm", "max_abs_dz_mm",
 //     "squareness_xy_urad", "squareness_yz_urad", "squareness_zx_urad" (out-of-squareness of
@@ -95,6 +102,9 @@ std::string mm(double v) { return fmt::format("{:.4f}", v); }
 std::string mm(const std::optional<double>& v) { return v ? mm(*v) : "-"; }
 
 std::string fixed(double v, int decimals) { return fmt::format("{:.{}f}", v, decimals); }
+std::string fixed(const std::optional<double>& v, int decimals) {
+  return v ? fixed(*v, decimals) : "-";
+}
 
 // ---- iso230-2 -----------------------------------------------------------------------------------
 
@@ -278,13 +288,20 @@ struct ReferenceDocument {
   Eigen::Vector2d centre_mm = Eigen::Vector2d::Zero();
   double radius_mm = 0;
 };
+struct ArcDocument {
+  bool full_circle = true;
+  double from_deg = 0, span_deg = 360;
+};
 struct PathDocument {
   int points = 0;
   Eigen::Vector2d lsc_centre_mm = Eigen::Vector2d::Zero();
   double lsc_radius_mm = 0, lsc_rms_mm = 0, G_mm = 0, F_max_mm = 0, F_min_mm = 0;
   ReferenceDocument F_reference;
-  double max_gap_deg = 0, scale_mismatch_um_per_m = 0, squareness_urad = 0;
-  HarmonicsDocument harmonics_mm;
+  double max_gap_deg = 0;
+  std::optional<double> scale_mismatch_um_per_m, squareness_urad;
+  std::optional<HarmonicsDocument> harmonics_mm;
+  ArcDocument arc;
+  double shape_noise_gain = 1;
 };
 struct DirectionsDocument {
   std::optional<PathDocument> ccw, cw;
@@ -300,23 +317,36 @@ struct CircleDocument {
   std::optional<double> G_b_mm, H_mm;
   double F_max_mm = 0, F_min_mm = 0;
   ReferenceDocument F_reference;
-  double scale_mismatch_um_per_m = 0, squareness_urad = 0;
-  HarmonicsDocument harmonics_mm;
+  std::optional<double> scale_mismatch_um_per_m, squareness_urad;
+  std::optional<HarmonicsDocument> harmonics_mm;
   DirectionsDocument directions;
+  ArcDocument arc;
+  double shape_noise_gain = 1;
+  std::optional<double> H_overlap_deg;
+  std::vector<std::string> warnings;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(HarmonicsDocument, a0, a1, b1, a2, b2, residual_rms)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ReferenceDocument, centre, radius, centre_mm, radius_mm)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArcDocument, full_circle, from_deg, span_deg)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PathDocument, points, lsc_centre_mm, lsc_radius_mm, lsc_rms_mm,
                                    G_mm, F_max_mm, F_min_mm, F_reference, max_gap_deg,
-                                   scale_mismatch_um_per_m, squareness_urad, harmonics_mm)
+                                   scale_mismatch_um_per_m, squareness_urad, harmonics_mm, arc,
+                                   shape_noise_gain)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(DirectionsDocument, ccw, cw)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CircleDocument, standard, file, unit, plane, layout, points,
                                    lsc_centre_mm, lsc_radius_mm, G_mm, G_b_mm, H_mm, F_max_mm,
                                    F_min_mm, F_reference, scale_mismatch_um_per_m, squareness_urad,
-                                   harmonics_mm, directions)
+                                   harmonics_mm, directions, arc, shape_noise_gain, H_overlap_deg,
+                                   warnings)
 
-HarmonicsDocument harmonics_document(const solver::RadialHarmonics& h) {
-  return {h.a0_mm, h.a1_mm, h.b1_mm, h.a2_mm, h.b2_mm, h.residual_rms_mm};
+std::optional<HarmonicsDocument> harmonics_document(
+    const std::optional<solver::RadialHarmonics>& h) {
+  if (!h) return std::nullopt;
+  return HarmonicsDocument{h->a0_mm, h->a1_mm, h->b1_mm, h->a2_mm, h->b2_mm, h->residual_rms_mm};
+}
+
+ArcDocument arc_document(const solver::CircularArc& a) {
+  return {a.full_circle, a.from_rad * 180.0 / kPi, a.span_rad * 180.0 / kPi};
 }
 
 ReferenceDocument reference_document(const solver::RadialReference& ref) {
@@ -337,7 +367,9 @@ std::optional<PathDocument> path_document(const std::optional<solver::CircularPa
                       p->max_gap_rad * 180.0 / kPi,
                       p->scale_mismatch_um_per_m,
                       p->squareness_urad,
-                      harmonics_document(p->harmonics)};
+                      harmonics_document(p->harmonics),
+                      arc_document(p->arc),
+                      p->shape_noise_gain};
 }
 
 CircleDocument document_of(const solver::CircularTestResult& r, const solver::CircleFile& data,
@@ -345,7 +377,7 @@ CircleDocument document_of(const solver::CircularTestResult& r, const solver::Ci
   CircleDocument d;
   d.file = file;
   d.plane = solver::to_string(r.plane);
-  d.layout = data.polar ? "polar" : "coordinates";
+  d.layout = data.deviations ? "deviations" : data.polar ? "polar" : "coordinates";
   d.points = data.input.points.size();
   d.lsc_centre_mm = r.lsc_centre_mm;
   d.lsc_radius_mm = r.lsc_radius_mm;
@@ -359,6 +391,10 @@ CircleDocument document_of(const solver::CircularTestResult& r, const solver::Ci
   d.squareness_urad = r.squareness_urad;
   d.harmonics_mm = harmonics_document(r.harmonics);
   d.directions = {path_document(r.ccw), path_document(r.cw)};
+  d.arc = arc_document(r.arc);
+  d.shape_noise_gain = r.shape_noise_gain;
+  if (r.H_mm) d.H_overlap_deg = r.H_overlap_rad * 180.0 / kPi;
+  d.warnings = solver::iso230_4_conformance(r);
   return d;
 }
 
@@ -374,8 +410,18 @@ void print_circle(const solver::CircularTestResult& r, const solver::CircleFile&
   const std::string u(1, plane[0]), v(1, plane[1]);
   fmt::print("ISO 230-4 circular test: {}\n", file);
   fmt::print("  plane {} (u = {}, v = {}), {} points ({}), directions:{}{}\n", plane, u, v,
-             data.input.points.size(), data.polar ? "angle_deg, radius_mm" : "coordinates",
+             data.input.points.size(),
+             data.deviations ? "angle, radial deviation"
+             : data.polar    ? "angle, radius"
+                             : "coordinates",
              r.ccw ? " ccw" : "", r.cw ? " cw" : "");
+  if (!r.arc.full_circle) {
+    fmt::print(
+        "  a partial arc of {} deg, from {} deg counter-clockwise (angles from +{} towards +{})\n",
+        fixed(r.arc.span_rad * 180.0 / kPi, 1),
+        // 359.97 deg is 0.0, not 360.0
+        fixed(std::fmod(std::round(r.arc.from_rad * 1800.0 / kPi) / 10.0, 360.0), 1), u, v);
+  }
   fmt::print("  least-squares circle of all points: centre ({}, {}) = ({}, {}) mm, radius {} mm\n",
              u, v, mm(r.lsc_centre_mm.x()), mm(r.lsc_centre_mm.y()), mm(r.lsc_radius_mm));
   fmt::print("  F measured from the {}\n\n", reference_text(r.F_reference));
@@ -411,6 +457,11 @@ void print_circle(const solver::CircularTestResult& r, const solver::CircleFile&
       path_value(r.ccw, [](const P& p) { return fixed(p.squareness_urad, 1); }),
       path_value(r.cw, [](const P& p) { return fixed(p.squareness_urad, 1); }),
       fixed(r.squareness_urad, 1));
+  const auto arc_text = [](const solver::CircularArc& a) {
+    return a.full_circle ? std::string("360") : fixed(a.span_rad * 180.0 / kPi, 1);
+  };
+  row("arc measured (deg)", path_value(r.ccw, [&](const P& p) { return arc_text(p.arc); }),
+      path_value(r.cw, [&](const P& p) { return arc_text(p.arc); }), arc_text(r.arc));
   row("largest angular gap (deg)",
       path_value(r.ccw, [](const P& p) { return fixed(p.max_gap_rad * 180.0 / kPi, 1); }),
       path_value(r.cw, [](const P& p) { return fixed(p.max_gap_rad * 180.0 / kPi, 1); }), "-");
@@ -419,6 +470,10 @@ void print_circle(const solver::CircularTestResult& r, const solver::CircleFile&
         "\n  The scale mismatch and squareness of one direction include its reversal "
         "errors;\n  those of both directions together cancel them.\n");
   }
+  const std::vector<std::string> warnings = solver::iso230_4_conformance(r);
+  fmt::print("\nConformance to ISO 230-4: {}\n",
+             warnings.empty() ? "the test conforms" : "the figures above are given, but");
+  for (const auto& w : warnings) fmt::print("  warning: {}\n", w);
 }
 
 int run_circle(const Options& o) {
@@ -435,8 +490,7 @@ int run_circle(const Options& o) {
     centre = Eigen::Vector2d(u, v);
   }
 
-  solver::CircleFile data = solver::read_circle_csv(read_csv_file(file), plane);
-  data.input.nominal_radius_mm = nominal_radius;
+  solver::CircleFile data = solver::read_circle_csv(read_csv_file(file), plane, nominal_radius);
   data.input.nominal_centre_mm = centre;
   const solver::CircularTestResult r = solver::evaluate_circular_test(data.input);
   if (o.json) {
@@ -636,8 +690,9 @@ void add_analyze(CLI::App& app, Commands& commands) {
                    "the plane (needed for angle_deg,radius_mm and u_mm,v_mm files)")
       ->type_name("XY|YZ|XZ");
   circle
-      ->add_option("--nominal-radius-mm", o->nominal_radius_mm,
-                   "F about this radius (default: the least-squares circle's)")
+      ->add_option(
+          "--nominal-radius-mm", o->nominal_radius_mm,
+          "F about this radius (default: the file's '# Radius:', else the least-squares circle's)")
       ->type_name("R");
   circle
       ->add_option("--centre-mm", o->centre_mm,

@@ -104,14 +104,18 @@ int run(const Options& o) {
     const std::string& file = o.file;
     const std::optional<solver::Plane> plane = plane_option(o.plane);
     const CsvTable table = read_csv_file(file);
-    const solver::CircleFile circle = solver::read_circle_csv(table, plane);
-    solver::check_circle_envelope(table, envelope);
+    const solver::CircleFile circle = solver::read_circle_csv(table, plane, o.nominal_radius_mm);
+    solver::check_circle_envelope(table, envelope, plane, o.nominal_radius_mm);
+    for (const auto& w :
+         solver::iso230_4_conformance(solver::evaluate_circular_test(circle.input))) {
+      std::cerr << "warning: " << file << ": " << w << "\n";
+    }
     set.kind = circle.input.plane == solver::Plane::XY   ? CheckKind::CircleXY
                : circle.input.plane == solver::Plane::YZ ? CheckKind::CircleYZ
                                                          : CheckKind::CircleXZ;
     set.frame = "machine";
-    if (o.nominal_radius_mm) {
-      set.parameters.push_back({"nominal_radius_mm", *o.nominal_radius_mm, "mm"});
+    if (const auto& r0 = circle.input.nominal_radius_mm) {  // given, or declared in the file
+      set.parameters.push_back({"nominal_radius_mm", *r0, "mm"});
     }
     if (o.centre_mm) {
       const auto [u, v] = centre_option(*o.centre_mm);
@@ -190,8 +194,9 @@ void add_import(CLI::App& app, Commands& commands) {
   const auto [circle, circle_o] = add("circle", "as kind circle_xy|yz|xz", true);
   circle->add_option("--plane", circle_o->plane, "the plane of the test")->type_name("XY|YZ|XZ");
   circle
-      ->add_option("--nominal-radius-mm", circle_o->nominal_radius_mm,
-                   "F about this radius (default: the least-squares circle's)")
+      ->add_option(
+          "--nominal-radius-mm", circle_o->nominal_radius_mm,
+          "F about this radius (default: the file's '# Radius:', else the least-squares circle's)")
       ->type_name("R");
   circle->add_option("--centre-mm", circle_o->centre_mm, "F about this centre (plane's u, v)")
       ->type_name("U,V");

@@ -54,3 +54,50 @@ with open("corpus/iso230-2_x_wide_declared_in.txt", "w", newline="") as f:
     for t in targets:
         f.write("%.8f\t" % (t / 25.4) + "\t".join("%.8f" % (by_key[(t, c, d)] / 25.4)
                                                   for c in cycles for d in ("up", "down")) + "\n")
+
+# ---- Circles: circle_xy.csv as other instruments export it -------------------------------------
+import math
+
+circle = []
+with open("circle_xy.csv") as f:
+    lines = [l for l in f if not l.startswith("#")]
+for r in csv.DictReader(lines):
+    circle.append((float(r["x_mm"]), float(r["y_mm"]), r["direction"]))
+
+
+def polar(x, y):
+    return math.degrees(math.atan2(y, x)) % 360.0, math.hypot(x, y)
+
+
+# A ballbar's software: the radial deviation from the ballbar's length in micrometres against
+# the angle, the plane and the length in its header comments; BOM, CRLF, ';' and the decimal
+# comma; the directions written out.
+with open("corpus/circle_xy_ballbar_um.csv", "w", encoding="utf-8", newline="") as f:
+    f.write("\ufeff# Ballbar test 2026-11-24, machine pm1\r\n# Plane: XY\r\n# Radius: 150 mm\r\n")
+    f.write("Angle (deg);Deviation (µm);Direction\r\n")
+    for x, y, d in circle:
+        a, r = polar(x, y)
+        f.write("%s;%s;%s\r\n" % (("%.6f" % a).replace(".", ","),
+                                  ("%.4f" % ((r - 150.0) * 1000.0)).replace(".", ","),
+                                  "Anticlockwise" if d == "ccw" else "Clockwise"))
+
+# A tracker or grid encoder export in inches, tab separated, the unit only in a comment.
+with open("corpus/circle_xy_inch_tab.txt", "w", newline="") as f:
+    f.write("# Circle XY\n# Units: in\n")
+    f.write("X\tY\tDir\n")
+    for x, y, d in circle:
+        f.write("%.8f\t%.8f\t%s\n" % (x / 25.4, y / 25.4, d.upper()))
+
+# ISO 230-4's 220 deg partial arc, as a vertical plane's test runs above the table: the points
+# of circle_xy.csv from -20 deg counter-clockwise to 200 deg, deviations in micrometres, the
+# plane given on the command line.
+with open("corpus/circle_xy_arc220_um.txt", "w", newline="") as f:
+    f.write("# 220 deg partial arc, -20 .. 200 deg\n# Radius: 150 mm\n")
+    f.write("angle_deg\tdeviation_um\tdirection\n")
+    for x, y, d in circle:
+        a, r = polar(x, y)
+        if 200.5 < a < 339.5:
+            continue  # below the table
+        if a >= 339.5:
+            a -= 360.0  # -20 .. 200
+        f.write("%.6f\t%.4f\t%s\n" % (a, (r - 150.0) * 1000.0, d))

@@ -83,21 +83,21 @@ TEST(CircularTest, HandWorkedDeviationsAboutTheLsc) {
 TEST(CircularTest, HandWorkedShape) {
   const CircularTestResult res = evaluate_circular_test(hand_case());
   // ccw: r - R = 2 µm cos 2θ: a2 = 0.002, scale mismatch 2 a2 / R = 2 * 0.002 / 10 = 400 µm/m.
-  EXPECT_NEAR(res.ccw->harmonics.a2_mm, 0.002, kExact);
-  EXPECT_NEAR(res.ccw->harmonics.b2_mm, 0, kExact);
-  EXPECT_NEAR(res.ccw->harmonics.a0_mm, 0, kExact);
-  EXPECT_NEAR(res.ccw->harmonics.residual_rms_mm, 0, kExact);
-  EXPECT_NEAR(res.ccw->scale_mismatch_um_per_m, 400, 1e-4);
-  EXPECT_NEAR(res.ccw->squareness_urad, 0, 1e-4);
+  EXPECT_NEAR(res.ccw->harmonics->a2_mm, 0.002, kExact);
+  EXPECT_NEAR(res.ccw->harmonics->b2_mm, 0, kExact);
+  EXPECT_NEAR(res.ccw->harmonics->a0_mm, 0, kExact);
+  EXPECT_NEAR(res.ccw->harmonics->residual_rms_mm, 0, kExact);
+  EXPECT_NEAR(res.ccw->scale_mismatch_um_per_m.value(), 400, 1e-4);
+  EXPECT_NEAR(res.ccw->squareness_urad.value(), 0, 1e-4);
   // cw: r - 10.001 = 1 µm sin 2θ: b2 = 0.001, squareness -2 b2 / R = -2e-3 / 10.001 rad.
-  EXPECT_NEAR(res.cw->harmonics.b2_mm, 0.001, kExact);
-  EXPECT_NEAR(res.cw->squareness_urad, -2e-3 / 10.001 * 1e6, 1e-4);
-  EXPECT_NEAR(res.cw->scale_mismatch_um_per_m, 0, 1e-4);
+  EXPECT_NEAR(res.cw->harmonics->b2_mm, 0.001, kExact);
+  EXPECT_NEAR(res.cw->squareness_urad.value(), -2e-3 / 10.001 * 1e6, 1e-4);
+  EXPECT_NEAR(res.cw->scale_mismatch_um_per_m.value(), 0, 1e-4);
   // Both (same angles): the coefficients average: a2 = 1 µm, b2 = 0.5 µm about R = 10.0005.
-  EXPECT_NEAR(res.harmonics.a2_mm, 0.001, kExact);
-  EXPECT_NEAR(res.harmonics.b2_mm, 0.0005, kExact);
-  EXPECT_NEAR(res.scale_mismatch_um_per_m, 2 * 0.001 / 10.0005 * 1e6, 1e-4);
-  EXPECT_NEAR(res.squareness_urad, -2 * 0.0005 / 10.0005 * 1e6, 1e-4);
+  EXPECT_NEAR(res.harmonics->a2_mm, 0.001, kExact);
+  EXPECT_NEAR(res.harmonics->b2_mm, 0.0005, kExact);
+  EXPECT_NEAR(res.scale_mismatch_um_per_m.value(), 2 * 0.001 / 10.0005 * 1e6, 1e-4);
+  EXPECT_NEAR(res.squareness_urad.value(), -2 * 0.0005 / 10.0005 * 1e6, 1e-4);
 }
 
 TEST(CircularTest, HandWorkedRadialDeviationAboutTheNominal) {
@@ -211,19 +211,19 @@ TEST(CircularTest, RecoversScaleMismatchAndSquarenessWithTheirSigns) {
     Machine m;
     m.scale_u = scale;
     const auto res = evaluate_circular_test(simulate(m, 72, true, false, rng));
-    EXPECT_NEAR(res.scale_mismatch_um_per_m, scale * 1e6, 0.01 * std::abs(scale) * 1e6);
-    EXPECT_NEAR(res.squareness_urad, 0, 0.01);
+    EXPECT_NEAR(res.scale_mismatch_um_per_m.value(), scale * 1e6, 0.01 * std::abs(scale) * 1e6);
+    EXPECT_NEAR(res.squareness_urad.value(), 0, 0.01);
     m.scale_u = 0;
     m.scale_v = scale;  // the v axis long: mismatch u - v negative
     const auto res_v = evaluate_circular_test(simulate(m, 72, true, false, rng));
-    EXPECT_NEAR(res_v.scale_mismatch_um_per_m, -scale * 1e6, 0.01 * std::abs(scale) * 1e6);
+    EXPECT_NEAR(res_v.scale_mismatch_um_per_m.value(), -scale * 1e6, 0.01 * std::abs(scale) * 1e6);
   }
   for (double eps : {-40e-6, 25e-6}) {
     Machine m;
     m.squareness = eps;  // (u, v) -> (u - ε v, v): angle between the motions 90° + ε
     const auto res = evaluate_circular_test(simulate(m, 72, false, true, rng));
-    EXPECT_NEAR(res.squareness_urad, eps * 1e6, 0.01 * std::abs(eps) * 1e6);
-    EXPECT_NEAR(res.scale_mismatch_um_per_m, 0, 0.01);
+    EXPECT_NEAR(res.squareness_urad.value(), eps * 1e6, 0.01 * std::abs(eps) * 1e6);
+    EXPECT_NEAR(res.scale_mismatch_um_per_m.value(), 0, 0.01);
   }
 }
 
@@ -275,15 +275,19 @@ TEST(CircularTest, SimulatedMachinesRecoverTheTruthWithinTheNoise) {
 
     const double shape_sd_all = 2 / R * s * std::sqrt(2.0 / n_all) * 1e6;
     const double shape_sd_one = 2 / R * s * std::sqrt(2.0 / n) * 1e6;
-    EXPECT_NEAR(res.scale_mismatch_um_per_m, (m.scale_u - m.scale_v) * 1e6, 5 * shape_sd_all)
+    EXPECT_NEAR(res.scale_mismatch_um_per_m.value(), (m.scale_u - m.scale_v) * 1e6,
+                5 * shape_sd_all)
         << run;
-    EXPECT_NEAR(res.squareness_urad, m.squareness * 1e6, 5 * shape_sd_all) << run;
+    EXPECT_NEAR(res.squareness_urad.value(), m.squareness * 1e6, 5 * shape_sd_all) << run;
     const double backlash_urad = 8 * (m.backlash_u - m.backlash_v) / (3 * kPi * R) * 1e6;
-    EXPECT_NEAR(res.ccw->squareness_urad, m.squareness * 1e6 - backlash_urad, 5 * shape_sd_one)
+    EXPECT_NEAR(res.ccw->squareness_urad.value(), m.squareness * 1e6 - backlash_urad,
+                5 * shape_sd_one)
         << run;
-    EXPECT_NEAR(res.cw->squareness_urad, m.squareness * 1e6 + backlash_urad, 5 * shape_sd_one)
+    EXPECT_NEAR(res.cw->squareness_urad.value(), m.squareness * 1e6 + backlash_urad,
+                5 * shape_sd_one)
         << run;
-    EXPECT_NEAR(res.ccw->scale_mismatch_um_per_m, (m.scale_u - m.scale_v) * 1e6, 5 * shape_sd_one)
+    EXPECT_NEAR(res.ccw->scale_mismatch_um_per_m.value(), (m.scale_u - m.scale_v) * 1e6,
+                5 * shape_sd_one)
         << run;
 
     // Noiseless figures from the simulated points about the true centre.
@@ -321,7 +325,7 @@ TEST(CircularTest, NoiselessHysteresisIsTheBacklash) {
   m.backlash_u = 0.004;
   const auto res = evaluate_circular_test(simulate(m, 360, true, true, rng));
   EXPECT_NEAR(*res.H_mm, 0.004 * std::cos(rad(0.5)), 1e-7);
-  EXPECT_NEAR(res.squareness_urad, 0, 1e-3);
+  EXPECT_NEAR(res.squareness_urad.value(), 0, 1e-3);
 }
 
 // ---- Refusals -----------------------------------------------------------------------------------
@@ -348,35 +352,180 @@ TEST(CircularTest, RefusesFewerThanEightPointsPerDirection) {
   EXPECT_EQ(refusal(CircularTestInput{}), "evaluate_circular_test: no points");
 }
 
-TEST(CircularTest, RefusesPointsNotSpreadRoundTheCircle) {
-  // 12 points on a half circle (0..165 deg): the gap from 165 back to 360 is 195 deg.
+TEST(CircularTest, RefusesPointsInMoreThanOneArc) {
+  // 16 points every 22.5 deg with 5..7 and 11..12 left out: gaps of 90 and 67.5 deg.
   CircularTestInput in;
-  for (int k = 0; k < 12; ++k) {
-    in.points.push_back(circular_point_from_polar(rad(15.0 * k), 10, PathDirection::Ccw));
+  for (int k = 0; k < 16; ++k) {
+    if ((k >= 5 && k <= 7) || k == 11 || k == 12) continue;
+    in.points.push_back(circular_point_from_polar(rad(22.5 * k), 10, PathDirection::Ccw));
   }
   const std::string why = refusal(in);
-  EXPECT_TRUE(contains(why, "points[11]: direction ccw: no points between 165 and ")) << why;
-  EXPECT_TRUE(contains(why, "no gap above 60 deg")) << why;
-  // 16 points every 22.5 deg with 3 left out: a 90 deg gap.
-  CircularTestInput gap;
+  EXPECT_TRUE(contains(why, "points[7]: direction ccw: no points between 225 and 292.5 deg"))
+      << why;
+  EXPECT_TRUE(contains(why, "a gap of 67.5 deg besides the gap of 90 deg")) << why;
+  EXPECT_TRUE(contains(why, "more than one arc")) << why;
+  // The same with 12 put back: one gap of 90 deg, a partial arc of 270 deg.
+  in.points.clear();
   for (int k = 0; k < 16; ++k) {
-    if (k >= 5 && k <= 7) continue;
-    gap.points.push_back(circular_point_from_polar(rad(22.5 * k), 10, PathDirection::Ccw));
+    if ((k >= 5 && k <= 7) || k == 11) continue;
+    in.points.push_back(circular_point_from_polar(rad(22.5 * k), 10, PathDirection::Ccw));
   }
-  EXPECT_TRUE(contains(refusal(gap), "a gap of 90 deg")) << refusal(gap);
-  // One point fewer out: 67.5 deg gaps pass.
-  CircularTestInput ok;
-  for (int k = 0; k < 16; ++k) {
-    if (k == 5 || k == 6 || k == 12) continue;
-    ok.points.push_back(circular_point_from_polar(rad(22.5 * k), 10, PathDirection::Ccw));
+  EXPECT_EQ(refusal(in), "(accepted)");
+}
+
+// ---- Partial arcs -------------------------------------------------------------------------------
+
+// n points evenly from from_deg over span_deg (both ends included), radius 10 mm + dev(θ) mm.
+template <typename Dev>
+void add_arc(CircularTestInput* in, PathDirection d, double from_deg, double span_deg, int n,
+             Dev dev) {
+  for (int k = 0; k < n; ++k) {
+    const double t = rad(from_deg + span_deg * k / (n - 1));
+    in->points.push_back(circular_point_from_polar(t, 10 + dev(t), d));
   }
-  EXPECT_TRUE(contains(refusal(ok), "a gap of 67.5 deg")) << refusal(ok);
-  ok.points.clear();
-  for (int k = 0; k < 16; ++k) {
-    if (k == 5 || k == 12) continue;
-    ok.points.push_back(circular_point_from_polar(rad(22.5 * k), 10, PathDirection::Ccw));
+}
+
+TEST(CircularTest, APartialArcIsEvaluatedOverTheArc) {
+  // ISO 230-4's 220 deg test: 72 points from 160 deg counter-clockwise to 20 deg (through 270),
+  // an exact circle: the arc, G = 0, and the shape resolved.
+  CircularTestInput in;
+  add_arc(&in, PathDirection::Ccw, 160, 220, 72, [](double) { return 0.0; });
+  const CircularTestResult res = evaluate_circular_test(in);
+  ASSERT_TRUE(res.ccw);
+  EXPECT_FALSE(res.ccw->arc.full_circle);
+  EXPECT_NEAR(res.ccw->arc.from_rad, rad(160), 1e-9);
+  EXPECT_NEAR(res.ccw->arc.span_rad, rad(220), 1e-9);
+  EXPECT_NEAR(res.ccw->max_gap_rad, rad(140), 1e-9);
+  EXPECT_FALSE(res.arc.full_circle);
+  EXPECT_NEAR(res.ccw->G_mm, 0, 1e-9);
+  EXPECT_NEAR(res.ccw->lsc_radius_mm, 10, 1e-9);
+  EXPECT_TRUE(res.ccw->scale_mismatch_um_per_m);
+  // A full circle is one from 0 over 360 deg.
+  const CircularTestResult full = evaluate_circular_test(hand_case());
+  EXPECT_TRUE(full.ccw->arc.full_circle);
+  EXPECT_EQ(full.ccw->arc.from_rad, 0);
+  EXPECT_NEAR(full.ccw->arc.span_rad, 2 * kPi, 1e-15);
+}
+
+TEST(CircularTest, TheShapeIsGivenWhereTheArcResolvesIt) {
+  // The noise gain of a2, b2 against a full circle, sqrt(n/2 [(AᵀA)⁻¹]_kk), for 72 points from
+  // 0 deg over the span, worked independently (Gauss-Jordan inverse of AᵀA in Python):
+  //   220 deg: a2 1.9981, b2 1.8148; 180 deg: 4.3238, 1.8388; 90 deg: 10.3813, 51.0803.
+  // A noiseless squareness of 40 µrad and scale mismatch of 25 µm/m is recovered from 220 deg
+  // (to first order, as from a full circle); 180 and 90 deg leave the shape out.
+  const double eps = 40e-6, ds = 25e-6;
+  const auto machine = [&](double t) {
+    // |p'| - R for p = R (cos t, sin t), u scale ds, squareness eps (the header's derivation).
+    return 10 * (ds * std::cos(t) * std::cos(t) - eps * std::cos(t) * std::sin(t));
+  };
+  const std::vector<std::pair<double, double>> cases{{220, 1.9981}, {180, 4.3238}, {90, 51.0803}};
+  for (const auto& [span, gain] : cases) {
+    CircularTestInput exact;  // the gain of the angles themselves, about the centre (0, 0)
+    add_arc(&exact, PathDirection::Cw, 0, span, 72, [](double) { return 0.0; });
+    EXPECT_NEAR(evaluate_circular_test(exact).cw->shape_noise_gain, gain, 1e-4 * gain) << span;
+    CircularTestInput in;
+    add_arc(&in, PathDirection::Cw, 0, span, 72, machine);
+    const CircularTestResult res = evaluate_circular_test(in);
+    ASSERT_TRUE(res.cw) << span;
+    if (span == 220) {
+      ASSERT_TRUE(res.cw->squareness_urad && res.cw->scale_mismatch_um_per_m);
+      EXPECT_NEAR(*res.cw->squareness_urad, eps * 1e6, 0.01 * eps * 1e6);
+      EXPECT_NEAR(*res.cw->scale_mismatch_um_per_m, ds * 1e6, 0.01 * ds * 1e6);
+      EXPECT_TRUE(res.harmonics);
+    } else {
+      EXPECT_FALSE(res.cw->squareness_urad) << span;
+      EXPECT_FALSE(res.cw->scale_mismatch_um_per_m) << span;
+      EXPECT_FALSE(res.cw->harmonics) << span;
+      EXPECT_FALSE(res.squareness_urad) << span;
+    }
   }
-  EXPECT_EQ(refusal(ok), "(accepted)");
+}
+
+TEST(CircularTest, HysteresisOfArcsComparesOnlyWhereBothWereMeasured) {
+  // Both directions on a 220 deg arc: ccw at 0, 10, .., 220 deg, cw at 5, 15, .., 215 deg; the
+  // radius ramps by 10 µm along the arc, cw 1 µm above ccw. Each cw point lies between two ccw
+  // points (the ramp interpolates exactly): H = 1 µm. The ccw points at 0 and 220 deg lie outside
+  // the cw arc and are not compared; across the 140 deg gap the ramp would differ by 10 µm.
+  const auto ramp = [](double t) { return 0.010 * t / rad(220); };
+  CircularTestInput in;
+  add_arc(&in, PathDirection::Ccw, 0, 220, 23, ramp);
+  add_arc(&in, PathDirection::Cw, 5, 210, 22, [&](double t) { return ramp(t) + 0.001; });
+  const CircularTestResult res = evaluate_circular_test(in);
+  ASSERT_TRUE(res.H_mm);
+  // About the fitted common centre c the radii change by -c·(cos θ, sin θ) alike for both
+  // paths; the linear interpolation of that between points 10 deg apart is off by at most
+  // |c| (10 deg)² / 8 ≈ 0.0038 |c|.
+  const double c = res.lsc_centre_mm.norm();
+  EXPECT_GT(c, 1e-4);  // the ramp moves the centre: the bound below is not vacuous
+  EXPECT_NEAR(*res.H_mm, 0.001, 0.004 * c);
+  // The arcs (about that centre): ccw 220 deg, cw 210 deg inside it.
+  EXPECT_NEAR(res.H_overlap_rad, rad(210), 1e-4);
+  EXPECT_TRUE(iso230_4_conformance(res).empty());
+  // cw shifted by 60 deg: H over the 160 deg both cover, and a warning.
+  CircularTestInput shifted;
+  add_arc(&shifted, PathDirection::Ccw, 0, 220, 23, [](double) { return 0.0; });
+  add_arc(&shifted, PathDirection::Cw, 60, 220, 23, [](double) { return 0.001; });
+  const CircularTestResult r1 = evaluate_circular_test(shifted);
+  EXPECT_NEAR(r1.H_overlap_rad, rad(160), 1e-3);
+  const auto w = iso230_4_conformance(r1);
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0],
+            "the two directions cover different arcs: H compares them over the 160 deg they share");
+
+  // Arcs with no angle in common: no H, said so.
+  CircularTestInput apart;
+  add_arc(&apart, PathDirection::Ccw, 0, 90, 10, [](double) { return 0.0; });
+  add_arc(&apart, PathDirection::Cw, 180, 90, 10, [](double) { return 0.0; });
+  const CircularTestResult r2 = evaluate_circular_test(apart);
+  EXPECT_FALSE(r2.H_mm);
+  EXPECT_TRUE(r2.G_b_mm);
+  const auto w2 = iso230_4_conformance(r2);
+  EXPECT_TRUE(std::any_of(w2.begin(), w2.end(), [](const std::string& s) {
+    return contains(s, "arcs with no angle in common: no hysteresis H");
+  }));
+}
+
+TEST(CircularTest, ConformanceSaysWhereATestDepartsFromIso230_4) {
+  const auto exact = [](double) { return 0.0; };
+  // Both directions, 36 points round the circle: conforms.
+  CircularTestInput full;
+  for (int k = 0; k < 36; ++k) {
+    full.points.push_back(circular_point_from_polar(rad(10.0 * k), 10, PathDirection::Ccw));
+    full.points.push_back(circular_point_from_polar(rad(10.0 * k + 5), 10, PathDirection::Cw));
+  }
+  EXPECT_TRUE(iso230_4_conformance(evaluate_circular_test(full)).empty());
+  // 24 points (every 15 deg), ccw only: too sparse (36 needed) and one direction.
+  CircularTestInput sparse;
+  for (int k = 0; k < 24; ++k) {
+    sparse.points.push_back(circular_point_from_polar(rad(15.0 * k), 10, PathDirection::Ccw));
+  }
+  const auto w = iso230_4_conformance(evaluate_circular_test(sparse));
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_EQ(w[0],
+            "direction ccw: 24 points over 360 deg, one every 15 deg: G, a max - min of the radii, "
+            "needs one every 10 deg or closer (36 here) to read a shape of up to 4 lobes per turn "
+            "within 6 %, and misses reversal spikes narrower than the spacing");
+  EXPECT_TRUE(contains(w[1], "measured in one direction only (ccw): ISO 230-4 traces both"))
+      << w[1];
+  // Both ways over an arc from 0 deg of n points: the warnings.
+  const auto both_ways = [&](double span_deg, int n) {
+    CircularTestInput in;
+    add_arc(&in, PathDirection::Ccw, 0, span_deg, n, exact);
+    add_arc(&in, PathDirection::Cw, 0, span_deg, n, exact);
+    return iso230_4_conformance(evaluate_circular_test(in));
+  };
+  // A 90 deg arc of 10 points (every 10 deg): the shape is not resolved, nothing else.
+  const auto wq = both_ways(90, 10);
+  ASSERT_EQ(wq.size(), 2u);
+  EXPECT_TRUE(contains(wq[0], "direction ccw: the arc of 90 deg does not resolve the 2θ shape"))
+      << wq[0];
+  // A 60 deg arc: too short.
+  const auto ws = both_ways(60, 13);
+  ASSERT_FALSE(ws.empty());
+  EXPECT_TRUE(contains(ws[0],
+                       "direction ccw: an arc of 60 deg, shorter than ISO 230-4's shortest "
+                       "partial arc (90 deg)"))
+      << ws[0];
 }
 
 TEST(CircularTest, RefusesNonFiniteValues) {

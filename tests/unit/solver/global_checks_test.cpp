@@ -3,6 +3,7 @@
 // deploy/machines/pm1.yaml (with errors changed here), the solver judges the set; the figures are
 // compared with the simulator's ground truth within bounds derived from the tracker's noise.
 #include "ncqual/solver/global_checks.hpp"
+#include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/solver/solve.hpp"
 
 #include "ncqual/sim/tracker_simulator.hpp"
@@ -206,6 +207,46 @@ TEST(GlobalChecks, TheExampleMachinePassesEveryTrackerCheckItImplements) {
       EXPECT_EQ(r.verdict, Verdict::Pass) << to_string(kind) << ": " << r.reason;
     }
   }
+}
+
+// An imported 90 deg partial arc (`ncqual import circle`): judged over the arc; its G fails, and
+// since a 90 deg arc does not resolve the 2θ shape the causes say so instead of naming squareness
+// or scale from figures that are not there.
+TEST(GlobalChecks, AnImportedPartialArcIsJudgedOverTheArc) {
+  const MachineConfig m = pm1();
+  const GlobalCheckConfig& gc = *m.global_check;
+  CircleFile arc;
+  arc.input.plane = Plane::XY;
+  // 46 points each way from 0 to 90 deg, radius 300 mm + 60 µm cos 8θ (two lobes on the arc):
+  // no circle takes it all up, G ≈ 120 µm (130 about the arc's LSC) against pm1's 100 µm.
+  for (PathDirection d : {PathDirection::Ccw, PathDirection::Cw}) {
+    for (int k = 0; k < 46; ++k) {
+      const double t = units::kPi / 2 * k / 45;
+      arc.input.points.push_back(circular_point_from_polar(t, 300 + 0.060 * std::cos(8 * t), d));
+    }
+  }
+  AxisPosition centre;
+  centre.x_mm = gc.circle.centre_mm.x();
+  centre.y_mm = gc.circle.centre_mm.y();
+  centre.z_mm = gc.circle.centre_mm.z();
+  MeasurementSet set;
+  set.machine_id = m.machine_id;
+  set.request_id = "import-arc";
+  set.kind = CheckKind::CircleXY;
+  set.frame = "machine";
+  set.parameters.push_back({"imported", 1, ""});
+  set.parameters.push_back({"nominal_radius_mm", 300, "mm"});
+  set.tracker_points = tracker_points_for_circle(
+      arc, stylus_ball_centre(centre, gc.targets.front()), gc.targets.front());
+  const CheckResult r = solve(set, m, 1);
+  ASSERT_EQ(r.verdict, Verdict::Fail) << r.reason;
+  const Metric& g = metric(r, "circle_xy_G_mm");
+  EXPECT_GT(g.value, 0.10);
+  EXPECT_LT(g.value, 0.14);
+  ASSERT_GE(r.likely_causes.size(), 2u);
+  EXPECT_EQ(r.likely_causes[0],
+            "axes x and y out of square (the arc of 90 deg does not resolve the shape)");
+  EXPECT_EQ(r.likely_causes[1], "scale mismatch of x and y");
 }
 
 TEST(GlobalChecks, BadTrackerSetsAreInvalidNamingTheField) {

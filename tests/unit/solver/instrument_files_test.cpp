@@ -239,13 +239,33 @@ TEST(InstrumentFiles, CirclePlaneMismatchAndMissingPlane) {
 
 TEST(InstrumentFiles, CircleMissingColumns) {
   EXPECT_EQ(circle_error("angle_deg,r_mm\n0,10\n"),
-            "c.csv:1: missing column 'radius_mm'; the header has: angle_deg, r_mm");
+            "c.csv:1: an angle but no radius column: expected 'radius_mm' ('Radius (mm)'), or "
+            "the radial deviation from the nominal radius ('Deviation (um)'); the header has: "
+            "angle_deg, r_mm");
   EXPECT_EQ(circle_error("x_mm,q_mm\n0,10\n"),
-            "c.csv:1: no circle columns: expected angle_deg,radius_mm or a coordinate pair "
-            "x_mm,y_mm | y_mm,z_mm | x_mm,z_mm | u_mm,v_mm; the header has: x_mm, q_mm");
+            "c.csv:1: no circle columns: expected an angle and a radius ('angle_deg,radius_mm'), "
+            "an angle and the radial deviation ('Angle (deg),Deviation (um)' with the radius "
+            "declared), or a coordinate pair x_mm,y_mm | y_mm,z_mm | x_mm,z_mm | u_mm,v_mm (any "
+            "length unit: mm, um, in); the header has: x_mm, q_mm");
   EXPECT_EQ(circle_error("angle_deg,radius_mm,x_mm,y_mm\n0,10,1,1\n"),
-            "c.csv:1: both polar (angle_deg, radius_mm) and coordinate columns; a circle file "
-            "has one layout; the header has: angle_deg, radius_mm, x_mm, y_mm");
+            "c.csv:1: both polar (angle, radius or deviation) and coordinate columns; a circle "
+            "file has one layout; the header has: angle_deg, radius_mm, x_mm, y_mm");
+  EXPECT_EQ(circle_error("angle_deg,radius_mm,deviation_um\n0,10,1\n"),
+            "c.csv:1: both a radius and a radial deviation column; a circle file has one; the "
+            "header has: angle_deg, radius_mm, deviation_um");
+  // A length without a unit, none declared: refused at the column.
+  EXPECT_EQ(circle_error("X,Y\n0,10\n"),
+            "c.csv:1:1: column 'X' names no unit: write it as 'X (mm)' (or um, in), or declare "
+            "the file's unit in a comment before the header ('# Units: mm')");
+  EXPECT_EQ(circle_error("Angle (deg),Deviation (um)\n0,10\n"),
+            "c.csv:1:2: column 'Deviation (um)' holds radial deviations from the nominal "
+            "radius, which the file does not declare: declare it in a comment before the header "
+            "('# Radius: 150 mm') or pass it (--nominal-radius-mm)");
+  EXPECT_EQ(circle_error("# Radius: about 150\nAngle (deg),Deviation (um)\n0,10\n"),
+            "c.csv:1: the comment declares radius 'about150': expected a number > 0 and its "
+            "unit, e.g. '# Radius: 150 mm' (mm, um, in)");
+  EXPECT_EQ(circle_error("# Plane: XZ\nangle_deg,radius_mm\n0,10\n", Plane::XY),
+            "c.csv:1: the comment declares plane XZ, but plane XY was asked for");
 }
 
 TEST(InstrumentFiles, CircleNonNumericAndBadWords) {
@@ -254,7 +274,9 @@ TEST(InstrumentFiles, CircleNonNumericAndBadWords) {
   EXPECT_EQ(circle_error(text), "c.csv:5:2: column 'radius_mm' = '9.998x': expected a number");
   text = polar_file();
   text.replace(text.find(",CW,"), 4, ",cc,");  // line 11
-  EXPECT_EQ(circle_error(text), "c.csv:11:3: column 'direction' = 'cc': expected one of ccw, cw");
+  EXPECT_EQ(circle_error(text),
+            "c.csv:11:3: column 'direction' = 'cc': expected one of ccw, counterclockwise, "
+            "counter-clockwise, anticlockwise, anti-clockwise, g3, cw, clockwise, g2");
   text = polar_file();
   text.replace(text.find("90,9.9980"), 9, "90,-9.998");
   EXPECT_EQ(circle_error(text), "c.csv:5:2: column 'radius_mm' = '-9.998': a radius must be > 0");
@@ -280,7 +302,7 @@ TEST(InstrumentFiles, CircleDuplicateAngleNamesBothLines) {
   std::string text = polar_file();
   text += "360,10.0020,ccw,1000\n";  // line 19, 360 = 0 deg of line 3
   EXPECT_EQ(circle_error(text),
-            "c.csv:19:1: angle_deg = 360, direction ccw: the same angle as line 3");
+            "c.csv:19:1: column 'angle_deg' = 360, direction ccw: the same angle as line 3");
   // A repeated coordinate point (found by the evaluation's check).
   std::string coords = coordinate_file("x_mm,y_mm");
   coords += "150.000000000,-20.000000000\n";  // line 14 repeats line 2 (0 deg)
@@ -290,11 +312,24 @@ TEST(InstrumentFiles, CircleDuplicateAngleNamesBothLines) {
       << why;
 }
 
-TEST(InstrumentFiles, CirclePointsNotRoundTheCircle) {
+TEST(InstrumentFiles, CircleOfTwoArcsIsRefusedAtTheLineAfterTheSecondGap) {
+  // 0..80 and 180..260 deg: two arcs, gaps of 100 deg each.
+  std::string text = "angle_deg,radius_mm\n";
+  for (int k = 0; k < 5; ++k) text += std::to_string(20 * k) + ",10\n";
+  for (int k = 0; k < 5; ++k) text += std::to_string(180 + 20 * k) + ",10\n";
+  const std::string why = circle_error(text);
+  EXPECT_NE(why.find("the points form more than one arc"), std::string::npos) << why;
+  EXPECT_TRUE(starts_with(why, "c.csv:")) << why;
+}
+
+TEST(InstrumentFiles, AHalfCircleIsAPartialArc) {
   std::string text = "angle_deg,radius_mm\n";
   for (int k = 0; k < 10; ++k) text += std::to_string(20 * k) + ",10\n";  // 0..180 deg
-  const std::string why = circle_error(text);
-  EXPECT_TRUE(starts_with(why, "c.csv:11: direction ccw: no points between 180 and 0 deg")) << why;
+  const CircleFile f = read_circle_csv(text, "c.csv", Plane::XY);
+  const CircularTestResult r = evaluate_circular_test(f.input);
+  ASSERT_TRUE(r.ccw);
+  EXPECT_FALSE(r.ccw->arc.full_circle);
+  EXPECT_NEAR(r.ccw->arc.span_rad, kPi, 1e-9);
 }
 
 // ---- Grid ---------------------------------------------------------------------------------------
@@ -532,6 +567,71 @@ TEST(InstrumentFiles, Iso230_2ExportsAsTheyComeGiveTheFiguresOfTheirLongFormTwin
           std::pair{r.B_mm, expected.B_mm}}) {
       ASSERT_TRUE(got && want);
       EXPECT_NEAR(*got, *want, 4 * twin.resolution_mm);
+    }
+  }
+}
+
+// Circle exports as a ballbar's software, a tracker in inches and a 220 deg partial-arc test
+// write them (tests/data/instrument/make_corpus.py), each the twin of circle_xy.csv or of its
+// points from -20 to 200 deg.
+TEST(InstrumentFiles, CircleExportsAsTheyComeGiveTheFiguresOfTheirTwin) {
+  const std::string dir = NCQUAL_SOURCE_DIR "/tests/data/instrument/";
+  const CircleFile long_form = read_circle_csv(read_csv_file(dir + "circle_xy.csv"), std::nullopt);
+  struct Twin {
+    const char* file;
+    std::optional<Plane> plane;
+    double resolution_mm;  // of the twin's numbers at R 150 mm
+  } twins[] = {
+      // Angle (deg) to 1e-6 deg (2.6e-6 mm at R), Deviation (µm) to 1e-4 µm, '# Radius: 150 mm',
+      // '# Plane: XY', ';' and the decimal comma, Anticlockwise/Clockwise.
+      {"corpus/circle_xy_ballbar_um.csv", std::nullopt, 3e-6},
+      // X, Y in inches to 8 decimals ('# Units: in'), tab, CCW/CW.
+      {"corpus/circle_xy_inch_tab.txt", std::nullopt, 2e-7},
+      // The 220 deg arc: angle_deg, deviation_um, the radius declared, the plane passed.
+      {"corpus/circle_xy_arc220_um.txt", Plane::XY, 3e-6},
+  };
+  for (const Twin& twin : twins) {
+    SCOPED_TRACE(twin.file);
+    const CircleFile f = read_circle_csv(read_csv_file(dir + twin.file), twin.plane);
+    EXPECT_EQ(f.input.plane, Plane::XY);
+    const bool arc = std::string(twin.file).find("arc220") != std::string::npos;
+    // The twin: every long-form point, or those of the arc, in file order.
+    CircularTestInput want;
+    want.plane = Plane::XY;
+    for (const CircularPoint& p : long_form.input.points) {
+      double deg = std::atan2(p.uv_mm.y(), p.uv_mm.x()) * 180 / kPi;  // -180 .. 180
+      if (deg < -90) deg += 360;                                      // -90 .. 270
+      if (!arc || (deg >= -20.5 && deg <= 200.5)) want.points.push_back(p);
+    }
+    ASSERT_EQ(f.input.points.size(), want.points.size());
+    for (std::size_t k = 0; k < want.points.size(); ++k) {
+      EXPECT_NEAR((f.input.points[k].uv_mm - want.points[k].uv_mm).norm(), 0, twin.resolution_mm)
+          << k;
+      EXPECT_EQ(f.input.points[k].direction, want.points[k].direction) << k;
+    }
+    // A declared radius is the nominal radius; the figures are the twin's.
+    const bool declared = std::string(twin.file).find("_um.") != std::string::npos;
+    EXPECT_EQ(f.input.nominal_radius_mm, declared ? std::optional<double>(150) : std::nullopt);
+    want.nominal_radius_mm = f.input.nominal_radius_mm;
+    const CircularTestResult r = evaluate_circular_test(f.input);
+    const CircularTestResult e = evaluate_circular_test(want);
+    EXPECT_NEAR(r.G_mm, e.G_mm, 2 * twin.resolution_mm);
+    EXPECT_NEAR(*r.G_b_mm, *e.G_b_mm, 2 * twin.resolution_mm);
+    EXPECT_NEAR(*r.H_mm, *e.H_mm, 4 * twin.resolution_mm);
+    EXPECT_NEAR(r.F_max_mm, e.F_max_mm, 2 * twin.resolution_mm);
+    EXPECT_NEAR(*r.squareness_urad, *e.squareness_urad, 0.1);
+    EXPECT_EQ(r.arc.full_circle, !arc);
+    if (arc) {
+      // 220 deg from -20 deg, and the shape still resolved: circle_xy.csv's injected X scale
+      // +15 µm/m against Y and squareness -20 µrad (X moves with Y: the angle under 90°), within
+      // 5 σ = 5 (2/R) σ_r √(2/n) g = 4.5 µm/m or µrad for σ_r 0.4 µm, n 442 and the noise gain
+      // g < 2.5 of this arc (2.44; the gain depends on where the arc lies against the axes).
+      EXPECT_NEAR(r.arc.span_rad * 180 / kPi, 220, 0.01);
+      EXPECT_NEAR(r.arc.from_rad * 180 / kPi, 340, 0.01);
+      EXPECT_LT(r.shape_noise_gain, 2.5);
+      EXPECT_NEAR(*r.scale_mismatch_um_per_m, 15, 4.5);
+      EXPECT_NEAR(*r.squareness_urad, -20, 4.5);
+      EXPECT_TRUE(iso230_4_conformance(r).empty());
     }
   }
 }

@@ -22,9 +22,12 @@ namespace {
 
 using units::kPi;
 constexpr int kMinPointsPerDirection = 8;
-constexpr double kMaxGapRad = kPi / 3;  // 60°
+constexpr double kMaxGapRad = kPi / 3;  // 60°: a larger gap makes the path an arc
 constexpr double kGapSlackRad = 1e-9;   // rounding allowance on the gap test
 constexpr double kDuplicateAngleRad = 1e-9;
+constexpr double kMaxShapeNoiseGain = 3;          // the 2θ terms are reported up to this gain
+constexpr double kShortestArcRad = kPi / 2;       // ISO 230-4's shortest partial arc, 90°
+constexpr double kSparsestSpacingRad = kPi / 18;  // one point every 10° of arc
 
 double deg(double rad) { return rad * 180.0 / kPi; }
 
@@ -78,6 +81,52 @@ std::pair<double, std::size_t> largest_gap(const std::vector<Polar>& sorted) {
   return {gap, at};
 }
 
+// The second largest gap (0 with fewer than 3 points) and the position of the point opening it.
+std::pair<double, std::size_t> second_largest_gap(const std::vector<Polar>& sorted) {
+  const auto first = largest_gap(sorted);
+  double gap = 0;
+  std::size_t at = 0;
+  for (std::size_t k = 0; k < sorted.size(); ++k) {
+    if (k == first.second) continue;
+    const std::size_t next = (k + 1) % sorted.size();
+    const double g = next == 0 ? sorted.front().theta + 2 * kPi - sorted.back().theta
+                               : sorted[next].theta - sorted[k].theta;
+    if (g > gap) {
+      gap = g;
+      at = k;
+    }
+  }
+  return {gap, at};
+}
+
+// The part of the circle the sorted points cover (see CircularArc).
+CircularArc arc_of(const std::vector<Polar>& sorted) {
+  CircularArc arc;
+  const auto [gap, at] = largest_gap(sorted);
+  if (gap <= kMaxGapRad + kGapSlackRad) return arc;
+  arc.full_circle = false;
+  arc.from_rad = sorted[(at + 1) % sorted.size()].theta;
+  arc.span_rad = 2 * kPi - gap;
+  return arc;
+}
+
+// theta - from in [0, 2π).
+double unwrapped(double theta, double from) {
+  double t = std::fmod(theta - from, 2 * kPi);
+  if (t < 0) t += 2 * kPi;
+  return t;
+}
+
+// The length of the intersection of two arcs of a circle.
+double arc_overlap(const CircularArc& a, const CircularArc& b) {
+  if (a.full_circle) return b.span_rad;
+  if (b.full_circle) return a.span_rad;
+  const double d = unwrapped(b.from_rad, a.from_rad);  // b from, with a from at 0
+  double len = std::max(0.0, std::min(a.span_rad, d + b.span_rad) - d);
+  if (d + b.span_rad > 2 * kPi) len += std::min(a.span_rad, d + b.span_rad - 2 * kPi);
+  return len;
+}
+
 std::vector<std::size_t> indices_of(const CircularTestInput& input, PathDirection d) {
   std::vector<std::size_t> out;
   for (std::size_t i = 0; i < input.points.size(); ++i) {
@@ -98,23 +147,39 @@ std::string direction_prefix(PathDirection d) {
   return "direction " + std::string(to_string(d)) + ": ";
 }
 
-// Least squares of r_i - R on (1, cos θ, sin θ, cos 2θ, sin 2θ).
-RadialHarmonics fit_harmonics(const std::vector<Polar>& polar, double radius) {
+// The design of the radial fit: rows (1, cos θ, sin θ, cos 2θ, sin 2θ).
+Eigen::MatrixXd harmonic_design(const std::vector<Polar>& polar) {
   const Eigen::Index n = static_cast<Eigen::Index>(polar.size());
   Eigen::MatrixXd design(n, 5);
-  Eigen::VectorXd rhs(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = polar[static_cast<std::size_t>(i)].theta;
     design.row(i) << 1, std::cos(t), std::sin(t), std::cos(2 * t), std::sin(2 * t);
+  }
+  return design;
+}
+
+// The larger noise gain of a2 and b2 (the header: sqrt(n/2 [(AᵀA)⁻¹]_kk)); infinite when the
+// angles do not resolve the five terms at all.
+double shape_noise_gain(const std::vector<Polar>& polar) {
+  const Eigen::MatrixXd design = harmonic_design(polar);
+  const Eigen::MatrixXd normal = design.transpose() * design;
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(normal);
+  if (!lu.isInvertible()) return INFINITY;
+  const Eigen::MatrixXd inverse = lu.inverse();
+  const double n = static_cast<double>(polar.size());
+  const double gain = std::sqrt(n / 2 * std::max(inverse(3, 3), inverse(4, 4)));
+  return std::isfinite(gain) ? gain : INFINITY;
+}
+
+// Least squares of r_i - R on (1, cos θ, sin θ, cos 2θ, sin 2θ); the caller has checked the
+// angles resolve them (shape_noise_gain).
+RadialHarmonics fit_harmonics(const std::vector<Polar>& polar, double radius) {
+  const Eigen::MatrixXd design = harmonic_design(polar);
+  Eigen::VectorXd rhs(design.rows());
+  for (Eigen::Index i = 0; i < design.rows(); ++i) {
     rhs(i) = polar[static_cast<std::size_t>(i)].r - radius;
   }
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(design);
-  if (qr.rank() < 5) {
-    throw std::invalid_argument(
-        "evaluate_circular_test: the angles of the points do not resolve the 2θ terms of the "
-        "radial deviation (rank " +
-        std::to_string(qr.rank()) + " of 5)");
-  }
   const Eigen::VectorXd c = qr.solve(rhs);
   RadialHarmonics h;
   h.a0_mm = c(0);
@@ -122,8 +187,19 @@ RadialHarmonics fit_harmonics(const std::vector<Polar>& polar, double radius) {
   h.b1_mm = c(2);
   h.a2_mm = c(3);
   h.b2_mm = c(4);
-  h.residual_rms_mm = std::sqrt((design * c - rhs).squaredNorm() / static_cast<double>(n));
+  h.residual_rms_mm =
+      std::sqrt((design * c - rhs).squaredNorm() / static_cast<double>(design.rows()));
   return h;
+}
+
+// The shape figures of sorted points about an LSC of `radius`, when the points resolve them.
+template <typename Figures>
+void add_shape(const std::vector<Polar>& polar, double radius, Figures* f) {
+  f->shape_noise_gain = shape_noise_gain(polar);
+  if (!(f->shape_noise_gain <= kMaxShapeNoiseGain)) return;
+  f->harmonics = fit_harmonics(polar, radius);
+  f->scale_mismatch_um_per_m = 2 * f->harmonics->a2_mm / radius * 1e6;
+  f->squareness_urad = -2 * f->harmonics->b2_mm / radius * 1e6;
 }
 
 CircleFit fit_or_throw(const std::vector<Eigen::Vector2d>& pts, const std::string& what) {
@@ -162,25 +238,56 @@ double spread(const std::vector<Polar>& polar) {
   return hi - lo;
 }
 
-// Radius of the sorted path at angle theta, interpolated linearly in θ between the neighbours.
-double radius_at(const std::vector<Polar>& sorted, double theta) {
-  const auto it = std::upper_bound(sorted.begin(), sorted.end(), theta,
-                                   [](double t, const Polar& p) { return t < p.theta; });
+// A path about a centre: its points sorted by the angle from the start of its arc (a full circle
+// starts at 0), and the arc.
+struct PathAngles {
+  std::vector<Polar> sorted;  // theta: from the arc's start, in [0, 2π)
+  CircularArc arc;
+};
+
+PathAngles path_angles(std::vector<Polar> polar) {
+  PathAngles p;
+  p.arc = arc_of(polar);
+  for (auto& q : polar) q.theta = unwrapped(q.theta, p.arc.from_rad);
+  std::sort(polar.begin(), polar.end(),
+            [](const Polar& a, const Polar& b) { return a.theta < b.theta; });
+  p.sorted = std::move(polar);
+  return p;
+}
+
+// Radius of the path at angle theta (about the same centre), interpolated linearly in θ between
+// its two neighbours, round the circle for a full circle; nothing outside an arc.
+std::optional<double> radius_at(const PathAngles& path, double theta) {
+  const std::vector<Polar>& sorted = path.sorted;
+  const double t = unwrapped(theta, path.arc.from_rad);
+  if (!path.arc.full_circle && t > sorted.back().theta + kGapSlackRad) return std::nullopt;
+  const auto it = std::upper_bound(sorted.begin(), sorted.end(), t,
+                                   [](double x, const Polar& p) { return x < p.theta; });
   const std::size_t n = sorted.size();
   const std::size_t next = static_cast<std::size_t>(it - sorted.begin());
+  if (!path.arc.full_circle && next == n) return sorted.back().r;  // at the arc's end
   const Polar& b = sorted[next % n];
   const Polar& a = sorted[(next + n - 1) % n];
   const double ta = next == 0 ? a.theta - 2 * kPi : a.theta;
   const double tb = next == n ? b.theta + 2 * kPi : b.theta;
   if (!(tb - ta > 1e-15)) return a.r;
-  return a.r + (theta - ta) / (tb - ta) * (b.r - a.r);
+  return a.r + (t - ta) / (tb - ta) * (b.r - a.r);
 }
 
-// Largest |r_a(θ) - r_b(θ)| at the points of either path.
-double hysteresis(const std::vector<Polar>& a, const std::vector<Polar>& b) {
-  double h = 0;
-  for (const auto& p : a) h = std::max(h, std::abs(p.r - radius_at(b, p.theta)));
-  for (const auto& p : b) h = std::max(h, std::abs(p.r - radius_at(a, p.theta)));
+// Largest |r_a(θ) - r_b(θ)| at the points of either path where the other path was measured;
+// nothing when the paths share no angle. `a` and `b` about the same centre, in input angles.
+std::optional<double> hysteresis(const std::vector<Polar>& a, const std::vector<Polar>& b) {
+  const PathAngles pa = path_angles(a), pb = path_angles(b);
+  std::optional<double> h;
+  const auto compare = [&h](const PathAngles& from, const PathAngles& with) {
+    for (const auto& p : from.sorted) {
+      if (const auto r = radius_at(with, p.theta + from.arc.from_rad)) {
+        h = std::max(h.value_or(0.0), std::abs(p.r - *r));
+      }
+    }
+  };
+  compare(pa, pb);
+  compare(pb, pa);
   return h;
 }
 
@@ -199,9 +306,8 @@ CircularPathFigures path_figures(const CircularTestInput& input, PathDirection d
   f.F_reference = reference_for(input, fit);
   std::tie(f.F_max_mm, f.F_min_mm) = radial_deviation(pts, f.F_reference);
   f.max_gap_rad = largest_gap(polar).first;
-  f.harmonics = fit_harmonics(polar, fit.radius);
-  f.scale_mismatch_um_per_m = 2 * f.harmonics.a2_mm / fit.radius * 1e6;
-  f.squareness_urad = -2 * f.harmonics.b2_mm / fit.radius * 1e6;
+  f.arc = arc_of(polar);
+  add_shape(polar, fit.radius, &f);
   return f;
 }
 
@@ -277,14 +383,17 @@ std::optional<CircularTestProblem> find_circular_test_problem(const CircularTest
                      " deg about the path's LSC centre: the same angle as another point"};
       }
     }
-    const auto [gap, at] = largest_gap(polar);
+    const auto [gap, at] = second_largest_gap(polar);
     if (gap > kMaxGapRad + kGapSlackRad) {
+      const auto largest = largest_gap(polar);
       const double from = polar[at].theta;
       const double to = polar[(at + 1) % polar.size()].theta;
       return P{polar[at].index, std::nullopt,
                pre + "no points between " + deg_text(from) + " and " + deg_text(to) +
                    " deg about the path's LSC centre, a gap of " + deg_text(gap) +
-                   " deg; the points must go round the circle (no gap above " +
+                   " deg besides the gap of " + deg_text(largest.first) +
+                   " deg: the points form more than one arc; a circular test measures one "
+                   "circle or one arc (no second gap above " +
                    deg_text(kMaxGapRad) + " deg)"};
     }
   }
@@ -316,13 +425,69 @@ CircularTestResult evaluate_circular_test(const CircularTestInput& input) {
   out.F_reference = reference_for(input, fit);
   std::tie(out.F_max_mm, out.F_min_mm) = radial_deviation(pts, out.F_reference);
   const auto polar_all = polar_sorted(input.points, all, fit.centre);
-  out.harmonics = fit_harmonics(polar_all, fit.radius);
-  out.scale_mismatch_um_per_m = 2 * out.harmonics.a2_mm / fit.radius * 1e6;
-  out.squareness_urad = -2 * out.harmonics.b2_mm / fit.radius * 1e6;
+  out.arc = arc_of(polar_all);
+  add_shape(polar_all, fit.radius, &out);
   if (out.ccw && out.cw) {
     out.G_b_mm = spread(polar_all);
-    out.H_mm = hysteresis(polar_sorted(input.points, ccw, fit.centre),
-                          polar_sorted(input.points, cw, fit.centre));
+    const auto a = polar_sorted(input.points, ccw, fit.centre);
+    const auto b = polar_sorted(input.points, cw, fit.centre);
+    out.H_mm = hysteresis(a, b);
+    out.H_overlap_rad = out.H_mm ? arc_overlap(arc_of(a), arc_of(b)) : 0.0;
+  }
+  return out;
+}
+
+std::vector<std::string> iso230_4_conformance(const CircularTestResult& r) {
+  std::vector<std::string> out;
+  const auto whole = [](double rad) {
+    return detail::quote_number(std::round(deg(rad) * 10) / 10);
+  };
+  for (const auto* p : {&r.ccw, &r.cw}) {
+    if (!*p) continue;
+    const CircularPathFigures& f = **p;
+    const std::string pre = direction_prefix(f.direction);
+    if (!f.arc.full_circle && f.arc.span_rad < kShortestArcRad) {
+      out.push_back(pre + "an arc of " + whole(f.arc.span_rad) +
+                    " deg, shorter than ISO 230-4's shortest partial arc (90 deg): the "
+                    "least-squares circle of so short an arc, and G about it, are poorly "
+                    "determined; give the nominal centre and radius for F");
+    }
+    // Intervals between points: n over a full circle, n - 1 along an arc.
+    const int intervals = f.arc.full_circle ? f.point_count : f.point_count - 1;
+    const double spacing = f.arc.span_rad / std::max(1, intervals);
+    // 2 % above: angles about a fitted centre jitter round the nominal spacing.
+    if (spacing > 1.02 * kSparsestSpacingRad) {
+      const int needed = static_cast<int>(std::ceil(f.arc.span_rad / kSparsestSpacingRad - 1e-9)) +
+                         (f.arc.full_circle ? 0 : 1);
+      out.push_back(pre + std::to_string(f.point_count) + " points over " + whole(f.arc.span_rad) +
+                    " deg, one every " + whole(spacing) +
+                    " deg: G, a max - min of the radii, needs one every 10 deg or closer (" +
+                    std::to_string(needed) +
+                    " here) to read a shape of up to 4 lobes per turn within 6 %, and misses "
+                    "reversal spikes narrower than the spacing");
+    }
+    if (!f.scale_mismatch_um_per_m) {
+      out.push_back(pre + "the arc of " + whole(f.arc.span_rad) +
+                    " deg does not resolve the 2θ shape (noise gain " +
+                    detail::quote_number(std::round(f.shape_noise_gain * 10) / 10) +
+                    " against a full circle, at most 3 taken): no scale mismatch or squareness "
+                    "from this direction");
+    }
+  }
+  if (static_cast<bool>(r.ccw) != static_cast<bool>(r.cw)) {
+    out.push_back(std::string("measured in one direction only (") + (r.ccw ? "ccw" : "cw") +
+                  "): ISO 230-4 traces both for the hysteresis H and the bidirectional G(b); "
+                  "the scale mismatch and squareness of one direction include its reversal "
+                  "errors");
+  }
+  if (r.ccw && r.cw) {
+    const double covered = std::max(r.ccw->arc.span_rad, r.cw->arc.span_rad);
+    if (!r.H_mm) {
+      out.push_back("the two directions cover arcs with no angle in common: no hysteresis H");
+    } else if (r.H_overlap_rad < 0.9 * covered) {  // not the one arc both ways
+      out.push_back("the two directions cover different arcs: H compares them over the " +
+                    whole(r.H_overlap_rad) + " deg they share");
+    }
   }
   return out;
 }

@@ -449,15 +449,22 @@ CheckResult check_circle(const MeasurementSet& set, const MachineConfig& machine
   std::vector<std::string> causes;
   if (failed(result, g_name)) {
     // The shape says which: an ellipse at 45 degrees is squareness, along the axes scale mismatch.
-    const bool square_first =
-        std::abs(r.squareness_urad) * 1e-6 > std::abs(r.scale_mismatch_um_per_m) * 1e-6;
-    const std::string square = "axes " + p.substr(0, 1) + " and " + p.substr(1) +
-                               " out of square (" + format_number(r.squareness_urad) +
-                               " urad from the shape)";
-    const std::string scale = "scale mismatch of " + p.substr(0, 1) + " and " + p.substr(1) + " (" +
-                              format_number(r.scale_mismatch_um_per_m) + " um/m)";
-    causes.push_back(square_first ? square : scale);
-    causes.push_back(square_first ? scale : square);
+    // A short arc does not resolve the shape: both, in the usual order.
+    const std::string axes = p.substr(0, 1) + " and " + p.substr(1);
+    if (r.squareness_urad && r.scale_mismatch_um_per_m) {
+      const bool square_first = std::abs(*r.squareness_urad) > std::abs(*r.scale_mismatch_um_per_m);
+      const std::string square = "axes " + axes + " out of square (" +
+                                 format_number(*r.squareness_urad) + " urad from the shape)";
+      const std::string scale =
+          "scale mismatch of " + axes + " (" + format_number(*r.scale_mismatch_um_per_m) + " um/m)";
+      causes.push_back(square_first ? square : scale);
+      causes.push_back(square_first ? scale : square);
+    } else {
+      causes.push_back("axes " + axes + " out of square (the arc of " +
+                       format_number(std::round(r.arc.span_rad * 180 / units::kPi)) +
+                       " deg does not resolve the shape)");
+      causes.push_back("scale mismatch of " + axes);
+    }
     causes.push_back("servo mismatch or straightness of the axes in the plane");
   }
   if (both && failed(result, h_name)) {

@@ -397,98 +397,278 @@ Iso230_2File read_iso230_2_csv(std::string_view text, const std::string& file) {
 
 // ---- Circle -------------------------------------------------------------------------------------
 
-CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
-  const bool has_angle = t.find_column("angle_deg").has_value();
-  const bool has_radius = t.find_column("radius_mm").has_value();
-  const bool has_uv = t.find_column("u_mm") && t.find_column("v_mm");
-  std::vector<const CoordinatePair*> pairs;
-  for (const auto& p : kPairs) {
-    if (t.find_column(p.u) && t.find_column(p.v)) pairs.push_back(&p);
-  }
-  const bool polar = has_angle || has_radius;
-  const bool coordinates = has_uv || !pairs.empty();
-  const std::string plane_needed = "pass the plane (XY, YZ or XZ)";
+namespace {
 
-  CircleFile out;
-  out.file = t.file;
-  out.polar = polar;
-  std::size_t c_a = 0, c_b = 0;  // angle/radius or u/v
+// The unit of a header that is `base` with a unit ("x_mm", "x(mm)", "x[in]", "x-um"): "" for the
+// base alone, the unit's text otherwise; nothing for another name ("x_cmd" is no x column). The
+// header normalised (see normalised()).
+std::optional<std::string> unit_after(const std::string& n, const std::string& base) {
+  if (n == base) return std::string();
+  if (n.size() <= base.size() + 1 || n.compare(0, base.size(), base) != 0) return std::nullopt;
+  std::string rest = n.substr(base.size());
+  if ((rest.front() == '(' && rest.back() == ')') || (rest.front() == '[' && rest.back() == ']')) {
+    return rest.substr(1, rest.size() - 2);
+  }
+  if (rest.front() == '_' || rest.front() == '-') return rest.substr(1);
+  return std::nullopt;
+}
+
+// The first column named by one of `bases` with a length unit (or none: the unit the comments
+// declare, else refused); a unit that is not a length skips the column.
+std::optional<LengthColumn> find_circle_length(const CsvTable& t,
+                                               std::initializer_list<const char*> bases) {
+  for (const char* base : bases) {
+    for (std::size_t c = 0; c < t.header.size(); ++c) {
+      const auto unit = unit_after(normalised(t.header[c]), base);
+      if (!unit) continue;
+      if (unit->empty()) {
+        const auto scale = declared_unit(t);
+        if (!scale) {
+          t.fail(t.header_line, c,
+                 "column '" + t.header[c] + "' names no unit: write it as '" + t.header[c] +
+                     " (mm)' (or um, in), or declare the file's unit in a comment before the "
+                     "header ('# Units: mm')");
+        }
+        return length_column(c, *scale);
+      }
+      if (const auto scale = mm_per(*unit)) return length_column(c, *scale);
+    }
+  }
+  return std::nullopt;
+}
+
+// A circle file's columns (the layouts of the header comment of instrument_files.hpp).
+struct CircleColumns {
+  Plane plane = Plane::XY;
+  bool polar = false;
+  std::size_t angle = 0;
+  double rad_per_angle_unit = kPi / 180;
+  std::optional<LengthColumn> radius;     // polar: the radius
+  std::optional<LengthColumn> deviation;  // polar: the radial deviation from the nominal radius
+  LengthColumn u, v;                      // coordinates
+  std::optional<std::size_t> direction;
+  std::optional<double> nominal_radius_mm;  // declared in a comment or given
+};
+
+const std::vector<std::string> kCcwWords = {
+    "ccw", "counterclockwise", "counter-clockwise", "anticlockwise", "anti-clockwise", "g3"};
+const std::vector<std::string> kCwWords = {"cw", "clockwise", "g2"};
+
+// The nominal radius a comment before the header declares ("# Radius: 150 mm", "# Ballbar
+// length = 4 in"; a bare number takes the declared unit), in mm, with its line.
+std::optional<double> declared_radius_mm(const CsvTable& t) {
+  const auto d = declared(
+      t, {"radius", "nominalradius", "ballbarlength", "ballbarradius", "testradius", "r0"});
+  if (!d) return std::nullopt;
+  const std::string& text = d->second;  // normalised: "150mm"
+  std::size_t used = 0;
+  double value = NAN;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  const std::string unit = text.substr(used);
+  std::optional<double> scale = unit.empty() ? declared_unit(t) : mm_per(unit);
+  if (used == 0 || !scale || !(value > 0) || !std::isfinite(value)) {
+    throw CsvError(t.file, d->first, 0,
+                   "the comment declares radius '" + text +
+                       "': expected a number > 0 and its unit, e.g. '# Radius: 150 mm' (mm, um, "
+                       "in)");
+  }
+  return value * *scale;
+}
+
+// `reading`: the columns to read the points (else to check their sizes: neither the plane nor
+// the nominal radius is needed).
+CircleColumns circle_columns(const CsvTable& t, std::optional<Plane> plane,
+                             std::optional<double> nominal_radius_mm, bool reading = true) {
+  CircleColumns c;
+  // A plane declared in a comment ("# Plane: XZ") stands for the argument; both must agree.
+  if (const auto d = declared(t, {"plane"})) {
+    const auto named = parse_plane(d->second);
+    if (!named) {
+      throw CsvError(t.file, d->first, 0,
+                     "the comment declares plane '" + d->second + "': expected XY, YZ or XZ");
+    }
+    if (plane && *plane != *named) {
+      throw CsvError(t.file, d->first, 0,
+                     "the comment declares plane " + std::string(to_string(*named)) +
+                         ", but plane " + std::string(to_string(*plane)) + " was asked for");
+    }
+    plane = named;
+  }
+  // Polar columns: the angle (degrees unless the header says rad), a radius or a deviation.
+  std::optional<std::size_t> angle;
+  for (const char* base : {"angle", "theta"}) {
+    for (std::size_t k = 0; k < t.header.size() && !angle; ++k) {
+      const auto unit = unit_after(normalised(t.header[k]), base);
+      if (!unit) continue;
+      if (unit->empty() || *unit == "deg" || *unit == "degree" || *unit == "degrees") {
+        angle = k;
+      } else if (*unit == "rad" || *unit == "radian" || *unit == "radians") {
+        angle = k;
+        c.rad_per_angle_unit = 1;
+      }
+    }
+  }
+  c.radius = find_circle_length(t, {"radius"});
+  c.deviation = find_circle_length(t, {"radialdeviation", "radial_deviation", "radialerror",
+                                       "radial_error", "deviation", "error"});
+  // Coordinates: x, y, z (each pair names a plane) or u, v (the plane's axes).
+  std::array<std::optional<LengthColumn>, 3> xyz{
+      find_circle_length(t, {"x"}), find_circle_length(t, {"y"}), find_circle_length(t, {"z"})};
+  const auto u = find_circle_length(t, {"u"});
+  const auto v = find_circle_length(t, {"v"});
+  const bool polar = angle || c.radius || c.deviation;
+  const int axes = static_cast<int>(xyz[0].has_value()) + static_cast<int>(xyz[1].has_value()) +
+                   static_cast<int>(xyz[2].has_value());
+  const bool coordinates = (u && v) || axes >= 2;
+  const std::string plane_needed = "pass the plane (XY, YZ or XZ)";
   if (polar && coordinates) {
     fail_header(t,
-                "both polar (angle_deg, radius_mm) and coordinate columns; a circle file has "
-                "one layout");
+                "both polar (angle, radius or deviation) and coordinate columns; a circle file "
+                "has one layout");
   }
   if (polar) {
-    c_a = t.require_column("angle_deg");
-    c_b = t.require_column("radius_mm");
-    if (!plane) fail_header(t, "angle_deg, radius_mm do not name the plane: " + plane_needed);
-    out.input.plane = *plane;
-  } else if (has_uv) {
-    if (!pairs.empty()) {
-      fail_header(t, "both u_mm, v_mm and " + std::string(pairs.front()->u) + ", " +
-                         pairs.front()->v + "; a circle file has one coordinate pair");
+    c.polar = true;
+    if (!angle)
+      fail_header(t, "a radius but no angle column: expected 'angle_deg' or 'Angle (deg)'");
+    c.angle = *angle;
+    if (!c.radius && !c.deviation) {
+      fail_header(t,
+                  "an angle but no radius column: expected 'radius_mm' ('Radius (mm)'), or the "
+                  "radial deviation from the nominal radius ('Deviation (um)')");
     }
-    if (!plane) fail_header(t, "u_mm, v_mm do not name the plane: " + plane_needed);
-    c_a = *t.find_column("u_mm");
-    c_b = *t.find_column("v_mm");
-    out.input.plane = *plane;
-  } else if (!pairs.empty()) {
-    const CoordinatePair* chosen = nullptr;
+    if (c.radius && c.deviation) {
+      fail_header(t, "both a radius and a radial deviation column; a circle file has one");
+    }
+    c.nominal_radius_mm = nominal_radius_mm ? nominal_radius_mm : declared_radius_mm(t);
+    if (c.deviation && !c.nominal_radius_mm && reading) {
+      t.fail(t.header_line, c.deviation->index,
+             "column '" + t.header[c.deviation->index] +
+                 "' holds radial deviations from the nominal radius, which the file does not "
+                 "declare: declare it in a comment before the header ('# Radius: 150 mm') or "
+                 "pass it (--nominal-radius-mm)");
+    }
+    if (!plane && reading) {
+      const std::size_t r = c.radius ? c.radius->index : c.deviation->index;
+      fail_header(
+          t, t.header[c.angle] + ", " + t.header[r] + " do not name the plane: " + plane_needed);
+    }
+    c.plane = plane.value_or(Plane::XY);
+  } else if (u && v) {
+    if (axes > 0) {
+      fail_header(t, "both u, v and x, y or z coordinates; a circle file has one coordinate pair");
+    }
+    if (!plane && reading) {
+      fail_header(t, t.header[u->index] + ", " + t.header[v->index] +
+                         " do not name the plane: " + plane_needed);
+    }
+    c.u = *u;
+    c.v = *v;
+    c.plane = plane.value_or(Plane::XY);
+  } else if (axes >= 2) {
+    struct Pair {
+      Plane plane;
+      int a, b;
+    };
+    const Pair pairs[] = {{Plane::XY, 0, 1}, {Plane::YZ, 1, 2}, {Plane::XZ, 0, 2}};
+    const Pair* chosen = nullptr;
     if (plane) {
-      for (const auto* p : pairs) {
-        if (p->plane == *plane) chosen = p;
+      for (const auto& p : pairs) {
+        if (p.plane == *plane && xyz[p.a] && xyz[p.b]) chosen = &p;
       }
       if (!chosen) {
-        const CoordinatePair* named = pairs.front();
-        throw CsvError(t.file, t.header_line, static_cast<int>(*t.find_column(named->u)) + 1,
-                       std::string("the header's ") + named->u + ", " + named->v + " name plane " +
-                           std::string(to_string(named->plane)) + ", but plane " +
+        const Pair* named = nullptr;
+        for (const auto& p : pairs) {
+          if (!named && xyz[p.a] && xyz[p.b]) named = &p;
+        }
+        const std::size_t column = xyz[named->a]->index;
+        throw CsvError(t.file, t.header_line, static_cast<int>(column) + 1,
+                       "the header's " + t.header[column] + ", " + t.header[xyz[named->b]->index] +
+                           " name plane " + std::string(to_string(named->plane)) + ", but plane " +
                            std::string(to_string(*plane)) + " was asked for");
       }
-    } else if (pairs.size() > 1) {
-      fail_header(t, "x_mm, y_mm and z_mm name more than one plane: " + plane_needed);
+    } else if (axes == 3 && reading) {
+      fail_header(t, t.header[xyz[0]->index] + ", " + t.header[xyz[1]->index] + " and " +
+                         t.header[xyz[2]->index] + " name more than one plane: " + plane_needed);
     } else {
-      chosen = pairs.front();
+      for (const auto& p : pairs) {
+        if (!chosen && xyz[p.a] && xyz[p.b]) chosen = &p;
+      }
     }
-    c_a = *t.find_column(chosen->u);
-    c_b = *t.find_column(chosen->v);
-    out.input.plane = chosen->plane;
+    c.u = *xyz[chosen->a];
+    c.v = *xyz[chosen->b];
+    c.plane = chosen->plane;
   } else {
     fail_header(t,
-                "no circle columns: expected angle_deg,radius_mm or a coordinate pair x_mm,y_mm "
-                "| y_mm,z_mm | x_mm,z_mm | u_mm,v_mm");
+                "no circle columns: expected an angle and a radius ('angle_deg,radius_mm'), an "
+                "angle and the radial deviation ('Angle (deg),Deviation (um)' with the radius "
+                "declared), or a coordinate pair x_mm,y_mm | y_mm,z_mm | x_mm,z_mm | u_mm,v_mm "
+                "(any length unit: mm, um, in)");
   }
+  if (!c.polar) c.nominal_radius_mm = nominal_radius_mm ? nominal_radius_mm : declared_radius_mm(t);
+  for (const char* name : {"direction", "dir"}) {
+    for (std::size_t k = 0; k < t.header.size() && !c.direction; ++k) {
+      if (normalised(t.header[k]) == name) c.direction = k;
+    }
+  }
+  return c;
+}
 
-  const std::optional<std::size_t> c_direction = t.find_column("direction");
+}  // namespace
+
+CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane,
+                           std::optional<double> nominal_radius_mm) {
+  const CircleColumns c = circle_columns(t, plane, nominal_radius_mm);
+  CircleFile out;
+  out.file = t.file;
+  out.polar = c.polar;
+  out.deviations = c.deviation.has_value();
+  out.input.plane = c.plane;
+  out.input.nominal_radius_mm = c.nominal_radius_mm;
+  std::vector<std::string> words = kCcwWords;
+  words.insert(words.end(), kCwWords.begin(), kCwWords.end());
   // First line of each (direction, angle modulo 360) of a polar file.
   std::map<std::pair<PathDirection, double>, int> angles_seen;
   for (const CsvRow& row : t.rows) {
     PathDirection d = PathDirection::Ccw;
-    if (c_direction)
-      d = t.word(row, *c_direction, {"ccw", "cw"}) == "ccw" ? PathDirection::Ccw
-                                                            : PathDirection::Cw;
-    const double a = polar ? t.number_within(row, c_a, kMaxAngleDeg, "deg",
-                                             "a circle test turns a few times, not hundreds")
-                           : length_mm(t, row, c_a);
-    const double b = length_mm(t, row, c_b);
+    if (c.direction) {
+      const std::string w = t.word(row, *c.direction, words);
+      d = std::find(kCwWords.begin(), kCwWords.end(), w) != kCwWords.end() ? PathDirection::Cw
+                                                                           : PathDirection::Ccw;
+    }
     CircularPoint p;
-    if (polar) {
-      if (!(b > 0))
-        t.fail(row.line, c_b,
-               "column 'radius_mm' = '" + t.cell(row, c_b) + "': a radius must be > 0");
-      double wrapped = std::fmod(a, 360.0);
-      if (wrapped < 0) wrapped += 360.0;
+    if (c.polar) {
+      const double per_turn = 2 * kPi / c.rad_per_angle_unit;  // 360 or 2π
+      const double a =
+          t.number_within(row, c.angle, kMaxAngleDeg * kPi / 180 / c.rad_per_angle_unit,
+                          c.rad_per_angle_unit == 1 ? "rad" : "deg",
+                          "a circle test turns a few times, not hundreds");
+      const LengthColumn& rc = c.radius ? *c.radius : *c.deviation;
+      const double value = length_mm(t, row, rc);
+      const double r = c.radius ? value : *c.nominal_radius_mm + value;
+      if (!(r > 0)) {
+        t.fail(row.line, rc.index,
+               "column '" + t.header[rc.index] + "' = '" + t.cell(row, rc.index) +
+                   (c.radius ? "': a radius must be > 0"
+                             : "': the radius it gives, " + detail::quote_number(r) +
+                                   " mm, must be > 0"));
+      }
+      double wrapped = std::fmod(a, per_turn);
+      if (wrapped < 0) wrapped += per_turn;
       if (wrapped == 0) wrapped = 0;  // -0 and 360 are 0
       const auto [it, fresh] = angles_seen.emplace(std::make_pair(d, wrapped), row.line);
       if (!fresh) {
-        t.fail(row.line, c_a,
-               "angle_deg = " + detail::quote_number(a) + ", direction " +
+        t.fail(row.line, c.angle,
+               "column '" + t.header[c.angle] + "' = " + detail::quote_number(a) + ", direction " +
                    std::string(to_string(d)) + ": the same angle as line " +
                    std::to_string(it->second));
       }
-      p = circular_point_from_polar(a * kPi / 180.0, b, d);
+      p = circular_point_from_polar(a * c.rad_per_angle_unit, r, d);
     } else {
-      p = CircularPoint{Eigen::Vector2d(a, b), d};
+      p = CircularPoint{Eigen::Vector2d(length_mm(t, row, c.u), length_mm(t, row, c.v)), d};
     }
     out.input.points.push_back(p);
     out.lines.push_back(row.line);
@@ -500,8 +680,8 @@ CircleFile read_circle_csv(const CsvTable& t, std::optional<Plane> plane) {
 }
 
 CircleFile read_circle_csv(std::string_view text, const std::string& file,
-                           std::optional<Plane> plane) {
-  return read_circle_csv(read_csv(text, file), plane);
+                           std::optional<Plane> plane, std::optional<double> nominal_radius_mm) {
+  return read_circle_csv(read_csv(text, file), plane, nominal_radius_mm);
 }
 
 // ---- Grid ---------------------------------------------------------------------------------------
@@ -701,11 +881,26 @@ void check_iso230_2_envelope(const CsvTable& t, int axis, const Envelope& e) {
   }
 }
 
-void check_circle_envelope(const CsvTable& t, const Envelope& e) {
-  for (const char* name : {"x_mm", "y_mm", "z_mm", "u_mm", "v_mm", "radius_mm"}) {
-    const std::optional<std::size_t> c = t.find_column(name);
-    if (!c) continue;
-    for (const CsvRow& row : t.rows) check_position(t, row, *c, -1, e);
+void check_circle_envelope(const CsvTable& t, const Envelope& e, std::optional<Plane> plane,
+                           std::optional<double> nominal_radius_mm) {
+  const CircleColumns c = circle_columns(t, plane, nominal_radius_mm, false);
+  const double most = kDeviationShare * e.span_mm();
+  for (const CsvRow& row : t.rows) {
+    if (!c.polar) {
+      check_position(t, row, c.u.index, -1, e, c.u.to_mm);
+      check_position(t, row, c.v.index, -1, e, c.v.to_mm);
+    } else if (c.radius) {
+      check_position(t, row, c.radius->index, -1, e, c.radius->to_mm);
+    } else {
+      const double deviation = length_mm(t, row, *c.deviation);
+      if (std::abs(deviation) > most) {
+        t.fail(row.line, c.deviation->index,
+               "column '" + t.header[c.deviation->index] + "' = '" +
+                   t.cell(row, c.deviation->index) + "': a radial deviation of " + mm(deviation) +
+                   ", more than " + mm(most) + ", a tenth of the span of " + envelope_text(e) +
+                   "; a file in another unit?");
+      }
+    }
   }
 }
 

@@ -47,24 +47,41 @@
 // path carry it, those of both paths fitted together cancel it. Use the both-path figures for
 // the axes' geometry when both directions were measured.
 //
+// Full circles and partial arcs. ISO 230-4 traces a full circle, or a partial arc where the
+// machine cannot go round (its 90° and 220° tests, e.g. in a vertical plane a ballbar's arm
+// cannot pass the table). A path whose largest angular gap between neighbouring points (about
+// its LSC centre, the gap across 0 included) is at most 60° is a full circle: 60° leaves room
+// above the 45° gaps of the smallest test (8 evenly spaced points, whose angles about a fitted
+// centre jitter). A larger gap is the part of the circle the arc does not cover: the path is an
+// arc of 360° - gap, from the point after the gap counter-clockwise to the point before it. G, F
+// and G(b) are then those of the arc; H compares the two paths where both were measured (the
+// overlap of their arcs), never across a gap; and the shape is given only where the points
+// resolve it:
+//   the 2θ terms are reported (scale mismatch, squareness, the harmonics) when the noise gain
+//   of a2 and b2 is at most 3, the gain being the ratio of the coefficient's standard deviation
+//   to that of the same number of points evenly spaced round a full circle (σ √(2/n)):
+//   sqrt(n/2 [(AᵀA)⁻¹]_kk) of the design A above. A full circle has a gain about 1; a 220° arc
+//   about 2; a 180° arc 4.3 and a 90° arc 51, so short arcs give G, F and H only. (Over an arc
+//   the LSC centre and the first harmonics take up part of the 2θ shape; the gain says how much
+//   noise is left in what remains.)
+//
 // Refusals (std::invalid_argument naming the field and value):
 //   - fewer than 8 points in a direction: the harmonic fit has 5 coefficients and the second
 //     harmonic (two periods per turn) needs at least 4 points per period to be resolved in both
 //     its cos and sin parts; 8 evenly spaced points do that and leave 3 residual degrees of
 //     freedom;
-//   - points not spread round the circle: the largest angular gap between neighbouring points of
-//     a path (angles about that path's LSC centre, the gap across 0 included) must not exceed
-//     60°. ISO 230-4 traces full circles; a larger gap means a part of the circle was not
-//     measured, and G, H and the 2θ shape would be those of an arc. 60° leaves room above the
-//     45° gaps of the smallest test (8 evenly spaced points, whose angles about a fitted centre
-//     jitter), and still puts a point in every 60° sector, so that both 2θ terms are resolved
-//     (the sector 15°..75° holds a point with |sin 2θ| >= 1/2, the sector -30°..30° one with
-//     |cos 2θ| >= 1/2);
+//   - points in more than one arc: a second gap above 60° besides the largest (a test measures
+//     one circle or one arc; two arcs in one direction are two tests);
 //   - non-finite coordinates, nominal radius or centre; a nominal radius <= 0;
 //   - two points of one direction at the same angle (within 1e-9 rad) about the path's LSC
 //     centre (a duplicated reading);
 //   - points that admit no circle (fit_circle's refusals: collinear, coincident).
+// Where a test departs from ISO 230-4 (an arc shorter than 90°, points sparser than one every
+// 10° of arc, one direction only, directions over different arcs) it is still evaluated;
+// iso230_4_conformance says so.
 #pragma once
+
+#include "ncqual/units.hpp"
 
 #include <Eigen/Core>
 
@@ -128,6 +145,15 @@ struct RadialReference {
   double radius_mm = 0;
 };
 
+// The part of the circle a path covers, about its LSC centre: a full circle (largest gap <= 60°)
+// or the arc from `from_rad` (in [0, 2π), the point after the gap) counter-clockwise over
+// `span_rad` (2π - the gap) to the point before the gap. A full circle has from 0, span 2π.
+struct CircularArc {
+  bool full_circle = true;
+  double from_rad = 0;
+  double span_rad = 2 * units::kPi;
+};
+
 // The figures of one path (one direction).
 struct CircularPathFigures {
   PathDirection direction = PathDirection::Ccw;
@@ -139,10 +165,13 @@ struct CircularPathFigures {
   double F_max_mm = 0;    // radial deviation, reference in F_reference
   double F_min_mm = 0;
   RadialReference F_reference;
-  double max_gap_rad = 0;              // largest angular gap between neighbouring points
-  RadialHarmonics harmonics;           // about this path's LSC centre
-  double scale_mismatch_um_per_m = 0;  // 2 a2 / R × 1e6 (this path alone; see above)
-  double squareness_urad = 0;          // -2 b2 / R × 1e6 (this path alone)
+  double max_gap_rad = 0;  // largest angular gap between neighbouring points
+  CircularArc arc;
+  // The 2θ shape, when the points resolve it (see above), about this path's LSC centre.
+  double shape_noise_gain = 1;                    // the larger gain of a2 and b2
+  std::optional<RadialHarmonics> harmonics;       // about this path's LSC centre
+  std::optional<double> scale_mismatch_um_per_m;  // 2 a2 / R × 1e6 (this path alone)
+  std::optional<double> squareness_urad;          // -2 b2 / R × 1e6 (this path alone)
 };
 
 struct CircularTestResult {
@@ -154,17 +183,28 @@ struct CircularTestResult {
   double lsc_radius_mm = 0;
   double G_mm = 0;               // the larger G of the measured paths
   std::optional<double> G_b_mm;  // both paths measured only
-  std::optional<double> H_mm;    // both paths measured only
+  std::optional<double> H_mm;    // both paths measured, over the angles both cover
+  double H_overlap_rad = 0;      // the span of angles H compared (2π: all of a full circle)
   double F_max_mm = 0;           // over all points, about F_reference
   double F_min_mm = 0;
-  RadialReference F_reference;         // nominal centre/R0 when given, else the all-points LSC
-  RadialHarmonics harmonics;           // all points about the all-points LSC centre
-  double scale_mismatch_um_per_m = 0;  // u scale - v scale, from all points
-  double squareness_urad = 0;          // > 0: angle between the u and v motions exceeds 90°
+  RadialReference F_reference;  // nominal centre/R0 when given, else the all-points LSC
+  CircularArc arc;              // of all points about the all-points LSC centre
+  double shape_noise_gain = 1;
+  std::optional<RadialHarmonics> harmonics;       // all points about the all-points LSC centre
+  std::optional<double> scale_mismatch_um_per_m;  // u scale - v scale, from all points
+  std::optional<double> squareness_urad;  // > 0: angle between the u and v motions exceeds 90°
 };
 
 // Evaluates the test. Throws std::invalid_argument "evaluate_circular_test: points[k]: <problem>"
 // for the problems find_circular_test_problem finds.
 CircularTestResult evaluate_circular_test(const CircularTestInput& input);
+
+// Where the evaluated test departs from ISO 230-4 (or from what its figures need), one sentence
+// each, in the order: per direction an arc shorter than 90° and points sparser than one every
+// 10° of arc (G is a max − min of the radii: at 10° it reads a shape of up to 4 lobes per turn
+// within 6 %, 1 − cos 20°, and misses reversal spikes narrower than the spacing), a partial arc
+// whose shape is not resolved; one direction only; two directions over different arcs. Empty
+// when it conforms.
+std::vector<std::string> iso230_4_conformance(const CircularTestResult& result);
 
 }  // namespace ncqual::solver

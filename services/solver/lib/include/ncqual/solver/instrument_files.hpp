@@ -34,16 +34,28 @@
 //
 // Circle (ballbar, grid encoder, tracker), one of the layouts
 //     angle_deg,radius_mm        polar about the instrument's centre (0, 0) of the plane
+//     angle_deg,deviation_um     polar, the radial deviation from the nominal radius (a
+//                                ballbar's export): the radius is declared in a comment before
+//                                the header ("# Radius: 150 mm", "# Ballbar length = 4 in") or
+//                                given (`nominal_radius_mm`), else the column is refused
 //     x_mm,y_mm | y_mm,z_mm | x_mm,z_mm   coordinates; the pair names the plane (XY, YZ, XZ)
 //     u_mm,v_mm                  coordinates in the plane's first and second axis
-//   with an optional direction column ("ccw" or "cw", any case; default ccw). The plane comes
-//   from the header's coordinate pair or from the `plane` argument; angle_deg/radius_mm and
-//   u_mm/v_mm need the argument. Refused besides cell errors: no layout in the header (the
-//   error lists the layouts), both polar and coordinate columns, a pair that names another plane
-//   than the argument, x_mm,y_mm,z_mm without the argument (which pair?), a radius <= 0, a
-//   repeated angle (angle_deg equal modulo 360, same direction; naming the first line), and
-//   the refusals of evaluate_circular_test (fewer than 8 points in a direction, at its last
-//   line; points not round the circle; ...).
+//   Column names any case and spacing. Every length column takes the unit its header names
+//   (x_in, "X (mm)", "Radius [in]", "Deviation (µm)"; a name without a unit takes the unit a
+//   comment declares, "# Units: in", else it is refused); columns named otherwise ("x_cmd") are
+//   ignored. The angle "angle" or "theta", in degrees ("Angle (deg)", or none said) or radians
+//   ("angle_rad"). The deviation "deviation", "error", "radial deviation", "radial error". An
+//   optional direction column ("direction" or "dir": ccw, counterclockwise, anticlockwise, g3
+//   or cw, clockwise, g2, any case; default ccw). The plane comes from the header's coordinate
+//   pair, a comment ("# Plane: XZ") or the `plane` argument (which must agree); angle/radius and
+//   u/v need one of the last two. A nominal radius declared or given is the file's
+//   input.nominal_radius_mm (F about it). Partial arcs (ISO 230-4's 90° and 220° tests) are
+//   read as arcs (circular_test.hpp). Refused besides cell errors: no layout in the header (the
+//   error lists the layouts), both polar and coordinate columns, both a radius and a deviation,
+//   a pair that names another plane than the argument, x, y and z without a plane (which
+//   pair?), a radius <= 0, a repeated angle (equal modulo one turn, same direction; naming the
+//   first line), and the refusals of evaluate_circular_test (fewer than 8 points in a
+//   direction, at its last line; points in more than one arc; ...).
 //
 // Grid / master-frame run (laser tracker):
 //     point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas
@@ -83,14 +95,19 @@ struct CircleFile {
   std::string file;
   CircularTestInput input;  // plane and points; nominal radius and centre left unset
   std::vector<int> lines;   // lines[k]: the file line of input.points[k]
-  bool polar = false;       // angle_deg,radius_mm (else coordinates)
+  bool polar = false;       // an angle and a radius or deviation (else coordinates)
+  bool deviations = false;  // polar, radial deviations from the nominal radius
 };
 
-// Parses a circle file; `plane` is the caller's plane (nullopt: take it from the header).
-// The input it returns passes find_circular_test_problem.
+// Parses a circle file; `plane` is the caller's plane (nullopt: take it from the header or a
+// comment), `nominal_radius_mm` the caller's nominal radius (nullopt: the one a comment
+// declares, if any). The input it returns passes find_circular_test_problem; its
+// nominal_radius_mm is the caller's or the declared one, its nominal centre unset.
 CircleFile read_circle_csv(std::string_view text, const std::string& file,
-                           std::optional<Plane> plane);
-CircleFile read_circle_csv(const CsvTable& table, std::optional<Plane> plane);
+                           std::optional<Plane> plane,
+                           std::optional<double> nominal_radius_mm = std::nullopt);
+CircleFile read_circle_csv(const CsvTable& table, std::optional<Plane> plane,
+                           std::optional<double> nominal_radius_mm = std::nullopt);
 
 struct GridFilePoint {
   std::string point;                                       // name, unique in the file
@@ -145,12 +162,16 @@ Envelope machine_envelope(const GlobalCheckConfig& config);
 // above any machine error).
 //   ISO 230-2 (axis 0, 1, 2: the run's machine axis): target_mm within the envelope's extent on
 //     that axis grown by ten spans; measured_mm - target_mm within a tenth of the span.
-//   Circle: every coordinate (u, v or radius about the centre) within ten spans.
+//   Circle: every coordinate (u, v or radius about the centre) within ten spans; a radial
+//     deviation within a tenth of the span. `plane` and `nominal_radius_mm` as for
+//     read_circle_csv.
 //   Grid: x_cmd, y_cmd, z_cmd within the envelope grown by ten spans; the measured distance of each
 //     point from the file's first point (the tracker frame is the machine frame moved rigidly)
 //     within a tenth of the span of the commanded one.
 void check_iso230_2_envelope(const CsvTable& table, int axis, const Envelope& envelope);
-void check_circle_envelope(const CsvTable& table, const Envelope& envelope);
+void check_circle_envelope(const CsvTable& table, const Envelope& envelope,
+                           std::optional<Plane> plane = std::nullopt,
+                           std::optional<double> nominal_radius_mm = std::nullopt);
 void check_grid_envelope(const CsvTable& table, const Envelope& envelope);
 
 }  // namespace ncqual::solver
