@@ -372,6 +372,29 @@ TEST_F(AnalyzeCli, BadGridFilesNameFileLineAndColumn) {
   refused(std::string(kGridHeader) + a + b + c + d + e + "g5,1,2\n", "7:");  // cell count
 }
 
+// A tracker's point export (a name and x, y, z) has no commanded positions: without --machine it
+// is refused saying what to pass; with pm1 a point of the program missing is refused naming it.
+TEST_F(AnalyzeCli, TrackerPointExportsNeedTheMachineAndItsProgramsNames) {
+  std::string x = kGridHeader, y = kGridHeader;
+  for (int i = 0; i <= 4; ++i) x += grid_line("x" + std::to_string(i), 200 + 400 * i, 950, 900);
+  for (int i = 0; i <= 4; ++i) y += grid_line("y" + std::to_string(i), 2200, 200 + 150 * i, 900);
+  const std::string xf = write("x.csv", x), yf = write("y.csv", y);
+  const std::string gf = write("points.txt", "Point\tX (mm)\tY (mm)\tZ (mm)\nGrid 0\t1\t2\t3\n");
+  const CliRun bare = run({"analyze", "grid", "--x-run", xf, "--y-run", yf, "--grid", gf});
+  EXPECT_EQ(bare.exit_code, 2) << bare.err;
+  EXPECT_NE(bare.err.find(gf + " is a tracker's point export (a name and x, y, z, no commanded "
+                               "positions): pass --machine M"),
+            std::string::npos)
+      << bare.err;
+  const CliRun with = run({"analyze", "grid", "--x-run", xf, "--y-run", yf, "--grid", gf,
+                           "--machine", "pm1", "--plant", NCQUAL_SOURCE_DIR "/deploy/plant.yaml"});
+  EXPECT_EQ(with.exit_code, 1) << with.err;
+  EXPECT_NE(with.err.find(gf + ":2: 215 of the program's 216 grid points are not in the export "
+                               "(grid:1, grid:2, grid:3, grid:4, grid:5, ...)"),
+            std::string::npos)
+      << with.err;
+}
+
 // ---- touches ------------------------------------------------------------------------------------
 
 // The touch log of pm1's daily positioning program as a control writes it, worked by hand: the

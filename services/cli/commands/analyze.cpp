@@ -14,11 +14,13 @@
 //       '# Radius: 150 mm') and --centre-mm (in the plane's u, v) are the reference of the radial
 //       deviation F (default: the least-squares circle).
 //
-//   ncqual analyze grid --x-run F --y-run F --grid F [--json]
+//   ncqual analyze grid --x-run F --y-run F --grid F [--machine M [--plant F]] [--json]
 //       the monthly laser-tracker grid: the master frame from the X and Y runs
 //       (ncqual::solver::fit_master_frame), then the grid's deviations, squareness and scale in it
 //       (ncqual::solver::analyze_grid); files: point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas (mm,
-//       commanded in machine axes, measured in the tracker frame).
+//       commanded in machine axes, measured in the tracker frame), or, with --machine, the
+//       tracker's point exports (name, x, y, z) paired by name with the machine's monthly
+//       program (solver::grid_points_from_export).
 //
 //   ncqual analyze touches LOG --program PROG --machine M [--plant F] [--json]
 //       a real control's touch log of a probing program written by `ncqual program` (or the
@@ -215,7 +217,8 @@ struct Options {
   std::optional<double> nominal_radius_mm;  // circle
   std::optional<std::string> centre_mm;     // circle
   std::string x_run, y_run, grid;           // grid
-  std::string program, machine, plant;      // touches
+  std::optional<std::string> grid_machine;  // grid: the machine of tracker point exports
+  std::string program, machine, plant;      // touches (plant: grid too)
 };
 
 // ---- touches ------------------------------------------------------------------------------------
@@ -505,10 +508,11 @@ int run_circle(const Options& o) {
 
 // One of the grid's files as frame points, refusing one with fewer than `minimum` points at its
 // last line.
-std::vector<solver::FramePoint> grid_file(const std::string& path, std::size_t minimum,
+std::vector<solver::FramePoint> grid_file(const std::string& path, const std::string& prefix,
+                                          const MachineConfig* machine, std::size_t minimum,
                                           const std::string& what) {
   const CsvTable table = read_csv_file(path);
-  const std::vector<solver::GridFilePoint> points = solver::read_grid_csv(table);
+  const std::vector<solver::GridFilePoint> points = read_grid_part(table, prefix, machine);
   if (points.size() < minimum) {
     const int last = table.rows.empty() ? table.header_line : table.rows.back().line;
     throw CsvError(path, last, 0,
@@ -614,9 +618,15 @@ int run_grid(const Options& o) {
   const std::string &x_file = o.x_run, &y_file = o.y_run, &g_file = o.grid;
   // The fewest points each part can take: a line needs 3 to show straightness, the affine fit
   // of the grid has 12 unknowns (4 points) and needs a fifth to leave a residual.
-  const auto x_run = grid_file(x_file, 3, "an X run");
-  const auto y_run = grid_file(y_file, 3, "a Y run");
-  const auto grid = grid_file(g_file, 5, "the grid (12 affine unknowns)");
+  std::optional<PlantConfig> plant;
+  const MachineConfig* machine = nullptr;
+  if (o.grid_machine) {
+    plant = plant_from(o.plant);
+    machine = &configured_machine(*plant, *o.grid_machine);
+  }
+  const auto x_run = grid_file(x_file, "x_run", machine, 3, "an X run");
+  const auto y_run = grid_file(y_file, "y_run", machine, 3, "a Y run");
+  const auto grid = grid_file(g_file, "grid", machine, 5, "the grid (12 affine unknowns)");
   solver::MasterFrame frame;
   try {
     frame = solver::fit_master_frame(x_run, y_run);
@@ -704,8 +714,9 @@ void add_analyze(CLI::App& app, Commands& commands) {
   CLI::App* grid = analyze->add_subcommand(
       "grid",
       "the monthly tracker grid (point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas; commanded in\n"
-      "machine axes, measured in the tracker frame): master frame from the X and Y runs,\n"
-      "per-point deviations, squareness and scale of the axes");
+      "machine axes, measured in the tracker frame; or the tracker's point exports, name and\n"
+      "x, y, z, with --machine): master frame from the X and Y runs, per-point deviations,\n"
+      "squareness and scale of the axes");
   grid->add_option("--x-run", o->x_run, "the X run of the master frame")
       ->type_name("F")
       ->required();
@@ -713,6 +724,10 @@ void add_analyze(CLI::App& app, Commands& commands) {
       ->type_name("F")
       ->required();
   grid->add_option("--grid", o->grid, "the grid's points")->type_name("F")->required();
+  add_machine_option(grid, o->grid_machine,
+                     "the machine whose monthly program gives the commanded positions of "
+                     "point exports");
+  add_plant_option(grid, o->plant);
   add_json_flag(grid, o->json);
   commands.push_back({grid, [o] { return refusing("", run_grid, *o); }});
 

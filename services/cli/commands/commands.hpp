@@ -9,6 +9,7 @@
 #include "ncqual/calendar.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/model.hpp"
+#include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/storage.hpp"
 
 #include <CLI/CLI.hpp>
@@ -96,6 +97,14 @@ CLI::Option* add_kind_option(CLI::App* command, const std::string& name,
 PlantConfig plant_from(const std::string& plant_flag);
 // The plant's machine `machine_id`; UsageError naming it when the plant has no such machine.
 const MachineConfig& configured_machine(const PlantConfig& plant, const std::string& machine_id);
+
+// One part of a tracker grid ("x_run", "y_run" or "grid") from `table`: a grid file
+// (point,x_cmd,..,z_meas), or a tracker's point export (a name and x, y, z) whose commanded
+// positions come from `machine`'s monthly program (solver::grid_points_from_export); exported
+// points the program does not name are listed on stderr as warnings. UsageError for a point
+// export without a machine.
+std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const std::string& prefix,
+                                                  const MachineConfig* machine);
 
 // The calendar of the plant config of --plant or NCQUAL_PLANT (its time zone is the one people
 // read times in); the default calendar (UTC) when neither names one.

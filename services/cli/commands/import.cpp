@@ -129,15 +129,15 @@ int run(const Options& o) {
     set.tracker_points =
         solver::tracker_points_for_circle(circle, stylus_ball_centre(centre, target), target);
   } else {
-    auto read = [&](const std::string& f) {
+    auto read = [&](const std::string& f, const std::string& prefix) {
       const CsvTable table = read_csv_file(f);
-      std::vector<solver::GridFilePoint> points = solver::read_grid_csv(table);
-      solver::check_grid_envelope(table, envelope);
+      std::vector<solver::GridFilePoint> points = read_grid_part(table, prefix, machine);
+      if (!solver::is_tracker_point_export(table)) solver::check_grid_envelope(table, envelope);
       return points;
     };
     set.kind = CheckKind::GlobalGrid;
-    set.tracker_points =
-        solver::tracker_points_for_grid(read(o.x_run), read(o.y_run), read(o.grid), target);
+    set.tracker_points = solver::tracker_points_for_grid(
+        read(o.x_run, "x_run"), read(o.y_run, "y_run"), read(o.grid, "grid"), target);
   }
 
   return publish(plant, o.domain, set, std::to_string(set.tracker_points.size()) + " points");

@@ -7,12 +7,14 @@
 
 #include "ncqual/clock.hpp"
 #include "ncqual/solver/circular_test.hpp"
+#include "ncqual/solver/instrument_files.hpp"
 
 #include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 
 namespace ncqual::cli {
 
@@ -154,6 +156,24 @@ std::string operator_name() {
 std::string new_sample_id(const std::string& prefix, const std::string& machine_id) {
   return prefix + "-" + machine_id + "-" + std::to_string(WallClock().now_ns()) + "-" +
          std::to_string(getpid());
+}
+
+std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const std::string& prefix,
+                                                  const MachineConfig* machine) {
+  if (!solver::is_tracker_point_export(table)) return solver::read_grid_csv(table);
+  if (!machine || !machine->global_check) {
+    throw UsageError(table.file +
+                     " is a tracker's point export (a name and x, y, z, no commanded "
+                     "positions): pass --machine M, whose monthly program gives them");
+  }
+  const solver::GridFromExport part =
+      solver::grid_points_from_export(table, prefix, *machine->global_check);
+  for (const auto& p : part.ignored) {
+    std::cerr << "warning: " << table.file << ":" << p.line << ": point '" << p.name
+              << "' is not a " << prefix << " point of " << machine->machine_id
+              << "'s program: not used\n";
+  }
+  return part.points;
 }
 
 }  // namespace ncqual::cli

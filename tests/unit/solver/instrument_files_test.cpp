@@ -12,6 +12,7 @@
 #include <tuple>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -634,6 +635,88 @@ TEST(InstrumentFiles, CircleExportsAsTheyComeGiveTheFiguresOfTheirTwin) {
       EXPECT_TRUE(iso230_4_conformance(r).empty());
     }
   }
+}
+
+// ---- Tracker point exports ---------------------------------------------------------------------
+
+// A tracker's export of pm1's monthly grid session: every x_run, y_run and grid point (main
+// target) named as an operator's tracker software names them ("X_RUN_03", "Grid 17"), in inches
+// and a tracker frame turned 90 deg about Z and moved, plus a drift nest "NEST1". Each file and
+// its twin in the grid format (commanded from the program, measured in mm) give the same points.
+TEST(InstrumentFiles, TrackerPointExportsArePairedWithTheProgramByName) {
+  const MachineConfig m = load_machine_config(NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml");
+  const GlobalCheckConfig& gc = *m.global_check;
+  const auto tracker = [](const Eigen::Vector3d& p) {  // machine -> tracker frame, mm
+    return Eigen::Vector3d(p.y() + 2500, -(p.x() - 2200), p.z() - 1000);
+  };
+  std::map<std::string, std::string> exports;  // prefix -> export text
+  std::map<std::string, std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>> expected;
+  for (const char* prefix : {"x_run", "y_run", "grid"}) {
+    exports[prefix] = "# Units: in\nName\tX\tY\tZ\tRMS\n";
+  }
+  exports["grid"] += "NEST1\t1.0\t2.0\t3.0\t0.0001\n";
+  for (const TrackerMove& mv : global_check_program(CheckKind::GlobalGrid, gc)) {
+    if (mv.target != 0) continue;
+    const std::string label = mv.label;
+    const std::size_t colon = label.find(':');
+    const std::string prefix = label.substr(0, colon);
+    const int index = std::stoi(label.substr(colon + 1));
+    if (!exports.count(prefix)) continue;
+    const Eigen::Vector3d nominal = stylus_ball_centre(mv.commanded, gc.targets.front());
+    // 1 µm off in x per point, so that a wrong pairing shows.
+    const Eigen::Vector3d measured = tracker(nominal) + Eigen::Vector3d(0.001 * index, 0, 0);
+    char name[32];
+    if (prefix == "grid") {
+      std::snprintf(name, sizeof name, "Grid %d", index);
+    } else {
+      std::snprintf(name, sizeof name, "%s_%02d", prefix == "x_run" ? "X_RUN" : "Y_RUN", index);
+    }
+    char line[160];
+    std::snprintf(line, sizeof line, "%s\t%.8f\t%.8f\t%.8f\t0.0001\n", name, measured.x() / 25.4,
+                  measured.y() / 25.4, measured.z() / 25.4);
+    exports[prefix] += line;
+    expected[prefix].push_back({nominal, measured});
+  }
+  for (const char* prefix : {"x_run", "y_run", "grid"}) {
+    SCOPED_TRACE(prefix);
+    const CsvTable table = read_csv(exports[prefix], std::string(prefix) + ".txt");
+    EXPECT_TRUE(is_tracker_point_export(table));
+    const GridFromExport part = grid_points_from_export(table, prefix, gc);
+    const auto& want = expected[prefix];
+    ASSERT_EQ(part.points.size(), want.size());
+    ASSERT_FALSE(want.empty());
+    for (std::size_t k = 0; k < want.size(); ++k) {
+      EXPECT_NEAR((part.points[k].commanded_mm - want[k].first).norm(), 0, 1e-12) << k;
+      EXPECT_NEAR((part.points[k].measured_mm - want[k].second).norm(), 0, 1e-6) << k;
+    }
+    EXPECT_EQ(part.ignored.size(), std::string(prefix) == "grid" ? 1u : 0u);
+  }
+  EXPECT_EQ(grid_points_from_export(read_csv(exports["grid"], "grid.txt"), "grid", gc)
+                .ignored.front()
+                .name,
+            "NEST1");
+  EXPECT_FALSE(is_tracker_point_export(read_csv(kGrid, "g.csv")));
+  // A point of the program missing: refused, naming it.
+  std::string short_run = exports["x_run"];
+  short_run.erase(short_run.find("X_RUN_04"), short_run.find('\n', short_run.find("X_RUN_04")) -
+                                                  short_run.find("X_RUN_04") + 1);
+  EXPECT_TRUE(starts_with(
+      error_of([&] { grid_points_from_export(read_csv(short_run, "x.txt"), "x_run", gc); }),
+      "x.txt:" + std::to_string(std::count(short_run.begin(), short_run.end(), '\n')) +
+          ": 1 of the program's 11 x_run points are not in the export (x_run:4): name each point "
+          "as the program labels it ('x_run:0'; case, separators and leading zeros do not "
+          "matter: 'X_RUN_00')"))
+      << error_of([&] { grid_points_from_export(read_csv(short_run, "x.txt"), "x_run", gc); });
+  // Two names the program compares as one; a coordinate without a unit.
+  EXPECT_EQ(error_of([&] {
+              read_tracker_points_csv(
+                  read_csv("Point,X (mm),Y (mm),Z (mm)\nx_run:3,1,2,3\nX_RUN_03,1,2,3\n", "p.csv"));
+            }),
+            "p.csv:3:1: point 'X_RUN_03' repeats the point of line 2");
+  EXPECT_EQ(
+      error_of([&] { read_tracker_points_csv(read_csv("Point,X,Y,Z\nP1,1,2,3\n", "p.csv")); }),
+      "p.csv:1:2: column 'X' names no unit: write it as 'X (mm)' (or um, in), or declare "
+      "the file's unit in a comment before the header ('# Units: mm')");
 }
 
 // The wide form takes what its columns do not say from the instrument's header comments, and

@@ -721,6 +721,150 @@ std::vector<GridFilePoint> read_grid_csv(const CsvTable& t) {
   return out;
 }
 
+// ---- Tracker point exports ---------------------------------------------------------------------
+
+namespace {
+
+// A point name as the program's labels are compared: lower case, letters and numbers only, a
+// number without its leading zeros ("X_RUN_03" and "x_run:3" are both "xrun3").
+std::string canonical_point_name(std::string_view name) {
+  std::string out, digits;
+  const auto flush = [&] {
+    if (digits.empty()) return;
+    const std::size_t first = digits.find_first_not_of('0');
+    out += first == std::string::npos ? "0" : digits.substr(first);
+    digits.clear();
+  };
+  for (char ch : name) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (std::isdigit(c)) {
+      digits += static_cast<char>(c);
+      continue;
+    }
+    flush();
+    if (std::isalpha(c)) out += static_cast<char>(std::tolower(c));
+  }
+  flush();
+  return out;
+}
+
+// Whether the header has a column `base` with or without a unit ("x", "X (mm)", "x_in").
+bool has_axis_column(const CsvTable& t, const std::string& base) {
+  return std::any_of(t.header.begin(), t.header.end(), [&](const std::string& h) {
+    const auto unit = unit_after(normalised(h), base);
+    return unit && (unit->empty() || mm_per(*unit));
+  });
+}
+
+// The column of the point's name.
+std::optional<std::size_t> point_name_column(const CsvTable& t) {
+  for (const char* name : {"point", "pointname", "point_name", "name", "id", "label", "target"}) {
+    for (std::size_t k = 0; k < t.header.size(); ++k) {
+      if (normalised(t.header[k]) == name) return k;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+bool is_tracker_point_export(const CsvTable& t) {
+  return !t.find_column("x_cmd") && point_name_column(t).has_value() && has_axis_column(t, "x") &&
+         has_axis_column(t, "y") && has_axis_column(t, "z");
+}
+
+std::vector<TrackerExportPoint> read_tracker_points_csv(const CsvTable& t) {
+  const auto c_name = point_name_column(t);
+  if (!c_name) {
+    fail_header(t, "no point name column: expected 'Point' (or 'Name', 'Point Name', 'ID')");
+  }
+  std::array<LengthColumn, 3> axes;
+  const char* const names[] = {"x", "y", "z"};
+  for (int k = 0; k < 3; ++k) {
+    const auto c = find_circle_length(t, {names[k]});
+    if (!c) {
+      fail_header(t, std::string("no ") + names[k] + " column: expected '" + names[k] +
+                         "_mm' (or 'X (in)', '" + names[k] +
+                         "' with the unit declared in a comment, '# Units: in')");
+    }
+    axes[static_cast<std::size_t>(k)] = *c;
+  }
+  std::vector<TrackerExportPoint> out;
+  std::map<std::string, int> seen;  // canonical name -> line
+  for (const CsvRow& row : t.rows) {
+    TrackerExportPoint p;
+    p.line = row.line;
+    p.name = t.cell(row, *c_name);
+    if (p.name.empty()) t.fail(row.line, *c_name, "the point name is empty: name the point");
+    for (int k = 0; k < 3; ++k) {
+      p.measured_mm(k) = length_mm(t, row, axes[static_cast<std::size_t>(k)]);
+    }
+    const auto [it, fresh] = seen.emplace(canonical_point_name(p.name), row.line);
+    if (!fresh) {
+      t.fail(row.line, *c_name,
+             "point '" + p.name + "' repeats the point of line " + std::to_string(it->second));
+    }
+    out.push_back(p);
+  }
+  if (out.empty()) throw CsvError(t.file, t.header_line, 0, "no points after the header");
+  return out;
+}
+
+GridFromExport grid_points_from_export(const CsvTable& t, const std::string& prefix,
+                                       const GlobalCheckConfig& config) {
+  const std::vector<TrackerExportPoint> points = read_tracker_points_csv(t);
+  // The program's moves of this part: label prefix:<i> (the grid's t0 suffix is optional).
+  struct Planned {
+    std::string label;
+    Eigen::Vector3d target_mm;
+  };
+  std::map<std::string, std::size_t> by_name;  // canonical name -> index into planned
+  std::vector<Planned> planned;
+  for (const TrackerMove& m : global_check_program(CheckKind::GlobalGrid, config)) {
+    if (m.label.rfind(prefix + ":", 0) != 0 || m.target != 0) continue;
+    std::string label = m.label;
+    if (label.size() > 3 && label.compare(label.size() - 3, 3, ":t0") == 0) {
+      by_name.emplace(canonical_point_name(label), planned.size());
+      label.resize(label.size() - 3);
+    }
+    by_name.emplace(canonical_point_name(label), planned.size());
+    planned.push_back({label, stylus_ball_centre(m.commanded, config.targets.front())});
+  }
+  std::vector<std::optional<GridFilePoint>> found(planned.size());
+  GridFromExport out;
+  for (const TrackerExportPoint& p : points) {
+    const auto it = by_name.find(canonical_point_name(p.name));
+    if (it == by_name.end()) {
+      out.ignored.push_back(p);
+      continue;
+    }
+    GridFilePoint g;
+    g.point = p.name;
+    g.line = p.line;
+    g.commanded_mm = planned[it->second].target_mm;
+    g.measured_mm = p.measured_mm;
+    found[it->second] = g;
+  }
+  std::string missing;
+  int n_missing = 0;
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    if (found[i]) {
+      out.points.push_back(*found[i]);
+    } else if (++n_missing <= 5) {
+      missing += (missing.empty() ? "" : ", ") + planned[i].label;
+    }
+  }
+  if (n_missing > 0) {
+    throw CsvError(t.file, last_line(t), 0,
+                   std::to_string(n_missing) + " of the program's " +
+                       std::to_string(planned.size()) + " " + prefix + " points are not in the " +
+                       "export (" + missing + (n_missing > 5 ? ", ..." : "") +
+                       "): name each point as the program labels it ('" + planned.front().label +
+                       "'; case, separators and leading zeros do not matter: 'X_RUN_00')");
+  }
+  return out;
+}
+
 std::vector<GridFilePoint> read_grid_csv(std::string_view text, const std::string& file) {
   return read_grid_csv(read_csv(text, file));
 }

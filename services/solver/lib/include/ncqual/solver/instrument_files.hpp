@@ -120,6 +120,39 @@ struct GridFilePoint {
 std::vector<GridFilePoint> read_grid_csv(std::string_view text, const std::string& file);
 std::vector<GridFilePoint> read_grid_csv(const CsvTable& table);
 
+// ---- Tracker point exports ---------------------------------------------------------------------
+// What a tracker's software (or a CMM's) exports of measured points: a name and x, y, z,
+//     Point,X (mm),Y (mm),Z (mm)        or  # Units: in / Name<TAB>X<TAB>Y<TAB>Z
+// the name column "point", "name", "point name", "id", "label" or "target"; each coordinate in
+// the unit its header names or the comments declare (as for circles; a coordinate whose unit
+// nothing names is refused). Refused besides cell errors: an empty name, two points whose names
+// are the same as the program compares them (below; naming the first line), no points.
+struct TrackerExportPoint {
+  std::string name;
+  Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();  // instrument frame
+  int line = 0;
+};
+std::vector<TrackerExportPoint> read_tracker_points_csv(const CsvTable& table);
+
+// Whether the table is a point export (a name and x, y, z, no x_cmd): the grid commands take
+// one in place of a grid file when the machine is known.
+bool is_tracker_point_export(const CsvTable& table);
+
+// A master-frame run or the grid from a point export, the commanded positions from the machine's
+// monthly program (global_check_program(GlobalGrid)): each exported point is the move whose label
+// has the same name ("x_run:3", "y_run:0", "grid:17", "grid:17:t0"), compared without case,
+// separators and leading zeros ("X_RUN_03", "Grid 17"); the commanded position is the main
+// target's nominal position at that move. `prefix`: "x_run", "y_run" or "grid". The points in the
+// program's order; a point of the program missing from the export is refused (naming up to five,
+// at the last line); exported points the program does not name (a drift nest, a reference
+// point) are returned as `ignored` for the caller to report.
+struct GridFromExport {
+  std::vector<GridFilePoint> points;
+  std::vector<TrackerExportPoint> ignored;
+};
+GridFromExport grid_points_from_export(const CsvTable& table, const std::string& prefix,
+                                       const GlobalCheckConfig& config);
+
 // ---- Imports: instrument exports as the tracker points of a MeasurementSet ---------------------
 // Labelled as the monthly programs label them (ncqual/global_check.hpp), so an export goes
 // through the same solver check as a simulated measurement (`ncqual import`). Commanded axes are
