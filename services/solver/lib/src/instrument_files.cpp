@@ -56,14 +56,6 @@ std::string column_list(const std::vector<std::string>& names) {
   throw CsvError(t.file, t.header_line, 0, why + "; the header has: " + column_list(t.header));
 }
 
-struct CoordinatePair {
-  Plane plane;
-  const char* u;
-  const char* v;
-};
-constexpr CoordinatePair kPairs[] = {
-    {Plane::XY, "x_mm", "y_mm"}, {Plane::YZ, "y_mm", "z_mm"}, {Plane::XZ, "x_mm", "z_mm"}};
-
 // The columns of a grid file: commanded and measured X, Y, Z.
 struct GridColumns {
   std::array<std::size_t, 3> commanded{}, measured{};
@@ -154,42 +146,60 @@ std::optional<double> declared_unit(const CsvTable& t) {
   return scale;
 }
 
+// The unit of a header that is `base` with a unit ("x_mm", "x(mm)", "x[in]", "x-um"): "" for the
+// base alone, the unit's text otherwise; nothing for another name ("x_cmd" is no x column). The
+// header normalised (see normalised()).
+std::optional<std::string> unit_after(const std::string& n, const std::string& base) {
+  if (n == base) return std::string();
+  if (n.size() <= base.size() + 1 || n.compare(0, base.size(), base) != 0) return std::nullopt;
+  std::string rest = n.substr(base.size());
+  if ((rest.front() == '(' && rest.back() == ')') || (rest.front() == '[' && rest.back() == ']')) {
+    return rest.substr(1, rest.size() - 2);
+  }
+  if (rest.front() == '_' || rest.front() == '-') return rest.substr(1);
+  return std::nullopt;
+}
+
+// What a column named <base> with a unit that is not a length does: refuse it (an ISO 230-2
+// target or reading in an unknown unit), or skip it (a circle or point export's "x_cmd" is no x
+// coordinate).
+enum class OtherUnit { Refuse, Skip };
+
 // The first column named <base> with a unit, "<base>_<unit>", "<base>(<unit>)" or
 // "<base>[<unit>]" (any case and spacing), for each base in order. A column named <base> alone
 // takes the unit a comment before the header declares ("# Units: um"), else it is refused: its
-// unit would be a guess.
+// unit would be a guess; the refusal says to write it as `example` (empty: the column's name
+// with " (mm)").
 std::optional<LengthColumn> find_length_column(const CsvTable& t,
                                                std::initializer_list<const char*> bases,
-                                               const std::string& example) {
+                                               const std::string& example,
+                                               OtherUnit other = OtherUnit::Refuse) {
   for (const char* base : bases) {
-    const std::string b = base;
     for (std::size_t c = 0; c < t.header.size(); ++c) {
-      const std::string n = normalised(t.header[c]);
-      if (n.rfind(b, 0) != 0) continue;
-      std::string unit = n.substr(b.size());
-      if (unit.empty()) {
+      const auto unit = unit_after(normalised(t.header[c]), base);
+      if (!unit) continue;  // another word that starts like the base ("targets", "errorcode")
+      if (unit->empty()) {
         if (const auto scale = declared_unit(t)) return length_column(c, *scale);
         t.fail(t.header_line, c,
-               "column '" + t.header[c] + "' names no unit: write it as " + example +
+               "column '" + t.header[c] + "' names no unit: write it as " +
+                   (example.empty() ? "'" + t.header[c] + " (mm)' (or um, in)" : example) +
                    ", or declare the file's unit in a comment before the header ('# Units: mm')");
       }
-      if ((unit.front() == '(' && unit.back() == ')') ||
-          (unit.front() == '[' && unit.back() == ']')) {
-        unit = unit.substr(1, unit.size() - 2);
-      } else if (unit.front() == '_' || unit.front() == '-') {
-        unit = unit.substr(1);
-      } else {
-        continue;  // another word that starts like the base ("targets", "errorcode")
-      }
-      const auto scale = mm_per(unit);
-      if (!scale) {
+      if (const auto scale = mm_per(*unit)) return length_column(c, *scale);
+      if (other == OtherUnit::Refuse) {
         t.fail(t.header_line, c,
-               "column '" + t.header[c] + "': unit '" + unit + "' is not mm, um or in");
+               "column '" + t.header[c] + "': unit '" + *unit + "' is not mm, um or in");
       }
-      return length_column(c, *scale);
     }
   }
   return std::nullopt;
+}
+
+// A circle's or a point export's length column: other units skipped, the refusal of a bare name
+// says to write "<name> (mm)".
+std::optional<LengthColumn> find_coordinate_column(const CsvTable& t,
+                                                   std::initializer_list<const char*> bases) {
+  return find_length_column(t, bases, "", OtherUnit::Skip);
 }
 
 // The words of an approach in + and in -, as instruments write them.
@@ -399,44 +409,6 @@ Iso230_2File read_iso230_2_csv(std::string_view text, const std::string& file) {
 
 namespace {
 
-// The unit of a header that is `base` with a unit ("x_mm", "x(mm)", "x[in]", "x-um"): "" for the
-// base alone, the unit's text otherwise; nothing for another name ("x_cmd" is no x column). The
-// header normalised (see normalised()).
-std::optional<std::string> unit_after(const std::string& n, const std::string& base) {
-  if (n == base) return std::string();
-  if (n.size() <= base.size() + 1 || n.compare(0, base.size(), base) != 0) return std::nullopt;
-  std::string rest = n.substr(base.size());
-  if ((rest.front() == '(' && rest.back() == ')') || (rest.front() == '[' && rest.back() == ']')) {
-    return rest.substr(1, rest.size() - 2);
-  }
-  if (rest.front() == '_' || rest.front() == '-') return rest.substr(1);
-  return std::nullopt;
-}
-
-// The first column named by one of `bases` with a length unit (or none: the unit the comments
-// declare, else refused); a unit that is not a length skips the column.
-std::optional<LengthColumn> find_circle_length(const CsvTable& t,
-                                               std::initializer_list<const char*> bases) {
-  for (const char* base : bases) {
-    for (std::size_t c = 0; c < t.header.size(); ++c) {
-      const auto unit = unit_after(normalised(t.header[c]), base);
-      if (!unit) continue;
-      if (unit->empty()) {
-        const auto scale = declared_unit(t);
-        if (!scale) {
-          t.fail(t.header_line, c,
-                 "column '" + t.header[c] + "' names no unit: write it as '" + t.header[c] +
-                     " (mm)' (or um, in), or declare the file's unit in a comment before the "
-                     "header ('# Units: mm')");
-        }
-        return length_column(c, *scale);
-      }
-      if (const auto scale = mm_per(*unit)) return length_column(c, *scale);
-    }
-  }
-  return std::nullopt;
-}
-
 // A circle file's columns (the layouts of the header comment of instrument_files.hpp).
 struct CircleColumns {
   Plane plane = Plane::XY;
@@ -512,14 +484,15 @@ CircleColumns circle_columns(const CsvTable& t, std::optional<Plane> plane,
       }
     }
   }
-  c.radius = find_circle_length(t, {"radius"});
-  c.deviation = find_circle_length(t, {"radialdeviation", "radial_deviation", "radialerror",
-                                       "radial_error", "deviation", "error"});
+  c.radius = find_coordinate_column(t, {"radius"});
+  c.deviation = find_coordinate_column(t, {"radialdeviation", "radial_deviation", "radialerror",
+                                           "radial_error", "deviation", "error"});
   // Coordinates: x, y, z (each pair names a plane) or u, v (the plane's axes).
-  std::array<std::optional<LengthColumn>, 3> xyz{
-      find_circle_length(t, {"x"}), find_circle_length(t, {"y"}), find_circle_length(t, {"z"})};
-  const auto u = find_circle_length(t, {"u"});
-  const auto v = find_circle_length(t, {"v"});
+  std::array<std::optional<LengthColumn>, 3> xyz{find_coordinate_column(t, {"x"}),
+                                                 find_coordinate_column(t, {"y"}),
+                                                 find_coordinate_column(t, {"z"})};
+  const auto u = find_coordinate_column(t, {"u"});
+  const auto v = find_coordinate_column(t, {"v"});
   const bool polar = angle || c.radius || c.deviation;
   const int axes = static_cast<int>(xyz[0].has_value()) + static_cast<int>(xyz[1].has_value()) +
                    static_cast<int>(xyz[2].has_value());
@@ -781,7 +754,7 @@ std::vector<TrackerExportPoint> read_tracker_points_csv(const CsvTable& t) {
   std::array<LengthColumn, 3> axes;
   const char* const names[] = {"x", "y", "z"};
   for (int k = 0; k < 3; ++k) {
-    const auto c = find_circle_length(t, {names[k]});
+    const auto c = find_coordinate_column(t, {names[k]});
     if (!c) {
       fail_header(t, std::string("no ") + names[k] + " column: expected '" + names[k] +
                          "_mm' (or 'X (in)', '" + names[k] +
