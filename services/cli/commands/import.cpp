@@ -132,7 +132,7 @@ int run(const Options& o) {
     auto read = [&](const std::string& f, const std::string& prefix) {
       const CsvTable table = read_csv_file(f);
       std::vector<solver::GridFilePoint> points = read_grid_part(table, prefix, machine);
-      if (!solver::is_tracker_point_export(table)) solver::check_grid_envelope(table, envelope);
+      solver::check_grid_envelope(table, points, envelope);
       return points;
     };
     set.kind = CheckKind::GlobalGrid;

@@ -475,25 +475,26 @@ TEST(InstrumentFiles, EnvelopeRefusesAGridWhoseDistancesAreNotTheCommandedOnes) 
       "g0,0,0,0,3000,2000,-400\n"
       "g1,500,0,0,3000,2500.002,-400\n"
       "g2,500,1000,0,2000.002,2500,-400\n";
-  EXPECT_EQ(error_of([&] { check_grid_envelope(read_csv(good, "g.csv"), e); }), "(accepted)");
+  const auto check = [&](const char* text, const char* file) {
+    const CsvTable table = read_csv(text, file);
+    check_grid_envelope(table, read_grid_csv(table), e);
+  };
+  EXPECT_EQ(error_of([&] { check(good, "g.csv"); }), "(accepted)");
   // g2 measured 1e4 mm away in micrometres: |1118.04 - 11180.3| mm apart, far beyond 200 mm.
   const char* bad =
       "point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\n"
       "g0,0,0,0,0,0,0\n"
       "g1,500,0,0,500,0,0\n"
       "g2,500,1000,0,5000,10000,0\n";
-  const std::string err = error_of([&] { check_grid_envelope(read_csv(bad, "g.csv"), e); });
+  const std::string err = error_of([&] { check(bad, "g.csv"); });
   EXPECT_TRUE(starts_with(err,
-                          "g.csv:4:5: measured 11180.3 mm from the first point (line 2) "
+                          "g.csv:4:5: measured 11180.3 mm from the first point (g0, line 2) "
                           "where commanded 1118.03 mm"))
       << err;
   // A commanded position beyond ten spans: y_cmd 1e5.
   EXPECT_TRUE(starts_with(
       error_of([&] {
-        check_grid_envelope(
-            read_csv("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\ng0,0,100000,0,0,0,0\n",
-                     "c.csv"),
-            e);
+        check("point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\ng0,0,100000,0,0,0,0\n", "c.csv");
       }),
       "c.csv:2:3: column 'y_cmd' = '100000': beyond -20000..21000 mm"));
 }
@@ -707,6 +708,26 @@ TEST(InstrumentFiles, TrackerPointExportsArePairedWithTheProgramByName) {
           "as the program labels it ('x_run:0'; case, separators and leading zeros do not "
           "matter: 'X_RUN_00')"))
       << error_of([&] { grid_points_from_export(read_csv(short_run, "x.txt"), "x_run", gc); });
+  // The same export declared in millimetres: every distance 25.4 times too short, refused at
+  // the first point further from X_RUN_00 than a tenth of the envelope's span.
+  std::string wrong_unit = exports["x_run"];
+  wrong_unit.replace(0, wrong_unit.find('\n'), "# Units: mm");
+  const CsvTable wrong = read_csv(wrong_unit, "x.txt");
+  const Envelope envelope = machine_envelope(gc);
+  const std::string refused = error_of([&] {
+    check_grid_envelope(wrong, grid_points_from_export(wrong, "x_run", gc).points, envelope);
+  });
+  EXPECT_TRUE(starts_with(refused, "x.txt:")) << refused;
+  EXPECT_NE(refused.find(":2: measured "), std::string::npos) << refused;
+  EXPECT_NE(refused.find(" from the first point (X_RUN_00, line 3) where the program commands "),
+            std::string::npos)
+      << refused;
+  const CsvTable right = read_csv(exports["x_run"], "x.txt");
+  EXPECT_EQ(error_of([&] {
+              check_grid_envelope(right, grid_points_from_export(right, "x_run", gc).points,
+                                  envelope);
+            }),
+            "(accepted)");
   // Two names the program compares as one; a coordinate without a unit.
   EXPECT_EQ(error_of([&] {
               read_tracker_points_csv(

@@ -1021,25 +1021,29 @@ void check_circle_envelope(const CsvTable& t, const Envelope& e, std::optional<P
   }
 }
 
-void check_grid_envelope(const CsvTable& t, const Envelope& e) {
-  if (t.rows.empty()) return;
-  const GridColumns c = grid_columns(t);
-  const auto vector = [&](const CsvRow& row, const std::array<std::size_t, 3>& columns) {
-    return Eigen::Vector3d(t.number(row, columns[0]), t.number(row, columns[1]),
-                           t.number(row, columns[2]));
-  };
+void check_grid_envelope(const CsvTable& t, const std::vector<GridFilePoint>& points,
+                         const Envelope& e) {
+  if (points.empty()) return;
+  // The cells of the measured x: a grid file's x_meas, an export's x.
+  const bool exported = is_tracker_point_export(t);
+  const std::size_t x_column =
+      exported ? find_coordinate_column(t, {"x"})->index : grid_columns(t).measured[0];
+  if (!exported) {  // commanded positions from the file; an export's are the program's
+    const GridColumns c = grid_columns(t);
+    for (const CsvRow& row : t.rows) {
+      for (int k = 0; k < 3; ++k) check_position(t, row, c.commanded[k], k, e);
+    }
+  }
   const double most = kDeviationShare * e.span_mm();
-  const CsvRow& first = t.rows.front();
-  const Eigen::Vector3d first_commanded = vector(first, c.commanded);
-  const Eigen::Vector3d first_measured = vector(first, c.measured);
-  for (const CsvRow& row : t.rows) {
-    for (int k = 0; k < 3; ++k) check_position(t, row, c.commanded[k], k, e);
-    const double commanded = (vector(row, c.commanded) - first_commanded).norm();
-    const double measured = (vector(row, c.measured) - first_measured).norm();
+  const GridFilePoint& first = points.front();
+  for (const GridFilePoint& p : points) {
+    const double commanded = (p.commanded_mm - first.commanded_mm).norm();
+    const double measured = (p.measured_mm - first.measured_mm).norm();
     if (std::abs(measured - commanded) > most) {
-      t.fail(row.line, c.measured[0],
-             "measured " + mm(measured) + " from the first point (line " +
-                 std::to_string(first.line) + ") where commanded " + mm(commanded) +
+      t.fail(p.line, x_column,
+             "measured " + mm(measured) + " from the first point (" + first.point + ", line " +
+                 std::to_string(first.line) + ") where " +
+                 (exported ? "the program commands " : "commanded ") + mm(commanded) +
                  ": more than " + mm(most) + " apart, a tenth of the span of " + envelope_text(e) +
                  "; a file in another unit?");
     }

@@ -198,13 +198,17 @@ Envelope machine_envelope(const GlobalCheckConfig& config);
 //   Circle: every coordinate (u, v or radius about the centre) within ten spans; a radial
 //     deviation within a tenth of the span. `plane` and `nominal_radius_mm` as for
 //     read_circle_csv.
-//   Grid: x_cmd, y_cmd, z_cmd within the envelope grown by ten spans; the measured distance of each
-//     point from the file's first point (the tracker frame is the machine frame moved rigidly)
-//     within a tenth of the span of the commanded one.
+//   Grid (`points` as read_grid_csv or grid_points_from_export read them from `table`): a grid
+//     file's x_cmd, y_cmd, z_cmd within the envelope grown by ten spans; the measured distance of
+//     each point from the first point (the tracker frame is the machine frame moved rigidly)
+//     within a tenth of the span of the commanded one. For a point export the commanded
+//     positions are the program's, so a unit declared wrongly ('# Units: mm' over inches) shows
+//     as distances 25.4 times too short.
 void check_iso230_2_envelope(const CsvTable& table, int axis, const Envelope& envelope);
 void check_circle_envelope(const CsvTable& table, const Envelope& envelope,
                            std::optional<Plane> plane = std::nullopt,
                            std::optional<double> nominal_radius_mm = std::nullopt);
-void check_grid_envelope(const CsvTable& table, const Envelope& envelope);
+void check_grid_envelope(const CsvTable& table, const std::vector<GridFilePoint>& points,
+                         const Envelope& envelope);
 
 }  // namespace ncqual::solver
