@@ -461,11 +461,33 @@ TEST_F(AnalyzeCli, TouchesOfAHandWorkedLogAreJudgedAsTheServiceJudgesThem) {
   EXPECT_NE(refused.err.find("expected 5 touches, found 4; touch 4 is missing"), std::string::npos)
       << refused.err;
 
-  // A check without a touch plan on the machine: no program, the reason said.
+  // A tracker check has no control dialect: its program is the nominal point list for the
+  // tracker's software, which reads back as a point export of the machine's program.
   const CliRun tracker = run({"program", "--plant", plant, "--machine", "pm1", "--check",
                               "global_grid", "--dialect", "linuxcnc"});
-  EXPECT_EQ(tracker.exit_code, 1);
-  EXPECT_NE(tracker.err.find("laser tracker"), std::string::npos) << tracker.err;
+  EXPECT_EQ(tracker.exit_code, 2);
+  EXPECT_NE(tracker.err.find("measured by the laser tracker"), std::string::npos) << tracker.err;
+  const std::string nominals = (dir_ / "nominals.csv").string();
+  const CliRun list = run({"program", "--plant", plant, "--machine", "pm1", "--check",
+                           "global_grid", "--out", nominals});
+  EXPECT_EQ(list.exit_code, 0) << list.err;
+  EXPECT_NE(list.err.find("nominal points of global_grid on pm1"), std::string::npos) << list.err;
+  const CliRun as_measured = run({"analyze", "grid", "--x-run", nominals, "--y-run", nominals,
+                                  "--grid", nominals, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(as_measured.exit_code, 0) << as_measured.out << as_measured.err;
+  // Each run takes its points from the whole list; what none takes (the grid's reflectors other
+  // than 0: 216 points each of three) is said once.
+  EXPECT_EQ(std::count(as_measured.err.begin(), as_measured.err.end(), '\n'), 1) << as_measured.err;
+  EXPECT_NE(as_measured.err.find(": 648 points are not grid points of pm1's program (or not of "
+                                 "its reflector 0) and not used: 'grid:0:t1' (line "),
+            std::string::npos)
+      << as_measured.err;
+  const CliRun no_dialect =
+      run({"program", "--plant", plant, "--machine", "pm1", "--check", "monument_positioning"});
+  EXPECT_EQ(no_dialect.exit_code, 2);
+  EXPECT_NE(no_dialect.err.find("--dialect is required for monument_positioning"),
+            std::string::npos)
+      << no_dialect.err;
   const CliRun dialect = run({"program", "--plant", plant, "--machine", "pm1", "--check",
                               "monument_positioning", "--dialect", "heidenhain"});
   EXPECT_EQ(dialect.exit_code, 2);

@@ -7,13 +7,19 @@
 //       writes the program (ncqual/probing/program.hpp; docs/connecting-a-machine.md) of the
 //       check's touch plan from the machine config (its probing: section), under a new request
 //       id, to FILE or stdout; says on stderr where the control will write its results.
+//   ncqual program --machine M --check TRACKER-KIND [--out FILE] [--plant F]
+//       a laser-tracker check has no control dialect: writes its nominal point list for the
+//       tracker's software (ncqual/probing/tracker_nominals.hpp).
 //
-// Exit codes: 0 written; 1 the check has no touch plan on this machine (a tracker check, a
-// missing section or parameter; the reason on stderr) or FILE cannot be written; 2 bad usage.
+// Exit codes: 0 written; 1 the check has no program on this machine (a missing section or
+// parameter; the reason on stderr) or FILE cannot be written; 2 bad usage (--dialect missing for
+// a probe check, given for a tracker check).
 #include "commands.hpp"
 
 #include "ncqual/probing/program.hpp"
+#include "ncqual/probing/tracker_nominals.hpp"
 
+#include "ncqual/check_kinds.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/text.hpp"
 #include "ncqual/version.hpp"
@@ -58,8 +64,19 @@ std::vector<NamedValue> parameters_option(const std::string& text) {
 int run(const Options& o) {
   const PlantConfig plant = plant_from(o.plant);
   const MachineConfig& machine = configured_machine(plant, o.machine);
-  const auto dialect = probing::dialect_from(o.dialect);
-  if (!dialect) {
+  const bool tracker = is_tracker_check(*o.kind);
+  if (tracker && !o.dialect.empty()) {
+    throw UsageError("--dialect '" + o.dialect + "': " + std::string(to_string(*o.kind)) +
+                     " is measured by the laser tracker, not programmed in a control's "
+                     "language: leave out --dialect to write its nominal point list");
+  }
+  if (!tracker && o.dialect.empty()) {
+    throw UsageError("--dialect is required for " + std::string(to_string(*o.kind)) + ": one of " +
+                     probing::dialect_names());
+  }
+  const auto dialect =
+      tracker ? std::optional<probing::Dialect>() : probing::dialect_from(o.dialect);
+  if (!tracker && !dialect) {
     throw UsageError("--dialect '" + o.dialect + "': expected one of " + probing::dialect_names());
   }
   CheckRequest request;
@@ -71,10 +88,12 @@ int run(const Options& o) {
   request.parameters = parameters_option(o.parameters);
   std::string text;
   try {
-    text = probing::write_program(request, machine, *dialect, version_line("ncqual"));
+    text = tracker ? probing::write_tracker_nominals(request, machine, version_line("ncqual"))
+                   : probing::write_program(request, machine, *dialect, version_line("ncqual"));
   } catch (const std::invalid_argument& e) {
-    std::cerr << "ncqual program: no probing program for " << to_string(request.kind) << " on "
-              << machine.machine_id << ": " << e.what() << "\n";
+    std::cerr << "ncqual program: no " << (tracker ? "tracker nominals" : "probing program")
+              << " for " << to_string(request.kind) << " on " << machine.machine_id << ": "
+              << e.what() << "\n";
     return kExitError;
   }
   if (o.out.empty()) {
@@ -86,6 +105,13 @@ int run(const Options& o) {
       std::cerr << "ncqual program: cannot write " << o.out << "\n";
       return kExitError;
     }
+  }
+  if (tracker) {
+    std::cerr << "nominal points of " << to_string(request.kind) << " on " << machine.machine_id
+              << " (request " << request.request_id
+              << ") for the tracker's software; export the measured points under the same "
+                 "names for ncqual import\n";
+    return kExitOk;
   }
   std::cerr << "program of " << to_string(request.kind) << " on " << machine.machine_id
             << " (request " << request.request_id << ") for " << o.dialect
@@ -116,13 +142,14 @@ void add_program(CLI::App& app, Commands& commands) {
   const auto [cmd, o] = add_command(
       app, commands, "program",
       "write the probing program of a check for a real control (LinuxCNC, Fanuc-style macro\n"
-      "controls, any control that writes CSV) from the machine config",
+      "controls, any control that writes CSV) from the machine config; for a laser-tracker\n"
+      "check, the nominal point list for the tracker's software",
       run);
   add_machine_option(cmd, o->machine, "the machine whose control runs it");
   add_kind_option(cmd, "--check", o->kind, "the check to program")->required();
-  cmd->add_option("--dialect", o->dialect, "the control's language")
-      ->type_name("linuxcnc|fanuc|generic-csv")
-      ->required();
+  cmd->add_option("--dialect", o->dialect,
+                  "the control's language (probe checks; a tracker check has none)")
+      ->type_name("linuxcnc|fanuc|generic-csv");
   cmd->add_option("--parameters", o->parameters,
                   "the request's parameters (e.g. fixture_configuration=3)")
       ->type_name("k=v,...");

@@ -12,9 +12,13 @@
 
 #include "ncqual/probing/plan.hpp"
 #include "ncqual/probing/program.hpp"
+#include "ncqual/probing/tracker_nominals.hpp"
 
 #include "ncqual/sim/machine_simulator.hpp"
+#include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/solver/solve.hpp"
+#include "ncqual/csv.hpp"
+#include "ncqual/global_check.hpp"
 #include "ncqual/units.hpp"
 
 #include <gtest/gtest.h>
@@ -301,6 +305,67 @@ TEST(ProbingProgram, ARequestWithoutATouchPlanIsRefused) {
     FAIL() << "a tracker check has no probing program";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("laser tracker"), std::string::npos) << e.what();
+  }
+}
+
+// The tracker checks' nominal lists: one row per measurement of the program; at home head angles
+// the reflector of tool length L and offset (ox, oy) sits at pivot + (ox, oy, -L) (worked by
+// hand from the kinematics' definition, ncqual/kinematics.hpp), and the list reads back as a
+// tracker point export that pairs with the program point for point, at zero deviation.
+TEST(TrackerNominals, OneRowPerMeasurementThatReadsBackAsAnExportOfTheProgram) {
+  const MachineConfig m = pm1();
+  const GlobalCheckConfig& gc = *m.global_check;
+  const std::string text =
+      write_tracker_nominals(request(m, CheckKind::GlobalGrid, "pm1-nominals-1"), m, "ncqual test");
+  std::size_t measured = 0;
+  for (const TrackerMove& mv : global_check_program(CheckKind::GlobalGrid, gc)) {
+    if (!mv.label.empty()) ++measured;
+  }
+  EXPECT_NE(text.find("# NCQUAL TRACKER NOMINALS machine=pm1 check=global_grid "
+                      "request=pm1-nominals-1 points=" +
+                      std::to_string(measured) + " version=ncqual test\n"),
+            std::string::npos);
+  const CsvTable table = read_csv(text, "nominals.csv");
+  ASSERT_EQ(table.rows.size(), measured);
+  int home_rows = 0;
+  for (const CsvRow& row : table.rows) {
+    if (table.number(row, 8) != 0 || table.number(row, 9) != 0) continue;  // A, C in degrees
+    const ProbeGeometry& t = gc.targets.at(static_cast<std::size_t>(table.number(row, 4)));
+    EXPECT_NEAR(table.number(row, 1), table.number(row, 5) + t.stylus_offset_mm.x(), 1e-9);
+    EXPECT_NEAR(table.number(row, 2), table.number(row, 6) + t.stylus_offset_mm.y(), 1e-9);
+    EXPECT_NEAR(table.number(row, 3), table.number(row, 7) - t.tool_length_mm, 1e-9);
+    ++home_rows;
+  }
+  EXPECT_GT(home_rows, 200);
+  EXPECT_TRUE(solver::is_tracker_point_export(table));
+  for (const char* prefix : {"x_run", "y_run", "grid"}) {
+    SCOPED_TRACE(prefix);
+    const solver::GridFromExport part = solver::grid_points_from_export(table, prefix, gc);
+    ASSERT_FALSE(part.points.empty());
+    for (const auto& p : part.points) {
+      EXPECT_LT((p.measured_mm - p.commanded_mm).norm(), 1e-4) << p.point;
+    }
+  }
+  // A rotary check's list carries its head angles: rotary_a steps A from -90 to 90 degrees.
+  const CsvTable rotary = read_csv(
+      write_tracker_nominals(request(m, CheckKind::RotaryA, "pm1-nominals-2"), m, "ncqual test"),
+      "rotary.csv");
+  double lowest = 0, highest = 0;
+  for (const CsvRow& row : rotary.rows) {
+    lowest = std::min(lowest, rotary.number(row, 8));
+    highest = std::max(highest, rotary.number(row, 8));
+  }
+  EXPECT_EQ(lowest, -90);
+  EXPECT_EQ(highest, 90);
+  // A probe check has a probing program, not nominals.
+  try {
+    write_tracker_nominals(request(m, CheckKind::MonumentPositioning, "x"), m, "ncqual test");
+    ADD_FAILURE() << "a probe check's nominals were written";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("monument_positioning is not measured by the laser "
+                                         "tracker"),
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: Apache-2.0
+// The nominal point list of a monthly tracker check, for the tracker's software (Spatial
+// Analyzer, PolyWorks, Metrolog and the like import a list of named nominals to measure against)
+// and for whoever writes the machine's moves (docs/connecting-a-machine.md).
+//
+// One row per measurement of the check's program (ncqual/global_check.hpp: global_check_program),
+// in the order the machine runs them:
+//   Point,X (mm),Y (mm),Z (mm),Reflector,Machine X (mm),Machine Y (mm),Machine Z (mm),A (deg),
+//   C (deg),W (mm)
+// Point is the program's label ("x_run:3", "grid:17:t0"); X, Y, Z the reflector's nominal
+// position in the machine frame (the machine's pivot at the commanded axes plus the reflector's
+// tool length and offset); Reflector the index of global_check.targets; the machine columns the
+// commanded axes. Header comments name machine, check, request, version and the number of
+// points: "# NCQUAL TRACKER NOMINALS machine=pm1 check=global_grid request=.. points=N
+// version=..". The file reads back as a tracker point export (solver/instrument_files.hpp), so
+// an export that keeps the point names pairs with the program point for point.
+#pragma once
+
+#include "ncqual/config.hpp"
+#include "ncqual/model.hpp"
+
+#include <string>
+
+namespace ncqual::probing {
+
+// Throws std::invalid_argument when `request.kind` is not a tracker check or the machine has no
+// global_check section.
+std::string write_tracker_nominals(const CheckRequest& request, const MachineConfig& machine,
+                                   const std::string& version);
+
+// "ncqual-<request id>-nominals.csv"
+std::string tracker_nominals_file_name(const std::string& request_id);
+
+}  // namespace ncqual::probing

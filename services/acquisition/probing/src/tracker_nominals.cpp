@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "ncqual/probing/tracker_nominals.hpp"
+
+#include "ncqual/check_kinds.hpp"
+#include "ncqual/global_check.hpp"
+#include "ncqual/kinematics.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+namespace ncqual::probing {
+namespace {
+
+// Micrometre resolution in mm, 1e-5 deg: finer than any tracker's uncertainty.
+std::string mm(double v) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4f", v == 0 ? 0.0 : v);  // no "-0.0000"
+  return text;
+}
+std::string deg(double rad) {
+  char text[48];
+  const double d = rad * 180.0 / M_PI;
+  std::snprintf(text, sizeof text, "%.5f", d == 0 ? 0.0 : d);
+  return text;
+}
+
+}  // namespace
+
+std::string tracker_nominals_file_name(const std::string& request_id) {
+  return "ncqual-" + request_id + "-nominals.csv";
+}
+
+std::string write_tracker_nominals(const CheckRequest& request, const MachineConfig& machine,
+                                   const std::string& version) {
+  if (!is_tracker_check(request.kind)) {
+    throw std::invalid_argument(std::string(to_string(request.kind)) +
+                                " is not measured by the laser tracker: it has no tracker "
+                                "nominals (a probe check has a probing program: --dialect "
+                                "linuxcnc, fanuc or generic-csv)");
+  }
+  if (!machine.global_check) {
+    throw std::invalid_argument("machine " + machine.machine_id +
+                                " has no global_check section: no tracker program");
+  }
+  const GlobalCheckConfig& gc = *machine.global_check;
+  std::vector<TrackerMove> measured;
+  for (TrackerMove& m : global_check_program(request.kind, gc)) {
+    if (!m.label.empty()) measured.push_back(std::move(m));
+  }
+  std::string out;
+  out += "# NCQUAL TRACKER NOMINALS machine=" + machine.machine_id +
+         " check=" + std::string(to_string(request.kind)) + " request=" + request.request_id +
+         " points=" + std::to_string(measured.size()) + " version=" + version + "\n";
+  for (const NamedValue& p : request.parameters) {
+    out += "# NCQUAL PARAMETER " + p.name + "=" + mm(p.value) + "\n";
+  }
+  out +=
+      "# The reflector's nominal position in the machine frame at each measurement, in the order\n"
+      "# the machine runs them. Measure each point with the machine at its Machine X..W, keep\n"
+      "# the point's name in the export (Point, X, Y, Z in a declared unit): ncqual import pairs\n"
+      "# the measured points with the program by name. Reflector: global_check.targets index.\n";
+  for (std::size_t k = 0; k < gc.targets.size(); ++k) {
+    const ProbeGeometry& t = gc.targets[k];
+    out += "# Reflector " + std::to_string(k) + ": tool length " + mm(t.tool_length_mm) + " mm";
+    if (!t.stylus_offset_mm.isZero()) {
+      out += ", offset " + mm(t.stylus_offset_mm.x()) + ", " + mm(t.stylus_offset_mm.y()) + " mm";
+    }
+    out += "\n";
+  }
+  out +=
+      "Point,X (mm),Y (mm),Z (mm),Reflector,Machine X (mm),Machine Y (mm),Machine Z (mm),"
+      "A (deg),C (deg),W (mm)\n";
+  for (const TrackerMove& m : measured) {
+    const Eigen::Vector3d p = stylus_ball_centre(m.commanded, gc.targets.at(m.target));
+    out += m.label + "," + mm(p.x()) + "," + mm(p.y()) + "," + mm(p.z()) + "," +
+           std::to_string(m.target) + "," + mm(m.commanded.x_mm) + "," + mm(m.commanded.y_mm) +
+           "," + mm(m.commanded.z_mm) + "," + deg(m.commanded.a_rad) + "," +
+           deg(m.commanded.c_rad) + "," + mm(m.commanded.w_mm) + "\n";
+  }
+  return out;
+}
+
+}  // namespace ncqual::probing
