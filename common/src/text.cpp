@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -76,6 +78,14 @@ bool write_file_atomically(const std::string& path, const std::string& text, std
     return false;
   }
   return true;
+}
+
+std::optional<double> parse_finite_number(const std::string& word) {
+  if (word.empty()) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(word.c_str(), &end);
+  if (end != word.c_str() + word.size() || !std::isfinite(v)) return std::nullopt;
+  return v;
 }
 
 }  // namespace ncqual

@@ -395,6 +395,54 @@ TEST_F(AnalyzeCli, TrackerPointExportsNeedTheMachineAndItsProgramsNames) {
       << with.err;
 }
 
+// ---- cmm ----------------------------------------------------------------------------------------
+
+// A PC-DMIS text report of a bracket in inches, worked by hand: PNT1's Z 0.003 in high against
+// +-0.002 in fails; the X deviations 0.001 in (+-0.002) and 0.0005 in (+-0.004) weigh 4 : 1, so
+// the part sits (4 * 0.001 + 0.0005) / 5 = 0.0009 in = 0.02286 mm high in X; Y and Z each have
+// one feature whose full position is not in the report (CIR1 has no Z): no turn is fitted.
+TEST_F(AnalyzeCli, CmmReportIsJudgedAndItsOffsetFitted) {
+  const std::string report =
+      write("bracket.rpt",
+            "DIM LOC1= LOCATION OF POINT PNT1  UNITS=IN ,$\n"
+            "AX    NOMINAL       +TOL       -TOL       MEAS        DEV     OUTTOL\n"
+            "X      4.00000    0.00200    0.00200    4.00100    0.00100    0.00000 ----#----\n"
+            "Y      2.00000    0.00200    0.00200    1.99900   -0.00100    0.00000 ----#----\n"
+            "Z      0.50000    0.00200    0.00200    0.50300    0.00300    0.00100 --------->\n"
+            "DIM LOC2= LOCATION OF CIRCLE CIR1  UNITS=IN ,$\n"
+            "AX    NOMINAL       +TOL       -TOL       MEAS        DEV     OUTTOL\n"
+            "X      6.00000    0.00400    0.00400    6.00050    0.00050    0.00000 ----#----\n"
+            "Y      3.00000    0.00400    0.00400    3.00000    0.00000    0.00000 ----#----\n"
+            "D      1.00000    0.00100    0.00000    1.00080    0.00080    0.00000 -------#-\n");
+  const CliRun text = run({"analyze", "cmm", report});
+  EXPECT_EQ(text.exit_code, 3) << text.err;
+  EXPECT_NE(text.out.find("verdict: FAIL (1 of 6 out of tolerance: PNT1 Z)"), std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("displacement  dx +0.0229  dy -0.0203  dz +0.0762 mm"), std::string::npos)
+      << text.out;
+  const CliRun as_json = run({"analyze", "cmm", report, "--json"});
+  EXPECT_EQ(as_json.exit_code, 3) << as_json.err;
+  const json j = json::parse(as_json.out);
+  EXPECT_EQ(j["format"], "PC-DMIS text");
+  EXPECT_EQ(j["verdict"], "FAIL");
+  EXPECT_NEAR(j["offset"]["translation_mm"][0].get<double>(), 0.0009 * 25.4, 1e-9);
+  EXPECT_NEAR(j["offset"]["work_offset_correction_mm"][2].get<double>(), -0.003 * 25.4, 1e-9);
+  EXPECT_TRUE(j["offset"]["rotation_urad"].is_null());
+  EXPECT_EQ(j["per_characteristic"][2]["line"], 5);
+  EXPECT_EQ(j["per_characteristic"][2]["in_tolerance"], false);
+  EXPECT_NEAR(j["per_characteristic"][5]["upper_mm"].get<double>(), 0.0254, 1e-12);
+  // A report whose deviations are nominal - actual is refused at its line, exit 1.
+  const std::string reversed = write("reversed.csv",
+                                     "Feature,Axis,Nominal (mm),Actual (mm),Deviation (mm)\n"
+                                     "P1,X,10.000,10.020,-0.020\n");
+  const CliRun refused = run({"analyze", "cmm", reversed});
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find(reversed + ":2:5: the report's deviation -0.02 mm is not actual - "
+                                        "nominal"),
+            std::string::npos)
+      << refused.err;
+}
+
 // ---- touches ------------------------------------------------------------------------------------
 
 // The touch log of pm1's daily positioning program as a control writes it, worked by hand: the

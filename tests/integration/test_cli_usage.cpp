@@ -184,7 +184,8 @@ TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
   const auto budget = complete("ncqual budget --m");
   EXPECT_TRUE(has(budget, "--machine"));
   EXPECT_EQ(complete("ncqual budget --machine pm1 --pl"), std::vector<std::string>{"--plant"});
-  EXPECT_EQ(complete("ncqual analyze c"), std::vector<std::string>{"circle"});
+  EXPECT_EQ(complete("ncqual analyze ci"), std::vector<std::string>{"circle"});
+  EXPECT_EQ(complete("ncqual analyze cm"), std::vector<std::string>{"cmm"});
   EXPECT_TRUE(has(complete("ncqual analyze circle --"), "--nominal-radius-mm"));
   EXPECT_TRUE(has(complete("ncqual check --kind monument_p"), "monument_positioning"));
 }

@@ -13,6 +13,10 @@ namespace ncqual {
 // "" -> {""}. Callers decide what an empty entry means.
 std::vector<std::string> split_at(std::string_view text, char sep);
 
+// The whole of `word` as a finite number ("12", "-0.5", "1e-3"); nothing for anything else
+// ("", "1.5mm", "nan", "inf", out of range).
+std::optional<double> parse_finite_number(const std::string& word);
+
 // The whole file at `path`, bytes as they are; nothing, with `*why` ("is a directory", the
 // system's reason, "read error"), when it cannot be read. Callers name the file in their error.
 std::optional<std::string> read_text_file(const std::string& path, std::string* why);

@@ -22,6 +22,13 @@
 //       tracker's point exports (name, x, y, z) paired by name with the machine's monthly
 //       program (solver::grid_points_from_export).
 //
+//   ncqual analyze cmm FILE [--json]
+//       a CMM report of a part (solver::read_cmm_results: PC-DMIS's text report or a table),
+//       each characteristic against its own tolerance, and the tolerance-weighted best-fit
+//       displacement (and turn) of the part whose opposite is the work offset's correction
+//       (solver::inspect_part, after Gu & Agapiou's global offset). Exit 0 PASS or no
+//       tolerances in the report, 3 FAIL.
+//
 //   ncqual analyze touches LOG --program PROG --machine M [--plant F] [--json]
 //       a real control's touch log of a probing program written by `ncqual program` (or the
 //       control-files instrument), judged exactly as the solver service judges the check: the
@@ -63,10 +70,18 @@
 //     "planes": [{"z_mm", "points", "worst_point", "worst_deviation_mm", "rms_deviation_mm"}],
 //     "per_point": [{"point", "commanded_mm", "master_mm", "deviation_mm", "deviation_norm_mm"}]}
 //
-// Exit codes: 0 printed (touches: PASS); 3 FAIL and 4 INVALID (touches); 1 the file was refused
-// (the CsvError "<file>:<line>:<column>: message" on stderr, or "<file>: message" for a refusal of
-// the evaluation), or not found; 2 bad usage (the message and the usage of `ncqual analyze` on
-// stderr).
+//   cmm: {"file", "format": "PC-DMIS text" | "table", "unit": "mm", "characteristics", "judged",
+//     "out_of_tolerance", "verdict": "PASS" | "FAIL" | null, "per_characteristic": [{"feature",
+//     "axis", "line", "nominal_mm", "actual_mm", "deviation_mm", "lower_mm", "upper_mm" (the band
+//     of the deviation), "in_tolerance", "after_offset_mm", "in_tolerance_after"}], "offset":
+//     {"translation_mm": [3], "rotation_urad": [3] | null, "work_offset_correction_mm": [3],
+//     "axis_resolved": [3], "characteristics", "out_of_tolerance_after", "max_abs_after_mm",
+//     "left_out": [text]} | null}
+//
+// Exit codes: 0 printed (touches, cmm: PASS); 3 FAIL (touches, cmm) and 4 INVALID (touches); 1 the
+// file was refused (the CsvError "<file>:<line>:<column>: message" on stderr, or "<file>: message"
+// for a refusal of the evaluation), or not found; 2 bad usage (the message and the usage of `ncqual
+// analyze` on stderr).
 #include "commands.hpp"
 
 #include "ncqual/csv.hpp"
@@ -76,6 +91,8 @@
 #include "ncqual/solver/global_grid.hpp"
 #include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/solver/iso230_2.hpp"
+#include "ncqual/solver/part_inspection.hpp"
+#include "ncqual/text.hpp"
 #include "ncqual/solver/solve.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/storage_json.hpp"
@@ -661,6 +678,155 @@ int run_grid(const Options& o) {
   return kExitOk;
 }
 
+// ---- cmm ----------------------------------------------------------------------------------------
+
+// The --json document of cmm (names: the file comment above).
+struct CmmCharacteristicDocument {
+  std::string feature, axis;
+  int line = 0;
+  double nominal_mm = 0, actual_mm = 0, deviation_mm = 0;
+  std::optional<double> lower_mm, upper_mm;
+  std::optional<bool> in_tolerance;
+  std::optional<double> after_offset_mm;
+  std::optional<bool> in_tolerance_after;
+};
+struct CmmOffsetDocument {
+  Eigen::Vector3d translation_mm = Eigen::Vector3d::Zero();
+  std::optional<Eigen::Vector3d> rotation_urad;
+  Eigen::Vector3d work_offset_correction_mm = Eigen::Vector3d::Zero();
+  std::vector<bool> axis_resolved;
+  int characteristics = 0, out_of_tolerance_after = 0;
+  double max_abs_after_mm = 0;
+  std::vector<std::string> left_out;
+};
+struct CmmDocument {
+  std::string file, format, unit = "mm";
+  int characteristics = 0, judged = 0, out_of_tolerance = 0;
+  std::optional<std::string> verdict;
+  std::vector<CmmCharacteristicDocument> per_characteristic;
+  std::optional<CmmOffsetDocument> offset;
+};
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CmmCharacteristicDocument, feature, axis, line, nominal_mm,
+                                   actual_mm, deviation_mm, lower_mm, upper_mm, in_tolerance,
+                                   after_offset_mm, in_tolerance_after)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CmmOffsetDocument, translation_mm, rotation_urad,
+                                   work_offset_correction_mm, axis_resolved, characteristics,
+                                   out_of_tolerance_after, max_abs_after_mm, left_out)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CmmDocument, file, format, unit, characteristics, judged,
+                                   out_of_tolerance, verdict, per_characteristic, offset)
+
+CmmDocument document_of(const solver::PartInspection& p, const solver::CmmReport& report,
+                        const std::string& file) {
+  CmmDocument d;
+  d.file = file;
+  d.format = report.format;
+  d.characteristics = static_cast<int>(p.characteristics.size());
+  d.judged = p.judged;
+  d.out_of_tolerance = p.out_of_tolerance;
+  if (p.pass) d.verdict = *p.pass ? "PASS" : "FAIL";
+  for (const auto& r : p.characteristics) {
+    CmmCharacteristicDocument c;
+    c.feature = r.characteristic.feature;
+    c.axis = r.characteristic.axis;
+    c.line = r.characteristic.line;
+    c.nominal_mm = r.characteristic.nominal_mm;
+    c.actual_mm = r.characteristic.actual_mm;
+    c.deviation_mm = r.deviation_mm;
+    c.lower_mm = r.characteristic.lower_mm;
+    c.upper_mm = r.characteristic.upper_mm;
+    c.in_tolerance = r.in_tolerance;
+    c.after_offset_mm = r.after_offset_mm;
+    c.in_tolerance_after = r.in_tolerance_after;
+    d.per_characteristic.push_back(c);
+  }
+  if (p.fit) {
+    CmmOffsetDocument o;
+    o.translation_mm = p.fit->translation_mm;
+    if (p.fit->rotation_rad) o.rotation_urad = Eigen::Vector3d(*p.fit->rotation_rad * 1e6);
+    o.work_offset_correction_mm = -p.fit->translation_mm;
+    o.axis_resolved = p.fit->axis_resolved;
+    o.characteristics = p.fit->characteristics;
+    o.out_of_tolerance_after = p.fit->out_of_tolerance_after;
+    o.max_abs_after_mm = p.fit->max_abs_after_mm;
+    o.left_out = p.fit->left_out;
+    d.offset = o;
+  }
+  return d;
+}
+
+std::string signed_mm(double v) { return fmt::format("{:+.4f}", v == 0 ? 0.0 : v); }
+
+void print_cmm(const solver::PartInspection& p, const solver::CmmReport& report,
+               const std::string& file) {
+  std::cout << "CMM report " << file << " (" << report.format << "): " << p.characteristics.size()
+            << " characteristics, " << p.judged << " with a tolerance\n";
+  std::cout << fmt::format("  {:<12} {:<4} {:>11} {:>11} {:>9}  {:<19} {:<4} {:>12}\n", "feature",
+                           "axis", "nominal mm", "actual mm", "dev mm", "tolerance mm", "in",
+                           "after offset");
+  std::vector<std::string> out;
+  for (const auto& r : p.characteristics) {
+    const auto& c = r.characteristic;
+    const std::string band =
+        c.lower_mm ? signed_mm(*c.lower_mm) + " .. " + signed_mm(*c.upper_mm) : "-";
+    const std::string in = r.in_tolerance ? (*r.in_tolerance ? "yes" : "NO") : "-";
+    if (r.in_tolerance && !*r.in_tolerance) out.push_back(c.feature + " " + c.axis);
+    std::cout << fmt::format("  {:<12} {:<4} {:>11} {:>11} {:>9}  {:<19} {:<4} {:>12}\n", c.feature,
+                             c.axis.empty() ? "-" : c.axis, mm(c.nominal_mm), mm(c.actual_mm),
+                             signed_mm(r.deviation_mm), band, in,
+                             r.after_offset_mm ? signed_mm(*r.after_offset_mm) : "-");
+  }
+  if (!p.pass) {
+    std::cout << "verdict: none (the report gives no tolerances)\n";
+  } else if (*p.pass) {
+    std::cout << "verdict: PASS (all " << p.judged << " in tolerance)\n";
+  } else {
+    std::cout << "verdict: FAIL (" << p.out_of_tolerance << " of " << p.judged
+              << " out of tolerance:";
+    for (std::size_t k = 0; k < out.size(); ++k) std::cout << (k ? ", " : " ") << out[k];
+    std::cout << ")\n";
+  }
+  if (!p.fit) return;
+  const solver::PartOffsetFit& f = *p.fit;
+  std::cout << "best-fit offset of the part (tolerance-weighted, " << f.characteristics
+            << " X, Y, Z characteristics):\n";
+  const char* const axes = "xyz";
+  std::cout << "  displacement";
+  for (int k = 0; k < 3; ++k) {
+    std::cout << "  d" << axes[k] << " "
+              << (f.axis_resolved[static_cast<std::size_t>(k)] ? signed_mm(f.translation_mm(k))
+                                                               : "-");
+  }
+  std::cout << " mm (the work offset's correction is its opposite)\n";
+  if (f.rotation_rad) {
+    std::cout << "  rotation     "
+              << fmt::format("about x {:+.1f}  y {:+.1f}  z {:+.1f} urad",
+                             f.rotation_rad->x() * 1e6, f.rotation_rad->y() * 1e6,
+                             f.rotation_rad->z() * 1e6)
+              << " (about the report's origin)\n";
+  } else {
+    std::cout << "  rotation     not fitted (fewer than three features with X, Y and Z nominals "
+                 "spanning a plane)\n";
+  }
+  for (const auto& why : f.left_out) std::cout << "  left out: " << why << "\n";
+  std::cout << "  after it: " << f.out_of_tolerance_after
+            << " out of tolerance, largest remaining deviation " << mm(f.max_abs_after_mm)
+            << " mm\n";
+}
+
+int run_cmm(const Options& o) {
+  std::string why;
+  const std::optional<std::string> text = read_text_file(o.file, &why);
+  if (!text) throw CsvError(o.file, 0, 0, "cannot read: " + why);
+  const solver::CmmReport report = solver::read_cmm_results(*text, o.file);
+  const solver::PartInspection p = solver::inspect_part(report);
+  if (o.json) {
+    std::cout << json(document_of(p, report, o.file)).dump(2) << "\n";
+  } else {
+    print_cmm(p, report, o.file);
+  }
+  return p.pass && !*p.pass ? kExitFail : kExitOk;
+}
+
 // An evaluation refused (std::invalid_argument) is reported as "<file>: message", exit 1.
 int refusing(const std::string& file, int (*run)(const Options&), const Options& o) {
   try {
@@ -678,7 +844,7 @@ void add_analyze(CLI::App& app, Commands& commands) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "evaluate an instrument export (ISO 230-2 positioning run, ISO 230-4 circular test,\n"
-      "tracker grid, a control's touch log) on its own, without services");
+      "tracker grid, a CMM report, a control's touch log) on its own, without services");
   analyze->require_subcommand(1);
 
   CLI::App* iso = analyze->add_subcommand(
@@ -730,6 +896,14 @@ void add_analyze(CLI::App& app, Commands& commands) {
   add_plant_option(grid, o->plant);
   add_json_flag(grid, o->json);
   commands.push_back({grid, [o] { return refusing("", run_grid, *o); }});
+
+  CLI::App* cmm = analyze->add_subcommand(
+      "cmm",
+      "judge a CMM report of a part (PC-DMIS text report, or a table of feature, axis,\n"
+      "nominal, actual and tolerances) and fit the work offset that would centre it");
+  cmm->add_option("FILE", o->file, "the CMM report")->required();
+  add_json_flag(cmm, o->json);
+  commands.push_back({cmm, [o] { return refusing(o->file, run_cmm, *o); }});
 
   CLI::App* touches = analyze->add_subcommand(
       "touches",

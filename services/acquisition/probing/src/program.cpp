@@ -3,6 +3,7 @@
 
 #include "ncqual/check_kinds.hpp"
 #include "ncqual/probing/plan.hpp"
+#include "ncqual/text.hpp"
 #include "ncqual/units.hpp"
 
 #include <algorithm>
@@ -66,14 +67,6 @@ std::vector<std::string> lines_of(const std::string& text) {
   }
   if (!lines.empty() && lines.back().empty()) lines.pop_back();
   return lines;
-}
-
-std::optional<double> parse_number(const std::string& s) {
-  if (s.empty()) return std::nullopt;
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end != s.c_str() + s.size() || !std::isfinite(v)) return std::nullopt;
-  return v;
 }
 
 std::optional<int> parse_integer(const std::string& s) {
@@ -265,7 +258,7 @@ const std::string& field(const std::map<std::string, std::string>& fields, const
 double number_field(const std::map<std::string, std::string>& fields, const std::string& key,
                     const std::string& comment, const std::string& file, int line) {
   const std::string& text = field(fields, key, comment, file, line);
-  const auto v = parse_number(text);
+  const auto v = parse_finite_number(text);
   if (!v)
     throw ProgramError(file, line, comment + ": " + key + " = '" + text + "' is not a number");
   return *v;
@@ -346,7 +339,7 @@ ProgramDescription read_program(const std::string& text, const std::string& file
       std::istringstream in(approach);
       std::string part;
       for (int k = 0; k < 3; ++k) {
-        const auto v = in >> part ? parse_number(part) : std::nullopt;
+        const auto v = in >> part ? parse_finite_number(part) : std::nullopt;
         if (!v) throw ProgramError(file, ln, c + ": approach is not dx,dy,dz");
         t.approach[k] = *v;
       }
@@ -395,7 +388,7 @@ LoggedTouch fanuc_touch(const std::string& raw, const std::string& file, int ln)
   const std::string parts[3] = {s.substr(x + 1, y - x - 1), s.substr(y + 1, z - y - 1),
                                 s.substr(z + 1)};
   for (int k = 0; k < 3; ++k) {
-    const auto v = parse_number(parts[k]);
+    const auto v = parse_finite_number(parts[k]);
     if (!v) {
       throw ProgramError(file, ln,
                          std::string(1, "XYZ"[k]) + " = '" + parts[k] + "' is not a number");
@@ -420,7 +413,7 @@ TouchLog read_touch_log(const std::string& text, const std::string& file, Dialec
       std::string word;
       std::vector<double> values;
       while (words >> word) {
-        const auto v = parse_number(word);
+        const auto v = parse_finite_number(word);
         if (!v) {
           throw ProgramError(file, ln,
                              "field " + std::to_string(values.size() + 1) + " = '" + word +
@@ -465,7 +458,7 @@ TouchLog read_touch_log(const std::string& text, const std::string& file, Dialec
       std::istringstream in(fields);
       std::string part;
       while (std::getline(in, part, ',')) parts.push_back(trim(part));
-      if (first && !parts.empty() && !parse_number(parts[0])) {
+      if (first && !parts.empty() && !parse_finite_number(parts[0])) {
         first = false;  // a header line: touch,x,y,z
         continue;
       }
@@ -480,7 +473,7 @@ TouchLog read_touch_log(const std::string& text, const std::string& file, Dialec
       if (!n) throw ProgramError(file, ln, "touch = '" + parts[0] + "' is no touch number");
       t.number = *n;
       for (int k = 0; k < 3; ++k) {
-        const auto v = parse_number(parts[static_cast<std::size_t>(k) + 1]);
+        const auto v = parse_finite_number(parts[static_cast<std::size_t>(k) + 1]);
         if (!v) {
           throw ProgramError(file, ln,
                              std::string(1, "xyz"[k]) + " = '" +

@@ -153,6 +153,43 @@ struct GridFromExport {
 GridFromExport grid_points_from_export(const CsvTable& table, const std::string& prefix,
                                        const GlobalCheckConfig& config);
 
+// ---- CMM results --------------------------------------------------------------------------------
+// A coordinate measuring machine's report of a part (or a fixture, a set-point block): per
+// characteristic, a feature's coordinate or size with its nominal, the measured value and the
+// tolerance band. Lengths only (an angle characteristic is refused naming it), in mm.
+struct CmmCharacteristic {
+  std::string feature;  // "PNT1", "HOLE_3": as the report names it
+  std::string axis;     // "X", "Y", "Z" of a location; a size or distance as written ("D", "M"),
+                        // upper case; "" where the report names none
+  double nominal_mm = 0, actual_mm = 0;
+  // The band of actual - nominal, where the report gives one: lower <= deviation <= upper.
+  std::optional<double> lower_mm, upper_mm;
+  int line = 0;  // file line
+  double deviation_mm() const { return actual_mm - nominal_mm; }
+};
+struct CmmReport {
+  std::string format;                              // "table" or "PC-DMIS text"
+  std::vector<CmmCharacteristic> characteristics;  // in file order
+};
+
+// Reads a CMM report in either shape:
+//  - a table (comma, semicolon or tab; PC-DMIS's and Calypso's table exports, a spreadsheet):
+//    a feature column ("Feature", "Name", "ID", "Characteristic", "Point", "Element"), an
+//    optional "Axis" column (else the axis is the name's suffix: "PNT1.X", "PNT1_X", "PNT1 X",
+//    "CIR1.D" for a diameter),
+//    "Nominal", "Actual" (or "Measured", "Meas"), optionally "Deviation" ("Dev"), and the
+//    tolerance as "Upper Tol" with "Lower Tol" (signed: the band is nominal + lower .. nominal +
+//    upper, as Calypso writes it), "+Tol" with "-Tol" (magnitudes: nominal - tol .. nominal + tol,
+//    as PC-DMIS writes it) or one symmetric "Tol". Lengths in the unit the header names
+//    ("Nominal (in)") or a comment declares ('# Units: mm'), refused when nothing names it.
+//  - PC-DMIS's text report: "DIM <id>= LOCATION OF POINT <name>  UNITS=MM" blocks, each with
+//    an "AX NOMINAL +TOL -TOL MEAS DEV OUTTOL" header (columns in any order) and one line per
+//    axis; a block's feature is the name after "OF <type>", else the dimension's id.
+// A deviation the report prints must be actual - nominal within the rounding of the cells (a
+// report that writes nominal - actual is refused: its signs would be read backwards). Refused
+// besides cell errors: no characteristics, a feature and axis twice (naming the first line).
+CmmReport read_cmm_results(std::string_view text, const std::string& file);
+
 // ---- Imports: instrument exports as the tracker points of a MeasurementSet ---------------------
 // Labelled as the monthly programs label them (ncqual/global_check.hpp), so an export goes
 // through the same solver check as a simulated measurement (`ncqual import`). Commanded axes are
