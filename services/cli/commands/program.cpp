@@ -108,9 +108,11 @@ int run(const Options& o) {
   }
   if (tracker) {
     std::cerr << "nominal points of " << to_string(request.kind) << " on " << machine.machine_id
-              << " (request " << request.request_id
-              << ") for the tracker's software; export the measured points under the same "
-                 "names for ncqual import\n";
+              << " (request " << request.request_id << ") for the tracker's software; "
+              << (request.kind == CheckKind::GlobalGrid
+                      ? "export the measured points under the same names for ncqual import grid\n"
+                      : "ncqual import takes point exports of global_grid only (circles and "
+                        "linear runs: their instrument files)\n");
     return kExitOk;
   }
   std::cerr << "program of " << to_string(request.kind) << " on " << machine.machine_id
