@@ -80,6 +80,14 @@ bool write_file_atomically(const std::string& path, const std::string& text, std
   return true;
 }
 
+std::string format_fixed(double v, int decimals) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, v);
+  std::string s = buffer;
+  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
+  return s;
+}
+
 std::optional<double> parse_finite_number(const std::string& word) {
   if (word.empty()) return std::nullopt;
   char* end = nullptr;

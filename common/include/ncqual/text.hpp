@@ -13,6 +13,10 @@ namespace ncqual {
 // "" -> {""}. Callers decide what an empty entry means.
 std::vector<std::string> split_at(std::string_view text, char sep);
 
+// `v` with `decimals` digits after the point, never "-0.000": a zero is a zero whatever side it
+// was rounded from.
+std::string format_fixed(double v, int decimals);
+
 // The whole of `word` as a finite number ("12", "-0.5", "1e-3"); nothing for anything else
 // ("", "1.5mm", "nan", "inf", out of range).
 std::optional<double> parse_finite_number(const std::string& word);

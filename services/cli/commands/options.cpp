@@ -12,7 +12,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -170,34 +169,15 @@ std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const s
   }
   const solver::GridFromExport part =
       solver::grid_points_from_export(table, prefix, *machine->global_check);
-  // A whole session's export (or its nominal list) may be given for every run: the points of the
-  // other runs are theirs, not news. What no run takes is said once, however many.
-  const auto letters = [](const std::string& name) {
-    std::string out;
-    for (char c : name) {
-      if (std::isalpha(static_cast<unsigned char>(c))) {
-        out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      }
-    }
-    return out;
-  };
-  std::vector<const solver::TrackerExportPoint*> unused;
-  for (const auto& p : part.ignored) {
-    const std::string l = letters(p.name);
-    bool other_run = false;
-    for (const char* run : {"xrun", "yrun", "grid"}) {
-      other_run = other_run || (l.rfind(run, 0) == 0 && letters(prefix) != run);
-    }
-    if (!other_run) unused.push_back(&p);
-  }
+  // What no run of the program takes, once, however many.
+  const std::vector<solver::TrackerExportPoint>& unused = part.ignored;
   if (!unused.empty()) {
     std::cerr << "warning: " << table.file << ": " << unused.size() << " point"
               << (unused.size() == 1 ? " is" : "s are") << " not " << prefix << " points of "
               << machine->machine_id << "'s program (or not of its reflector 0) and not used:";
     const std::size_t shown = std::min<std::size_t>(unused.size(), 5);
     for (std::size_t k = 0; k < shown; ++k) {
-      std::cerr << (k ? ", " : " ") << "'" << unused[k]->name << "' (line " << unused[k]->line
-                << ")";
+      std::cerr << (k ? ", " : " ") << "'" << unused[k].name << "' (line " << unused[k].line << ")";
     }
     std::cerr << (shown < unused.size() ? ", ...\n" : "\n");
   }

@@ -23,15 +23,6 @@ constexpr double kSafeZAboveHighestStartMm = 50.0;
 // A skip position this close to the probing move's end: the probe did not trip (Fanuc).
 constexpr double kNoTripMm = 0.001;
 
-std::string fixed(double v, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, v);
-  std::string s = buffer;
-  // No "-0.0000": a zero is a zero whatever side it was rounded from.
-  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);
-  return s;
-}
-
 std::string general(double v) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.9g", std::abs(v) < 1e-12 ? 0.0 : v);
@@ -84,9 +75,11 @@ class Writer {
   void line(const std::string& s) { out_ << s << "\n"; }
   void comment(const std::string& s) { line("(" + comment_safe(s) + ")"); }
 
-  std::string length(double mm) const { return p_.inch ? fixed(mm / kMmPerInch, 5) : fixed(mm, 4); }
+  std::string length(double mm) const {
+    return p_.inch ? format_fixed(mm / kMmPerInch, 5) : format_fixed(mm, 4);
+  }
   std::string feed(double mm_per_min) const {
-    return p_.inch ? fixed(mm_per_min / kMmPerInch, 2) : fixed(mm_per_min, 1);
+    return p_.inch ? format_fixed(mm_per_min / kMmPerInch, 2) : format_fixed(mm_per_min, 1);
   }
   // A pivot position (machine coordinates, mm) in the work offset's coordinates (mm).
   Eigen::Vector3d program(const Eigen::Vector3d& pivot) const { return pivot - p_.work_offset_mm; }
@@ -106,7 +99,7 @@ class Writer {
 
 Eigen::Vector3d xyz_of(const AxisPosition& a) { return {a.x_mm, a.y_mm, a.z_mm}; }
 
-std::string degrees(double rad) { return fixed(units::rad_to_deg(rad), 4); }
+std::string degrees(double rad) { return format_fixed(units::rad_to_deg(rad), 4); }
 
 }  // namespace
 

@@ -4,9 +4,9 @@
 #include "ncqual/check_kinds.hpp"
 #include "ncqual/global_check.hpp"
 #include "ncqual/kinematics.hpp"
+#include "ncqual/text.hpp"
+#include "ncqual/units.hpp"
 
-#include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <vector>
 
@@ -14,17 +14,8 @@ namespace ncqual::probing {
 namespace {
 
 // Micrometre resolution in mm, 1e-5 deg: finer than any tracker's uncertainty.
-std::string mm(double v) {
-  char text[48];
-  std::snprintf(text, sizeof text, "%.4f", v == 0 ? 0.0 : v);  // no "-0.0000"
-  return text;
-}
-std::string deg(double rad) {
-  char text[48];
-  const double d = rad * 180.0 / M_PI;
-  std::snprintf(text, sizeof text, "%.5f", d == 0 ? 0.0 : d);
-  return text;
-}
+std::string mm(double v) { return format_fixed(v, 4); }
+std::string deg(double rad) { return format_fixed(rad * 180.0 / units::kPi, 5); }
 
 }  // namespace
 

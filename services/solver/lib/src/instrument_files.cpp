@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <set>
 #include <regex>
 #include <tuple>
 
@@ -732,14 +733,20 @@ bool has_axis_column(const CsvTable& t, const std::string& base) {
   });
 }
 
-// The column of the point's name.
-std::optional<std::size_t> point_name_column(const CsvTable& t) {
-  for (const char* name : {"point", "pointname", "point_name", "name", "id", "label", "target"}) {
+// The first column whose normalised name is one of `names`, tried in order.
+std::optional<std::size_t> column_named(const CsvTable& t,
+                                        std::initializer_list<const char*> names) {
+  for (const char* name : names) {
     for (std::size_t k = 0; k < t.header.size(); ++k) {
       if (normalised(t.header[k]) == name) return k;
     }
   }
   return std::nullopt;
+}
+
+// The column of the point's name.
+std::optional<std::size_t> point_name_column(const CsvTable& t) {
+  return column_named(t, {"point", "pointname", "point_name", "name", "id", "label", "target"});
 }
 
 }  // namespace
@@ -796,22 +803,30 @@ GridFromExport grid_points_from_export(const CsvTable& t, const std::string& pre
   };
   std::map<std::string, std::size_t> by_name;  // canonical name -> index into planned
   std::vector<Planned> planned;
+  std::set<std::string> other_runs;  // canonical names of the other runs' points, any reflector
   for (const TrackerMove& m : global_check_program(CheckKind::GlobalGrid, config)) {
-    if (m.label.rfind(prefix + ":", 0) != 0 || m.target != 0) continue;
+    if (m.label.empty()) continue;
+    // A grid point's label "grid:17:t0" may be written without its reflector: "Grid 17".
     std::string label = m.label;
-    if (label.size() > 3 && label.compare(label.size() - 3, 3, ":t0") == 0) {
-      by_name.emplace(canonical_point_name(label), planned.size());
-      label.resize(label.size() - 3);
+    const bool t0 = label.size() > 3 && label.compare(label.size() - 3, 3, ":t0") == 0;
+    if (t0) label.resize(label.size() - 3);
+    if (m.label.rfind(prefix + ":", 0) != 0) {  // another run's point
+      other_runs.insert(canonical_point_name(m.label));
+      if (t0) other_runs.insert(canonical_point_name(label));
+      continue;
     }
+    if (m.target != 0) continue;
+    if (t0) by_name.emplace(canonical_point_name(m.label), planned.size());
     by_name.emplace(canonical_point_name(label), planned.size());
     planned.push_back({label, stylus_ball_centre(m.commanded, config.targets.front())});
   }
   std::vector<std::optional<GridFilePoint>> found(planned.size());
   GridFromExport out;
   for (const TrackerExportPoint& p : points) {
-    const auto it = by_name.find(canonical_point_name(p.name));
+    const std::string name = canonical_point_name(p.name);
+    const auto it = by_name.find(name);
     if (it == by_name.end()) {
-      out.ignored.push_back(p);
+      if (!other_runs.count(name)) out.ignored.push_back(p);
       continue;
     }
     GridFilePoint g;
@@ -978,16 +993,6 @@ std::pair<std::string, std::string> split_axis(const std::string& name) {
   return {name, ""};
 }
 
-std::optional<std::size_t> column_named(const CsvTable& t,
-                                        std::initializer_list<const char*> names) {
-  for (const char* name : names) {
-    for (std::size_t k = 0; k < t.header.size(); ++k) {
-      if (normalised(t.header[k]) == name) return k;
-    }
-  }
-  return std::nullopt;
-}
-
 // Adds `c`, refusing a feature and axis seen before; `fail` reports at c.line.
 template <typename Fail>
 void add_characteristic(CmmReport& report, std::map<std::string, int>& seen, CmmCharacteristic c,
@@ -1000,9 +1005,13 @@ void add_characteristic(CmmReport& report, std::map<std::string, int>& seen, Cmm
   report.characteristics.push_back(std::move(c));
 }
 
-std::string deviation_refusal(double printed, double computed) {
-  return "the report's deviation " + detail::format_number(printed) +
-         " mm is not actual - nominal (" + detail::format_number(computed) +
+// Why a printed deviation is not the characteristic's actual - nominal within `rounding_mm` (the
+// rounding of the three printed cells); nothing when it is.
+std::optional<std::string> deviation_disagreement(const CmmCharacteristic& c, double printed_mm,
+                                                  double rounding_mm) {
+  if (std::abs(printed_mm - c.deviation_mm()) <= rounding_mm + 1e-9) return std::nullopt;
+  return "the report's deviation " + detail::format_number(printed_mm) +
+         " mm is not actual - nominal (" + detail::format_number(c.deviation_mm()) +
          " mm): a report that writes nominal - actual would be read with its signs backwards; "
          "export the deviation as actual - nominal, or leave the column out";
 }
@@ -1061,12 +1070,13 @@ CmmReport read_cmm_table(const CsvTable& t) {
       return !col || t.cell(row, col->index).empty();
     };
     if (!blank(deviation)) {
-      const double printed = length_mm(t, row, *deviation);
-      const double slack = rounding_mm(t.cell(row, deviation->index), deviation->to_mm) +
-                           rounding_mm(t.cell(row, nominal->index), nominal->to_mm) +
-                           rounding_mm(t.cell(row, actual->index), actual->to_mm) + 1e-9;
-      if (std::abs(printed - c.deviation_mm()) > slack) {
-        t.fail(row.line, deviation->index, deviation_refusal(printed, c.deviation_mm()));
+      const auto rounding = [&](const LengthColumn& col) {
+        return rounding_mm(t.cell(row, col.index), col.to_mm);
+      };
+      if (const auto why = deviation_disagreement(
+              c, length_mm(t, row, *deviation),
+              rounding(*deviation) + rounding(*nominal) + rounding(*actual))) {
+        t.fail(row.line, deviation->index, *why);
       }
     }
     if (!blank(upper_tol) && !blank(lower_tol)) {
@@ -1109,20 +1119,18 @@ std::vector<std::string> words_of(const std::string& line) {
   return out;
 }
 
-bool is_pc_dmis_text(std::string_view text) {
+// PC-DMIS's text report: a "DIM" line and an "AX" header.
+bool is_pc_dmis_text(const std::vector<std::string>& lines) {
   bool dim = false, ax = false;
-  std::size_t at = 0;
-  while (at < text.size()) {
-    const std::size_t end = std::min(text.find('\n', at), text.size());
-    const std::vector<std::string> w = words_of(std::string(text.substr(at, end - at)));
+  for (const std::string& line : lines) {
+    const std::vector<std::string> w = words_of(line);
     if (!w.empty() && upper(w[0]) == "DIM") dim = true;
     if (!w.empty() && upper(w[0]) == "AX") ax = true;
-    at = end + 1;
   }
   return dim && ax;
 }
 
-CmmReport read_pc_dmis_text(std::string_view text, const std::string& file) {
+CmmReport read_pc_dmis_text(const std::vector<std::string>& lines, const std::string& file) {
   CmmReport report;
   report.format = "PC-DMIS text";
   std::map<std::string, int> seen;
@@ -1130,12 +1138,7 @@ CmmReport read_pc_dmis_text(std::string_view text, const std::string& file) {
   std::optional<double> to_mm;
   std::map<std::string, std::size_t> columns;  // header word -> index of the row's words
   int line_no = 0;
-  std::size_t at = 0;
-  if (text.substr(0, 3) == "\xEF\xBB\xBF") at = 3;
-  while (at < text.size()) {
-    const std::size_t end = std::min(text.find('\n', at), text.size());
-    const std::string line(text.substr(at, end - at));
-    at = end + 1;
+  for (const std::string& line : lines) {
     ++line_no;
     const std::vector<std::string> w = words_of(line);
     if (w.empty()) continue;
@@ -1211,11 +1214,11 @@ CmmReport read_pc_dmis_text(std::string_view text, const std::string& file) {
     c.nominal_mm = nominal->first;
     c.actual_mm = actual->first;
     if (const auto dev = value("DEV")) {
-      const double slack = rounding_mm(dev->second, *to_mm) + rounding_mm(nominal->second, *to_mm) +
-                           rounding_mm(actual->second, *to_mm) + 1e-9;
-      if (std::abs(dev->first - c.deviation_mm()) > slack) {
-        fail("DIM " + feature + " axis " + c.axis + ": " +
-             deviation_refusal(dev->first, c.deviation_mm()));
+      const double rounding = rounding_mm(dev->second, *to_mm) +
+                              rounding_mm(nominal->second, *to_mm) +
+                              rounding_mm(actual->second, *to_mm);
+      if (const auto why = deviation_disagreement(c, dev->first, rounding)) {
+        fail("DIM " + feature + " axis " + c.axis + ": " + *why);
       }
     }
     const auto plus = value("+TOL");
@@ -1232,8 +1235,11 @@ CmmReport read_pc_dmis_text(std::string_view text, const std::string& file) {
 }  // namespace
 
 CmmReport read_cmm_results(std::string_view text, const std::string& file) {
-  CmmReport report =
-      is_pc_dmis_text(text) ? read_pc_dmis_text(text, file) : read_cmm_table(read_csv(text, file));
+  const std::string_view bom = "\xEF\xBB\xBF";
+  const std::vector<std::string> lines =
+      split_at(text.substr(0, 3) == bom ? text.substr(3) : text, '\n');  // words_of drops '\r'
+  CmmReport report = is_pc_dmis_text(lines) ? read_pc_dmis_text(lines, file)
+                                            : read_cmm_table(read_csv(text, file));
   if (report.characteristics.empty()) {
     throw CsvError(file, 0, 0,
                    "no characteristics: a CMM report needs at least one row of a feature with its "
@@ -1339,10 +1345,12 @@ void check_grid_envelope(const CsvTable& t, const std::vector<GridFilePoint>& po
   if (points.empty()) return;
   // The cells of the measured x: a grid file's x_meas, an export's x.
   const bool exported = is_tracker_point_export(t);
-  const std::size_t x_column =
-      exported ? find_coordinate_column(t, {"x"})->index : grid_columns(t).measured[0];
-  if (!exported) {  // commanded positions from the file; an export's are the program's
+  std::size_t x_column = 0;
+  if (exported) {  // an export's commanded positions are the program's
+    x_column = find_coordinate_column(t, {"x"})->index;
+  } else {  // a grid file's are its own
     const GridColumns c = grid_columns(t);
+    x_column = c.measured[0];
     for (const CsvRow& row : t.rows) {
       for (int k = 0; k < 3; ++k) check_position(t, row, c.commanded[k], k, e);
     }

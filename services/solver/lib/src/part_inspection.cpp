@@ -85,7 +85,6 @@ PartInspection inspect_part(const CmmReport& report) {
     }
   }
   PartOffsetFit fit;
-  bool rotated = false;
   if (nominal_of.size() - partial.size() >= 3) {
     Eigen::MatrixXd a(static_cast<Eigen::Index>(located.size()), 6);
     Eigen::VectorXd b(static_cast<Eigen::Index>(located.size()));
@@ -113,7 +112,6 @@ PartInspection inspect_part(const CmmReport& report) {
         const Eigen::VectorXd x = qr.solve(b);
         fit.translation_mm = x.head<3>();
         fit.rotation_rad = Eigen::Vector3d(x.tail<3>() / arm);
-        rotated = true;
         used = located;
         for (const std::string& f : partial) {
           fit.left_out.push_back(f + ": not all of its X, Y and Z are in the report");
@@ -121,7 +119,7 @@ PartInspection inspect_part(const CmmReport& report) {
       }
     }
   }
-  if (!rotated) {  // weighted means per axis
+  if (!fit.rotation_rad) {  // weighted means per axis
     Eigen::Vector3d sum_w = Eigen::Vector3d::Zero(), sum_wd = Eigen::Vector3d::Zero();
     for (std::size_t i : used) {
       const CmmCharacteristic& c = out.characteristics[i].characteristic;

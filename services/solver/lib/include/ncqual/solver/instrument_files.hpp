@@ -144,8 +144,9 @@ bool is_tracker_point_export(const CsvTable& table);
 // separators and leading zeros ("X_RUN_03", "Grid 17"); the commanded position is the main
 // target's nominal position at that move. `prefix`: "x_run", "y_run" or "grid". The points in the
 // program's order; a point of the program missing from the export is refused (naming up to five,
-// at the last line); exported points the program does not name (a drift nest, a reference
-// point) are returned as `ignored` for the caller to report.
+// at the last line); exported points this run does not take (a drift nest, a reference point,
+// the grid's other reflectors) are returned as `ignored` for the caller to report, except the
+// points of the program's other runs (a whole session's export is given for every run).
 struct GridFromExport {
   std::vector<GridFilePoint> points;
   std::vector<TrackerExportPoint> ignored;
