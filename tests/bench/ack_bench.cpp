@@ -21,6 +21,7 @@
 // Prints figures with targets and PASS/MISS beside them; exits 0 once measured (whatever the
 // figures), 1 when the historian did not store or acknowledge everything in time, 2 for bad usage.
 #include "harness.hpp"
+#include "test_participant.hpp"
 
 #include "ncqual/clock.hpp"
 #include "ncqual/command_line.hpp"
@@ -118,15 +119,21 @@ class Failed : public std::runtime_error {
 
 // The producer side: one service (participant, receive loop, heartbeat) with the outbox of the
 // "with" figures and the writer both columns share, and a read-only connection to the historian.
+// The producer's service: "bench", a participant of the plant as the services' are.
+ncqual::dds::ServiceOptions service_options(const testing::Plant& plant) {
+  ncqual::dds::ServiceOptions o;
+  o.service = "bench";
+  o.participant = testing::test_participant(plant, "ncqual-bench");
+  return o;
+}
+
 class Producer {
  public:
   Producer(testing::Plant& plant, const Options& options, CheckResult check)
       : plant_(plant),
         options_(options),
         check_(std::move(check)),
-        service_(ncqual::dds::ServiceOptions{
-            "bench", "", plant.domain(),
-            std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml"}),
+        service_(service_options(plant)),
         state_(storage::StateFile::open((plant.dir() / "bench-outbox.db").string())),
         writer_(service_.participant()),
         acks_(service_.participant()),

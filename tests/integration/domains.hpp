@@ -52,6 +52,8 @@ enum class TestDomain : int {
   ControlFiles = detail::test_domain(224),
   // LinuxCnc.*: a daily check on LinuxCNC through the control-files driver
   LinuxCnc = detail::test_domain(225),
+  // PlantNetwork.*: hosts in network namespaces, discovery through a discovery server
+  PlantNetwork = detail::test_domain(226),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -82,7 +84,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::ImportBench:
     case TestDomain::StorageDamaged:
     case TestDomain::ControlFiles:
-    case TestDomain::LinuxCnc: break;
+    case TestDomain::LinuxCnc:
+    case TestDomain::PlantNetwork: break;
   }
   return static_cast<int>(domain);
 }

@@ -56,6 +56,14 @@ class Plant {
   std::string write_plant(const std::string& startup_checks = "[monument_positioning]") {
     return write_plant_file("scheduler:\n  startup_checks: " + startup_checks + "\n");
   }
+  // As write_plant, with `sections` (top-level YAML, e.g. a network: section) before the
+  // scheduler's, into `file_name` in the plant's directory (plant.yaml: the plant's own file).
+  std::string write_plant_with(const std::string& sections,
+                               const std::string& startup_checks = "[monument_positioning]",
+                               const std::string& file_name = "plant.yaml") {
+    return write_plant_file(sections + "scheduler:\n  startup_checks: " + startup_checks + "\n",
+                            file_name);
+  }
 
   // A plant on the simulated clock with a calendar: `scheduler_yaml` is the body of the
   // scheduler: section (indented two spaces), the clock starts at `start` (ISO 8601 UTC).
@@ -70,8 +78,17 @@ class Plant {
   // Starts a service of the plant; stdout and stderr are appended to <service>.log in the
   // plant's directory (several instances of one service share the file).
   Process& start(const std::string& service, const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> argv{executable(service), "--plant", plant_file_, "--log-level",
-                                  "debug"};
+    return start_through({}, service, extra);
+  }
+  // As start, through a launcher that runs its remaining arguments, e.g. {"ip", "netns", "exec",
+  // "host1"} (it must exec the service, so that the Process is the service itself).
+  Process& start_through(const std::vector<std::string>& launcher, const std::string& service,
+                         const std::vector<std::string>& extra = {}) {
+    std::vector<std::string> argv = launcher;
+    for (const std::string& a : {executable(service), std::string("--plant"), plant_file_,
+                                 std::string("--log-level"), std::string("debug")}) {
+      argv.push_back(a);
+    }
     argv.insert(argv.end(), extra.begin(), extra.end());
     processes_.push_back(
         std::make_unique<Process>(Launch(argv).log_to((dir_ / (service + ".log")).string())));
@@ -126,14 +143,16 @@ class Plant {
 
  private:
   // plant.yaml: the plant's name, domain, QoS and historian, `sections`, then the machines.
-  std::string write_plant_file(const std::string& sections) {
-    const auto path = dir_ / "plant.yaml";
+  std::string write_plant_file(const std::string& sections,
+                               const std::string& file_name = "plant.yaml") {
+    const auto path = dir_ / file_name;
     std::ofstream out(path);
     out << "plant: test-plant\n"
         << "domain_id: " << domain_ << "\n"
         << qos_lines_ << "historian:\n  database: " << db_path() << "\n"
         << sections << "machines:\n";
     for (const auto& m : machines_) out << "  - " << m << "\n";
+    if (file_name != "plant.yaml") return path.string();  // another plant file, for a client
     plant_file_ = path.string();
     return plant_file_;
   }

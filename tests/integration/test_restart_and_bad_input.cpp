@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Restart and bad input across real processes.
 #include "harness.hpp"
+#include "test_participant.hpp"
 
 #include "cli_runner.hpp"
 
@@ -44,8 +45,7 @@ TEST(HistorianRestart, SigkillWhileChecksAreProducedStoresEveryCheckExactlyOnce)
   plant.start("acquisition", {"--machine", "pm1"});
   plant.start("scheduler");
 
-  ncqual::dds::Participant participant(
-      {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
+  ncqual::dds::Participant participant(test_participant(plant));
   ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
   ASSERT_TRUE(commands.wait_for_readers(1, std::chrono::seconds(30)));
 
@@ -90,8 +90,7 @@ TEST(BadInput, MalformedMeasurementSetsGetInvalidResultsAndNothingIsLost) {
   plant.start("scheduler");
   ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 1; }));
 
-  ncqual::dds::Participant participant(
-      {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
+  ncqual::dds::Participant participant(test_participant(plant));
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   ASSERT_TRUE(sets.wait_for_readers(2, std::chrono::seconds(30)));  // solver and historian
 
@@ -184,8 +183,7 @@ TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
   plant.write_plant("[]");
   plant.start("historian");
 
-  ncqual::dds::Participant participant(
-      {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
+  ncqual::dds::Participant participant(test_participant(plant));
   ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(participant);
   CheckResult genuine;
   genuine.machine_id = "pm1";

@@ -8,6 +8,7 @@
 // and the plant goes on; once it clears, everything is stored: every check complete, none
 // retried, and every producer stops with its outbox empty.
 #include "harness.hpp"
+#include "test_participant.hpp"
 
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"
@@ -147,8 +148,7 @@ TEST(StorageFaults, LockedFullAndMovedAwayTheHistorianHoldsThenStoresEverything)
   Process& acquisition = plant.start("acquisition", {"--all"});
   // A month at a simulated hour in 0.18 s: longer than the faults take; stopped after them.
   Process& scheduler = plant.start("scheduler", {"--days", "30", "--speed", "20000"});
-  dds::Participant participant(
-      {plant.domain(), std::string(NCQUAL_SOURCE_DIR) + "/deploy/qos/ncqual-qos.xml", "test"});
+  dds::Participant participant(test_participant(plant));
   dds::Reader<dds::HeartbeatTopic> beats(participant);
   dds::Reader<dds::AlarmTopic> alarms(participant);
   ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 5; }))

@@ -5,6 +5,8 @@
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/rtps/attributes/ServerAttributes.h>
+#include <fastrtps/utils/IPLocator.h>
 
 #include <spdlog/spdlog.h>
 
@@ -44,7 +46,86 @@ void load_profiles_once(const std::string& file) {
   loaded = file;
 }
 
+// "<plant file>: network.<list>[i]", as config problems name a value.
+std::string where(const NetworkConfig& network, const char* list, std::size_t i) {
+  return (network.source_path.empty() ? "" : network.source_path + ": ") + "network." + list + "[" +
+         std::to_string(i) + "]";
+}
+
+// The IPv4 locator of `address` (a host name is looked up now), on `default_port` when it
+// names none.
+eprosima::fastrtps::rtps::Locator_t locator_of(const NetworkAddress& address, int default_port,
+                                               const std::string& what) {
+  using eprosima::fastrtps::rtps::IPLocator;
+  eprosima::fastrtps::rtps::Locator_t locator;
+  std::string ip = address.host;
+  if (!IPLocator::isIPv4(ip)) {
+    const auto found = IPLocator::resolveNameDNS(ip).first;
+    if (found.empty()) {
+      throw DdsError(what + " = '" + to_string(address) +
+                     "': neither an IPv4 address nor a host name this host can resolve");
+    }
+    ip = *found.begin();
+  }
+  IPLocator::setIPv4(locator, ip);
+  IPLocator::setPhysicalPort(
+      locator, static_cast<std::uint16_t>(address.port != 0 ? address.port : default_port));
+  return locator;
+}
+
+// The plant's addresses over the profile's: the discovery servers (a client of them, each with
+// the GUID prefix `fastdds discovery -i <its index>` takes) or the initial peers.
+void apply_network(const NetworkConfig& network, DomainParticipantQos& qos) {
+  using eprosima::fastrtps::rtps::DiscoveryProtocol_t;
+  auto& builtin = qos.wire_protocol().builtin;
+  if (!network.servers.empty()) {
+    auto& discovery = builtin.discovery_config;
+    if (discovery.discoveryProtocol == DiscoveryProtocol_t::SIMPLE) {
+      discovery.discoveryProtocol = DiscoveryProtocol_t::CLIENT;
+    }
+    discovery.m_DiscoveryServers.clear();
+    for (std::size_t id = 0; id < network.servers.size(); ++id) {
+      eprosima::fastdds::rtps::RemoteServerAttributes server;
+      eprosima::fastdds::rtps::get_server_client_default_guidPrefix(static_cast<int>(id),
+                                                                    server.guidPrefix);
+      server.metatrafficUnicastLocatorList.push_back(
+          locator_of(network.servers[id], eprosima::fastdds::rtps::DEFAULT_ROS2_SERVER_PORT,
+                     where(network, "servers", id)));
+      discovery.m_DiscoveryServers.push_back(server);
+    }
+  }
+  if (!network.peers.empty()) {
+    builtin.initialPeersList.clear();
+    // Port 0: Fast DDS tries the domain's well-known ports of the first participants of a host
+    // (the transport's maxInitialPeersRange of them).
+    for (std::size_t i = 0; i < network.peers.size(); ++i) {
+      builtin.initialPeersList.push_back(
+          locator_of(network.peers[i], 0, where(network, "peers", i)));
+    }
+  }
+}
+
 }  // namespace
+
+ParticipantOptions participant_options(const PlantConfig& plant, int domain_id, std::string name) {
+  ParticipantOptions o;
+  o.domain_id = domain_id;
+  o.qos_profiles_file = plant.qos_profiles_file;
+  o.name = std::move(name);
+  o.allow_default_qos = plant.allow_default_qos;
+  o.network = plant.network;
+  return o;
+}
+
+std::string participant_profile(const NetworkConfig& network) {
+  if (!network.participant_profile.empty()) return network.participant_profile;
+  switch (network.discovery) {
+    case Discovery::Server: return profiles::kDiscoveryClient;
+    case Discovery::Peers: return profiles::kPeers;
+    case Discovery::Multicast: break;
+  }
+  return profiles::kParticipant;
+}
 
 // What to do when the profiles are not there, said once for all of the process's refusals.
 constexpr const char* kProfilesRemedy =
@@ -60,19 +141,21 @@ Participant::Participant(const ParticipantOptions& options)
   std::call_once(types_registered, [] { registerncqualTypes(); });
   auto* factory = DomainParticipantFactory::get_instance();
   DomainParticipantQos qos;
-  if (factory->get_participant_qos_from_profile(profiles::kParticipant, qos) !=
+  const std::string profile = participant_profile(options.network);
+  if (factory->get_participant_qos_from_profile(profile, qos) !=
       eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
     // Without our profiles file the Fast DDS defaults apply: reliable readers and writers, but
     // VOLATILE, so a restarted historian would miss what was published while it was down.
     if (!allow_default_qos_) {
-      throw DdsError(std::string("QoS profiles not loaded (participant profile '") +
-                     profiles::kParticipant + "' not found): " + kProfilesRemedy);
+      throw DdsError("QoS profiles not loaded (participant profile '" + profile +
+                     "' not found): " + kProfilesRemedy);
     }
     spdlog::warn(
         "QoS profiles not loaded: allow_default_qos is true, running on Fast DDS's "
         "defaults, which are not durable");
     qos = PARTICIPANT_QOS_DEFAULT;
   }
+  apply_network(options.network, qos);
   if (!options.name.empty()) qos.name(options.name);
   participant_ = factory->create_participant(options.domain_id, qos);
   if (!participant_) {
@@ -102,6 +185,13 @@ void Participant::require_default_qos_allowed(const std::string& profile,
 Topic* Participant::topic(const std::string& name, const TypeSupport& type) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (auto it = topics_.find(name); it != topics_.end()) return it->second;
+  // No TypeObject or TypeInformation in the endpoints' discovery data. The TypeObjects stay
+  // registered in this process (the content filters use them), but announced they crash Fast DDS
+  // 2.9's own discovery server (`fastdds discovery` builds a dynamic type of each and faults in
+  // TypeObjectFactory::is_type_identifier_complete), and Cyclone DDS 0.10 does not read the
+  // TypeInformation parameter. Endpoints match by type name, as every vendor's do.
+  type->auto_fill_type_object(false);
+  type->auto_fill_type_information(false);
   type.register_type(participant_);
   Topic* t = participant_->create_topic(name, type.get_type_name(), TOPIC_QOS_DEFAULT);
   if (!t) throw DdsError("could not create topic '" + name + "'");

@@ -37,9 +37,11 @@ int ServiceMain::run(int argc, char** argv, const std::function<int(PlantConfig)
 
 ServiceOptions ServiceMain::service_options(const PlantConfig& plant,
                                             const std::string& served) const {
-  ServiceOptions options{service_, served, resolve_domain_id(options_.domain, plant.domain_id),
-                         plant.qos_profiles_file};
-  options.allow_default_qos = plant.allow_default_qos;
+  ServiceOptions options;
+  options.service = service_;
+  options.machine_id = served;
+  options.participant = participant_options(
+      plant, resolve_domain_id(options_.domain, plant.domain_id), "ncqual-" + service_);
   return options;
 }
 
@@ -52,9 +54,7 @@ Service::Service(const ServiceOptions& options) : options_(options) {
     spdlog::info("signal {} received, stopping", sig);
     dispatcher_.stop();
   });
-  participant_ = std::make_unique<Participant>(
-      ParticipantOptions{options.domain_id, options.qos_profiles_file, "ncqual-" + options.service,
-                         options.allow_default_qos});
+  participant_ = std::make_unique<Participant>(options.participant);
   heartbeat_ = std::make_unique<Writer<HeartbeatTopic>>(*participant_);
   dispatcher_.every(options.heartbeat_period, [this] { beat("running"); });
 }
@@ -73,7 +73,10 @@ void Service::beat(const std::string& state) {
 }
 
 int Service::run() {
-  spdlog::info("{} {} running on domain {}", options_.service, instance_, options_.domain_id);
+  spdlog::info("{} {} running on domain {}, discovery {} (participant profile {})",
+               options_.service, instance_, options_.participant.domain_id,
+               to_string(options_.participant.network.discovery),
+               participant_profile(options_.participant.network));
   dispatcher_.run();
   beat("stopping");
   for (const auto& work : before_stop_) work();

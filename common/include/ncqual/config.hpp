@@ -146,6 +146,34 @@ struct MachineConfig {
   const Tolerance& tolerance(const std::string& metric) const;
 };
 
+// The `network:` section of a plant: how its participants find each other. Each way is a
+// participant profile of deploy/qos/ncqual-qos.xml; the addresses here, when given, replace the
+// profile's (docs/deploy.md).
+//   multicast  SPDP multicast on one LAN (the default, and Fast DDS's own);
+//   server     clients of the plant's discovery servers (`fastdds discovery -i N`): only unicast,
+//              across routed subnets, where multicast is blocked;
+//   peers      unicast to a fixed list of hosts (initial peers), no multicast at all.
+enum class Discovery { Multicast, Server, Peers };
+std::string_view to_string(Discovery discovery);  // "multicast", "server", "peers"
+struct NetworkAddress {
+  std::string host;  // an IPv4 address or a host name
+  int port = 0;      // 0: the default (11811 for a discovery server; the domain's for a peer)
+};
+// "host" or "host:port" (IPv4 dotted quad or a DNS name, port 1..65535); nullopt when it is not.
+std::optional<NetworkAddress> parse_network_address(std::string_view text);
+std::string to_string(const NetworkAddress& address);  // "host" or "host:port"
+struct NetworkConfig {
+  Discovery discovery = Discovery::Multicast;
+  // The discovery servers, in the order of their ids: servers[i] runs `fastdds discovery -i i`
+  // (its GUID prefix follows from the id, as with ROS_DISCOVERY_SERVER).
+  std::vector<NetworkAddress> servers;
+  std::vector<NetworkAddress> peers;  // every host a participant of the plant may run on
+  // The participant profile (in the QoS profiles file) to run with; empty: discovery's own,
+  // ncqual_participant, ncqual_participant_discovery_client or ncqual_participant_peers.
+  std::string participant_profile;
+  std::string source_path;  // the plant file it was read from, for messages
+};
+
 struct PlantConfig {
   std::string plant;
   std::string source_path;
@@ -155,6 +183,7 @@ struct PlantConfig {
   // defaults nothing is durable, and what is published while a reader is down is lost. True
   // only for experiments (allow_default_qos: true).
   bool allow_default_qos = false;
+  NetworkConfig network;           // the `network:` section
   std::string historian_database;  // absolute
   std::vector<MachineConfig> machines;
   // Without a calendar: the checks the scheduler runs for every machine when it starts, in order

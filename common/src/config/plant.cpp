@@ -341,6 +341,58 @@ MachineConfig read_machine_file(const std::string& path, Diagnostics& diagnostic
   return read_machine(Node(merged, path, diagnostics));
 }
 
+// The `network:` section. Addresses are checked for their shape here; a host name is resolved
+// when a participant starts (ncqual/dds/participant.hpp).
+NetworkConfig read_network(const Node& node) {
+  NetworkConfig n;
+  if (!node.map_of({"discovery", "servers", "peers", "participant_profile"})) return n;
+  const Node discovery = node["discovery"];
+  const std::string mode = discovery.text(std::string(to_string(Discovery::Multicast)));
+  bool known = false;
+  for (Discovery d : {Discovery::Multicast, Discovery::Server, Discovery::Peers}) {
+    if (mode == to_string(d)) {
+      n.discovery = d;
+      known = true;
+    }
+  }
+  if (!known) discovery.problem("expected multicast, server or peers");
+  n.participant_profile = node["participant_profile"].text("");
+  const auto addresses = [](const Node& list, std::vector<NetworkAddress>& out) {
+    if (!list.present()) return;
+    if (!list.is_list()) {
+      list.problem("expected a list of addresses, host or host:port");
+      return;
+    }
+    for (const Node& item : list.items()) {
+      const auto address = item.is_scalar() ? parse_network_address(item.scalar()) : std::nullopt;
+      if (!address) {
+        item.problem("expected an address: an IPv4 address or host name, and :port (1..65535)");
+        continue;
+      }
+      out.push_back(*address);
+    }
+  };
+  addresses(node["servers"], n.servers);
+  addresses(node["peers"], n.peers);
+  // Each way needs its addresses, unless a profile of the plant's own carries them.
+  if (n.participant_profile.empty()) {
+    if (n.discovery == Discovery::Server && !node["servers"].present()) {
+      node["servers"].problem(
+          "required with discovery: server: the discovery servers' addresses, in id order");
+    }
+    if (n.discovery == Discovery::Peers && !node["peers"].present()) {
+      node["peers"].problem("required with discovery: peers: the addresses of the plant's hosts");
+    }
+  }
+  if (n.discovery != Discovery::Server && node["servers"].present()) {
+    node["servers"].problem("only with discovery: server");
+  }
+  if (n.discovery != Discovery::Peers && node["peers"].present()) {
+    node["peers"].problem("only with discovery: peers");
+  }
+  return n;
+}
+
 std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diagnostics) {
   const Node root = load_file(path, diagnostics);
   if (!root.present()) return std::nullopt;
@@ -348,14 +400,16 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     root.problem("expected a mapping at the top level");
     return std::nullopt;
   }
-  root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "historian", "scheduler",
-               "clock", "machines"});
+  root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "network", "historian",
+               "scheduler", "clock", "machines"});
   PlantConfig p;
   p.source_path = fs::absolute(path).lexically_normal().string();
   p.plant = root["plant"].text("plant");
   p.domain_id = root["domain_id"].integer(0, 232, 0);
   p.qos_profiles_file = resolve(path, root["qos_profiles"].text(""));
   p.allow_default_qos = root["allow_default_qos"].flag().value_or(false);
+  p.network = read_network(root["network"]);
+  p.network.source_path = p.source_path;
   const Node hist = root["historian"];
   hist.map_of({"database"});
   p.historian_database = resolve(path, hist["database"].text("historian.db"));
@@ -550,6 +604,53 @@ std::string control_dialect_names() { return "linuxcnc, fanuc, generic-csv"; }
 
 std::string_view to_string(InstrumentDriver driver) {
   return driver == InstrumentDriver::ControlFiles ? "control-files" : "simulator";
+}
+
+std::string_view to_string(Discovery discovery) {
+  switch (discovery) {
+    case Discovery::Multicast: return "multicast";
+    case Discovery::Server: return "server";
+    case Discovery::Peers: return "peers";
+  }
+  return "?";
+}
+
+std::optional<NetworkAddress> parse_network_address(std::string_view text) {
+  NetworkAddress a;
+  const auto colon = text.rfind(':');
+  a.host = std::string(text.substr(0, colon));
+  if (colon != std::string_view::npos) {
+    const std::string port(text.substr(colon + 1));
+    if (port.empty() || port.size() > 5 ||
+        port.find_first_not_of("0123456789") != std::string::npos) {
+      return std::nullopt;
+    }
+    a.port = std::stoi(port);
+    if (a.port < 1 || a.port > 65535) return std::nullopt;
+  }
+  // A host name (RFC 1123 letters, digits, '-' and '.') or a dotted quad: the same characters.
+  if (a.host.empty() || a.host.size() > 253 || a.host.front() == '.' || a.host.front() == '-' ||
+      a.host.find_first_not_of(
+          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-.") !=
+          std::string::npos) {
+    return std::nullopt;
+  }
+  // All digits and dots: an IPv4 address, four numbers of 0..255 (not a name to look up).
+  if (a.host.find_first_not_of("0123456789.") == std::string::npos) {
+    int parts = 0;
+    for (std::size_t start = 0; start <= a.host.size(); ++parts) {
+      const std::size_t dot = std::min(a.host.find('.', start), a.host.size());
+      const std::string part = a.host.substr(start, dot - start);
+      if (part.empty() || part.size() > 3 || std::stoi(part) > 255) return std::nullopt;
+      start = dot + 1;
+    }
+    if (parts != 4) return std::nullopt;
+  }
+  return a;
+}
+
+std::string to_string(const NetworkAddress& address) {
+  return address.port == 0 ? address.host : address.host + ":" + std::to_string(address.port);
 }
 
 }  // namespace ncqual

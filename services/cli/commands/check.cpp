@@ -51,7 +51,7 @@ int run(const Options& o) {
 
   const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
   ncqual::dds::Participant participant(
-      {domain, plant.qos_profiles_file, "ncqual-cli", plant.allow_default_qos});
+      ncqual::dds::participant_options(plant, domain, "ncqual-cli"));
   ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
   std::optional<ncqual::dds::Reader<ncqual::dds::CheckResultTopic>> results;
   if (o.wait_s > 0) results.emplace(participant, machine);

@@ -147,7 +147,7 @@ int publish(const PlantConfig& plant, int domain_flag, const MeasurementSet& set
             const std::string& what) {
   const int domain = ncqual::dds::resolve_domain_id(domain_flag, plant.domain_id);
   ncqual::dds::Participant participant(
-      {domain, plant.qos_profiles_file, "ncqual-import", plant.allow_default_qos});
+      ncqual::dds::participant_options(plant, domain, "ncqual-import"));
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   // Imported once the historian stored it and the solver saved its result.
   const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(

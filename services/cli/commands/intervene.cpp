@@ -42,7 +42,7 @@ int run(const Options& o) {
                         who,     WallClock().now_ns()};
   const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
   ncqual::dds::Participant participant(
-      {domain, plant.qos_profiles_file, "ncqual-cli", plant.allow_default_qos});
+      ncqual::dds::participant_options(plant, domain, "ncqual-cli"));
   ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
   const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
       participant, writer, iv, {roles::kScheduler}, std::chrono::seconds(15));

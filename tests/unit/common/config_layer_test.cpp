@@ -205,6 +205,67 @@ instrument: {driver: control-files, inbox: share}
   }
 }
 
+// The network: section: the way of discovery and its addresses, each problem named.
+TEST_F(ConfigLayer, TheNetworkSectionNamesTheDiscoveryAndItsAddresses) {
+  const auto plant_with = [&](const std::string& network) {
+    return write("plant.yaml", "plant: p\nhistorian: {database: h.db}\n" + network + "machines: [" +
+                                   kPm1 + "]\n");
+  };
+  // Absent: multicast, Fast DDS's own way.
+  EXPECT_EQ(load_plant_config(plant_with("")).network.discovery, Discovery::Multicast);
+
+  const PlantConfig servers = load_plant_config(plant_with(
+      "network:\n  discovery: server\n  servers: [10.1.0.10, 'ds2.plant.example:14520']\n"));
+  EXPECT_EQ(servers.network.discovery, Discovery::Server);
+  ASSERT_EQ(servers.network.servers.size(), 2u);
+  EXPECT_EQ(servers.network.servers[0].host, "10.1.0.10");
+  EXPECT_EQ(servers.network.servers[0].port, 0);  // the default, 11811, applied by the participant
+  EXPECT_EQ(to_string(servers.network.servers[1]), "ds2.plant.example:14520");
+
+  const PlantConfig peers =
+      load_plant_config(plant_with("network: {discovery: peers, peers: [10.1.0.11, 10.1.0.21]}\n"));
+  EXPECT_EQ(peers.network.peers.size(), 2u);
+
+  // A profile of the plant's own carries its addresses.
+  EXPECT_EQ(load_plant_config(
+                plant_with("network: {discovery: server, participant_profile: site_client}\n"))
+                .network.participant_profile,
+            "site_client");
+
+  const std::string bad = plant_with(
+      "network:\n  discovery: server\n  servers: [10.1.0.300, 'ds:0', 'ds:11811:1', '']\n"
+      "  peers: [10.1.0.11]\n");
+  try {
+    load_plant_config(bad);
+    FAIL() << "loaded bad addresses";
+  } catch (const ConfigError& e) {
+    const auto& p = e.problems();
+    EXPECT_EQ(p.size(), 5u) << e.what();
+    EXPECT_TRUE(names(p, bad + ": network.servers[0] = '10.1.0.300': expected an address"))
+        << e.what();
+    EXPECT_TRUE(names(p, "network.servers[1] = 'ds:0'")) << e.what();
+    EXPECT_TRUE(names(p, "network.servers[2] = 'ds:11811:1'")) << e.what();
+    EXPECT_TRUE(names(p, "network.servers[3] = ''")) << e.what();
+    EXPECT_TRUE(names(p, "network.peers = (not a single value): only with discovery: peers"))
+        << e.what();
+  }
+  for (const auto& [network, problem] : std::vector<std::pair<std::string, std::string>>{
+           {"network: {discovery: broadcast}\n",
+            "network.discovery = 'broadcast': expected multicast, server or peers"},
+           {"network: {discovery: server}\n", "network.servers = (missing): required with"},
+           {"network: {discovery: peers}\n", "network.peers = (missing): required with"},
+           {"network: {discovery: multicast, servers: [10.0.0.1]}\n",
+            "only with discovery: server"},
+           {"network: {discover: server}\n", "network.discover = 'server': unknown key"}}) {
+    try {
+      load_plant_config(plant_with(network));
+      ADD_FAILURE() << "loaded " << network;
+    } catch (const ConfigError& e) {
+      EXPECT_TRUE(names(e.problems(), problem)) << network << e.what();
+    }
+  }
+}
+
 TEST(CheckKindTable, OneRowPerKindOfTheWireContractInItsOrder) {
   const std::vector<std::string> idl = idl_check_kinds();
   ASSERT_EQ(idl.size(), static_cast<std::size_t>(kCheckKindCount));

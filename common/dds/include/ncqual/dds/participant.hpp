@@ -13,6 +13,7 @@
 #include <map>
 #include <mutex>
 #include <stdexcept>
+#include "ncqual/config.hpp"
 #include "ncqual/error.hpp"
 
 #include <string>
@@ -33,14 +34,25 @@ struct ParticipantOptions {
   // When the profiles are not loaded: false refuses (DdsError naming the remedies), true warns
   // and runs on Fast DDS's defaults (reliable, not durable). The plant's allow_default_qos.
   bool allow_default_qos = false;
+  // How the participant finds the others: the participant profile it runs with and the
+  // discovery servers' or peers' addresses that replace the profile's (the plant's network:).
+  NetworkConfig network;
 };
+
+// The options of a participant of `plant` on `domain_id`, named `name` ("ncqual-cli").
+ParticipantOptions participant_options(const PlantConfig& plant, int domain_id, std::string name);
+
+// The participant profile `network` runs with: its participant_profile, else its discovery's.
+std::string participant_profile(const NetworkConfig& network);
 
 // Domain id: the --domain flag when given (>= 0), else NCQUAL_DOMAIN, else the plant config's.
 int resolve_domain_id(int flag_value, int config_value);
 
 // Profile names in deploy/qos/ncqual-qos.xml.
 namespace profiles {
-inline constexpr const char* kParticipant = "ncqual_participant";
+inline constexpr const char* kParticipant = "ncqual_participant";  // discovery: multicast
+inline constexpr const char* kDiscoveryClient = "ncqual_participant_discovery_client";
+inline constexpr const char* kPeers = "ncqual_participant_peers";
 inline constexpr const char* kDurableWriter = "ncqual_durable_writer";
 inline constexpr const char* kDurableReader = "ncqual_durable_reader";
 inline constexpr const char* kCommandWriter = "ncqual_command_writer";

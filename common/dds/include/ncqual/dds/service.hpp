@@ -21,10 +21,8 @@ struct ServiceOptions {
   std::string service;  // "scheduler", "acquisition", "solver", "historian"
   std::string
       machine_id;  // for an acquisition service: its machine, or its machines joined by commas
-  int domain_id = 0;
-  std::string qos_profiles_file;
+  ParticipantOptions participant;  // its domain, QoS profiles and network (named ncqual-<service>)
   std::chrono::milliseconds heartbeat_period{2000};
-  bool allow_default_qos = false;  // the plant's (ParticipantOptions)
 };
 
 class Service {

@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: Apache-2.0
+// A test's own DDS participant in a harness plant: on the plant's domain, with its QoS profiles
+// and network (so a test on a discovery-server or peers plant joins the way the services do).
+#pragma once
+
+#include "harness.hpp"
+
+#include "ncqual/config.hpp"
+#include "ncqual/dds/participant.hpp"
+
+#include <string>
+
+namespace ncqual::testing {
+
+// Call after the plant file is written (Plant::write_plant and friends).
+inline dds::ParticipantOptions test_participant(const Plant& plant, std::string name = "test") {
+  return dds::participant_options(load_plant_config(plant.plant_file()), plant.domain(),
+                                  std::move(name));
+}
+
+}  // namespace ncqual::testing
