@@ -48,6 +48,13 @@ void add_service_options(CLI::App& app, ServiceOptions& options) {
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn or error")
       ->type_name("LEVEL")
       ->capture_default_str();
+  app.add_option("--secure", options.secure,
+                 "run secured with this ncqual-pki directory (default: the plant's security.dir)")
+      ->type_name("DIR");
+  app.add_option("--identity", options.identity,
+                 "the identity to run as on a secured plant (default: the service's name; "
+                 "an acquisition's: acquisition-<machine>)")
+      ->type_name("NAME");
 }
 
 int guarded_main(const char* program, const std::function<int()>& body) noexcept {

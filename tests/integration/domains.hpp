@@ -54,6 +54,8 @@ enum class TestDomain : int {
   LinuxCnc = detail::test_domain(225),
   // PlantNetwork.*: hosts in network namespaces, discovery through a discovery server
   PlantNetwork = detail::test_domain(226),
+  // SecurePlant.*: DDS Security with ncqual-pki's identities and permissions
+  SecurePlant = detail::test_domain(227),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -85,7 +87,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::StorageDamaged:
     case TestDomain::ControlFiles:
     case TestDomain::LinuxCnc:
-    case TestDomain::PlantNetwork: break;
+    case TestDomain::PlantNetwork:
+    case TestDomain::SecurePlant: break;
   }
   return static_cast<int>(domain);
 }

@@ -31,7 +31,8 @@ CliRun run(const std::vector<std::string>& args) { return run_cli(args, Capture:
 // Every command path with flags its help must mention.
 const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
     {"history", {"--plant", "--db", "--machine", "--kind", "--limit", "--since-ns", "--json"}},
-    {"check", {"--machine", "--kind", "--plant", "--domain", "--wait", "--json"}},
+    {"check",
+     {"--machine", "--kind", "--plant", "--domain", "--secure", "--identity", "--wait", "--json"}},
     {"wait",
      {"--plant", "--db", "--request", "--count", "--settled", "--machine", "--since-ns",
       "--timeout"}},
@@ -46,10 +47,13 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
     {"import iso230-2", {"FILE", "--machine", "--axis", "--plant", "--domain"}},
     {"import circle", {"FILE", "--machine", "--plane", "--nominal-radius-mm", "--centre-mm"}},
     {"import grid", {"--x-run", "--y-run", "--grid", "--machine"}},
-    {"import touches", {"FILE", "--program", "--machine", "--plant", "--domain"}},
+    {"import touches",
+     {"FILE", "--program", "--machine", "--plant", "--domain", "--secure", "--identity"}},
     {"program", {"--machine", "--check", "--dialect", "--parameters", "--out", "--plant"}},
     {"status", {"--plant", "--db", "--machine", "--json"}},
-    {"intervene", {"--machine", "--check", "--note", "--operator", "--plant", "--domain"}},
+    {"intervene",
+     {"--machine", "--check", "--note", "--operator", "--plant", "--domain", "--secure",
+      "--identity"}},
     {"trend", {"--machine", "--kind", "--every", "--metrics", "--plant", "--db"}},
     {"uncertainty",
      {"--machine", "--plant", "--trials", "--seed", "--threads", "--search", "--json"}},
@@ -105,7 +109,8 @@ TEST(CliUsage, VersionOfTheCliAndOfEveryService) {
 
     const CliRun help = run_command({exe, "--help"}, Capture::Separate);
     EXPECT_EQ(help.exit_code, 0) << name;
-    for (const char* flag : {"--plant", "--domain", "--log-level", "--version"}) {
+    for (const char* flag :
+         {"--plant", "--domain", "--log-level", "--secure", "--identity", "--version"}) {
       EXPECT_NE(help.out.find(flag), std::string::npos) << name << ": " << flag;
     }
     const CliRun bogus = run_command({exe, "--bogus"}, Capture::Separate);

@@ -10,6 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -105,7 +106,66 @@ void apply_network(const NetworkConfig& network, DomainParticipantQos& qos) {
   }
 }
 
+// "file://" + the absolute path of `dir`/`relative`, which must exist.
+std::string file_uri(const std::string& dir, const std::string& relative, const std::string& what) {
+  const std::filesystem::path path = std::filesystem::path(dir) / relative;
+  if (!std::filesystem::exists(path)) {
+    throw DdsError("security: " + what + " " + path.string() + " not found");
+  }
+  return "file://" + std::filesystem::absolute(path).lexically_normal().string();
+}
+
+// The builtin plugins of DDS Security (authentication PKI-DH, access control Access-Permissions,
+// cryptography AES-GCM-GMAC) with the plant's CA, revocation list and governance, and the
+// identity's certificate, key and signed permissions.
+void apply_security(const SecurityConfig& security, DomainParticipantQos& qos) {
+  if (security.dir.empty()) return;
+  if (!std::filesystem::is_directory(security.dir)) {
+    throw DdsError("security: " + security.dir +
+                   " is not a directory of ncqual-pki's (deploy/security/ncqual-pki init)");
+  }
+  const std::string identity = "identities/" + security.identity;
+  if (security.identity.empty() ||
+      !std::filesystem::is_directory(std::filesystem::path(security.dir) / identity)) {
+    std::string known;
+    for (const auto& name : identities_in(security.dir))
+      known += (known.empty() ? "" : ", ") + name;
+    throw DdsError("security: no identity '" + security.identity + "' in " + security.dir +
+                   "/identities (there: " + (known.empty() ? "none" : known) +
+                   "); pass --identity NAME, or make it with ncqual-pki add");
+  }
+  const std::string auth = "dds.sec.auth.builtin.PKI-DH.";
+  const std::string access = "dds.sec.access.builtin.Access-Permissions.";
+  auto& p = qos.properties().properties();
+  p.emplace_back("dds.sec.auth.plugin", "builtin.PKI-DH");
+  p.emplace_back(auth + "identity_ca", file_uri(security.dir, "ca/ca.pem", "the plant CA"));
+  p.emplace_back(auth + "identity_certificate",
+                 file_uri(security.dir, identity + "/cert.pem", "the identity's certificate"));
+  p.emplace_back(auth + "private_key",
+                 file_uri(security.dir, identity + "/key.pem", "the identity's private key"));
+  p.emplace_back(auth + "identity_crl",
+                 file_uri(security.dir, "ca/crl.pem", "the plant's revocation list"));
+  p.emplace_back("dds.sec.access.plugin", "builtin.Access-Permissions");
+  p.emplace_back(access + "permissions_ca", file_uri(security.dir, "ca/ca.pem", "the plant CA"));
+  p.emplace_back(access + "governance",
+                 file_uri(security.dir, "governance.p7s", "the signed governance"));
+  p.emplace_back(access + "permissions", file_uri(security.dir, identity + "/permissions.p7s",
+                                                  "the identity's signed permissions"));
+  p.emplace_back("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+}
+
 }  // namespace
+
+std::vector<std::string> identities_in(const std::string& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(dir) / "identities", ec)) {
+    if (entry.is_directory()) names.push_back(entry.path().filename().string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 ParticipantOptions participant_options(const PlantConfig& plant, int domain_id, std::string name) {
   ParticipantOptions o;
@@ -114,6 +174,7 @@ ParticipantOptions participant_options(const PlantConfig& plant, int domain_id, 
   o.name = std::move(name);
   o.allow_default_qos = plant.allow_default_qos;
   o.network = plant.network;
+  o.security = plant.security;
   return o;
 }
 
@@ -134,7 +195,9 @@ constexpr const char* kProfilesRemedy =
     "are not durable, for an experiment";
 
 Participant::Participant(const ParticipantOptions& options)
-    : domain_id_(options.domain_id), allow_default_qos_(options.allow_default_qos) {
+    : domain_id_(options.domain_id),
+      allow_default_qos_(options.allow_default_qos),
+      security_(options.security) {
   load_profiles_once(options.qos_profiles_file);
   // TypeObjects of our types: needed for content filters and for XTypes discovery.
   static std::once_flag types_registered;
@@ -156,11 +219,18 @@ Participant::Participant(const ParticipantOptions& options)
     qos = PARTICIPANT_QOS_DEFAULT;
   }
   apply_network(options.network, qos);
+  apply_security(options.security, qos);
   if (!options.name.empty()) qos.name(options.name);
   participant_ = factory->create_participant(options.domain_id, qos);
   if (!participant_) {
-    throw DdsError("could not create a DDS participant on domain " +
-                   std::to_string(options.domain_id));
+    throw DdsError(
+        "could not create a DDS participant on domain " + std::to_string(options.domain_id) +
+        (options.security.dir.empty()
+             ? std::string()
+             : " secured as '" + options.security.identity +
+                   "': its certificate or permissions were refused (expired, not yet valid, "
+                   "revoked, or not signed by " +
+                   options.security.dir + "/ca/ca.pem; Fast DDS's log above says which)"));
   }
   publisher_ = participant_->create_publisher(PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(SUBSCRIBER_QOS_DEFAULT);
@@ -180,6 +250,30 @@ void Participant::require_default_qos_allowed(const std::string& profile,
     throw DdsError("QoS profile '" + profile + "' of " + topic +
                    " is not loaded: " + kProfilesRemedy);
   }
+}
+
+void Participant::refused_unless_unprofiled(const std::string& profile, const std::string& topic,
+                                            bool writer) const {
+  bool loaded = false;
+  if (writer) {
+    DataWriterQos qos;
+    loaded = publisher_->get_datawriter_qos_from_profile(profile, qos) ==
+             eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  } else {
+    DataReaderQos qos;
+    loaded = subscriber_->get_datareader_qos_from_profile(profile, qos) ==
+             eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+  if (!loaded) return;
+  const std::string what = std::string(writer ? "a writer of " : "a reader of ") + topic;
+  if (!security_.dir.empty()) {
+    throw DdsError("could not create " + what + ": the permissions of identity '" +
+                   security_.identity + "' (" + security_.dir + "/identities/" +
+                   security_.identity + "/permissions.xml) do not allow it to " +
+                   (writer ? "publish" : "subscribe") + " " + topic);
+  }
+  throw DdsError("could not create " + what + " with QoS profile '" + profile +
+                 "' (Fast DDS's log above says why)");
 }
 
 Topic* Participant::topic(const std::string& name, const TypeSupport& type) {

@@ -35,9 +35,12 @@ struct ServiceOptions {
   std::string plant;
   int domain = -1;
   std::string log_level = "info";
+  std::string secure;    // --secure DIR: ncqual-pki's material (else the plant's security.dir)
+  std::string identity;  // --identity NAME (else the service's own: docs/deploy.md)
 };
 
-// Adds --plant FILE, --domain N and --log-level LEVEL to a service's `app`.
+// Adds --plant FILE, --domain N, --log-level LEVEL, --secure DIR and --identity NAME to a
+// service's `app`.
 void add_service_options(CLI::App& app, ServiceOptions& options);
 
 // Every executable's main: runs `body` and returns its exit code; an exception that escapes it

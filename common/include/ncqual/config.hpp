@@ -174,6 +174,15 @@ struct NetworkConfig {
   std::string source_path;  // the plant file it was read from, for messages
 };
 
+// The `security:` section of a plant: DDS Security from the material deploy/security/ncqual-pki
+// makes (docs/deploy.md, "Security"). `dir` empty: not secured.
+struct SecurityConfig {
+  std::string dir;  // absolute: ca/, governance.p7s, identities/<name>/
+  // The identity a process runs as (identities/<identity>/); set per process, not in the plant
+  // file: a service's own name, acquisition-<machine>, or --identity / NCQUAL_IDENTITY.
+  std::string identity;
+};
+
 struct PlantConfig {
   std::string plant;
   std::string source_path;
@@ -184,6 +193,7 @@ struct PlantConfig {
   // only for experiments (allow_default_qos: true).
   bool allow_default_qos = false;
   NetworkConfig network;           // the `network:` section
+  SecurityConfig security;         // the `security:` section (its identity is left empty)
   std::string historian_database;  // absolute
   std::vector<MachineConfig> machines;
   // Without a calendar: the checks the scheduler runs for every machine when it starts, in order

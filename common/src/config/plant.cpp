@@ -400,8 +400,8 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     root.problem("expected a mapping at the top level");
     return std::nullopt;
   }
-  root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "network", "historian",
-               "scheduler", "clock", "machines"});
+  root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "network", "security",
+               "historian", "scheduler", "clock", "machines"});
   PlantConfig p;
   p.source_path = fs::absolute(path).lexically_normal().string();
   p.plant = root["plant"].text("plant");
@@ -410,6 +410,9 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
   p.allow_default_qos = root["allow_default_qos"].flag().value_or(false);
   p.network = read_network(root["network"]);
   p.network.source_path = p.source_path;
+  if (const Node security = root["security"]; security.map_of({"dir"})) {
+    p.security.dir = resolve(path, security["dir"].required_text().value_or(""));
+  }
   const Node hist = root["historian"];
   hist.map_of({"database"});
   p.historian_database = resolve(path, hist["database"].text("historian.db"));

@@ -24,9 +24,9 @@ namespace ncqual::cli {
 namespace {
 
 struct Options {
-  std::string plant, machine;
+  DdsOptions dds;
+  std::string machine;
   std::optional<CheckKind> kind;
-  int domain = -1;
   double wait_s = 0;
   bool json = false;
 };
@@ -40,7 +40,7 @@ int exit_code_of(Verdict v) {
 }
 
 int run(const Options& o) {
-  const PlantConfig plant = plant_from(o.plant);
+  const PlantConfig plant = plant_from(o.dds.plant);
   const std::string machine = configured_machine(plant, o.machine).machine_id;
   const std::string kind_name(to_string(*o.kind));
 
@@ -49,9 +49,10 @@ int run(const Options& o) {
                          *o.kind,        "operator:" + operator_name(),
                          clock.now_ns(), {}};
 
-  const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
-  ncqual::dds::Participant participant(
-      ncqual::dds::participant_options(plant, domain, "ncqual-cli"));
+  const ncqual::dds::ParticipantOptions options =
+      command_participant(plant, o.dds, "ncqual-cli", operator_identity());
+  const int domain = options.domain_id;
+  ncqual::dds::Participant participant(options);
   ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
   std::optional<ncqual::dds::Reader<ncqual::dds::CheckResultTopic>> results;
   if (o.wait_s > 0) results.emplace(participant, machine);
@@ -107,7 +108,7 @@ void add_check(CLI::App& app, Commands& commands) {
                   "ask the scheduler to run a check now; with --wait, print its result", run);
   add_machine_option(cmd, o->machine, "the machine to check");
   add_kind_option(cmd, "--kind", o->kind, "the check to run")->required();
-  add_dds_options(cmd, o->plant, o->domain);
+  add_dds_options(cmd, o->dds);
   cmd->add_option("--wait", o->wait_s,
                   "wait this long for the result, print it and exit with its verdict")
       ->type_name("SECONDS");

@@ -8,6 +8,7 @@
 
 #include "ncqual/calendar.hpp"
 #include "ncqual/config.hpp"
+#include "ncqual/dds/participant.hpp"
 #include "ncqual/model.hpp"
 #include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/storage.hpp"
@@ -85,8 +86,23 @@ CLI::Option* add_machine_option(CLI::App* command, std::string& machine,
 CLI::Option* add_domain_option(CLI::App* command, int& domain);
 // --plant FILE and --db FILE: the historian database a command reads (database_path).
 void add_historian_options(CLI::App* command, std::string& plant, std::optional<std::string>& db);
-// --plant FILE and --domain N: the plant and the DDS domain a command publishes on.
-void add_dds_options(CLI::App* command, std::string& plant, int& domain);
+// What a command that joins DDS takes: the plant, the domain and, on a secured plant, the
+// security material and the identity to run as.
+struct DdsOptions {
+  std::string plant;
+  int domain = -1;
+  std::string secure;    // --secure DIR: ncqual-pki's material (else the plant's security.dir)
+  std::string identity;  // --identity NAME (else $NCQUAL_IDENTITY, else the command's default)
+};
+// --plant FILE, --domain N, --secure DIR and --identity NAME.
+void add_dds_options(CLI::App* command, DdsOptions& options);
+// The participant of a command on `plant`, named `name`; `default_identity` is the identity it
+// runs as on a secured plant without --identity or NCQUAL_IDENTITY.
+dds::ParticipantOptions command_participant(const PlantConfig& plant, const DdsOptions& options,
+                                            const std::string& name,
+                                            const std::string& default_identity);
+// The default identity of an operator's command: operator-<this host's name>.
+std::string operator_identity();
 // --json: one JSON document instead of the table.
 CLI::Option* add_json_flag(CLI::App* command, bool& json);
 // --<name> KIND: a check kind, refused at parsing when it is not one.

@@ -43,8 +43,8 @@ namespace {
 // What the three imports take on the command line.
 struct Options {
   std::string what;  // iso230-2, circle, grid
-  std::string file, machine, plant;
-  int domain = -1;
+  DdsOptions dds;
+  std::string file, machine;
   std::optional<std::string> axis, plane, centre_mm;
   std::optional<double> nominal_radius_mm;
   std::string x_run, y_run, grid;
@@ -52,17 +52,17 @@ struct Options {
 };
 
 // Publishes an imported set: done once the historian stored it and the solver saved its result.
-int publish(const PlantConfig& plant, int domain_flag, const MeasurementSet& set,
+int publish(const PlantConfig& plant, const DdsOptions& dds, const MeasurementSet& set,
             const std::string& what);
 
 int run(const Options& o) {
-  const PlantConfig plant = plant_from(o.plant);
+  const PlantConfig plant = plant_from(o.dds.plant);
   const std::string& machine_id = o.machine;
   const MachineConfig* machine = &configured_machine(plant, machine_id);
   if (o.what == "touches") {
     MeasurementSet set = touches_from_files(o.file, o.program, *machine, WallClock().now_ns());
     set.instrument = kImportedInstrument;
-    return publish(plant, o.domain, set, std::to_string(set.touches.size()) + " touches");
+    return publish(plant, o.dds, set, std::to_string(set.touches.size()) + " touches");
   }
   if (!machine->global_check) {
     throw UsageError("machine '" + machine_id + "' has no global_check: section (" +
@@ -140,14 +140,17 @@ int run(const Options& o) {
         read(o.x_run, "x_run"), read(o.y_run, "y_run"), read(o.grid, "grid"), target);
   }
 
-  return publish(plant, o.domain, set, std::to_string(set.tracker_points.size()) + " points");
+  return publish(plant, o.dds, set, std::to_string(set.tracker_points.size()) + " points");
 }
 
-int publish(const PlantConfig& plant, int domain_flag, const MeasurementSet& set,
+int publish(const PlantConfig& plant, const DdsOptions& dds, const MeasurementSet& set,
             const std::string& what) {
-  const int domain = ncqual::dds::resolve_domain_id(domain_flag, plant.domain_id);
-  ncqual::dds::Participant participant(
-      ncqual::dds::participant_options(plant, domain, "ncqual-import"));
+  // On a secured plant an import publishes as the machine's acquisition, whose permissions
+  // allow its MeasurementSets (an operator's do not).
+  const ncqual::dds::ParticipantOptions options =
+      command_participant(plant, dds, "ncqual-import", "acquisition-" + set.machine_id);
+  const int domain = options.domain_id;
+  ncqual::dds::Participant participant(options);
   ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
   // Imported once the historian stored it and the solver saved its result.
   const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
@@ -184,7 +187,7 @@ void add_import(CLI::App& app, Commands& commands) {
     o->what = what;
     if (file) cmd->add_option("FILE", o->file, "the instrument's export")->required();
     add_machine_option(cmd, o->machine, "the machine it measured");
-    add_dds_options(cmd, o->plant, o->domain);
+    add_dds_options(cmd, o->dds);
     return added;
   };
   const auto [iso, iso_o] = add("iso230-2", "as kind linear_axis_run, along --axis", true);

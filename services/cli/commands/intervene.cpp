@@ -24,14 +24,14 @@ namespace ncqual::cli {
 namespace {
 
 struct Options {
-  std::string plant, machine, note;
+  DdsOptions dds;
+  std::string machine, note;
   std::optional<CheckKind> kind;
   std::optional<std::string> who;
-  int domain = -1;
 };
 
 int run(const Options& o) {
-  const PlantConfig plant = plant_from(o.plant);
+  const PlantConfig plant = plant_from(o.dds.plant);
   const std::string machine = configured_machine(plant, o.machine).machine_id;
   const std::string kind_name(to_string(*o.kind));
   if (o.note.find_first_not_of(" \t") == std::string::npos) {
@@ -40,9 +40,10 @@ int run(const Options& o) {
   const std::string who = o.who.value_or(operator_name());
   const Intervention iv{machine, new_sample_id("iv", machine), *o.kind, o.note,
                         who,     WallClock().now_ns()};
-  const int domain = ncqual::dds::resolve_domain_id(o.domain, plant.domain_id);
-  ncqual::dds::Participant participant(
-      ncqual::dds::participant_options(plant, domain, "ncqual-cli"));
+  const ncqual::dds::ParticipantOptions options =
+      command_participant(plant, o.dds, "ncqual-cli", operator_identity());
+  const int domain = options.domain_id;
+  ncqual::dds::Participant participant(options);
   ncqual::dds::Writer<ncqual::dds::InterventionTopic> writer(participant);
   const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
       participant, writer, iv, {roles::kScheduler}, std::chrono::seconds(15));
@@ -77,7 +78,7 @@ void add_intervene(CLI::App& app, Commands& commands) {
       ->type_name("TEXT")
       ->required();
   cmd->add_option("--operator", o->who, "who did it (default: $USER)")->type_name("NAME");
-  add_dds_options(cmd, o->plant, o->domain);
+  add_dds_options(cmd, o->dds);
 }
 
 }  // namespace ncqual::cli

@@ -51,9 +51,39 @@ void add_historian_options(CLI::App* command, std::string& plant, std::optional<
   add_db_option(command, db);
 }
 
-void add_dds_options(CLI::App* command, std::string& plant, int& domain) {
-  add_plant_option(command, plant);
-  add_domain_option(command, domain);
+void add_dds_options(CLI::App* command, DdsOptions& options) {
+  add_plant_option(command, options.plant);
+  add_domain_option(command, options.domain);
+  command
+      ->add_option("--secure", options.secure,
+                   "run secured with this ncqual-pki directory (default: the plant's security.dir)")
+      ->type_name("DIR");
+  command
+      ->add_option("--identity", options.identity,
+                   "the identity to run as on a secured plant (default: $NCQUAL_IDENTITY)")
+      ->type_name("NAME");
+}
+
+dds::ParticipantOptions command_participant(const PlantConfig& plant, const DdsOptions& options,
+                                            const std::string& name,
+                                            const std::string& default_identity) {
+  dds::ParticipantOptions p = dds::participant_options(
+      plant, dds::resolve_domain_id(options.domain, plant.domain_id), name);
+  if (!options.secure.empty()) p.security.dir = options.secure;
+  if (!options.identity.empty()) {
+    p.security.identity = options.identity;
+  } else if (const char* env = std::getenv("NCQUAL_IDENTITY"); env && *env) {
+    p.security.identity = env;
+  } else {
+    p.security.identity = default_identity;
+  }
+  return p;
+}
+
+std::string operator_identity() {
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  return std::string("operator-") + host;
 }
 
 CLI::Option* add_json_flag(CLI::App* command, bool& json) {

@@ -65,6 +65,8 @@ class Writer {
         Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
     writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
     if (!writer_) {
+      // Refused with its profile loaded (e.g. by the permissions of a secured plant): says so.
+      participant.refused_unless_unprofiled(profile, Topic::kName, true);
       // Without our profiles: refused, unless the plant allows reliable defaults (experiments).
       participant.require_default_qos_allowed(profile, Topic::kName);
       writer_ = participant.publisher()->create_datawriter(topic, default_qos());
@@ -144,6 +146,7 @@ class Reader {
     if (machine_id) description = participant.machine_filter(topic, *machine_id);
     reader_ = participant.subscriber()->create_datareader_with_profile(description, profile);
     if (!reader_) {
+      participant.refused_unless_unprofiled(profile, Topic::kName, false);
       participant.require_default_qos_allowed(profile, Topic::kName);
       eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
       qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;

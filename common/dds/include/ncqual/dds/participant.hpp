@@ -17,6 +17,7 @@
 #include "ncqual/error.hpp"
 
 #include <string>
+#include <vector>
 
 namespace ncqual::dds {
 
@@ -37,10 +38,15 @@ struct ParticipantOptions {
   // How the participant finds the others: the participant profile it runs with and the
   // discovery servers' or peers' addresses that replace the profile's (the plant's network:).
   NetworkConfig network;
+  // DDS Security: the plant's material and the identity to run as (empty dir: not secured).
+  SecurityConfig security;
 };
 
 // The options of a participant of `plant` on `domain_id`, named `name` ("ncqual-cli").
 ParticipantOptions participant_options(const PlantConfig& plant, int domain_id, std::string name);
+
+// The identities of ncqual-pki's `dir` (the names of identities/*/), sorted; for messages.
+std::vector<std::string> identities_in(const std::string& dir);
 
 // The participant profile `network` runs with: its participant_profile, else its discovery's.
 std::string participant_profile(const NetworkConfig& network);
@@ -79,6 +85,10 @@ class Participant {
   // For a writer or reader whose profile is not loaded: throws the DdsError naming the remedies,
   // unless the plant allows Fast DDS's defaults (then the caller uses them).
   void require_default_qos_allowed(const std::string& profile, const std::string& topic) const;
+  // For a writer (or reader) that could not be created: when its profile is loaded, the refusal
+  // had another cause (a secured plant's permissions): throws the DdsError that says so.
+  void refused_unless_unprofiled(const std::string& profile, const std::string& topic,
+                                 bool writer) const;
 
   // The topic of this name, created on first use with its type registered.
   eprosima::fastdds::dds::Topic* topic(const std::string& name,
@@ -90,6 +100,7 @@ class Participant {
  private:
   int domain_id_ = 0;
   bool allow_default_qos_ = false;
+  SecurityConfig security_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
