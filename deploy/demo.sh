@@ -9,7 +9,7 @@
 # offsets (patent: the fixture check "is performed only after all of the monument checks have
 # been successfully completed").
 #
-# Usage: deploy/demo.sh [--scenario MACHINE.yaml] [--weeks N [--machines K]] [--domain N]
+# Usage: deploy/demo.sh [--scenario MACHINE.yaml] [--weeks N [--machines K]] [--domain N] [--secure]
 #   --scenario  a machine config whose simulator section injects errors
 #               (examples in deploy/scenarios/; default deploy/machines/pm1.yaml)
 #   --weeks     instead of one cycle, run N weeks of the plant calendar on a simulated clock
@@ -21,6 +21,10 @@
 #               copies of pm1 (pm2, pm3, ...; each its own fixture and seed), all against one
 #               scheduler, solver and historian, their instruments in one acquisition process
 #   --domain    DDS domain id (default: NCQUAL_DOMAIN, else a random private one in 100..199)
+#   --secure    run the plant with DDS Security: deploy/security/ncqual-pki makes (or keeps) the
+#               plant CA, governance and one identity per service, acquisition and this host's
+#               operator in var/pki, and every process authenticates, encrypts and is held to its
+#               role's permissions (docs/deploy.md, "Security")
 # Data goes to $NCQUAL_VAR (default var/ at the repository root): the historian database
 # var/historian.db, the logs var/log/, the plant config the demo writes var/demo-plant.yaml.
 set -euo pipefail
@@ -30,12 +34,14 @@ scenario="$root/deploy/machines/pm1.yaml"
 domain="${NCQUAL_DOMAIN:-$((100 + RANDOM % 100))}"
 weeks=""
 machines=1
+secure=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenario) scenario="$(cd "$(dirname "$2")" && pwd)/$(basename "$2")"; shift 2 ;;
     --domain) domain="$2"; shift 2 ;;
     --weeks) weeks="$2"; shift 2 ;;
     --machines) machines="$2"; shift 2 ;;
+    --secure) secure=1; shift ;;
     -h|--help) awk 'NR > 2 && /^#/ { print; next } NR > 2 { exit }' "$0"; exit 0 ;;
     *) echo "demo.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
@@ -133,6 +139,20 @@ machines:
   - $scenario
 YAML
 fi
+acquisition_identity=()
+if [ -n "$secure" ]; then
+  echo "== DDS Security: the plant's identities in $var/pki (deploy/security/ncqual-pki)"
+  NCQUAL_CLI="$bin/cli/ncqual" "$root/deploy/security/ncqual-pki" init --plant "$plant" \
+    --out "$var/pki" --operator "$(hostname)" | sed 's/^/   /'
+  if [ "$machines" -gt 1 ]; then
+    # One acquisition process serves the whole plant here: one identity for all its machines.
+    all="$(printf '%s,' "$machine_id" $(seq -f 'pm%g' 2 "$machines"))"
+    NCQUAL_CLI="$bin/cli/ncqual" "$root/deploy/security/ncqual-pki" add --out "$var/pki" \
+      --role acquisition --name acquisition-plant --machines "${all%,}" | sed 's/^/   /'
+    acquisition_identity=(--identity acquisition-plant)
+  fi
+  echo "security: {dir: $var/pki}" >> "$plant"
+fi
 export NCQUAL_PLANT="$plant"
 export NCQUAL_DOMAIN="$domain"
 
@@ -165,7 +185,7 @@ echo "== starting the services on DDS domain $domain (logs in $var/log)"
 start historian
 start solver
 if [ -n "$weeks" ]; then
-  start acquisition --all
+  start acquisition --all "${acquisition_identity[@]}"
   if [ "$machines" -gt 1 ]; then
     echo "== $weeks simulated weeks of shifts for $machine_id (scenario $(basename "$scenario")) and pm2..pm$machines"
   else
