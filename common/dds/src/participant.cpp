@@ -178,6 +178,12 @@ ParticipantOptions participant_options(const PlantConfig& plant, int domain_id, 
   return o;
 }
 
+void apply_security_flags(ParticipantOptions& options, const std::string& secure,
+                          const std::string& identity, const std::string& default_identity) {
+  if (!secure.empty()) options.security.dir = secure;
+  options.security.identity = identity.empty() ? default_identity : identity;
+}
+
 std::string participant_profile(const NetworkConfig& network) {
   if (!network.participant_profile.empty()) return network.participant_profile;
   switch (network.discovery) {
@@ -199,7 +205,7 @@ Participant::Participant(const ParticipantOptions& options)
       allow_default_qos_(options.allow_default_qos),
       security_(options.security) {
   load_profiles_once(options.qos_profiles_file);
-  // TypeObjects of our types: needed for content filters and for XTypes discovery.
+  // TypeObjects of our types, for the content filters (they are not announced: topic()).
   static std::once_flag types_registered;
   std::call_once(types_registered, [] { registerncqualTypes(); });
   auto* factory = DomainParticipantFactory::get_instance();

@@ -42,16 +42,14 @@ ServiceOptions ServiceMain::service_options(const PlantConfig& plant,
   options.machine_id = served;
   options.participant = participant_options(
       plant, resolve_domain_id(options_.domain, plant.domain_id), "ncqual-" + service_);
-  if (!options_.secure.empty()) options.participant.security.dir = options_.secure;
   // The identity: --identity, else the service's own name; an acquisition's is its machine's
   // (acquisition-pm1), or its group's name given with --identity.
-  if (!options_.identity.empty()) {
-    options.participant.security.identity = options_.identity;
-  } else if (service_ != "acquisition") {
-    options.participant.security.identity = service_;
-  } else if (served.find(',') == std::string::npos) {
-    options.participant.security.identity = "acquisition-" + served;
-  } else if (!options.participant.security.dir.empty()) {
+  std::string own = service_;
+  if (service_ == "acquisition") {
+    own = served.find(',') == std::string::npos ? "acquisition-" + served : "";
+  }
+  apply_security_flags(options.participant, options_.secure, options_.identity, own);
+  if (options.participant.security.identity.empty() && !options.participant.security.dir.empty()) {
     throw ConfigError({"an acquisition of several machines (" + served +
                        ") on a secured plant needs --identity NAME: an identity made with "
                        "ncqual-pki add --role acquisition --machines " +

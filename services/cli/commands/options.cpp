@@ -69,14 +69,9 @@ dds::ParticipantOptions command_participant(const PlantConfig& plant, const DdsO
                                             const std::string& default_identity) {
   dds::ParticipantOptions p = dds::participant_options(
       plant, dds::resolve_domain_id(options.domain, plant.domain_id), name);
-  if (!options.secure.empty()) p.security.dir = options.secure;
-  if (!options.identity.empty()) {
-    p.security.identity = options.identity;
-  } else if (const char* env = std::getenv("NCQUAL_IDENTITY"); env && *env) {
-    p.security.identity = env;
-  } else {
-    p.security.identity = default_identity;
-  }
+  const char* env = std::getenv("NCQUAL_IDENTITY");
+  apply_security_flags(p, options.secure, options.identity,
+                       env && *env ? std::string(env) : default_identity);
   return p;
 }
 

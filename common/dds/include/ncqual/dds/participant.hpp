@@ -45,6 +45,11 @@ struct ParticipantOptions {
 // The options of a participant of `plant` on `domain_id`, named `name` ("ncqual-cli").
 ParticipantOptions participant_options(const PlantConfig& plant, int domain_id, std::string name);
 
+// A process's --secure and --identity over the plant's: `secure`, when given, replaces the
+// plant's security directory; the identity is `identity` when given, else `default_identity`.
+void apply_security_flags(ParticipantOptions& options, const std::string& secure,
+                          const std::string& identity, const std::string& default_identity);
+
 // The identities of ncqual-pki's `dir` (the names of identities/*/), sorted; for messages.
 std::vector<std::string> identities_in(const std::string& dir);
 
