@@ -63,10 +63,13 @@ class Writer {
       : participant_(participant) {
     auto* topic = participant.topic(
         Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
-    writer_ = participant.publisher()->create_datawriter_with_profile(topic, profile);
-    if (!writer_) {
+    eprosima::fastdds::dds::DataWriterQos qos;
+    if (participant.publisher()->get_datawriter_qos_from_profile(profile, qos) ==
+        eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      writer_ = participant.publisher()->create_datawriter(topic, without_writer_filters(qos));
       // Refused with its profile loaded (e.g. by the permissions of a secured plant): says so.
-      participant.refused_unless_unprofiled(profile, Topic::kName, true);
+      if (!writer_) participant.refused_unless_unprofiled(profile, Topic::kName, true);
+    } else {
       // Without our profiles: refused, unless the plant allows reliable defaults (experiments).
       participant.require_default_qos_allowed(profile, Topic::kName);
       writer_ = participant.publisher()->create_datawriter(topic, default_qos());
@@ -110,10 +113,20 @@ class Writer {
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
 
  private:
+  // Content filters are evaluated by the readers only. Fast DDS 2.9's writer-side filtering
+  // races: a writer evaluating a matched reader's filter (DDSFilterExpression::evaluate) while a
+  // filtered reader of a short-lived `ncqual` command comes or goes crashed the solver and the
+  // historian in DynamicData::clear_all_values (one run in about sixty `ncqual check`s).
+  static eprosima::fastdds::dds::DataWriterQos without_writer_filters(
+      eprosima::fastdds::dds::DataWriterQos qos) {
+    qos.writer_resource_limits().reader_filters_allocation =
+        eprosima::fastrtps::ResourceLimitedContainerConfig::fixed_size_configuration(0);
+    return qos;
+  }
   static eprosima::fastdds::dds::DataWriterQos default_qos() {
     eprosima::fastdds::dds::DataWriterQos qos = eprosima::fastdds::dds::DATAWRITER_QOS_DEFAULT;
     qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
-    return qos;
+    return without_writer_filters(qos);
   }
   Participant& participant_;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
@@ -136,7 +149,7 @@ class Reader {
   using TopicType = Topic;
 
   // With `machine_id`, only samples of that machine are delivered (content-filtered topic,
-  // evaluated at the writer where possible).
+  // evaluated by this reader: see Writer::without_writer_filters).
   explicit Reader(Participant& participant, std::optional<std::string> machine_id = std::nullopt,
                   const char* profile = Topic::kReaderProfile)
       : participant_(participant) {
