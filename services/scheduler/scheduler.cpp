@@ -16,6 +16,7 @@ namespace ncqual::scheduler {
 namespace {
 
 constexpr std::size_t kRememberedInterventions = 64;
+constexpr std::size_t kRememberedOrders = 64;
 constexpr std::int64_t kNsPerMinute = 60'000'000'000LL;
 
 std::string kind_list(const std::vector<CheckKind>& kinds) {
@@ -58,8 +59,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(Hold, kind, request_id, detail, 
                                                 in_sequence)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MachineRun, last_pass_ns, queue, pending, hold,
                                                 planned_shift_ns, next_part_ns, part_step,
-                                                local_time_ns, sequence, interventions, state,
-                                                detail)
+                                                local_time_ns, sequence, interventions, orders,
+                                                state, detail)
 
 namespace {
 
@@ -327,6 +328,10 @@ std::string Scheduler::command(const CheckCommand& cmd) {
   for (const auto& p : m.run.pending) {
     if (contains(p.request_ids, cmd.request_id)) return "";  // a resent order: already issued
   }
+  // A sender writes its order again until the scheduler's acknowledgement reaches it
+  // (dds::send_acknowledged); the check may be done by then: it is not run a second time under
+  // the same request id (the historian would keep the second request as a conflict).
+  if (contains(m.run.orders, cmd.request_id)) return "";
   if (std::string why = refusal_while_held(m, cmd.kind); !why.empty()) {
     spdlog::warn("{}: order {} of {} by {} refused: {}", cmd.machine_id, cmd.request_id,
                  to_string(cmd.kind), cmd.requested_by, why);
@@ -335,6 +340,8 @@ std::string Scheduler::command(const CheckCommand& cmd) {
   // Beside the sequence: an operator's order neither waits for it nor holds it up.
   issue(m, cmd.kind, cmd.requested_by.empty() ? "operator" : cmd.requested_by, cmd.parameters, "",
         false, false, cmd.request_id);
+  m.run.orders.push_back(cmd.request_id);
+  if (m.run.orders.size() > kRememberedOrders) m.run.orders.erase(m.run.orders.begin());
   commit(m);
   return "";
 }

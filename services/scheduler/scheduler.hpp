@@ -94,6 +94,7 @@ struct MachineRun {
   std::int64_t local_time_ns = 0;                // simulated clock: newest result time
   std::uint64_t sequence = 0;                    // request ids issued
   std::vector<std::string> interventions;        // ids applied (newest 64)
+  std::vector<std::string> orders;               // operator orders issued (newest 64)
   MachineState state = MachineState::Unknown;
   std::string detail;
 };

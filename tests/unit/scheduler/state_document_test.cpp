@@ -8,6 +8,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace ncqual::scheduler {
 namespace {
@@ -43,6 +44,7 @@ TEST(StateDocument, ADocumentOfThePreviousVersionLoads) {
   EXPECT_EQ(run.part_step, 2u);
   EXPECT_EQ(run.sequence, 41u);
   EXPECT_EQ(run.state, MachineState::Qualified);
+  EXPECT_TRUE(run.orders.empty());  // no "orders" key before they were remembered
 }
 
 TEST(StateDocument, EveryFieldSurvivesARoundTrip) {
@@ -69,6 +71,7 @@ TEST(StateDocument, EveryFieldSurvivesARoundTrip) {
   run.local_time_ns = 17;
   run.sequence = 19;
   run.interventions = {"iv-9"};
+  run.orders = {"op-pm1-1"};
   run.state = MachineState::NeedsIntervention;
   run.detail = "held";
 
@@ -80,6 +83,7 @@ TEST(StateDocument, EveryFieldSurvivesARoundTrip) {
   EXPECT_EQ(back.next_part_ns, 13);
   EXPECT_TRUE(back.pending.at(0).rearmed);
   EXPECT_EQ(back.state, MachineState::NeedsIntervention);
+  EXPECT_EQ(back.orders, std::vector<std::string>{"op-pm1-1"});
 }
 
 std::string refusal(const std::string& text) {

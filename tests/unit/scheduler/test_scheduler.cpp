@@ -93,6 +93,11 @@ TEST(Scheduler, OperatorCommandsAreValidated) {
   EXPECT_EQ(rec.requests[0].request_id, "r1");
   EXPECT_EQ(rec.requests[0].requested_by, "operator:ann");
   EXPECT_EQ(s.state("m1"), MachineState::Checking);
+  // Sent again after its check is done (the sender missed the acknowledgement): still one request.
+  s.result(result_of(rec.requests[0], Verdict::Pass));
+  EXPECT_EQ(s.command({"m1", "r1", CheckKind::MonumentPositioning, "operator:ann", 0, {}}), "");
+  EXPECT_EQ(rec.requests.size(), 1u);
+  EXPECT_EQ(s.state("m1"), MachineState::Qualified);
 }
 
 // The weekly fixture loop: pre-calibration FAIL with zero offsets -> post-calibration that
