@@ -3,8 +3,10 @@
 # Installs the Debian 12 packages ncqual builds and runs with, when they are missing.
 # Everything comes from Debian's archive; nothing else is downloaded.
 # Usage: install-deps.sh [--test]   (--test adds what only the test suite needs: the linters,
-#        iproute2 and nftables for the lossy-network test, which impairs a namespace's loopback, and
-#        LinuxCNC for the test that runs a probing program on a real controller)
+#        iproute2 and nftables for the lossy-network test, which impairs a namespace's loopback,
+#        LinuxCNC for the test that runs a probing program on a real controller, and Cyclone DDS
+#        with its idlc for the test that reads and writes ncqual's topics from another vendor's
+#        DDS, tests/interop/cyclone)
 set -euo pipefail
 
 packages=(
@@ -15,7 +17,8 @@ packages=(
   libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev
 )
 if [ "${1:-}" = "--test" ]; then
-  packages+=(clang-format-14 clang-tidy-14 iproute2 nftables linuxcnc-uspace)
+  packages+=(clang-format-14 clang-tidy-14 iproute2 nftables linuxcnc-uspace
+            cyclonedds-dev cyclonedds-tools)
 fi
 
 missing=()
