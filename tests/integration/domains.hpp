@@ -56,6 +56,8 @@ enum class TestDomain : int {
   PlantNetwork = detail::test_domain(226),
   // SecurePlant.*: DDS Security with ncqual-pki's identities and permissions
   SecurePlant = detail::test_domain(227),
+  // Cyclone.*: ncqual-cyclone-peer, a reader and writer built with Cyclone DDS, against the plant
+  Cyclone = detail::test_domain(228),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -88,7 +90,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::ControlFiles:
     case TestDomain::LinuxCnc:
     case TestDomain::PlantNetwork:
-    case TestDomain::SecurePlant: break;
+    case TestDomain::SecurePlant:
+    case TestDomain::Cyclone: break;
   }
   return static_cast<int>(domain);
 }
