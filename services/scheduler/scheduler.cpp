@@ -15,8 +15,13 @@ namespace ncqual::scheduler {
 
 namespace {
 
-constexpr std::size_t kRememberedInterventions = 64;
-constexpr std::size_t kRememberedOrders = 64;
+// Interventions applied and operator orders issued are remembered per machine, the newest 64,
+// so that one delivered or sent again is taken once.
+constexpr std::size_t kRememberedIds = 64;
+void remember(std::vector<std::string>& ids, const std::string& id) {
+  ids.push_back(id);
+  if (ids.size() > kRememberedIds) ids.erase(ids.begin());
+}
 constexpr std::int64_t kNsPerMinute = 60'000'000'000LL;
 
 std::string kind_list(const std::vector<CheckKind>& kinds) {
@@ -340,8 +345,7 @@ std::string Scheduler::command(const CheckCommand& cmd) {
   // Beside the sequence: an operator's order neither waits for it nor holds it up.
   issue(m, cmd.kind, cmd.requested_by.empty() ? "operator" : cmd.requested_by, cmd.parameters, "",
         false, false, cmd.request_id);
-  m.run.orders.push_back(cmd.request_id);
-  if (m.run.orders.size() > kRememberedOrders) m.run.orders.erase(m.run.orders.begin());
+  remember(m.run.orders, cmd.request_id);
   commit(m);
   return "";
 }
@@ -472,9 +476,7 @@ std::string Scheduler::intervention(const Intervention& iv) {
            "' does not match the held check '" + std::string(to_string(h.kind)) + "' of machine '" +
            iv.machine_id + "'";
   }
-  m.run.interventions.push_back(iv.intervention_id);
-  if (m.run.interventions.size() > kRememberedInterventions)
-    m.run.interventions.erase(m.run.interventions.begin());
+  remember(m.run.interventions, iv.intervention_id);
   m.run.hold.reset();
   spdlog::info("{}: intervention {} re-arms {}: {}", iv.machine_id, iv.intervention_id,
                to_string(h.rerun), iv.note);

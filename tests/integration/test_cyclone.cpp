@@ -29,6 +29,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #ifndef NCQUAL_CYCLONE_PEER_EXE
@@ -357,6 +358,38 @@ bool written_until_heard(ncqual::dds::Writer<Topic>& writer, const typename Topi
   return false;
 }
 
+// A command topic's `sample` sent by ncqual's own writer code (the `ncqual` tool's: written until
+// the scheduler acknowledges it), as a Cyclone reader started first printed it; nullopt (with the
+// failures said) when the scheduler did not answer or Cyclone printed anything else. `readers`:
+// the readers to match first, the Cyclone reader's among them.
+template <typename Model>
+std::optional<json> heard_by_cyclone(const CyclonePeer& peer, ncqual::dds::Participant& participant,
+                                     const Model& sample, int readers) {
+  using Topic = std::conditional_t<std::is_same_v<Model, CheckCommand>,
+                                   ncqual::dds::CheckCommandTopic, ncqual::dds::InterventionTopic>;
+  Process listener(peer.launch("read", {"--topic", Topic::kName, "--machine", sample.machine_id,
+                                        "--count", "1", "--timeout", "60"}));
+  ncqual::dds::Writer<Topic> writer(participant);
+  EXPECT_TRUE(writer.wait_for_readers(readers, std::chrono::seconds(30)));
+  const auto answer = ncqual::dds::send_acknowledged(participant, writer, sample,
+                                                     {roles::kScheduler}, std::chrono::seconds(30));
+  if (!answer.silent.empty()) {
+    ADD_FAILURE() << Topic::kName << ": the scheduler did not acknowledge";
+    return std::nullopt;
+  }
+  if (!written_until_heard(writer, sample, listener)) {
+    ADD_FAILURE() << Topic::kName << ": Cyclone did not print it: " << listener.err();
+    return std::nullopt;
+  }
+  EXPECT_EQ(listener.wait(), 0) << listener.err();
+  const auto got = json_lines(listener.out());
+  if (got.size() != 1) {
+    ADD_FAILURE() << Topic::kName << ": Cyclone printed " << got.size() << " lines";
+    return std::nullopt;
+  }
+  return got[0];
+}
+
 bool complete(const std::optional<storage::CheckRecord>& r) {
   return r && r->request && r->measurement && r->result;
 }
@@ -480,48 +513,30 @@ TEST(Cyclone, ACycloneDdsPeerReadsEveryTopicExactlyAndItsOrdersAreCarriedOut) {
   //    Cyclone reader started first.
   ncqual::dds::Participant participant(test_participant(plant, "cyclone-test"));
   {
-    Process listener(peer.launch("read", {"--topic", "ncqual/CheckCommand", "--machine", "pm-fix",
-                                          "--count", "1", "--timeout", "60"}));
-    ncqual::dds::Writer<ncqual::dds::CheckCommandTopic> commands(participant);
-    ASSERT_TRUE(commands.wait_for_readers(2, std::chrono::seconds(30)));  // scheduler, Cyclone
     const CheckCommand cmd{"pm-fix",
                            "op-from-fast-dds-1",
                            CheckKind::MonumentCRotation,
                            "operator:fast-dds",
                            WallClock().now_ns(),
                            {}};
-    const auto answer = ncqual::dds::send_acknowledged(
-        participant, commands, cmd, {roles::kScheduler}, std::chrono::seconds(30));
-    ASSERT_TRUE(answer.silent.empty()) << logs();
-    ASSERT_TRUE(written_until_heard(commands, cmd, listener)) << listener.err();
-    ASSERT_EQ(listener.wait(), 0) << listener.err();
-    const auto got = json_lines(listener.out());
-    ASSERT_EQ(got.size(), 1u);
-    EXPECT_EQ(difference(got[0], expected(cmd)), "");
+    const std::optional<json> got = heard_by_cyclone(peer, participant, cmd, 2);  // scheduler
+    ASSERT_TRUE(got) << logs();
+    EXPECT_EQ(difference(*got, expected(cmd)), "");
   }
   {
-    Process listener(peer.launch("read", {"--topic", "ncqual/Intervention", "--machine", "pm-fix",
-                                          "--count", "1", "--timeout", "60"}));
-    ncqual::dds::Writer<ncqual::dds::InterventionTopic> interventions(participant);
-    // scheduler, historian, Cyclone
-    ASSERT_TRUE(interventions.wait_for_readers(3, std::chrono::seconds(30)));
     const Intervention iv{"pm-fix",
                           "iv-from-fast-dds-1",
                           CheckKind::MonumentPositioning,
                           "nothing held: recorded only",
                           "fast-dds-bob",
                           WallClock().now_ns()};
-    const auto answer = ncqual::dds::send_acknowledged(
-        participant, interventions, iv, {roles::kScheduler}, std::chrono::seconds(30));
-    ASSERT_TRUE(answer.silent.empty()) << logs();
-    ASSERT_TRUE(written_until_heard(interventions, iv, listener)) << listener.err();
-    ASSERT_EQ(listener.wait(), 0) << listener.err();
-    const auto got = json_lines(listener.out());
-    ASSERT_EQ(got.size(), 1u);
-    EXPECT_EQ(difference(got[0], expected(iv)), "");
+    // scheduler, historian, Cyclone
+    const std::optional<json> got = heard_by_cyclone(peer, participant, iv, 3);
+    ASSERT_TRUE(got) << logs();
+    EXPECT_EQ(difference(*got, expected(iv)), "");
     ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
       const auto stored = db.interventions("pm-fix");
-      return stored.size() == 1 && difference(got[0], expected(stored[0])).empty();
+      return stored.size() == 1 && difference(*got, expected(stored[0])).empty();
     })) << logs();
   }
 
