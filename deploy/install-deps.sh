@@ -6,7 +6,8 @@
 #        iproute2 and nftables for the lossy-network test, which impairs a namespace's loopback,
 #        LinuxCNC for the test that runs a probing program on a real controller, and Cyclone DDS
 #        with its idlc for the test that reads and writes ncqual's topics from another vendor's
-#        DDS, tests/interop/cyclone)
+#        DDS, tests/interop/cyclone, and systemd for systemd-analyze, which verifies the units of
+#        the .deb, tests/package)
 set -euo pipefail
 
 packages=(
@@ -14,11 +15,11 @@ packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libeigen3-dev libceres-dev libsqlite3-dev sqlite3 libspdlog-dev libfmt-dev
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
-  libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev
+  libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev libsystemd-dev
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(clang-format-14 clang-tidy-14 iproute2 nftables linuxcnc-uspace
-            cyclonedds-dev cyclonedds-tools)
+            cyclonedds-dev cyclonedds-tools systemd)
 fi
 
 missing=()

@@ -58,6 +58,8 @@ enum class TestDomain : int {
   SecurePlant = detail::test_domain(227),
   // Cyclone.*: ncqual-cyclone-peer, a reader and writer built with Cyclone DDS, against the plant
   Cyclone = detail::test_domain(228),
+  // ServiceManager.*: a service's notifications to systemd (sd_notify)
+  ServiceManager = detail::test_domain(229),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -91,7 +93,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::LinuxCnc:
     case TestDomain::PlantNetwork:
     case TestDomain::SecurePlant:
-    case TestDomain::Cyclone: break;
+    case TestDomain::Cyclone:
+    case TestDomain::ServiceManager: break;
   }
   return static_cast<int>(domain);
 }

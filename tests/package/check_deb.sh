@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# The .deb that cpack makes from the build (CMakeLists.txt's install rules): its files, its
+# dependencies, its maintainer scripts, its systemd units as systemd-analyze verifies them against
+# this host's units, and its executables run from the unpacked package.
+# Usage: check_deb.sh BUILD_DIR SOURCE_DIR. Exit 77 (skipped, ctest says so) without
+# systemd-analyze or dpkg-deb.
+set -euo pipefail
+build="$1"
+source="$2"
+for tool in dpkg-deb systemd-analyze cpack; do
+  command -v "$tool" > /dev/null || { echo "SKIPPED: $tool is not installed"; exit 77; }
+done
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+(cd "$build" && cpack -G DEB -B "$work/out" > "$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack"; }
+deb="$(ls "$work"/out/ncqual_*_amd64.deb 2> /dev/null || ls "$work"/out/ncqual_*.deb)"
+echo "package: $(basename "$deb"), $(du -k "$deb" | cut -f1) KiB"
+
+depends="$(dpkg-deb -f "$deb" Depends)"
+for d in libfastrtps2.9 libfastcdr1 libsqlite3-0 libsystemd0 openssl; do
+  [[ "$depends" == *"$d"* ]] || fail "Depends lacks $d: $depends"
+done
+dpkg-deb --ctrl-tarfile "$deb" | tar -tf - | grep -q '^./postinst$' || fail "no postinst"
+[ "$(dpkg-deb --ctrl-tarfile "$deb" | tar -xOf - ./conffiles)" = \
+  "$(cat "$source/deploy/systemd/conffiles")" ] || fail "conffiles differ from deploy/systemd/conffiles"
+
+root="$work/root"
+dpkg-deb -x "$deb" "$root"
+for f in usr/bin/ncqual usr/bin/ncqual-historian usr/bin/ncqual-solver usr/bin/ncqual-scheduler \
+  usr/bin/ncqual-acquisition usr/bin/ncqual-pki usr/share/ncqual/qos/ncqual-qos.xml \
+  usr/share/ncqual/idl/ncqual.idl usr/lib/sysusers.d/ncqual.conf etc/ncqual/plant.yaml \
+  etc/ncqual/machines/pm1.yaml usr/lib/systemd/system/ncqual.target; do
+  [ -e "$root/$f" ] || fail "/$f is not in the package"
+done
+# The plant file the package installs names the QoS profiles where the package puts them.
+grep -q '^qos_profiles: /usr/share/ncqual/qos/ncqual-qos.xml' "$root/etc/ncqual/plant.yaml" \
+  || fail "/etc/ncqual/plant.yaml does not name /usr/share/ncqual/qos/ncqual-qos.xml"
+
+# The units, verified as on a host with the package installed: this host's units beside them.
+units="$root/usr/lib/systemd/system"
+for u in /lib/systemd/system/*; do [ -e "$units/$(basename "$u")" ] || cp -a "$u" "$units/"; done
+for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.service \
+  ncqual-acquisition@pm1.service ncqual.target; do
+  said="$(systemd-analyze --root="$root" verify "$units/${unit/@pm1/@}" 2>&1 \
+    | sed "s|$units/||")" || fail "$unit: $said"
+  [ -z "$said" ] || fail "$unit: systemd-analyze verify says: $said"
+  echo "verified $unit"
+done
+systemd-analyze --root="$root" --offline=yes security "$units/ncqual-historian.service" 2>&1 \
+  | tail -1
+
+# The packaged executables run (their libraries are this host's Debian packages).
+for exe in ncqual ncqual-historian ncqual-solver ncqual-scheduler ncqual-acquisition; do
+  "$root/usr/bin/$exe" --version > "$work/version" 2>&1 || fail "$exe --version: $(cat "$work/version")"
+  echo "ran $(head -1 "$work/version")"
+done
+echo "PASS"
