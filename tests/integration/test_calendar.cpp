@@ -152,7 +152,7 @@ TEST(Calendar, RestartedAcquisitionDoesNotMeasureReplayedRequestsAgain) {
   plant.start("historian");
   plant.start("solver");
   Process* acquisition = &plant.start("acquisition", {"--machine", "cal-a,cal-b"});
-  Process& scheduler = plant.start("scheduler", {"--days", "3"});
+  Process& scheduler = plant.start("scheduler", {"--days", "21"});
   std::int64_t seen = 0;
   ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
     return (seen = db.count_results()) >= 20;
