@@ -32,7 +32,8 @@ dpkg-deb -x "$deb" "$root"
 for f in usr/bin/ncqual usr/bin/ncqual-historian usr/bin/ncqual-solver usr/bin/ncqual-scheduler \
   usr/bin/ncqual-acquisition usr/bin/ncqual-pki usr/share/ncqual/qos/ncqual-qos.xml \
   usr/share/ncqual/idl/ncqual.idl usr/lib/sysusers.d/ncqual.conf etc/ncqual/plant.yaml \
-  etc/ncqual/machines/pm1.yaml usr/lib/systemd/system/ncqual.target; do
+  etc/ncqual/machines/pm1.yaml usr/lib/systemd/system/ncqual.target \
+  usr/lib/systemd/system/ncqual-.service.d/10-ncqual.conf; do
   [ -e "$root/$f" ] || fail "/$f is not in the package"
 done
 # The plant file the package installs names the QoS profiles where the package puts them.
@@ -49,8 +50,18 @@ for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.serv
   [ -z "$said" ] || fail "$unit: systemd-analyze verify says: $said"
   echo "verified $unit"
 done
-systemd-analyze --root="$root" --offline=yes security "$units/ncqual-historian.service" 2>&1 \
-  | tail -1
+# The hardening is the shared drop-in (ncqual-.service.d): rated as systemd applies it to each
+# unit, every one must come out below 5 ("OK" or better; without the drop-in about 9.6, "UNSAFE").
+for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.service \
+  ncqual-acquisition@pm1.service; do
+  rating="$(systemd-analyze --root="$root" --offline=yes security "$units/${unit/@pm1/@}" 2>&1 \
+    | tail -1)"
+  echo "$rating"
+  exposure="$(echo "$rating" | sed -n 's/.*: \([0-9.]*\) .*/\1/p')"
+  if [ -z "$exposure" ] || ! awk -v e="$exposure" 'BEGIN { exit !(e < 5) }'; then
+    fail "$unit: $rating"
+  fi
+done
 
 # The packaged executables run (their libraries are this host's Debian packages).
 for exe in ncqual ncqual-historian ncqual-solver ncqual-scheduler ncqual-acquisition; do
