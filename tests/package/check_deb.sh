@@ -11,9 +11,14 @@ source="$2"
 for tool in dpkg-deb systemd-analyze cpack; do
   command -v "$tool" > /dev/null || { echo "SKIPPED: $tool is not installed"; exit 77; }
 done
-work="$(mktemp -d)"
+# Beside the build (its disk had room for the build), not in /tmp, which may be small.
+work="$(mktemp -d "$build/package-check.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
-fail() { echo "FAIL: $*"; exit 1; }
+fail() {
+  echo "FAIL: $*"
+  echo "(free space where the package was made: $(df -h --output=avail "$work" | tail -1))"
+  exit 1
+}
 
 (cd "$build" && cpack -G DEB -B "$work/out" > "$work/cpack.log" 2>&1) || { cat "$work/cpack.log"; fail "cpack"; }
 deb="$(ls "$work"/out/ncqual_*_amd64.deb 2> /dev/null || ls "$work"/out/ncqual_*.deb)"
