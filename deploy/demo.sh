@@ -152,6 +152,9 @@ if [ -n "$secure" ]; then
     acquisition_identity=(--identity acquisition-plant)
   fi
   echo "security: {dir: $var/pki}" >> "$plant"
+  # Peers, not multicast: Fast DDS 2.9 can leave two secured participants that discover others
+  # at once unauthenticated for good when discovery is multicast (docs/deploy.md, "Security").
+  echo "network: {discovery: peers, peers: [127.0.0.1]}" >> "$plant"
 fi
 export NCQUAL_PLANT="$plant"
 export NCQUAL_DOMAIN="$domain"
