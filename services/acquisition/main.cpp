@@ -8,7 +8,8 @@
 // post-calibration waits until the correction it verifies is applied. It acknowledges requests
 // and compensations once settled, so their senders keep them until it has. What a machine does with
 // its requests is ncqual/acquisition/station.hpp; this file wires one station per machine served
-// (--machine a,b,c or --all) to its machine-filtered readers and the shared MeasurementSet writer.
+// (--machine a,b,c or --all) to its readers and its MeasurementSet writer, in the machine's own
+// partition (docs/deploy.md, "Roles").
 // Every set is kept in the outbox of the state file, saved with the record that its request was
 // performed, until the historian stored it and the solver saved its result
 // (docs/architecture.md, "Acknowledged storage"): a restart sends it again, never measures again.
@@ -32,7 +33,8 @@ namespace {
 
 using namespace ncqual;
 
-// One machine served: its station, fed by its machine-filtered request and compensation readers.
+// One machine served: its station, fed by its request and compensation readers (in the machine's
+// partition, filtered to its id).
 class Served {
  public:
   // Requests and compensations are acknowledged (role acquisition) once the station settled
@@ -133,7 +135,12 @@ int run(int argc, char** argv) {
     std::string served;
     for (const auto& m : machines) served += (served.empty() ? "" : ",") + m.machine_id;
     ncqual::dds::Service service(service_main.service_options(plant, served));
-    ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(service.participant());
+    // One writer per machine, in its partition: on a secured plant the permissions of this
+    // acquisition's identity allow those partitions only.
+    std::vector<std::string> ids;
+    ids.reserve(machines.size());
+    for (const auto& m : machines) ids.push_back(m.machine_id);
+    ncqual::dds::MachineWriters<ncqual::dds::MeasurementSetTopic> sets(service.participant(), ids);
     std::string file_ids = selection.all ? "all" : served;
     std::replace(file_ids.begin(), file_ids.end(), ',', '+');
     storage::StateFile state = storage::StateFile::open(

@@ -131,11 +131,15 @@ int run(int argc, char** argv) {
     ncqual::dds::Service service(service_main.service_options(plant));
     auto& p = service.participant();
     ncqual::dds::Acknowledger acks(service, roles::kHistorian);
-    ncqual::dds::Reader<ncqual::dds::CheckRequestTopic> requests(p);
-    ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(p);
+    // The per-machine topics are read in each machine's partition: a sample that names another
+    // machine than its partition's is refused (docs/deploy.md, "Roles").
+    std::vector<std::string> machine_ids;
+    for (const auto& m : plant.machines) machine_ids.push_back(m.machine_id);
+    ncqual::dds::MachineReaders<ncqual::dds::CheckRequestTopic> requests(p, machine_ids);
+    ncqual::dds::MachineReaders<ncqual::dds::MeasurementSetTopic> sets(p, machine_ids);
     ncqual::dds::Reader<ncqual::dds::CheckResultTopic> results(p);
     ncqual::dds::Reader<ncqual::dds::MachineStatusTopic> statuses(p);
-    ncqual::dds::Reader<ncqual::dds::CompensationTopic> compensations(p);
+    ncqual::dds::MachineReaders<ncqual::dds::CompensationTopic> compensations(p, machine_ids);
     ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
     ncqual::dds::Reader<ncqual::dds::HeartbeatTopic> heartbeats(p);
 

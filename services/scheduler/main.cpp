@@ -78,7 +78,10 @@ int run(int argc, char** argv) {
 
     ncqual::dds::Service service(service_main.service_options(plant));
     auto& p = service.participant();
-    ncqual::dds::Writer<ncqual::dds::CheckRequestTopic> requests(p);
+    // One request writer per machine, in its partition: an acquisition reads its machines' only.
+    std::vector<std::string> machine_ids;
+    for (const auto& m : plant.machines) machine_ids.push_back(m.machine_id);
+    ncqual::dds::MachineWriters<ncqual::dds::CheckRequestTopic> requests(p, machine_ids);
     ncqual::dds::Writer<ncqual::dds::MachineStatusTopic> statuses(p);
     ncqual::dds::Reader<ncqual::dds::CheckResultTopic> results(p);
     ncqual::dds::Reader<ncqual::dds::CheckCommandTopic> commands(p);

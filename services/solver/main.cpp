@@ -98,9 +98,15 @@ int run(int argc, char** argv) {
         (std::filesystem::path(plant.historian_database).parent_path() / "solver.db").string()));
     SolvedSets solved(state);
     ncqual::dds::Service service(service_main.service_options(plant));
-    ncqual::dds::Reader<ncqual::dds::MeasurementSetTopic> sets(service.participant());
+    // Sets are read in each machine's partition (a set naming another machine is refused), and
+    // a machine's compensations written in its partition, where its acquisition reads them.
+    std::vector<std::string> machine_ids;
+    for (const auto& m : plant.machines) machine_ids.push_back(m.machine_id);
+    ncqual::dds::MachineReaders<ncqual::dds::MeasurementSetTopic> sets(service.participant(),
+                                                                       machine_ids);
     ncqual::dds::Writer<ncqual::dds::CheckResultTopic> results(service.participant());
-    ncqual::dds::Writer<ncqual::dds::CompensationTopic> compensations(service.participant());
+    ncqual::dds::MachineWriters<ncqual::dds::CompensationTopic> compensations(service.participant(),
+                                                                              machine_ids);
     ncqual::dds::Acknowledger acks(service, roles::kSolver);
     ncqual::dds::Outbox outbox(service, state);
     outbox.route(results);
@@ -110,6 +116,13 @@ int run(int argc, char** argv) {
     const std::string produced_by = version_line("ncqual-solver");
     service.dispatcher().on(sets, [&](const ncqual::dds::Received<MeasurementSet>& in) {
       const MeasurementSet& set = in.value;
+      if (in.foreign) {
+        // Written on another machine's behalf: no answer for that machine, only the refusal.
+        spdlog::error("{} {}: measurement set refused: {}", set.machine_id, set.request_id,
+                      in.error);
+        acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Refused, in.error);
+        return;
+      }
       if (solved.contains(set.request_id)) {
         spdlog::debug("{} {}: already solved, acknowledged again", set.machine_id, set.request_id);
         acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Accepted,

@@ -7,6 +7,7 @@
 #include "harness.hpp"
 #include "test_participant.hpp"
 
+#include "ncqual/dds/acknowledged_send.hpp"
 #include "ncqual/dds/dispatcher.hpp"
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"
@@ -85,16 +86,14 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
     return good && held && good->state == MachineState::Qualified &&
            held->state == MachineState::NeedsIntervention;
   })) << plant.log("historian")
-      << plant.log("scheduler");
+      << plant.log("scheduler") << plant.log("solver") << plant.log("acquisition");
   const std::string held_request = [&] {
     auto db = storage::Database::open_readonly(plant.db_path());
     return db.latest_status("held")->request_id;
   }();
 
-  // Who reads: the viewer's identity receives the results (the control); a participant with no
-  // identity, and one of another CA, receive nothing of them.
-  dds::Participant viewer(as(plant, dir, "viewer-audit"));
-  dds::Reader<dds::CheckResultTopic> viewer_results(viewer);
+  // Who reads: a participant with no identity, and one of another CA, receive nothing of the
+  // results (the viewer's identity, the control, joins below).
   dds::Participant plain(as(plant, "", ""));
   dds::Reader<dds::CheckResultTopic> plain_results(plain);
   dds::Participant foreign(as(plant, other, "operator-station1"));
@@ -170,8 +169,52 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
     }
   }
 
+  // Machines: acquisition-good's permissions name good's partition only. It can neither write
+  // nor read in held's, nor read every partition.
+  dds::Participant good_acquisition(as(plant, dir, "acquisition-good"));
+  const auto refused = [](const char* what, const auto& make) {
+    try {
+      make();
+      ADD_FAILURE() << "acquisition-good made " << what;
+    } catch (const dds::DdsError& e) {
+      EXPECT_NE(std::string(e.what()).find("permissions of identity 'acquisition-good'"),
+                std::string::npos)
+          << e.what();
+    }
+  };
+  refused("a MeasurementSet writer in held's partition",
+          [&] { dds::Writer<dds::MeasurementSetTopic> w(good_acquisition, std::string("held")); });
+  refused("a reader of held's requests",
+          [&] { dds::Reader<dds::CheckRequestTopic> r(good_acquisition, std::string("held")); });
+  refused("a reader of every partition's compensations",
+          [&] { dds::Reader<dds::CompensationTopic> r(good_acquisition); });
+  // In its own partition it may write, but a set naming held (a re-measure of held's failed
+  // request) is refused by the historian and the solver, each saying why; nothing is stored.
+  {
+    dds::Writer<dds::MeasurementSetTopic> sets(good_acquisition, std::string("good"));
+    MeasurementSet forged;
+    forged.machine_id = "held";
+    forged.request_id = held_request;
+    forged.kind = CheckKind::MonumentPositioning;
+    forged.instrument = "touch_probe";
+    forged.frame = "machine";
+    forged.time_ns = 1;
+    const dds::OrderOutcome answered = dds::send_acknowledged(
+        good_acquisition, sets, forged, {"historian", "solver"}, std::chrono::seconds(60));
+    EXPECT_TRUE(answered.silent.empty()) << answered.silent.front() << " did not answer";
+    for (const std::string role : {"historian", "solver"}) {
+      const auto it = answered.answers.find(role);
+      ASSERT_NE(it, answered.answers.end()) << role;
+      EXPECT_EQ(it->second.outcome, AckOutcome::Refused) << role;
+      EXPECT_NE(it->second.detail.find("names machine 'held'"), std::string::npos)
+          << role << ": " << it->second.detail;
+    }
+  }
+
   // The control: the operator's identity orders a check of `good`, which passes and is stored;
   // the viewer receives its result.
+  dds::Participant viewer(as(plant, dir, "viewer-audit"));
+  dds::Reader<dds::CheckResultTopic> viewer_results(viewer);
   const Outcome ordered =
       cli(plant, {"check", "--machine", "good", "--kind", "monument_positioning", "--identity",
                   "operator-station1", "--wait", "60"});
@@ -188,7 +231,8 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
     if (in.value.request_id == request) seen = true;
   });
   dispatcher.run_until([&] { return seen; }, std::chrono::seconds(30));
-  EXPECT_TRUE(seen) << "the viewer did not receive " << request;
+  EXPECT_TRUE(seen) << "the viewer did not receive " << request
+                    << " (matched writers: " << viewer_results.matched_writers() << ")";
 
   // Nothing of the adversaries reached the plant: no reader of it ever matched their writers
   // (the plain participant's own readers aside), nothing of theirs is stored ...

@@ -156,6 +156,10 @@ void apply_security(const SecurityConfig& security, DomainParticipantQos& qos) {
 
 }  // namespace
 
+std::string machine_partition(const std::string& machine_id) {
+  return "ncqual/machine/" + machine_id;
+}
+
 std::vector<std::string> identities_in(const std::string& dir) {
   std::vector<std::string> names;
   std::error_code ec;
@@ -305,6 +309,32 @@ void Participant::refused_unless_unprofiled(const std::string& profile, const st
   }
   throw DdsError("could not create " + what + " with QoS profile '" + profile +
                  "' (Fast DDS's log above says why)");
+}
+
+Publisher* Participant::publisher_in(const std::string& partition) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (auto it = partition_publishers_.find(partition); it != partition_publishers_.end()) {
+    return it->second;
+  }
+  PublisherQos qos = PUBLISHER_QOS_DEFAULT;
+  qos.partition().push_back(partition.c_str());
+  Publisher* p = participant_->create_publisher(qos);
+  if (!p) throw DdsError("could not create a publisher in partition '" + partition + "'");
+  partition_publishers_[partition] = p;
+  return p;
+}
+
+Subscriber* Participant::subscriber_in(const std::vector<std::string>& partitions) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (auto it = partition_subscribers_.find(partitions); it != partition_subscribers_.end()) {
+    return it->second;
+  }
+  SubscriberQos qos = SUBSCRIBER_QOS_DEFAULT;
+  for (const auto& p : partitions) qos.partition().push_back(p.c_str());
+  Subscriber* s = participant_->create_subscriber(qos);
+  if (!s) throw DdsError("could not create a subscriber in the partitions asked");
+  partition_subscribers_[partitions] = s;
+  return s;
 }
 
 Topic* Participant::topic(const std::string& name, const TypeSupport& type) {

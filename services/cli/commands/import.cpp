@@ -151,7 +151,9 @@ int publish(const PlantConfig& plant, const DdsOptions& dds, const MeasurementSe
       command_participant(plant, dds, "ncqual-import", "acquisition-" + set.machine_id);
   const int domain = options.domain_id;
   ncqual::dds::Participant participant(options);
-  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant);
+  // In the machine's partition, as its acquisition writes (an acquisition's identity may write
+  // there only).
+  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant, set.machine_id);
   // Imported once the historian stored it and the solver saved its result.
   const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
       participant, sets, set, {roles::kHistorian, roles::kSolver}, std::chrono::seconds(60));

@@ -387,19 +387,23 @@ typedef struct {
   const dds_topic_descriptor_t* type;
   Profile profile;
   void (*print)(FILE*, const void*);
+  // Written in the machine's partition "ncqual/machine/<id>" (docs/integrators.md).
+  bool per_machine;
 } TopicInfo;
 
 static const TopicInfo kTopics[] = {
-    {"ncqual/CheckRequest", &ncqual_msg_CheckRequest_desc, kDurable, print_check_request},
-    {"ncqual/MeasurementSet", &ncqual_msg_MeasurementSet_desc, kDurable, print_measurement_set},
-    {"ncqual/CheckResult", &ncqual_msg_CheckResult_desc, kDurable, print_check_result},
-    {"ncqual/MachineStatus", &ncqual_msg_MachineStatus_desc, kDurable, print_machine_status},
-    {"ncqual/Compensation", &ncqual_msg_Compensation_desc, kDurable, print_compensation},
-    {"ncqual/CheckCommand", &ncqual_msg_CheckCommand_desc, kCommand, print_check_command},
-    {"ncqual/Intervention", &ncqual_msg_Intervention_desc, kCommand, print_intervention},
-    {"ncqual/Acknowledgement", &ncqual_msg_Acknowledgement_desc, kAck, print_acknowledgement},
-    {"ncqual/Alarm", &ncqual_msg_Alarm_desc, kAlarm, print_alarm},
-    {"ncqual/Heartbeat", &ncqual_msg_Heartbeat_desc, kHeartbeat, print_heartbeat},
+    {"ncqual/CheckRequest", &ncqual_msg_CheckRequest_desc, kDurable, print_check_request, true},
+    {"ncqual/MeasurementSet", &ncqual_msg_MeasurementSet_desc, kDurable, print_measurement_set,
+     true},
+    {"ncqual/CheckResult", &ncqual_msg_CheckResult_desc, kDurable, print_check_result, false},
+    {"ncqual/MachineStatus", &ncqual_msg_MachineStatus_desc, kDurable, print_machine_status, false},
+    {"ncqual/Compensation", &ncqual_msg_Compensation_desc, kDurable, print_compensation, true},
+    {"ncqual/CheckCommand", &ncqual_msg_CheckCommand_desc, kCommand, print_check_command, false},
+    {"ncqual/Intervention", &ncqual_msg_Intervention_desc, kCommand, print_intervention, false},
+    {"ncqual/Acknowledgement", &ncqual_msg_Acknowledgement_desc, kAck, print_acknowledgement,
+     false},
+    {"ncqual/Alarm", &ncqual_msg_Alarm_desc, kAlarm, print_alarm, false},
+    {"ncqual/Heartbeat", &ncqual_msg_Heartbeat_desc, kHeartbeat, print_heartbeat, false},
 };
 
 // Every topic type begins with `@key string machine_id`: the --machine filter reads it there.
@@ -457,8 +461,21 @@ static dds_entity_t create_endpoint(dds_entity_t participant, const TopicInfo* t
   char what[160];
   snprintf(what, sizeof what, "%s of %s", writer ? "dds_create_writer" : "dds_create_reader",
            t->name);
-  const dds_entity_t e = writer ? dds_create_writer(participant, topic, qos, NULL)
-                                : dds_create_reader(participant, topic, qos, NULL);
+  dds_entity_t e;
+  if (writer) {
+    e = dds_create_writer(participant, topic, qos, NULL);
+  } else if (t->per_machine) {
+    // Every machine's partition: a reader in the default partition would hear none of them.
+    const char* every_machine[] = {"ncqual/machine/*"};
+    dds_qos_t* in_every_machine = dds_create_qos();
+    dds_qset_partition(in_every_machine, 1, every_machine);
+    const dds_entity_t subscriber =
+        check(dds_create_subscriber(participant, in_every_machine, NULL), "dds_create_subscriber");
+    dds_delete_qos(in_every_machine);
+    e = dds_create_reader(subscriber, topic, qos, NULL);
+  } else {
+    e = dds_create_reader(participant, topic, qos, NULL);
+  }
   dds_delete_qos(qos);
   return check(e, what);
 }

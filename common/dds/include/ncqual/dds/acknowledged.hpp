@@ -62,9 +62,10 @@ class Outbox {
   Outbox(const Outbox&) = delete;
   Outbox& operator=(const Outbox&) = delete;
 
-  // Samples of `Topic` in this outbox are written with `writer` (which must outlive the outbox).
-  template <typename Topic>
-  void route(Writer<Topic>& writer) {
+  // Samples of `Topic` in this outbox are written with `writer`, a Writer or a MachineWriters
+  // (which must outlive the outbox).
+  template <typename Topic, template <typename> class WriterOf>
+  void route(WriterOf<Topic>& writer) {
     routes_[Topic::kName] =
         Route{[&writer](const std::vector<std::uint8_t>& bytes) {
                 typename Topic::Wire wire;

@@ -28,6 +28,12 @@ class Dispatcher {
     waitset_.attach_condition(reader.condition());
   }
 
+  // Calls `handler` for every sample any of `readers` receives.
+  template <typename Topic, typename Handler>
+  void on(MachineReaders<Topic>& readers, Handler handler) {
+    for (const auto& r : readers.readers()) on(*r, handler);
+  }
+
   // Calls `work` about every `period` (steady clock), on the dispatcher's thread.
   void every(std::chrono::milliseconds period, std::function<void()> work);
 

@@ -15,6 +15,9 @@
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 
 #include <chrono>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -59,24 +62,20 @@ class Writer {
  public:
   using Model = typename Topic::Model;
 
+  // A writer in the default partition. Of a per-machine topic (Topic::kPerMachine) only an open
+  // plant carries it: ncqual's own writers of those are MachineWriters.
   explicit Writer(Participant& participant, const char* profile = Topic::kWriterProfile)
       : participant_(participant) {
-    auto* topic = participant.topic(
-        Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
-    eprosima::fastdds::dds::DataWriterQos qos;
-    if (participant.publisher()->get_datawriter_qos_from_profile(profile, qos) ==
-        eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
-      writer_ = participant.publisher()->create_datawriter(topic, without_writer_filters(qos));
-      // Refused with its profile loaded (e.g. by the permissions of a secured plant): says so.
-      if (!writer_) participant.refused_unless_unprofiled(profile, Topic::kName, true);
-    } else {
-      // Without our profiles: refused, unless the plant allows reliable defaults (experiments).
-      participant.require_default_qos_allowed(profile, Topic::kName);
-      writer_ = participant.publisher()->create_datawriter(topic, default_qos());
-    }
-    if (!writer_) throw DdsError(std::string("could not create a writer on ") + Topic::kName);
+    create(participant.publisher(), profile);
   }
-  ~Writer() { participant_.publisher()->delete_datawriter(writer_); }
+  // The writer of one machine's samples, in its partition (machine_partition).
+  Writer(Participant& participant, const std::string& machine_id,
+         const char* profile = Topic::kWriterProfile)
+      : participant_(participant) {
+    static_assert(Topic::kPerMachine, "only a per-machine topic has machine partitions");
+    create(participant.publisher_in(machine_partition(machine_id)), profile);
+  }
+  ~Writer() { publisher_->delete_datawriter(writer_); }
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
 
@@ -113,6 +112,23 @@ class Writer {
   eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
 
  private:
+  void create(eprosima::fastdds::dds::Publisher* publisher, const char* profile) {
+    publisher_ = publisher;
+    auto* topic = participant_.topic(
+        Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
+    eprosima::fastdds::dds::DataWriterQos qos;
+    if (publisher->get_datawriter_qos_from_profile(profile, qos) ==
+        eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      writer_ = publisher->create_datawriter(topic, without_writer_filters(qos));
+      // Refused with its profile loaded (e.g. by the permissions of a secured plant): says so.
+      if (!writer_) participant_.refused_unless_unprofiled(profile, Topic::kName, true);
+    } else {
+      // Without our profiles: refused, unless the plant allows reliable defaults (experiments).
+      participant_.require_default_qos_allowed(profile, Topic::kName);
+      writer_ = publisher->create_datawriter(topic, default_qos());
+    }
+    if (!writer_) throw DdsError(std::string("could not create a writer on ") + Topic::kName);
+  }
   // Content filters are evaluated by the readers only. Fast DDS 2.9's writer-side filtering
   // races: a writer evaluating a matched reader's filter (DDSFilterExpression::evaluate) while a
   // filtered reader of a short-lived `ncqual` command comes or goes crashed the solver and the
@@ -129,6 +145,7 @@ class Writer {
     return without_writer_filters(qos);
   }
   Participant& participant_;
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
 };
 
@@ -140,6 +157,17 @@ struct Received {
   std::string content_hash;  // sha256_hex of its CDR serialization (serialized.hpp)
   std::string writer;        // the GUID of the DataWriter that wrote it
   bool local = false;        // written by this process's own participant
+  // Of a per-machine topic read in one machine's partition (InPartitionOf): the sample names
+  // another machine, so its writer, bound to that partition, wrote on another machine's behalf.
+  // `error` says so. Refused whole: not even an answer on the named machine's behalf.
+  bool foreign = false;
+};
+
+// Where a reader of a per-machine topic reads: in one machine's partition, unfiltered, with
+// every sample that names another machine flagged `foreign`; or, with an empty id, in the
+// default partition (writers without partitions, which only an open plant has), unbound.
+struct InPartitionOf {
+  std::string machine_id;
 };
 
 template <typename Topic>
@@ -149,7 +177,8 @@ class Reader {
   using TopicType = Topic;
 
   // With `machine_id`, only samples of that machine are delivered (content-filtered topic,
-  // evaluated by this reader: see Writer::without_writer_filters).
+  // evaluated by this reader: see Writer::without_writer_filters); of a per-machine topic, read in
+  // that machine's partition only. Without, a per-machine topic is read in every partition.
   explicit Reader(Participant& participant, std::optional<std::string> machine_id = std::nullopt,
                   const char* profile = Topic::kReaderProfile)
       : participant_(participant) {
@@ -157,19 +186,26 @@ class Reader {
         Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
     eprosima::fastdds::dds::TopicDescription* description = topic;
     if (machine_id) description = participant.machine_filter(topic, *machine_id);
-    reader_ = participant.subscriber()->create_datareader_with_profile(description, profile);
-    if (!reader_) {
-      participant.refused_unless_unprofiled(profile, Topic::kName, false);
-      participant.require_default_qos_allowed(profile, Topic::kName);
-      eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
-      qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
-      reader_ = participant.subscriber()->create_datareader(description, qos);
+    auto* subscriber = participant.subscriber();
+    if constexpr (Topic::kPerMachine) {
+      // "" too: "*" does not match a writer without partitions (an open plant's other writers).
+      subscriber = machine_id ? participant.subscriber_in({machine_partition(*machine_id)})
+                              : participant.subscriber_in({"", "*"});
     }
-    if (!reader_) throw DdsError(std::string("could not create a reader on ") + Topic::kName);
-    reader_->get_statuscondition().set_enabled_statuses(
-        eprosima::fastdds::dds::StatusMask::data_available());
+    create(subscriber, description, profile);
   }
-  ~Reader() { participant_.subscriber()->delete_datareader(reader_); }
+  Reader(Participant& participant, const InPartitionOf& where,
+         const char* profile = Topic::kReaderProfile)
+      : participant_(participant), bound_machine_(where.machine_id) {
+    static_assert(Topic::kPerMachine, "only a per-machine topic has machine partitions");
+    auto* topic = participant.topic(
+        Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
+    create(where.machine_id.empty()
+               ? participant.subscriber()
+               : participant.subscriber_in({machine_partition(where.machine_id)}),
+           topic, profile);
+  }
+  ~Reader() { subscriber_->delete_datareader(reader_); }
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;
 
@@ -184,11 +220,18 @@ class Reader {
       Received<Model> r;
       r.value = from_wire(wire, r.error);
       r.content_hash = sha256_hex(serialize<Topic>(wire));
+      const auto& writer_guid = info.sample_identity.writer_guid();
       std::ostringstream guid;
-      guid << info.sample_identity.writer_guid();
+      guid << writer_guid;
       r.writer = guid.str();
-      r.local =
-          info.sample_identity.writer_guid().guidPrefix == participant_.get()->guid().guidPrefix;
+      r.local = writer_guid.guidPrefix == participant_.get()->guid().guidPrefix;
+      if (!bound_machine_.empty() && r.value.machine_id != bound_machine_) {
+        r.foreign = true;
+        r.error = "written in machine '" + bound_machine_ + "''s partition '" +
+                  machine_partition(bound_machine_) + "' but names machine '" + r.value.machine_id +
+                  "': a writer there writes only its machine's samples" +
+                  (r.error.empty() ? "" : "; " + r.error);
+      }
       out.push_back(std::move(r));
     }
     return out;
@@ -212,8 +255,93 @@ class Reader {
   eprosima::fastdds::dds::DataReader* get() const { return reader_; }
 
  private:
+  void create(eprosima::fastdds::dds::Subscriber* subscriber,
+              eprosima::fastdds::dds::TopicDescription* description, const char* profile) {
+    subscriber_ = subscriber;
+    reader_ = subscriber_->create_datareader_with_profile(description, profile);
+    if (!reader_) {
+      participant_.refused_unless_unprofiled(profile, Topic::kName, false);
+      participant_.require_default_qos_allowed(profile, Topic::kName);
+      eprosima::fastdds::dds::DataReaderQos qos = eprosima::fastdds::dds::DATAREADER_QOS_DEFAULT;
+      qos.reliability().kind = eprosima::fastdds::dds::RELIABLE_RELIABILITY_QOS;
+      reader_ = subscriber_->create_datareader(description, qos);
+    }
+    if (!reader_) throw DdsError(std::string("could not create a reader on ") + Topic::kName);
+    reader_->get_statuscondition().set_enabled_statuses(
+        eprosima::fastdds::dds::StatusMask::data_available());
+  }
+
   Participant& participant_;
+  std::string bound_machine_;  // InPartitionOf: the machine whose partition this reader reads
+  eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
+};
+
+// The writers of a per-machine topic, one per machine in its partition, each created the first
+// time its machine is written (or up front, for the machines named). Writes go to the sample's
+// machine's writer.
+template <typename Topic>
+class MachineWriters {
+ public:
+  using Model = typename Topic::Model;
+  static_assert(Topic::kPerMachine, "only a per-machine topic has machine partitions");
+
+  explicit MachineWriters(Participant& participant, const std::vector<std::string>& machines = {})
+      : participant_(participant) {
+    for (const auto& m : machines) of(m);
+  }
+
+  Writer<Topic>& of(const std::string& machine_id) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto& w = writers_[machine_id];
+    if (!w) w = std::make_unique<Writer<Topic>>(participant_, machine_id);
+    return *w;
+  }
+  bool write(const Model& value) { return of(value.machine_id).write(value); }
+  bool write_wire(const typename Topic::Wire& wire) {
+    return of(wire.machine_id()).write_wire(wire);
+  }
+  // The readers matched, summed over the machines' writers.
+  int matched_readers() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    int n = 0;
+    for (const auto& [machine, w] : writers_) n += w->matched_readers();
+    return n;
+  }
+
+ private:
+  Participant& participant_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<Writer<Topic>>> writers_;
+};
+
+// The readers of a per-machine topic for a service that takes every machine's samples (the
+// historian, the solver): one in each machine's partition, so that a sample naming another
+// machine than its partition's is known as foreign (Received::foreign; on a secured plant only
+// that machine's identities may write there), and one in the default partition for an open
+// plant's writers without partitions. A machine not named here is not heard.
+template <typename Topic>
+class MachineReaders {
+ public:
+  using TopicType = Topic;
+  static_assert(Topic::kPerMachine, "only a per-machine topic has machine partitions");
+
+  MachineReaders(Participant& participant, const std::vector<std::string>& machines) {
+    readers_.push_back(std::make_unique<Reader<Topic>>(participant, InPartitionOf{}));
+    for (const auto& m : machines) {
+      readers_.push_back(std::make_unique<Reader<Topic>>(participant, InPartitionOf{m}));
+    }
+  }
+  const std::vector<std::unique_ptr<Reader<Topic>>>& readers() const { return readers_; }
+  // The writers matched, summed over the readers.
+  int matched_writers() const {
+    int n = 0;
+    for (const auto& r : readers_) n += r->matched_writers();
+    return n;
+  }
+
+ private:
+  std::vector<std::unique_ptr<Reader<Topic>>> readers_;
 };
 
 }  // namespace ncqual::dds

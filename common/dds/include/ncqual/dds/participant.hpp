@@ -11,7 +11,9 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include <map>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include "ncqual/config.hpp"
 #include "ncqual/error.hpp"
@@ -59,6 +61,11 @@ std::string participant_profile(const NetworkConfig& network);
 // Domain id: the --domain flag when given (>= 0), else NCQUAL_DOMAIN, else the plant config's.
 int resolve_domain_id(int flag_value, int config_value);
 
+// The partition of one machine's samples on the topics bound to a machine (CheckRequest,
+// MeasurementSet, Compensation): "ncqual/machine/<id>". On a secured plant an acquisition's
+// permissions name its machines' partitions only (docs/deploy.md, "Roles").
+std::string machine_partition(const std::string& machine_id);
+
 // Profile names in deploy/qos/ncqual-qos.xml.
 namespace profiles {
 inline constexpr const char* kParticipant = "ncqual_participant";  // discovery: multicast
@@ -86,6 +93,10 @@ class Participant {
   eprosima::fastdds::dds::DomainParticipant* get() const { return participant_; }
   eprosima::fastdds::dds::Publisher* publisher() const { return publisher_; }
   eprosima::fastdds::dds::Subscriber* subscriber() const { return subscriber_; }
+  // The publisher whose writers are in `partition` (created on first use).
+  eprosima::fastdds::dds::Publisher* publisher_in(const std::string& partition);
+  // The subscriber whose readers are in `partitions` (created on first use).
+  eprosima::fastdds::dds::Subscriber* subscriber_in(const std::vector<std::string>& partitions);
   int domain_id() const { return domain_id_; }
   // For a writer or reader whose profile is not loaded: throws the DdsError naming the remedies,
   // unless the plant allows Fast DDS's defaults (then the caller uses them).
@@ -112,6 +123,8 @@ class Participant {
   std::mutex mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
   std::map<std::string, eprosima::fastdds::dds::ContentFilteredTopic*> filtered_;
+  std::map<std::string, eprosima::fastdds::dds::Publisher*> partition_publishers_;
+  std::map<std::vector<std::string>, eprosima::fastdds::dds::Subscriber*> partition_subscribers_;
 };
 
 }  // namespace ncqual::dds

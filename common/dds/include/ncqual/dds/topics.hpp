@@ -9,43 +9,48 @@
 
 namespace ncqual::dds {
 
-#define NCQUAL_TOPIC(TRAITS, NAME, MODEL, WRITER_PROFILE, READER_PROFILE) \
-  struct TRAITS {                                                         \
-    using Model = ::ncqual::MODEL;                                        \
-    using Wire = ::ncqual::msg::MODEL;                                    \
-    using PubSub = ::ncqual::msg::MODEL##PubSubType;                      \
-    static constexpr const char* kName = NAME;                            \
-    static constexpr const char* kWriterProfile = WRITER_PROFILE;         \
-    static constexpr const char* kReaderProfile = READER_PROFILE;         \
+// PER_MACHINE: the topic's samples travel in their machine's partition (machine_partition):
+// written by a MachineWriters, read by an acquisition in its machines' partitions only, and
+// refused by every reader when a writer in machine partitions writes another machine's.
+#define NCQUAL_TOPIC(TRAITS, NAME, MODEL, WRITER_PROFILE, READER_PROFILE, PER_MACHINE) \
+  struct TRAITS {                                                                      \
+    using Model = ::ncqual::MODEL;                                                     \
+    using Wire = ::ncqual::msg::MODEL;                                                 \
+    using PubSub = ::ncqual::msg::MODEL##PubSubType;                                   \
+    static constexpr const char* kName = NAME;                                         \
+    static constexpr const char* kWriterProfile = WRITER_PROFILE;                      \
+    static constexpr const char* kReaderProfile = READER_PROFILE;                      \
+    static constexpr bool kPerMachine = PER_MACHINE;                                   \
   }
 
 // Durable topics: a late-joining or restarted historian or solver still gets what it missed
 // (TRANSIENT_LOCAL, KEEP_LAST with a deep history; storing is idempotent on the request id).
 NCQUAL_TOPIC(CheckRequestTopic, "ncqual/CheckRequest", CheckRequest, profiles::kDurableWriter,
-             profiles::kDurableReader);
+             profiles::kDurableReader, true);
 NCQUAL_TOPIC(MeasurementSetTopic, "ncqual/MeasurementSet", MeasurementSet, profiles::kDurableWriter,
-             profiles::kDurableReader);
+             profiles::kDurableReader, true);
 NCQUAL_TOPIC(CheckResultTopic, "ncqual/CheckResult", CheckResult, profiles::kDurableWriter,
-             profiles::kDurableReader);
+             profiles::kDurableReader, false);
 NCQUAL_TOPIC(MachineStatusTopic, "ncqual/MachineStatus", MachineStatus, profiles::kDurableWriter,
-             profiles::kDurableReader);
+             profiles::kDurableReader, false);
 NCQUAL_TOPIC(CompensationTopic, "ncqual/Compensation", Compensation, profiles::kDurableWriter,
-             profiles::kDurableReader);
+             profiles::kDurableReader, true);
 // Operator topics: written by the short-lived command-line tool, which waits for its readers
 // and their acknowledgements before it exits.
 NCQUAL_TOPIC(CheckCommandTopic, "ncqual/CheckCommand", CheckCommand, profiles::kCommandWriter,
-             profiles::kCommandReader);
+             profiles::kCommandReader, false);
 NCQUAL_TOPIC(InterventionTopic, "ncqual/Intervention", Intervention, profiles::kCommandWriter,
-             profiles::kCommandReader);
+             profiles::kCommandReader, false);
 // Acknowledgements: what the historian committed and what the services took into their durable
 // state. Volatile: a producer that misses one sends the sample again and is acknowledged again.
 NCQUAL_TOPIC(AcknowledgementTopic, "ncqual/Acknowledgement", Acknowledgement, profiles::kAckWriter,
-             profiles::kAckReader);
+             profiles::kAckReader, false);
 // Alarms: the latest state of each alarm (active or cleared); durable, so a monitor that joins
 // late sees what was raised before it.
-NCQUAL_TOPIC(AlarmTopic, "ncqual/Alarm", Alarm, profiles::kAlarmWriter, profiles::kAlarmReader);
+NCQUAL_TOPIC(AlarmTopic, "ncqual/Alarm", Alarm, profiles::kAlarmWriter, profiles::kAlarmReader,
+             false);
 NCQUAL_TOPIC(HeartbeatTopic, "ncqual/Heartbeat", Heartbeat, profiles::kHeartbeatWriter,
-             profiles::kHeartbeatReader);
+             profiles::kHeartbeatReader, false);
 
 #undef NCQUAL_TOPIC
 
