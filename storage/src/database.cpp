@@ -142,6 +142,10 @@ constexpr Sql kSelectConflicts{
     "select conflicts",
     "SELECT topic, sample_id, machine_id, content_hash, stored_hash, writer, received_ns, document "
     "FROM conflicts WHERE (?1 IS NULL OR machine_id = ?1) ORDER BY received_ns DESC, id DESC"};
+constexpr Sql kSelectCheckWriters{"select the writers of a check",
+                                  "SELECT (SELECT writer FROM requests WHERE request_id = ?1), "
+                                  "(SELECT writer FROM measurement_sets WHERE request_id = ?1), "
+                                  "(SELECT writer FROM results WHERE request_id = ?1)"};
 constexpr Sql kCountCheckConflicts{
     "count conflicts of a check",
     "SELECT count(*) FROM conflicts WHERE sample_id = ?1 AND topic IN "
@@ -492,6 +496,14 @@ struct Database::Impl {
       Query q(statements, kCountCheckConflicts);
       q.bind(request_id);
       if (q.step()) record.conflicts = q.int64(0);
+    }
+    {
+      Query q(statements, kSelectCheckWriters);
+      q.bind(request_id);
+      if (q.step()) {
+        record.writers = {q.optional_text(0).value_or(""), q.optional_text(1).value_or(""),
+                          q.optional_text(2).value_or("")};
+      }
     }
     // Machine and kind from the result, else the request, else the measurement set; they agree
     // (note_check refuses a disagreement), the order only matters for which part is present.

@@ -29,6 +29,11 @@ CheckRecordDocument document_of(const CheckRecord& record) {
     d.measurement = MeasurementDocument{m->instrument, m->touches, m->tracker_points, m->error};
   }
   d.conflicts = record.conflicts;
+  const auto writer = [](const std::string& guid) {
+    return guid.empty() ? std::nullopt : std::optional<WriterDocument>(WriterDocument{guid});
+  };
+  d.writers = {writer(record.writers.request), writer(record.writers.measurement),
+               writer(record.writers.result)};
   return d;
 }
 

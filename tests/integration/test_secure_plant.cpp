@@ -13,6 +13,7 @@
 #include "ncqual/dds/topics.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
@@ -259,6 +260,35 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
   };
   EXPECT_EQ(from_the_plant(plain_results), 0);
   EXPECT_EQ(from_the_plant(foreign_results), 0);
+
+  // Provenance: the GUIDs Fast DDS gave each identity's writers, as the historian stored them,
+  // name that identity in `ncqual history` (the scheduler's requests, each machine's
+  // acquisition's sets, the solver's results): ncqual's reading of the subject bits agrees with
+  // Fast DDS's making of them.
+  const Outcome history = cli(plant, {"history", "--json", "--limit", "0"});
+  ASSERT_EQ(history.exit_code, 0) << history.err;
+  const auto records = nlohmann::json::parse(history.out);
+  int named = 0;
+  for (const auto& r : records) {
+    const auto& w = r.at("writers");
+    const std::string machine = r.at("machine_id");
+    if (!w.at("request").is_null()) {
+      EXPECT_EQ(w["request"].value("identity", ""), "scheduler") << r.dump();
+      ++named;
+    }
+    if (!w.at("measurement").is_null()) {
+      EXPECT_EQ(w["measurement"].value("identity", ""), "acquisition-" + machine) << r.dump();
+      ++named;
+    }
+    if (!w.at("result").is_null()) {
+      EXPECT_EQ(w["result"].value("identity", ""), "solver") << r.dump();
+      EXPECT_NE(w["result"].value("subject", "").find("CN=solver"), std::string::npos);
+      ++named;
+    }
+  }
+  EXPECT_GE(named, 9) << history.out;  // three checks, each request, set and result
+  const Outcome table = cli(plant, {"history", "--writers", "--machine", "held", "--limit", "1"});
+  EXPECT_NE(table.out.find("result written by solver (CN=solver"), std::string::npos) << table.out;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "ncqual/calendar.hpp"
 #include "ncqual/config.hpp"
+#include "ncqual/dds/identity.hpp"
 #include "ncqual/dds/participant.hpp"
 #include "ncqual/model.hpp"
 #include "ncqual/solver/instrument_files.hpp"
@@ -163,8 +164,9 @@ std::pair<double, double> centre_option(const std::string& text);
 
 // Checks as a table (history, check --wait; history.cpp): one row per check (its time in the
 // calendar's zone with the offset, who ordered it), with the reason and the first likely cause of
-// those that did not pass.
-void print_check_records(const std::vector<storage::CheckRecord>& records,
-                         const Calendar& calendar);
+// those that did not pass; with `writers`, who wrote each part (history --writers), named by
+// those identities when there are any.
+void print_check_records(const std::vector<storage::CheckRecord>& records, const Calendar& calendar,
+                         const std::vector<dds::PlantIdentity>* writers = nullptr);
 
 }  // namespace ncqual::cli

@@ -2,16 +2,21 @@
 // `ncqual history`: the stored checks, newest first.
 //
 //   ncqual history [--plant F | --db F] [--machine M] [--kind K] [--limit N] [--since-ns T]
-//                  [--json]
+//                  [--writers] [--secure DIR] [--json]
 //
 // The table shows per check its time (in the plant's time zone with the offset, UTC without a
-// plant config), machine, kind, verdict, who ordered it and at most six metrics; --json prints
-// every stored record (ncqual/storage_json.hpp; times as ns since the epoch, UTC). Exit codes: 0, 6
-// when there is no historian database at the path.
+// plant config), machine, kind, verdict, who ordered it and at most six metrics; --writers adds
+// under each check the DataWriters its request, set and result came from, and on a secured plant
+// (the plant's security.dir, or --secure) the identity each GUID names (ncqual/dds/identity.hpp).
+// --json prints every stored record (ncqual/storage_json.hpp; times as ns since the epoch, UTC),
+// its writers with their identities when known. Exit codes: 0, 6 when there is no historian
+// database at the path; 2 when the security material cannot be read.
 #include "commands.hpp"
 
 #include "ncqual/calendar.hpp"
 #include "ncqual/clock.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/dds/identity.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/storage_json.hpp"
 
@@ -55,8 +60,56 @@ struct Options {
   std::optional<CheckKind> kind;
   int limit = 100;
   std::int64_t since_ns = storage::HistoryQuery{}.since_ns;
+  bool writers = false;
+  std::string secure;  // ncqual-pki's material; else the plant's security.dir
   bool json = false;
 };
+
+// The plant's identities, to name writers by: from --secure, else the plant's security.dir;
+// none on an open plant.
+std::vector<dds::PlantIdentity> identities_of(const Options& o) {
+  std::string dir = o.secure;
+  if (dir.empty()) {
+    const std::string plant = plant_config_path(o.plant);
+    if (!plant.empty()) dir = load_plant_config(plant).security.dir;
+  }
+  if (dir.empty()) return {};
+  try {
+    return dds::plant_identities(dir);
+  } catch (const std::runtime_error& e) {
+    throw UsageError(std::string("cannot name the writers: ") + e.what());
+  }
+}
+
+// "solver (CN=solver,O=plant F)", or the GUID and why it names no identity.
+std::string writer_text(const std::string& guid, const std::vector<dds::PlantIdentity>& ids) {
+  if (guid.empty()) return "-";
+  if (ids.empty()) return guid;
+  if (const auto id = dds::identity_of_guid(guid, ids)) {
+    return id->name + " (" + id->subject + ")";
+  }
+  return guid + " (no identity of the plant)";
+}
+
+void print_writers(const storage::CheckRecord& r, const std::vector<dds::PlantIdentity>& ids,
+                   std::size_t indent) {
+  fmt::print("{:{}} request written by {}\n", "", indent, writer_text(r.writers.request, ids));
+  fmt::print("{:{}} set written by {}\n", "", indent, writer_text(r.writers.measurement, ids));
+  fmt::print("{:{}} result written by {}\n", "", indent, writer_text(r.writers.result, ids));
+}
+
+// The writers of the JSON records, each with its identity and subject when the plant names it.
+void add_identities(nlohmann::json& records, const std::vector<dds::PlantIdentity>& ids) {
+  for (auto& record : records) {
+    for (auto& [part, writer] : record["writers"].items()) {
+      if (writer.is_null()) continue;
+      if (const auto id = dds::identity_of_guid(writer["guid"].get<std::string>(), ids)) {
+        writer["identity"] = id->name;
+        writer["subject"] = id->subject;
+      }
+    }
+  }
+}
 
 int run(const Options& o) {
   const std::string path = database_path(o.db, o.plant);
@@ -69,18 +122,22 @@ int run(const Options& o) {
   q.limit = o.limit;
   q.since_ns = o.since_ns;
   const auto records = db.history(q);
+  const auto identities =
+      o.writers || o.json ? identities_of(o) : std::vector<dds::PlantIdentity>{};
   if (o.json) {
-    std::cout << nlohmann::json(records).dump(2) << "\n";
+    nlohmann::json out(records);
+    add_identities(out, identities);
+    std::cout << out.dump(2) << "\n";
   } else {
-    print_check_records(records, plant_calendar(o.plant));
+    print_check_records(records, plant_calendar(o.plant), o.writers ? &identities : nullptr);
   }
   return kExitOk;
 }
 
 }  // namespace
 
-void print_check_records(const std::vector<storage::CheckRecord>& records,
-                         const Calendar& calendar) {
+void print_check_records(const std::vector<storage::CheckRecord>& records, const Calendar& calendar,
+                         const std::vector<dds::PlantIdentity>* writers) {
   constexpr const char* kRow = "{:<30} {:<10} {:<22} {:<8} {:<16} {}\n";
   fmt::print(kRow, "time (" + calendar.zone_name() + ")", "machine", "check", "verdict",
              "ordered by", "metrics ((!) = out of tolerance)");
@@ -117,6 +174,7 @@ void print_check_records(const std::vector<storage::CheckRecord>& records,
       fmt::print("{:{}} CONFLICT: {} other sample(s) with this request id kept beside it\n", "",
                  kIndent, r.conflicts);
     }
+    if (writers) print_writers(r, *writers, kIndent);
   }
 }
 
@@ -131,6 +189,13 @@ void add_history(CLI::App& app, Commands& commands) {
   cmd->add_option("--since-ns", o->since_ns,
                   "only checks from this time on (ns since the epoch, UTC)")
       ->type_name("T");
+  cmd->add_flag("--writers", o->writers,
+                "under each check, the DataWriters of its request, set and result, and on a "
+                "secured plant the identity each belongs to");
+  cmd->add_option("--secure", o->secure,
+                  "ncqual-pki's material to name the writers by (default: the plant's "
+                  "security.dir)")
+      ->type_name("DIR");
   add_json_flag(cmd, o->json);
 }
 

@@ -114,6 +114,12 @@ struct CheckRecord {
   std::optional<MeasurementSummary> measurement;
   std::optional<CheckResult> result;  // metrics in order, causes in rank order, correction
   std::int64_t conflicts = 0;         // samples of this request kept beside these for other content
+  // The DataWriters the request, set and result came from: their GUIDs as stored
+  // ("a5.63.3b.ec.d4.04.66.67.64.02.6c.52|0.0.3.2"); empty when that part has not arrived, came
+  // from a file (ncqual import) or was stored before schema version 4.
+  struct Writers {
+    std::string request, measurement, result;
+  } writers;
 };
 
 struct HistoryQuery {

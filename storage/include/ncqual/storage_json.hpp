@@ -28,6 +28,16 @@ struct MeasurementDocument {
   std::string error;  // empty unless the instrument could not perform the request
 };
 
+// Who wrote a part of a check: the DataWriter's GUID; `ncqual history` adds the identity and
+// subject on a secured plant (ncqual/dds/identity.hpp).
+struct WriterDocument {
+  std::string guid;
+};
+
+struct WritersDocument {
+  std::optional<WriterDocument> request, measurement, result;  // null: not arrived or not known
+};
+
 struct CheckRecordDocument {
   std::string machine_id;
   std::string request_id;
@@ -48,14 +58,17 @@ struct CheckRecordDocument {
   std::optional<MeasurementDocument> measurement;  // null until the measurement has arrived
   // Samples of this request kept beside these for conflicting content (0: none).
   std::int64_t conflicts = 0;
+  WritersDocument writers;
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ParameterDocument, value, unit)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementDocument, instrument, touches, tracker_points, error)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WriterDocument, guid)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WritersDocument, request, measurement, result)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckRecordDocument, machine_id, request_id, kind, requested_by,
                                    requested_at_ns, parameters, verifies_correction_of,
                                    result_at_ns, verdict, reason, produced_by, metrics,
-                                   likely_causes, correction, measurement, conflicts)
+                                   likely_causes, correction, measurement, conflicts, writers)
 
 CheckRecordDocument document_of(const CheckRecord& record);
 
