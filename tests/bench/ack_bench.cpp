@@ -21,6 +21,7 @@
 // Prints figures with targets and PASS/MISS beside them; exits 0 once measured (whatever the
 // figures), 1 when the historian did not store or acknowledge everything in time, 2 for bad usage.
 #include "harness.hpp"
+#include "quantile.hpp"
 #include "test_participant.hpp"
 
 #include "ncqual/clock.hpp"
@@ -54,6 +55,7 @@ namespace {
 
 using namespace ncqual;
 using Clock = std::chrono::steady_clock;
+using bench::quantile;
 using ResultTopic = ncqual::dds::CheckResultTopic;
 
 // Targets of the acknowledged path (the "with" column):
@@ -87,14 +89,6 @@ struct Figures {
 
 double ms_between(Clock::time_point from, Clock::time_point to) {
   return std::chrono::duration<double, std::milli>(to - from).count();
-}
-
-// Nearest-rank quantile, q in [0, 1].
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
 }
 
 // A result as the solver sends it: a daily monument check of pm1, simulated and judged.

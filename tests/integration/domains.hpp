@@ -60,6 +60,9 @@ enum class TestDomain : int {
   Cyclone = detail::test_domain(228),
   // ServiceManager.*: a service's notifications to systemd (sd_notify)
   ServiceManager = detail::test_domain(229),
+  // ncqual_secure_bench (tests/bench), its smoke run: the open plant and the secured one
+  SecureBenchOpen = detail::test_domain(230),
+  SecureBenchSecured = detail::test_domain(231),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -94,7 +97,9 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::PlantNetwork:
     case TestDomain::SecurePlant:
     case TestDomain::Cyclone:
-    case TestDomain::ServiceManager: break;
+    case TestDomain::ServiceManager:
+    case TestDomain::SecureBenchOpen:
+    case TestDomain::SecureBenchSecured: break;
   }
   return static_cast<int>(domain);
 }

@@ -108,10 +108,13 @@ void Service::beat(const std::string& state) {
 }
 
 int Service::run() {
-  spdlog::info("{} {} running on domain {}, discovery {} (participant profile {})",
+  const SecurityConfig& security = options_.participant.security;
+  spdlog::info("{} {} running on domain {}, discovery {} (participant profile {}), {}",
                options_.service, instance_, options_.participant.domain_id,
                to_string(options_.participant.network.discovery),
-               participant_profile(options_.participant.network));
+               participant_profile(options_.participant.network),
+               security.dir.empty() ? std::string("not secured")
+                                    : "secured as '" + security.identity + "' of " + security.dir);
   // Ready: the participant, every reader and writer, the database or state file are made
   // (Type=notify units start what is ordered after this one only now).
   notify("READY=1\nSTATUS=running on domain " + std::to_string(options_.participant.domain_id));
