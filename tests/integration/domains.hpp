@@ -63,6 +63,8 @@ enum class TestDomain : int {
   // ncqual_secure_bench (tests/bench), its smoke run: the open plant and the secured one
   SecureBenchOpen = detail::test_domain(230),
   SecureBenchSecured = detail::test_domain(231),
+  // PlantNetwork.ASecuredPlantOfHosts...: the namespaces' hosts, secured, discovering by peers
+  PlantNetworkSecured = detail::test_domain(232),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -99,7 +101,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::Cyclone:
     case TestDomain::ServiceManager:
     case TestDomain::SecureBenchOpen:
-    case TestDomain::SecureBenchSecured: break;
+    case TestDomain::SecureBenchSecured:
+    case TestDomain::PlantNetworkSecured: break;
   }
   return static_cast<int>(domain);
 }

@@ -10,9 +10,14 @@
 //   10.231.7.31  op    the operator station: `ncqual check`
 //
 // Where namespaces cannot be made (not root, no `ip`), the test is skipped and says why.
+//
+// The same hosts, secured (docs/deploy.md, "A secured plant of several hosts"): ncqual-pki's
+// plant CA and identities, discovery by peers (the discovery server is not secured in Fast DDS
+// 2.9), each host holding the material it needs.
 #include "harness.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <unistd.h>
 
@@ -86,13 +91,15 @@ enum HostIndex : std::size_t { kDs = 0, kSrv = 1, kM1 = 2, kOp = 3 };
 
 // `ncqual check` from the operator's station: the request id it printed, or "" (and `out` says
 // why) when no scheduler acknowledged it.
-std::string check_from(const Lan& lan, const std::string& plant_file, std::string& out) {
+std::string check_from(const Lan& lan, const std::string& plant_file, std::string& out,
+                       const std::vector<std::string>& extra = {}) {
   std::vector<std::string> argv = lan.on(kOp);
   for (const char* a :
        {NCQUAL_CLI_EXE, "check", "--machine", "m1", "--kind", "monument_positioning", "--plant"}) {
     argv.emplace_back(a);
   }
   argv.push_back(plant_file);
+  argv.insert(argv.end(), extra.begin(), extra.end());
   const Outcome o = run(Launch(argv));
   out = "exit " + std::to_string(o.exit_code) + ": " + o.out + o.err;
   if (o.exit_code != 0) return "";
@@ -166,6 +173,54 @@ TEST(PlantNetwork, HostsWithoutMulticastQualifyThroughADiscoveryServerThatRestar
       << plant.log("solver");
   std::cout << "checks through the discovery server: " << first << " before its restart, " << second
             << " after (attempt " << attempts << ")\n";
+}
+
+TEST(PlantNetwork, ASecuredPlantOfHostsQualifiesByPeersAndNamesWhoWroteEachPart) {
+  Lan lan;
+  if (!lan.why().empty()) GTEST_SKIP() << lan.why();
+  Plant plant("plant-network-secured", TestDomain::PlantNetworkSecured);
+  plant.add_machine("m1", machine_yaml("m1", "    machine_shift_mm: [0.002, 0, 0]\n"));
+  plant.write_plant();  // ncqual-pki reads the plant's machines from it
+  const std::string pki = (plant.dir() / "pki").string();
+  const Outcome made =
+      run(Launch({std::string(NCQUAL_SOURCE_DIR) + "/deploy/security/ncqual-pki", "init", "--plant",
+                  plant.plant_file(), "--out", pki, "--operator", "station1"},
+                 Output::Merged)
+              .with_env("NCQUAL_CLI", NCQUAL_CLI_EXE));
+  ASSERT_EQ(made.exit_code, 0) << made.out;
+  // Every ncqual host's address, none of the discovery server's (it has no part here).
+  plant.write_plant_with("security: {dir: " + pki + "}\nnetwork:\n  discovery: peers\n  peers: [" +
+                         lan.host(kSrv).address + ", " + lan.host(kM1).address + ", " +
+                         lan.host(kOp).address + "]\n");
+  plant.start_through(lan.on(kSrv), "historian");
+  plant.start_through(lan.on(kSrv), "solver");
+  plant.start_through(lan.on(kSrv), "scheduler");
+  plant.start_through(lan.on(kM1), "acquisition", {"--machine", "m1"});
+
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) { return db.count_results() >= 1; }))
+      << plant.log("scheduler") << plant.log("acquisition");
+  std::string out;
+  const std::string ordered =
+      check_from(lan, plant.plant_file(), out, {"--identity", "operator-station1"});
+  ASSERT_FALSE(ordered.empty()) << out;
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) { return passed(db, ordered); }))
+      << ordered << "\n"
+      << plant.log("solver");
+
+  // Who wrote each part of the operator's check, from the GUIDs the historian stored.
+  const Outcome history = run(
+      Launch({NCQUAL_CLI_EXE, "history", "--json", "--plant", plant.plant_file(), "--limit", "0"}));
+  ASSERT_EQ(history.exit_code, 0) << history.err;
+  bool found = false;
+  for (const auto& r : nlohmann::json::parse(history.out)) {
+    if (r.at("request_id") != ordered) continue;
+    found = true;
+    const auto& w = r.at("writers");
+    EXPECT_EQ(w.at("request").value("identity", ""), "scheduler") << r.dump();
+    EXPECT_EQ(w.at("measurement").value("identity", ""), "acquisition-m1") << r.dump();
+    EXPECT_EQ(w.at("result").value("identity", ""), "solver") << r.dump();
+  }
+  EXPECT_TRUE(found) << ordered << " not in\n" << history.out;
 }
 
 }  // namespace
