@@ -6,7 +6,7 @@
 # Usage: check_deb.sh BUILD_DIR SOURCE_DIR. Exit 77 (skipped, ctest says so) without
 # systemd-analyze or dpkg-deb.
 set -euo pipefail
-build="$1"
+build="$(cd "$1" && pwd)"
 source="$2"
 for tool in dpkg-deb systemd-analyze cpack; do
   command -v "$tool" > /dev/null || { echo "SKIPPED: $tool is not installed"; exit 77; }
@@ -38,7 +38,9 @@ for f in usr/bin/ncqual usr/bin/ncqual-historian usr/bin/ncqual-solver usr/bin/n
   usr/bin/ncqual-acquisition usr/bin/ncqual-pki usr/share/ncqual/qos/ncqual-qos.xml \
   usr/share/ncqual/idl/ncqual.idl usr/lib/sysusers.d/ncqual.conf etc/ncqual/plant.yaml \
   etc/ncqual/machines/pm1.yaml usr/lib/systemd/system/ncqual.target \
-  usr/lib/systemd/system/ncqual-.service.d/10-ncqual.conf; do
+  usr/lib/systemd/system/ncqual-.service.d/10-ncqual.conf \
+  usr/lib/systemd/system/ncqual-discovery.service \
+  usr/lib/systemd/system/ncqual-discovery.service.d/20-not-notify.conf; do
   [ -e "$root/$f" ] || fail "/$f is not in the package"
 done
 # The plant file the package installs names the QoS profiles where the package puts them.
@@ -47,9 +49,14 @@ grep -q '^qos_profiles: /usr/share/ncqual/qos/ncqual-qos.xml' "$root/etc/ncqual/
 
 # The units, verified as on a host with the package installed: this host's units beside them.
 units="$root/usr/lib/systemd/system"
+# ncqual-discovery.service runs the recommended fastdds-tools' server: where this host has it,
+# beside the package's programs (verify checks that ExecStart's program is there).
+if [ -x /usr/bin/fast-discovery-server ]; then
+  cp /usr/bin/fast-discovery-server "$root/usr/bin/"
+fi
 for u in /lib/systemd/system/*; do [ -e "$units/$(basename "$u")" ] || cp -a "$u" "$units/"; done
 for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.service \
-  ncqual-acquisition@pm1.service ncqual.target; do
+  ncqual-acquisition@pm1.service ncqual-discovery.service ncqual.target; do
   said="$(systemd-analyze --root="$root" verify "$units/${unit/@pm1/@}" 2>&1 \
     | sed "s|$units/||")" || fail "$unit: $said"
   [ -z "$said" ] || fail "$unit: systemd-analyze verify says: $said"
@@ -58,7 +65,7 @@ done
 # The hardening is the shared drop-in (ncqual-.service.d): rated as systemd applies it to each
 # unit, every one must come out below 5 ("OK" or better; without the drop-in about 9.6, "UNSAFE").
 for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.service \
-  ncqual-acquisition@pm1.service; do
+  ncqual-acquisition@pm1.service ncqual-discovery.service; do
   rating="$(systemd-analyze --root="$root" --offline=yes security "$units/${unit/@pm1/@}" 2>&1 \
     | tail -1)"
   echo "$rating"
