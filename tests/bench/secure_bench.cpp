@@ -61,10 +61,7 @@ class Failed : public std::runtime_error {
 };
 
 std::string run_pki(const std::vector<std::string>& args) {
-  std::vector<std::string> argv{std::string(NCQUAL_SOURCE_DIR) + "/deploy/security/ncqual-pki"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  const auto out = testing::run(
-      testing::Launch(argv, testing::Output::Merged).with_env("NCQUAL_CLI", NCQUAL_CLI_EXE));
+  const auto out = testing::ncqual_pki(args);
   if (out.exit_code != 0) throw Failed("ncqual-pki " + args.front() + " failed:\n" + out.out);
   return out.out;
 }

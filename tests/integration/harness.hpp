@@ -166,6 +166,14 @@ class Plant {
   std::vector<std::unique_ptr<Process>> processes_;
 };
 
+// deploy/security/ncqual-pki with `args` (init, add, revoke, ...), as a plant's administrator
+// runs it; its output merged.
+inline Outcome ncqual_pki(const std::vector<std::string>& args) {
+  std::vector<std::string> argv{std::string(NCQUAL_SOURCE_DIR) + "/deploy/security/ncqual-pki"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run(Launch(argv, Output::Merged).with_env("NCQUAL_CLI", NCQUAL_CLI_EXE));
+}
+
 // A machine config for tests: nominal geometry of deploy/machines/pm1.yaml with the given
 // simulator errors section (YAML lines, indented under `errors:`).
 inline std::string machine_yaml(const std::string& machine_id, const std::string& errors,

@@ -183,10 +183,7 @@ TEST(PlantNetwork, ASecuredPlantOfHostsQualifiesByPeersAndNamesWhoWroteEachPart)
   plant.write_plant();  // ncqual-pki reads the plant's machines from it
   const std::string pki = (plant.dir() / "pki").string();
   const Outcome made =
-      run(Launch({std::string(NCQUAL_SOURCE_DIR) + "/deploy/security/ncqual-pki", "init", "--plant",
-                  plant.plant_file(), "--out", pki, "--operator", "station1"},
-                 Output::Merged)
-              .with_env("NCQUAL_CLI", NCQUAL_CLI_EXE));
+      ncqual_pki({"init", "--plant", plant.plant_file(), "--out", pki, "--operator", "station1"});
   ASSERT_EQ(made.exit_code, 0) << made.out;
   // Every ncqual host's address, none of the discovery server's (it has no part here).
   plant.write_plant_with("security: {dir: " + pki + "}\nnetwork:\n  discovery: peers\n  peers: [" +

@@ -21,12 +21,6 @@
 namespace ncqual::testing {
 namespace {
 
-Outcome pki(const std::vector<std::string>& args) {
-  std::vector<std::string> argv{std::string(NCQUAL_SOURCE_DIR) + "/deploy/security/ncqual-pki"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  return run(Launch(argv, Output::Merged).with_env("NCQUAL_CLI", NCQUAL_CLI_EXE));
-}
-
 // A participant of the plant as `identity` of ncqual-pki's `dir` (dir empty: not secured).
 dds::ParticipantOptions as(const Plant& plant, const std::string& dir,
                            const std::string& identity) {
@@ -49,25 +43,27 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
   plant.add_machine("held", machine_yaml("held", "    machine_shift_mm: [0.045, 0, 0]\n"));
   plant.write_plant();  // unsecured first: ncqual-pki reads the plant's machines from it
   const std::string dir = (plant.dir() / "pki").string();
-  const Outcome made = pki({"init", "--plant", plant.plant_file(), "--out", dir, "--operator",
-                            "station1", "--operator", "station2", "--viewer", "audit"});
+  const Outcome made =
+      ncqual_pki({"init", "--plant", plant.plant_file(), "--out", dir, "--operator", "station1",
+                  "--operator", "station2", "--viewer", "audit"});
   ASSERT_EQ(made.exit_code, 0) << made.out;
   EXPECT_NE(made.out.find("made acquisition identity acquisition-held"), std::string::npos)
       << made.out;
   // Re-running keeps what is there.
-  const Outcome again = pki({"init", "--plant", plant.plant_file(), "--out", dir});
+  const Outcome again = ncqual_pki({"init", "--plant", plant.plant_file(), "--out", dir});
   ASSERT_EQ(again.exit_code, 0) << again.out;
   EXPECT_EQ(again.out.find("made "), std::string::npos) << again.out;
   // Another plant's CA (same names), an expired and a revoked identity.
   const std::string other = (plant.dir() / "other-pki").string();
-  ASSERT_EQ(pki({"init", "--plant", plant.plant_file(), "--out", other, "--operator", "station1"})
+  ASSERT_EQ(
+      ncqual_pki({"init", "--plant", plant.plant_file(), "--out", other, "--operator", "station1"})
+          .exit_code,
+      0);
+  ASSERT_EQ(ncqual_pki({"add", "--out", dir, "--role", "operator", "--name", "expired",
+                        "--valid-from", "20200101000000Z", "--valid-until", "20200102000000Z"})
                 .exit_code,
             0);
-  ASSERT_EQ(pki({"add", "--out", dir, "--role", "operator", "--name", "expired", "--valid-from",
-                 "20200101000000Z", "--valid-until", "20200102000000Z"})
-                .exit_code,
-            0);
-  const Outcome revoked = pki({"revoke", "--out", dir, "--name", "operator-station2"});
+  const Outcome revoked = ncqual_pki({"revoke", "--out", dir, "--name", "operator-station2"});
   ASSERT_EQ(revoked.exit_code, 0) << revoked.out;
   // Peers, not multicast: with multicast, Fast DDS 2.9 leaves a pair of secured participants
   // unauthenticated when they discover others at once (participant.cpp, docs/deploy.md).
