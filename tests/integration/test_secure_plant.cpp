@@ -179,8 +179,9 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
           << e.what();
     }
   };
-  refused("a MeasurementSet writer in held's partition",
-          [&] { dds::Writer<dds::MeasurementSetTopic> w(good_acquisition, std::string("held")); });
+  refused("a MeasurementSet writer in held's partition", [&] {
+    dds::Writer<dds::MeasurementSetTopic> w(good_acquisition, dds::InPartitionOf{"held"});
+  });
   refused("a reader of held's requests",
           [&] { dds::Reader<dds::CheckRequestTopic> r(good_acquisition, std::string("held")); });
   refused("a reader of every partition's compensations",
@@ -188,7 +189,7 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
   // In its own partition it may write, but a set naming held (a re-measure of held's failed
   // request) is refused by the historian and the solver, each saying why; nothing is stored.
   {
-    dds::Writer<dds::MeasurementSetTopic> sets(good_acquisition, std::string("good"));
+    dds::Writer<dds::MeasurementSetTopic> sets(good_acquisition, dds::InPartitionOf{"good"});
     MeasurementSet forged;
     forged.machine_id = "held";
     forged.request_id = held_request;

@@ -153,7 +153,8 @@ int publish(const PlantConfig& plant, const DdsOptions& dds, const MeasurementSe
   ncqual::dds::Participant participant(options);
   // In the machine's partition, as its acquisition writes (an acquisition's identity may write
   // there only).
-  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant, set.machine_id);
+  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(
+      participant, ncqual::dds::InPartitionOf{set.machine_id});
   // Imported once the historian stored it and the solver saved its result.
   const ncqual::dds::OrderOutcome order = ncqual::dds::send_acknowledged(
       participant, sets, set, {roles::kHistorian, roles::kSolver}, std::chrono::seconds(60));

@@ -57,6 +57,15 @@ bool wait_until_matched(eprosima::fastdds::dds::StatusCondition& condition,
   return reached;
 }
 
+// In one machine's partition (machine_partition): where a per-machine topic's writer writes and
+// its reader reads. A reader bound so reads unfiltered and flags every sample that names another
+// machine `foreign`; with an empty id, it reads the default partition (writers without
+// partitions, which only an open plant has), unbound. A type of its own, so that a machine id is
+// never taken for a QoS profile name (both are strings).
+struct InPartitionOf {
+  std::string machine_id;
+};
+
 template <typename Topic>
 class Writer {
  public:
@@ -69,11 +78,11 @@ class Writer {
     create(participant.publisher(), profile);
   }
   // The writer of one machine's samples, in its partition (machine_partition).
-  Writer(Participant& participant, const std::string& machine_id,
+  Writer(Participant& participant, const InPartitionOf& where,
          const char* profile = Topic::kWriterProfile)
       : participant_(participant) {
     static_assert(Topic::kPerMachine, "only a per-machine topic has machine partitions");
-    create(participant.publisher_in(machine_partition(machine_id)), profile);
+    create(participant.publisher_in(machine_partition(where.machine_id)), profile);
   }
   ~Writer() { publisher_->delete_datawriter(writer_); }
   Writer(const Writer&) = delete;
@@ -161,13 +170,6 @@ struct Received {
   // another machine, so its writer, bound to that partition, wrote on another machine's behalf.
   // `error` says so. Refused whole: not even an answer on the named machine's behalf.
   bool foreign = false;
-};
-
-// Where a reader of a per-machine topic reads: in one machine's partition, unfiltered, with
-// every sample that names another machine flagged `foreign`; or, with an empty id, in the
-// default partition (writers without partitions, which only an open plant has), unbound.
-struct InPartitionOf {
-  std::string machine_id;
 };
 
 template <typename Topic>
@@ -294,7 +296,7 @@ class MachineWriters {
   Writer<Topic>& of(const std::string& machine_id) {
     std::lock_guard<std::mutex> lock(mutex_);
     auto& w = writers_[machine_id];
-    if (!w) w = std::make_unique<Writer<Topic>>(participant_, machine_id);
+    if (!w) w = std::make_unique<Writer<Topic>>(participant_, InPartitionOf{machine_id});
     return *w;
   }
   bool write(const Model& value) { return of(value.machine_id).write(value); }
