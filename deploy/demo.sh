@@ -67,7 +67,7 @@ var="${NCQUAL_VAR:-$root/var}"
 mkdir -p "$var/log"
 plant="$var/demo-plant.yaml"
 db="$var/historian.db"
-machine_id="$(sed -n 's/^machine_id:[[:space:]]*\([^[:space:]#]*\).*/\1/p' "$scenario" | head -n1)"
+machine_id="$(sed -n '/^machine_id:/{s/^machine_id:[[:space:]]*\([^[:space:]#]*\).*/\1/p;q}' "$scenario")"
 [ -n "$machine_id" ] || { echo "demo.sh: no machine_id in $scenario" >&2; exit 2; }
 if [ -n "$weeks" ]; then
   # A fresh plant history for the simulated weeks, beside the one-cycle demo's.
