@@ -3,6 +3,7 @@
 // them, its --json document checked against figures worked by hand (independent of the
 // solver), and the exit codes and file:line:column messages of bad files and bad usage.
 #include "cli_runner.hpp"
+#include "tracker_export.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -543,6 +544,114 @@ TEST_F(AnalyzeCli, TouchesOfAHandWorkedLogAreJudgedAsTheServiceJudgesThem) {
       dialect.err.find("--dialect 'heidenhain': expected one of linuxcnc, fanuc, generic-csv"),
       std::string::npos)
       << dialect.err;
+}
+
+// ---- points -------------------------------------------------------------------------------------
+
+// A tracker check other than the grid, measured by a real tracker: `ncqual program` writes the
+// nominal list of pm1's rotary_c, the tracker's software exports the points under names of its
+// own (made here from the list, by hand: the C points turned about the C axis), and `analyze
+// points` judges the export against the list as the service judges the check.
+TEST_F(AnalyzeCli, APointExportOfARotaryCheckIsJudgedAgainstItsNominalList) {
+  using ncqual::testing::NominalRow;
+  const std::string plant = std::string(NCQUAL_SOURCE_DIR) + "/deploy/plant.yaml";
+  const std::string list = (dir_ / "rotary_c-nominals.csv").string();
+  const CliRun p =
+      run({"program", "--plant", plant, "--machine", "pm1", "--check", "rotary_c", "--out", list});
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  EXPECT_NE(p.err.find("ncqual analyze|import points EXPORT --nominals " + list), std::string::npos)
+      << p.err;
+  const std::vector<NominalRow> rows = ncqual::testing::read_nominal_rows(list);
+  ASSERT_GT(rows.size(), 20u);
+  const auto at = p.err.find("(request ");
+  ASSERT_NE(at, std::string::npos) << p.err;
+  const std::string request = p.err.substr(at + 9, p.err.find(')', at) - at - 9);
+
+  // The C points turned by `arcsec` about the C axis: every dA is that angle, dR and the tilt
+  // stay 0. The list gives positions to 0.05 um; over the C circle's radius that is the
+  // tolerance of the figures.
+  double radius = 1e9;
+  for (const NominalRow& r : rows) {
+    if (r.point.rfind("c:", 0) != 0) continue;
+    radius = std::min(radius, (r.nominal_mm - r.machine_mm).head<2>().norm());
+  }
+  ASSERT_GT(radius, 10.0);
+  const double rounding_arcsec = 2 * 0.05e-3 / radius * 206264.8;
+  const auto turned = [&](double arcsec) {
+    return ncqual::testing::point_export(rows, [&](const NominalRow& r) {
+      return std::vector<Eigen::Vector3d>{
+          r.point.rfind("c:", 0) == 0 ? ncqual::testing::turned_about_c(r, arcsec / 206264.8)
+                                      : r.nominal_mm};
+    });
+  };
+  // 10": within pm1's +-15", PASS (exit 0); the figures those of the turn.
+  const std::string ten = write("rotary_c-10.txt", turned(10));
+  const json r = run_json(
+      {"analyze", "points", ten, "--nominals", list, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(r["verdict"], "PASS") << r.dump(2);
+  EXPECT_EQ(r["request_id"], request);
+  EXPECT_EQ(r["kind"], "rotary_c");
+  EXPECT_EQ(r["measurement"]["tracker_points"], static_cast<int>(rows.size()));
+  std::map<std::string, double> value;
+  for (const auto& m : r["metrics"]) value[m["name"]] = m["value"];
+  EXPECT_NEAR(value["c_dA_mean_arcsec"], 10, rounding_arcsec);
+  EXPECT_NEAR(value["c_dA_range_arcsec"], 0, 2 * rounding_arcsec);
+  EXPECT_NEAR(value["c_dR_max_mm"], 0, 1e-4);
+  EXPECT_NEAR(value["c_axis_tilt_urad"], 0, 2);
+  // 25": FAIL, exit 3, the mean flagged.
+  const CliRun fail = run({"analyze", "points", write("rotary_c-25.txt", turned(25)), "--nominals",
+                           list, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(fail.exit_code, 3) << fail.out << fail.err;
+  EXPECT_NE(fail.out.find("rotary_c on pm1: " + std::to_string(rows.size()) + " points of "),
+            std::string::npos)
+      << fail.out;
+  const auto mean = fail.out.find("c_dA_mean_arcsec");
+  ASSERT_NE(mean, std::string::npos) << fail.out;
+  EXPECT_NE(fail.out.find("(!) out of tolerance", mean), std::string::npos) << fail.out;
+
+  // A point left out of the export: refused (exit 1), naming it.
+  const std::string short_export =
+      write("short.txt", ncqual::testing::point_export(rows, [](const NominalRow& r) {
+              return r.point == "c:3" ? std::vector<Eigen::Vector3d>{}
+                                      : std::vector<Eigen::Vector3d>{r.nominal_mm};
+            }));
+  const CliRun missing = run({"analyze", "points", short_export, "--nominals", list, "--machine",
+                              "pm1", "--plant", plant});
+  EXPECT_EQ(missing.exit_code, 1) << missing.err;
+  EXPECT_NE(missing.err.find(short_export + ":"), std::string::npos) << missing.err;
+  EXPECT_NE(missing.err.find("1 of the program's " + std::to_string(rows.size()) +
+                             " rotary_c points are not in the export (c:3)"),
+            std::string::npos)
+      << missing.err;
+  // A list whose point the machine's program no longer puts there (the global_check: section
+  // changed since): refused, saying to write the list again.
+  std::ifstream in(list);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string c3 = "\nc:3,";
+  const auto row = text.find(c3);
+  ASSERT_NE(row, std::string::npos);
+  text.insert(row + c3.size(), "1");  // X gains 1000 mm or more
+  const std::string stale = write("stale.csv", text);
+  const CliRun refused =
+      run({"analyze", "points", ten, "--nominals", stale, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  EXPECT_NE(refused.err.find(stale + ": "), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("point 'c:3' is listed at ("), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("changed since the list was written; write the list again (ncqual "
+                             "program --check rotary_c)"),
+            std::string::npos)
+      << refused.err;
+  // A probing program is no nominal list.
+  const std::string probe = (dir_ / "daily.nc").string();
+  ASSERT_EQ(run({"program", "--plant", plant, "--machine", "pm1", "--check", "monument_positioning",
+                 "--dialect", "linuxcnc", "--out", probe})
+                .exit_code,
+            0);
+  const CliRun not_a_list =
+      run({"analyze", "points", ten, "--nominals", probe, "--machine", "pm1", "--plant", plant});
+  EXPECT_EQ(not_a_list.exit_code, 1) << not_a_list.err;
+  EXPECT_NE(not_a_list.err.find("no '# NCQUAL TRACKER NOMINALS' line"), std::string::npos)
+      << not_a_list.err;
 }
 
 }  // namespace

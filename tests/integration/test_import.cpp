@@ -4,6 +4,7 @@
 // the figures those of the file worked by hand.
 #include "cli_runner.hpp"
 #include "harness.hpp"
+#include "tracker_export.hpp"
 
 #include "ncqual/storage.hpp"
 
@@ -25,12 +26,9 @@ std::pair<int, std::string> cli(const std::vector<std::string>& args) {
   return {r.exit_code, r.out};
 }
 
-// The check of the request id `ncqual import` printed (its last line), once the historian holds
-// its set and result (nullopt if they did not come).
-std::optional<storage::CheckRecord> stored_import(Plant& plant, const std::string& out) {
-  const std::size_t at = out.rfind("import-");
-  if (at == std::string::npos) return std::nullopt;
-  const std::string request = out.substr(at, out.find('\n', at) - at);
+// The check of `request`, once the historian holds its set and result (nullopt if they did not
+// come); stored_import: of the request id `ncqual import` printed (its last line).
+std::optional<storage::CheckRecord> stored_check(Plant& plant, const std::string& request) {
   const bool stored = plant.wait_for_db([&](storage::Database& db) {
     const auto rec = db.find_check(request);
     return rec && rec->result && rec->measurement;
@@ -39,7 +37,13 @@ std::optional<storage::CheckRecord> stored_import(Plant& plant, const std::strin
   return storage::Database::open_readonly(plant.db_path()).find_check(request);
 }
 
-TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
+std::optional<storage::CheckRecord> stored_import(Plant& plant, const std::string& out) {
+  const std::size_t at = out.rfind("import-");
+  if (at == std::string::npos) return std::nullopt;
+  return stored_check(plant, out.substr(at, out.find('\n', at) - at));
+}
+
+TEST(Import, InstrumentExportsAreJudgedAndStoredLikeMeasuredChecks) {
   Plant plant("import", TestDomain::Import);
   plant.add_machine("pm1", "extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\n");
   plant.write_plant("[]");
@@ -111,6 +115,39 @@ TEST(Import, AnIso230RunFileIsJudgedAndStoredLikeAMeasuredCheck) {
                                         "--machine", "pm1", "--plant", plant.plant_file()});
   EXPECT_EQ(bad_code, 1);
   EXPECT_NE(bad_out.find("bad.csv:2:4:"), std::string::npos) << bad_out;
+
+  // A laser tracker's point export of rotary_c, measured to the nominal list `ncqual program`
+  // wrote: stored under the list's request with every point, judged as its C points were turned
+  // by hand, 10" about the C axis (the list gives positions to 0.05 um: 0.1" over 200 mm).
+  const std::string list = (plant.dir() / "rotary_c-nominals.csv").string();
+  const auto [list_code, list_out] = cli({"program", "--machine", "pm1", "--check", "rotary_c",
+                                          "--plant", plant.plant_file(), "--out", list});
+  ASSERT_EQ(list_code, 0) << list_out;
+  const std::size_t at = list_out.find("(request ");
+  ASSERT_NE(at, std::string::npos) << list_out;
+  const std::string request = list_out.substr(at + 9, list_out.find(')', at) - at - 9);
+  const std::vector<NominalRow> rows = read_nominal_rows(list);
+  const std::string points = (plant.dir() / "rotary_c-export.txt").string();
+  std::ofstream(points) << point_export(rows, [](const NominalRow& r) {
+    return std::vector<Eigen::Vector3d>{
+        r.point.rfind("c:", 0) == 0 ? turned_about_c(r, 10 / 206264.8) : r.nominal_mm};
+  });
+  const auto [points_code, points_out] =
+      cli({"import", "points", points, "--nominals", list, "--machine", "pm1", "--plant",
+           plant.plant_file(), "--domain", std::to_string(plant.domain())});
+  ASSERT_EQ(points_code, 0) << points_out;
+  EXPECT_NE(points_out.find("imported " + std::to_string(rows.size()) + " points as rotary_c"),
+            std::string::npos)
+      << points_out;
+  const auto c = stored_check(plant, request);
+  ASSERT_TRUE(c && c->result && c->measurement);
+  EXPECT_EQ(c->result->kind, CheckKind::RotaryC);
+  EXPECT_EQ(c->result->verdict, Verdict::Pass) << c->result->reason;
+  EXPECT_EQ(c->measurement->tracker_points, static_cast<std::int64_t>(rows.size()));
+  EXPECT_EQ(c->measurement->instrument, "import");
+  const Metric* mean = find_metric(*c->result, "c_dA_mean_arcsec");
+  ASSERT_NE(mean, nullptr);
+  EXPECT_NEAR(mean->value, 10, 0.2);
 }
 
 // A large export goes through whole: 200,000 points of a ballbar-like circle (both directions) in

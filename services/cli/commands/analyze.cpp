@@ -35,6 +35,12 @@
 //       same metrics against the machine's tolerances, verdict, likely causes and correction.
 //       --json: the check record of `ncqual history --json` (ncqual/storage_json.hpp).
 //
+//   ncqual analyze points EXPORT --nominals LIST --machine M [--plant F] [--json]
+//       a laser tracker's point export (a name and x, y, z per point, any declared unit) of a
+//       tracker check whose nominal list `ncqual program --check KIND` wrote, each point paired
+//       by name with the machine's program (points_from_files), judged exactly as the solver
+//       service judges the check; output as for touches.
+//
 // Without --json a table of the figures in mm (4 decimals) is printed. --json prints one
 // document (the *Document structs below); its names are a public interface (append, never
 // rename); lengths in mm, absent figures null:
@@ -78,7 +84,8 @@
 //     "axis_resolved": [3], "characteristics", "out_of_tolerance_after", "max_abs_after_mm",
 //     "left_out": [text]} | null}
 //
-// Exit codes: 0 printed (touches, cmm: PASS); 3 FAIL (touches, cmm) and 4 INVALID (touches); 1 the
+// Exit codes: 0 printed (touches, points, cmm: PASS); 3 FAIL (touches, points, cmm) and 4 INVALID
+// (touches, points); 1 the
 // file was refused (the CsvError "<file>:<line>:<column>: message" on stderr, or "<file>: message"
 // for a refusal of the evaluation), or not found; 2 bad usage (the message and the usage of `ncqual
 // analyze` on stderr).
@@ -235,19 +242,19 @@ struct Options {
   std::optional<std::string> centre_mm;     // circle
   std::string x_run, y_run, grid;           // grid
   std::optional<std::string> grid_machine;  // grid: the machine of tracker point exports
-  std::string program, machine, plant;      // touches (plant: grid too)
+  std::string program, machine, plant;      // touches (program), points (the nominal list);
+                                            // plant: grid too
 };
 
 // ---- touches ------------------------------------------------------------------------------------
 
-int run_touches(const Options& o) {
-  const PlantConfig plant = plant_from(o.plant);
-  const MachineConfig& machine = configured_machine(plant, o.machine);
-  const std::int64_t now = WallClock().now_ns();
-  const MeasurementSet set = touches_from_files(o.file, o.program, machine, now);
+// A set judged as the solver service judges it, printed (or its check record with --json).
+// `what`: "12 touches of LOG (program PROG, request R)".
+int judge_and_print(const MeasurementSet& set, const MachineConfig& machine, std::int64_t now,
+                    const std::string& what, bool as_json) {
   CheckResult r = solver::solve(set, machine, now);
   r.produced_by = version_line("ncqual analyze");
-  if (o.json) {
+  if (as_json) {
     storage::CheckRecord rec;
     rec.machine_id = r.machine_id;
     rec.request_id = r.request_id;
@@ -258,12 +265,11 @@ int run_touches(const Options& o) {
     measured.frame = set.frame;
     measured.time_ns = set.time_ns;
     measured.touches = static_cast<std::int64_t>(set.touches.size());
+    measured.tracker_points = static_cast<std::int64_t>(set.tracker_points.size());
     rec.measurement = measured;
     std::cout << storage::to_json(rec).dump(2) << "\n";
   } else {
-    fmt::print("{} on {}: {} touches of {} (program {}, request {}): {}\n", to_string(r.kind),
-               r.machine_id, set.touches.size(), o.file, o.program, r.request_id,
-               to_string(r.verdict));
+    fmt::print("{} on {}: {}: {}\n", to_string(r.kind), r.machine_id, what, to_string(r.verdict));
     for (const Metric& m : r.metrics) {
       fmt::print("  {:<28} {:>12} {:<6} [{}, {}]{}\n", m.name, format_metric_value(m), m.unit,
                  format_metric_value(Metric{m.name, m.lower, m.unit, m.lower, m.upper, true}),
@@ -283,6 +289,30 @@ int run_touches(const Options& o) {
   return r.verdict == Verdict::Pass   ? kExitOk
          : r.verdict == Verdict::Fail ? kExitFail
                                       : kExitInvalid;
+}
+
+int run_touches(const Options& o) {
+  const PlantConfig plant = plant_from(o.plant);
+  const MachineConfig& machine = configured_machine(plant, o.machine);
+  const std::int64_t now = WallClock().now_ns();
+  const MeasurementSet set = touches_from_files(o.file, o.program, machine, now);
+  return judge_and_print(set, machine, now,
+                         fmt::format("{} touches of {} (program {}, request {})",
+                                     set.touches.size(), o.file, o.program, set.request_id),
+                         o.json);
+}
+
+// ---- points -------------------------------------------------------------------------------------
+
+int run_points(const Options& o) {
+  const PlantConfig plant = plant_from(o.plant);
+  const MachineConfig& machine = configured_machine(plant, o.machine);
+  const std::int64_t now = WallClock().now_ns();
+  const MeasurementSet set = points_from_files(o.file, o.program, machine, now);
+  return judge_and_print(set, machine, now,
+                         fmt::format("{} points of {} (nominals {}, request {})",
+                                     set.tracker_points.size(), o.file, o.program, set.request_id),
+                         o.json);
 }
 
 int run_iso230_2(const Options& o) {
@@ -844,7 +874,8 @@ void add_analyze(CLI::App& app, Commands& commands) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "evaluate an instrument export (ISO 230-2 positioning run, ISO 230-4 circular test,\n"
-      "tracker grid, a CMM report, a control's touch log) on its own, without services");
+      "tracker grid, a CMM report, a control's touch log, a tracker's point export) on its\n"
+      "own, without services");
   analyze->require_subcommand(1);
 
   CLI::App* iso = analyze->add_subcommand(
@@ -917,6 +948,20 @@ void add_analyze(CLI::App& app, Commands& commands) {
   add_plant_option(touches, o->plant);
   add_json_flag(touches, o->json);
   commands.push_back({touches, [o] { return refusing(o->file, run_touches, *o); }});
+
+  CLI::App* points = analyze->add_subcommand(
+      "points",
+      "judge a laser tracker's point export of a tracker check (a name and x, y, z per point)\n"
+      "against the nominal list `ncqual program` wrote for it, exactly as the solver service\n"
+      "judges the check (exit code: its verdict)");
+  points->add_option("EXPORT", o->file, "the tracker software's point export")->required();
+  points->add_option("--nominals", o->program, "the nominal list the points were measured to")
+      ->type_name("LIST")
+      ->required();
+  add_machine_option(points, o->machine, "the machine measured");
+  add_plant_option(points, o->plant);
+  add_json_flag(points, o->json);
+  commands.push_back({points, [o] { return refusing(o->file, run_points, *o); }});
 }
 
 }  // namespace ncqual::cli

@@ -123,6 +123,11 @@ const MachineConfig& configured_machine(const PlantConfig& plant, const std::str
 std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const std::string& prefix,
                                                   const MachineConfig* machine);
 
+// "warning: <file>: N points are not <what> and not used: 'NEST1' (line 3), ..." on stderr
+// (up to five named); nothing when `unused` is empty.
+void warn_unused(const std::string& file, const std::vector<solver::TrackerExportPoint>& unused,
+                 const std::string& what);
+
 // The calendar of the plant config of --plant or NCQUAL_PLANT (its time zone is the one people
 // read times in); the default calendar (UTC) when neither names one.
 Calendar plant_calendar(const std::string& plant_flag);
@@ -139,6 +144,19 @@ std::optional<storage::Database> open_historian(const std::string& path,
 // probing::ProgramError naming the file and line.
 MeasurementSet touches_from_files(const std::string& log_file, const std::string& program_file,
                                   const MachineConfig& machine, std::int64_t time_ns);
+
+// The MeasurementSet of a tracker's point export (`export_file`: a name and x, y, z, as
+// solver::read_tracker_points_csv reads it) of a check whose nominal list `ncqual program` wrote
+// (`nominals_file`, ncqual/probing/tracker_nominals.hpp): the list names machine, check and
+// request; each point is paired by name with the machine's program of that check
+// (solver::tracker_points_from_export), refused at its cell when no instrument on the machine
+// can have read it (solver::check_grid_envelope). The list must still be the machine's program
+// (the same points at the same nominal positions, within 1 µm): a list written before the
+// machine's global_check: section changed is refused. For `analyze points` and `import
+// points`; throws probing::ProgramError (the list) or CsvError (the export) naming file and line;
+// exported points the program does not name are warned of on stderr.
+MeasurementSet points_from_files(const std::string& export_file, const std::string& nominals_file,
+                                 const MachineConfig& machine, std::int64_t time_ns);
 
 // The operator: $USER, else the host name.
 std::string operator_name();

@@ -15,6 +15,9 @@
 //   ncqual import touches LOG --program PROG --machine M [--plant F] [--domain N]
 //       a real control's touch log of a program written by `ncqual program`, as the check the
 //       program names, under the program's request id (ncqual/probing/program.hpp)
+//   ncqual import points EXPORT --nominals LIST --machine M [--plant F] [--domain N]
+//       a laser tracker's point export of any tracker check, as the check its nominal list
+//       (`ncqual program --check KIND`) names, under the list's request id (points_from_files)
 //
 // Prints the request id of the set (`ncqual wait --request ID` waits for its result) once the
 // historian stored it and the solver saved its result (ncqual/dds/acknowledged_send.hpp). Exit
@@ -42,13 +45,13 @@ namespace {
 
 // What the three imports take on the command line.
 struct Options {
-  std::string what;  // iso230-2, circle, grid
+  std::string what;  // iso230-2, circle, grid, touches, points
   DdsOptions dds;
   std::string file, machine;
   std::optional<std::string> axis, plane, centre_mm;
   std::optional<double> nominal_radius_mm;
   std::string x_run, y_run, grid;
-  std::string program;  // touches
+  std::string program;  // touches: the program; points: the nominal list
 };
 
 // Publishes an imported set: done once the historian stored it and the solver saved its result.
@@ -63,6 +66,11 @@ int run(const Options& o) {
     MeasurementSet set = touches_from_files(o.file, o.program, *machine, WallClock().now_ns());
     set.instrument = kImportedInstrument;
     return publish(plant, o.dds, set, std::to_string(set.touches.size()) + " touches");
+  }
+  if (o.what == "points") {
+    MeasurementSet set = points_from_files(o.file, o.program, *machine, WallClock().now_ns());
+    set.instrument = kImportedInstrument;
+    return publish(plant, o.dds, set, std::to_string(set.tracker_points.size()) + " points");
   }
   if (!machine->global_check) {
     throw UsageError("machine '" + machine_id + "' has no global_check: section (" +
@@ -218,6 +226,12 @@ void add_import(CLI::App& app, Commands& commands) {
       add("touches", "a control's touch log, as the check its program names", true);
   touches->add_option("--program", touches_o->program, "the probing program that wrote it")
       ->type_name("PROG")
+      ->required();
+  const auto [points, points_o] =
+      add("points", "a laser tracker's point export, as the tracker check its nominal list names",
+          true);
+  points->add_option("--nominals", points_o->program, "the nominal list it was measured to")
+      ->type_name("LIST")
       ->required();
 }
 

@@ -184,6 +184,18 @@ std::string new_sample_id(const std::string& prefix, const std::string& machine_
          std::to_string(getpid());
 }
 
+void warn_unused(const std::string& file, const std::vector<solver::TrackerExportPoint>& unused,
+                 const std::string& what) {
+  if (unused.empty()) return;
+  std::cerr << "warning: " << file << ": " << unused.size() << " point"
+            << (unused.size() == 1 ? " is" : "s are") << " not " << what << " and not used:";
+  const std::size_t shown = std::min<std::size_t>(unused.size(), 5);
+  for (std::size_t k = 0; k < shown; ++k) {
+    std::cerr << (k ? ", " : " ") << "'" << unused[k].name << "' (line " << unused[k].line << ")";
+  }
+  std::cerr << (shown < unused.size() ? ", ...\n" : "\n");
+}
+
 std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const std::string& prefix,
                                                   const MachineConfig* machine) {
   if (!solver::is_tracker_point_export(table)) return solver::read_grid_csv(table);
@@ -194,18 +206,9 @@ std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const s
   }
   const solver::GridFromExport part =
       solver::grid_points_from_export(table, prefix, *machine->global_check);
-  // What no run of the program takes, once, however many.
-  const std::vector<solver::TrackerExportPoint>& unused = part.ignored;
-  if (!unused.empty()) {
-    std::cerr << "warning: " << table.file << ": " << unused.size() << " point"
-              << (unused.size() == 1 ? " is" : "s are") << " not " << prefix << " points of "
-              << machine->machine_id << "'s program (or not of its reflector 0) and not used:";
-    const std::size_t shown = std::min<std::size_t>(unused.size(), 5);
-    for (std::size_t k = 0; k < shown; ++k) {
-      std::cerr << (k ? ", " : " ") << "'" << unused[k].name << "' (line " << unused[k].line << ")";
-    }
-    std::cerr << (shown < unused.size() ? ", ...\n" : "\n");
-  }
+  warn_unused(
+      table.file, part.ignored,
+      prefix + " points of " + machine->machine_id + "'s program (or not of its reflector 0)");
   return part.points;
 }
 

@@ -20,6 +20,8 @@
 #include "ncqual/probing/tracker_nominals.hpp"
 
 #include "ncqual/check_kinds.hpp"
+#include "ncqual/csv.hpp"
+#include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/clock.hpp"
 #include "ncqual/text.hpp"
 #include "ncqual/version.hpp"
@@ -108,11 +110,11 @@ int run(const Options& o) {
   }
   if (tracker) {
     std::cerr << "nominal points of " << to_string(request.kind) << " on " << machine.machine_id
-              << " (request " << request.request_id << ") for the tracker's software; "
-              << (request.kind == CheckKind::GlobalGrid
-                      ? "export the measured points under the same names for ncqual import grid\n"
-                      : "ncqual import takes point exports of global_grid only (circles and "
-                        "linear runs: their instrument files)\n");
+              << " (request " << request.request_id
+              << ") for the tracker's software; export the measured points under the same names "
+                 "for ncqual analyze|import points EXPORT --nominals "
+              << (o.out.empty() ? "<this list>" : o.out) << " --machine " << machine.machine_id
+              << "\n";
     return kExitOk;
   }
   std::cerr << "program of " << to_string(request.kind) << " on " << machine.machine_id
@@ -138,6 +140,68 @@ MeasurementSet touches_from_files(const std::string& log_file, const std::string
   const probing::TouchLog log =
       probing::read_touch_log(program_text(log_file), log_file, program.dialect);
   return probing::measurement_set_from_log(program, log, log_file, machine, time_ns);
+}
+
+MeasurementSet points_from_files(const std::string& export_file, const std::string& nominals_file,
+                                 const MachineConfig& machine, std::int64_t time_ns) {
+  const std::string text = program_text(nominals_file);
+  const probing::TrackerNominalsDescription list =
+      probing::read_tracker_nominals(text, nominals_file);
+  if (list.machine_id != machine.machine_id) {
+    throw probing::ProgramError(nominals_file, 1,
+                                "the nominal list was written for machine '" + list.machine_id +
+                                    "', not '" + machine.machine_id + "'");
+  }
+  if (!machine.global_check) {
+    throw probing::ProgramError(nominals_file, 1,
+                                "machine " + machine.machine_id +
+                                    " has no global_check section: its tracker checks cannot be "
+                                    "judged (" +
+                                    machine.source_path + ")");
+  }
+  const GlobalCheckConfig& gc = *machine.global_check;
+  const std::string kind = std::string(to_string(list.kind));
+  // Still the machine's program: every point listed, where the program now puts it.
+  const CsvTable listed = read_csv(text, nominals_file);
+  const solver::TrackerPointsFromExport nominal =
+      solver::tracker_points_from_export(listed, list.kind, gc);
+  const auto changed = [&](const std::string& why) {
+    return probing::ProgramError(nominals_file, 0,
+                                 why + ": " + machine.machine_id + "'s global_check: section (" +
+                                     machine.source_path +
+                                     ") changed since the list was written; "
+                                     "write the list again (ncqual program --check " +
+                                     kind + ") and measure to it");
+  };
+  if (!nominal.ignored.empty() || nominal.points.size() != list.points) {
+    throw changed("the list has " + std::to_string(listed.rows.size()) +
+                  " points, the program of " + kind + " " + std::to_string(nominal.points.size()));
+  }
+  for (const solver::GridFilePoint& p : nominal.located) {
+    if ((p.measured_mm - p.commanded_mm).norm() > 0.001) {
+      throw changed("line " + std::to_string(p.line) + ": point '" + p.point + "' is listed at (" +
+                    format_fixed(p.measured_mm.x(), 4) + ", " + format_fixed(p.measured_mm.y(), 4) +
+                    ", " + format_fixed(p.measured_mm.z(), 4) + ") mm, the program puts it at (" +
+                    format_fixed(p.commanded_mm.x(), 4) + ", " +
+                    format_fixed(p.commanded_mm.y(), 4) + ", " +
+                    format_fixed(p.commanded_mm.z(), 4) + ") mm");
+    }
+  }
+  const CsvTable table = read_csv_file(export_file);
+  const solver::TrackerPointsFromExport measured =
+      solver::tracker_points_from_export(table, list.kind, gc);
+  solver::check_grid_envelope(table, measured.located, solver::machine_envelope(gc));
+  warn_unused(export_file, measured.ignored, "points of " + kind + " on " + machine.machine_id);
+  MeasurementSet set;
+  set.machine_id = machine.machine_id;
+  set.request_id = list.request_id;
+  set.kind = list.kind;
+  set.instrument = "laser_tracker";
+  set.frame = "tracker";
+  set.time_ns = time_ns;
+  set.parameters = list.parameters;
+  set.tracker_points = measured.points;
+  return set;
 }
 
 void add_program(CLI::App& app, Commands& commands) {

@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
 #include <cmath>
 #include <string>
 
@@ -285,6 +287,118 @@ TEST(GlobalChecks, BadTrackerSetsAreInvalidNamingTheField) {
   const CheckResult r = solve(good, no_tolerance, 2);
   EXPECT_EQ(r.verdict, Verdict::Invalid);
   EXPECT_NE(r.reason.find("grid_rms_deviation_mm"), std::string::npos) << r.reason;
+}
+
+// A real tracker's point export of any tracker check (`ncqual analyze|import points`): the
+// simulator's set written as a tracker's software writes it (names in its own style, inches,
+// tab-separated, the rows in another order, a drift-nest point the program does not name), read
+// back by name, is the simulator's set point for point and is judged the same.
+TEST(GlobalChecks, APointExportOfEveryTrackerCheckIsJudgedAsTheSetItWasWrittenFrom) {
+  const MachineConfig m = pm1();
+  const sim::TrackerSimulator tracker(m, m.simulator);
+  // "grid:17:t1" -> "GRID_017_T1", "run:2:down:4" -> "RUN_002_DOWN_004".
+  const auto tracker_style = [](const std::string& label) {
+    std::string out, digits;
+    const auto flush = [&] {
+      if (digits.empty()) return;
+      out += std::string(digits.size() < 3 ? 3 - digits.size() : 0, '0') + digits;
+      digits.clear();
+    };
+    for (char c : label) {
+      if (std::isdigit(static_cast<unsigned char>(c))) {
+        digits += c;
+        continue;
+      }
+      flush();
+      out += c == ':' ? '_' : static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    flush();
+    return out;
+  };
+  int kinds = 0;
+  for (CheckKind kind : all_check_kinds()) {
+    if (!is_tracker_check(kind)) continue;
+    SCOPED_TRACE(to_string(kind));
+    ++kinds;
+    CheckRequest req;
+    req.machine_id = m.machine_id;
+    req.request_id = std::string("export-") + std::string(to_string(kind));
+    req.kind = kind;
+    const MeasurementSet simulated = tracker.perform(req, 1);
+    ASSERT_FALSE(simulated.tracker_points.empty());
+    std::string text = "# Units: in\nPoint Name\tX\tY\tZ\tRMS\n";
+    char line[200];
+    for (auto p = simulated.tracker_points.rbegin(); p != simulated.tracker_points.rend(); ++p) {
+      std::snprintf(line, sizeof line, "%s\t%.8f\t%.8f\t%.8f\t0.00010\n",
+                    tracker_style(p->label).c_str(), p->measured_mm.x() / 25.4,
+                    p->measured_mm.y() / 25.4, p->measured_mm.z() / 25.4);
+      text += line;
+    }
+    text += "NEST1\t10.0\t20.0\t30.0\t0.00010\n";
+    const TrackerPointsFromExport read =
+        tracker_points_from_export(read_csv(text, "export.txt"), kind, *m.global_check);
+    ASSERT_EQ(read.points.size(), simulated.tracker_points.size());
+    ASSERT_EQ(read.located.size(), read.points.size());
+    ASSERT_EQ(read.ignored.size(), 1u);
+    EXPECT_EQ(read.ignored.front().name, "NEST1");
+    for (std::size_t k = 0; k < read.points.size(); ++k) {
+      const TrackerPoint& want = simulated.tracker_points[k];
+      const TrackerPoint& got = read.points[k];
+      ASSERT_EQ(got.label, want.label) << k;
+      EXPECT_EQ(got.commanded.x_mm, want.commanded.x_mm) << want.label;
+      EXPECT_EQ(got.commanded.y_mm, want.commanded.y_mm) << want.label;
+      EXPECT_EQ(got.commanded.z_mm, want.commanded.z_mm) << want.label;
+      EXPECT_EQ(got.commanded.a_rad, want.commanded.a_rad) << want.label;
+      EXPECT_EQ(got.commanded.c_rad, want.commanded.c_rad) << want.label;
+      EXPECT_EQ(got.commanded.w_mm, want.commanded.w_mm) << want.label;
+      // 1e-8 in written: 0.25 nm.
+      EXPECT_NEAR((got.measured_mm - want.measured_mm).norm(), 0, 1e-6) << want.label;
+      EXPECT_EQ(read.located[k].line, static_cast<int>(simulated.tracker_points.size() - k) + 2);
+    }
+    MeasurementSet imported = simulated;
+    imported.tracker_points = read.points;
+    const CheckResult direct = solve(simulated, m, 2), from_export = solve(imported, m, 2);
+    EXPECT_EQ(from_export.verdict, direct.verdict) << from_export.reason;
+    ASSERT_EQ(from_export.metrics.size(), direct.metrics.size());
+    ASSERT_FALSE(direct.metrics.empty());
+    for (std::size_t k = 0; k < direct.metrics.size(); ++k) {
+      const Metric& a = direct.metrics[k];
+      const Metric& b = from_export.metrics[k];
+      EXPECT_EQ(b.name, a.name);
+      EXPECT_NEAR(b.value, a.value, 1e-4 * (a.upper - a.lower)) << a.name;
+    }
+  }
+  EXPECT_EQ(kinds, 9);  // master frame, grid, W, A, C, three circles, the linear run
+
+  // A point of the program missing: refused at the last line, naming it and how to name it.
+  CheckRequest req;
+  req.machine_id = m.machine_id;
+  req.request_id = "short";
+  req.kind = CheckKind::RotaryC;
+  const MeasurementSet c = tracker.perform(req, 1);
+  std::string text = "Point,X (mm),Y (mm),Z (mm)\n";
+  std::string first;
+  for (const TrackerPoint& p : c.tracker_points) {
+    if (first.empty()) first = p.label;
+    if (p.label == "c:3") continue;
+    text += p.label + "," + std::to_string(p.measured_mm.x()) + "," +
+            std::to_string(p.measured_mm.y()) + "," + std::to_string(p.measured_mm.z()) + "\n";
+  }
+  EXPECT_EQ(first, "x_run:0");  // the session's master-frame runs come first
+  try {
+    tracker_points_from_export(read_csv(text, "c.csv"), CheckKind::RotaryC, *m.global_check);
+    ADD_FAILURE() << "a missing point was accepted";
+  } catch (const CsvError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "c.csv:" + std::to_string(c.tracker_points.size()) + ": 1 of the program's " +
+                  std::to_string(c.tracker_points.size()) +
+                  " rotary_c points are not in the export (c:3): name each point as the program "
+                  "labels it ('x_run:0'; case, separators and leading zeros do not matter: "
+                  "'X_RUN_00')");
+  }
+  EXPECT_THROW(tracker_points_from_export(read_csv(text, "c.csv"), CheckKind::MonumentPositioning,
+                                          *m.global_check),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/probing/program.hpp"
 
+#include "comment_fields.hpp"
+
 #include "ncqual/check_kinds.hpp"
 #include "ncqual/probing/plan.hpp"
 #include "ncqual/text.hpp"
@@ -16,6 +18,13 @@
 #include <stdexcept>
 
 namespace ncqual::probing {
+
+using detail::field;
+using detail::fields_of;
+using detail::lines_of;
+using detail::number_field;
+using detail::parse_integer;
+
 namespace {
 
 constexpr double kMmPerInch = 25.4;
@@ -41,30 +50,6 @@ std::string trim(std::string_view s) {
   if (b == std::string_view::npos) return "";
   const auto e = s.find_last_not_of(" \t\r\n");
   return std::string(s.substr(b, e - b + 1));
-}
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::string_view t(text);
-  if (t.substr(0, 3) == "\xEF\xBB\xBF") t.remove_prefix(3);
-  std::size_t start = 0;
-  while (start <= t.size()) {
-    const std::size_t end = t.find('\n', start);
-    std::string line(t.substr(start, end == std::string_view::npos ? end : end - start));
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    lines.push_back(std::move(line));
-    if (end == std::string_view::npos) break;
-    start = end + 1;
-  }
-  if (!lines.empty() && lines.back().empty()) lines.pop_back();
-  return lines;
-}
-
-std::optional<int> parse_integer(const std::string& s) {
-  if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos || s.size() > 9) {
-    return std::nullopt;
-  }
-  return std::stoi(s);
 }
 
 // The program text, as the control reads it.
@@ -222,42 +207,6 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
   }
   return w.text();
 }
-
-namespace {
-
-// "key=value" words after the keyword of an NCQUAL comment.
-std::map<std::string, std::string> fields_of(const std::string& body, const std::string& file,
-                                             int line) {
-  std::map<std::string, std::string> fields;
-  std::istringstream words(body);
-  std::string word;
-  while (words >> word) {
-    const auto eq = word.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      throw ProgramError(file, line, "'" + word + "' is not key=value");
-    }
-    fields[word.substr(0, eq)] = word.substr(eq + 1);
-  }
-  return fields;
-}
-
-const std::string& field(const std::map<std::string, std::string>& fields, const std::string& key,
-                         const std::string& comment, const std::string& file, int line) {
-  const auto it = fields.find(key);
-  if (it == fields.end()) throw ProgramError(file, line, comment + ": no " + key + "=");
-  return it->second;
-}
-
-double number_field(const std::map<std::string, std::string>& fields, const std::string& key,
-                    const std::string& comment, const std::string& file, int line) {
-  const std::string& text = field(fields, key, comment, file, line);
-  const auto v = parse_finite_number(text);
-  if (!v)
-    throw ProgramError(file, line, comment + ": " + key + " = '" + text + "' is not a number");
-  return *v;
-}
-
-}  // namespace
 
 ProgramDescription read_program(const std::string& text, const std::string& file) {
   ProgramDescription d;

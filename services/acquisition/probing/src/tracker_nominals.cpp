@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/probing/tracker_nominals.hpp"
 
+#include "comment_fields.hpp"
+#include "ncqual/probing/program.hpp"
+
 #include "ncqual/check_kinds.hpp"
 #include "ncqual/global_check.hpp"
 #include "ncqual/kinematics.hpp"
@@ -71,6 +74,61 @@ std::string write_tracker_nominals(const CheckRequest& request, const MachineCon
            deg(m.commanded.c_rad) + "," + mm(m.commanded.w_mm) + "\n";
   }
   return out;
+}
+
+TrackerNominalsDescription read_tracker_nominals(const std::string& text, const std::string& file) {
+  const std::string header = "# NCQUAL TRACKER NOMINALS ";
+  const std::string parameter = "# NCQUAL PARAMETER ";
+  TrackerNominalsDescription d;
+  bool found = false;
+  const std::vector<std::string> lines = detail::lines_of(text);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const int ln = static_cast<int>(i) + 1;
+    const std::string& line = lines[i];
+    if (line.rfind(header, 0) == 0) {
+      const std::string c = "NCQUAL TRACKER NOMINALS";
+      // The version is last and may hold spaces ("ncqual 0.9.0 (abc1234)").
+      std::string rest = line.substr(header.size());
+      const auto v = rest.find(" version=");
+      if (v != std::string::npos) {
+        d.version = rest.substr(v + 9);
+        rest.resize(v);
+      }
+      const detail::Fields f = detail::fields_of(rest, file, ln);
+      d.machine_id = detail::field(f, "machine", c, file, ln);
+      d.request_id = detail::field(f, "request", c, file, ln);
+      const std::string& check = detail::field(f, "check", c, file, ln);
+      const auto kind = parse_check_kind(check);
+      if (!kind) throw ProgramError(file, ln, c + ": check = '" + check + "' is no check kind");
+      if (!is_tracker_check(*kind)) {
+        throw ProgramError(file, ln,
+                           c + ": check = '" + check +
+                               "' is not measured by the laser tracker (a probe check's "
+                               "program is read by analyze|import touches)");
+      }
+      d.kind = *kind;
+      const std::string& points = detail::field(f, "points", c, file, ln);
+      const auto count = detail::parse_integer(points);
+      if (!count || *count <= 0) {
+        throw ProgramError(file, ln, c + ": points = '" + points + "' is no count");
+      }
+      d.points = static_cast<std::size_t>(*count);
+      found = true;
+    } else if (line.rfind(parameter, 0) == 0) {
+      const detail::Fields f = detail::fields_of(line.substr(parameter.size()), file, ln);
+      if (f.size() != 1) throw ProgramError(file, ln, "NCQUAL PARAMETER: expected one name=value");
+      NamedValue p;
+      p.name = f.begin()->first;
+      p.value = detail::number_field(f, p.name, "NCQUAL PARAMETER", file, ln);
+      d.parameters.push_back(p);
+    }
+  }
+  if (!found) {
+    throw ProgramError(file, 0,
+                       "no '# NCQUAL TRACKER NOMINALS' line: not a nominal list written by ncqual "
+                       "program --check <tracker check>");
+  }
+  return d;
 }
 
 }  // namespace ncqual::probing

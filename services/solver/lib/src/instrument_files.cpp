@@ -793,54 +793,73 @@ std::vector<TrackerExportPoint> read_tracker_points_csv(const CsvTable& t) {
   return out;
 }
 
-GridFromExport grid_points_from_export(const CsvTable& t, const std::string& prefix,
-                                       const GlobalCheckConfig& config) {
-  const std::vector<TrackerExportPoint> points = read_tracker_points_csv(t);
-  // The program's moves of this part: label prefix:<i> (the grid's t0 suffix is optional).
-  struct Planned {
-    std::string label;
-    Eigen::Vector3d target_mm;
-  };
-  std::map<std::string, std::size_t> by_name;  // canonical name -> index into planned
-  std::vector<Planned> planned;
-  std::set<std::string> other_runs;  // canonical names of the other runs' points, any reflector
-  for (const TrackerMove& m : global_check_program(CheckKind::GlobalGrid, config)) {
-    if (m.label.empty()) continue;
-    // A grid point's label "grid:17:t0" may be written without its reflector: "Grid 17".
-    std::string label = m.label;
-    const bool t0 = label.size() > 3 && label.compare(label.size() - 3, 3, ":t0") == 0;
-    if (t0) label.resize(label.size() - 3);
-    if (m.label.rfind(prefix + ":", 0) != 0) {  // another run's point
-      other_runs.insert(canonical_point_name(m.label));
-      if (t0) other_runs.insert(canonical_point_name(label));
-      continue;
-    }
-    if (m.target != 0) continue;
-    if (t0) by_name.emplace(canonical_point_name(m.label), planned.size());
-    by_name.emplace(canonical_point_name(label), planned.size());
-    planned.push_back({label, stylus_ball_centre(m.commanded, config.targets.front())});
+namespace {
+
+// A measured move of a monthly program as a point export may name it.
+struct ProgramPoint {
+  const TrackerMove* move = nullptr;
+  std::string label;               // as the program labels it ("grid:17:t0")
+  std::vector<std::string> names;  // the canonical names it answers to
+};
+
+// The canonical names of a label: itself, and without a main-reflector suffix (":t0": "Grid 17").
+std::vector<std::string> names_of(const std::string& label) {
+  std::vector<std::string> names{canonical_point_name(label)};
+  if (label.size() > 3 && label.compare(label.size() - 3, 3, ":t0") == 0) {
+    names.push_back(canonical_point_name(label.substr(0, label.size() - 3)));
   }
-  std::vector<std::optional<GridFilePoint>> found(planned.size());
-  GridFromExport out;
-  for (const TrackerExportPoint& p : points) {
-    const std::string name = canonical_point_name(p.name);
+  return names;
+}
+
+// How the first point may be written, to show that case, separators and leading zeros do not
+// matter: "x_run:0" -> "X_RUN_00".
+std::string example_name(const std::string& label) {
+  std::string out;
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    const auto c = static_cast<unsigned char>(label[i]);
+    const bool number_starts =
+        std::isdigit(c) && (i == 0 || !std::isdigit(static_cast<unsigned char>(label[i - 1])));
+    const bool single_digit =
+        number_starts &&
+        (i + 1 == label.size() || !std::isdigit(static_cast<unsigned char>(label[i + 1])));
+    if (single_digit) out += '0';
+    out += std::isalpha(c) ? static_cast<char>(std::toupper(c)) : std::isdigit(c) ? label[i] : '_';
+  }
+  return out;
+}
+
+// Each of `planned` paired by name with an exported point (the index into `points`), in the
+// program's order; exported points none of `planned` names are `ignored` unless their canonical
+// name is in `elsewhere` (another run's point of the same session). A planned point missing
+// from the export is refused (naming up to five, at the last line). `what`: "x_run points",
+// "rotary_c points".
+struct Pairing {
+  std::vector<std::size_t> found;  // per planned point
+  std::vector<TrackerExportPoint> ignored;
+};
+Pairing pair_by_name(const CsvTable& t, const std::vector<TrackerExportPoint>& points,
+                     const std::vector<ProgramPoint>& planned,
+                     const std::set<std::string>& elsewhere, const std::string& what) {
+  std::map<std::string, std::size_t> by_name;  // canonical name -> index into planned
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    for (const std::string& n : planned[i].names) by_name.emplace(n, i);
+  }
+  std::vector<std::optional<std::size_t>> found(planned.size());
+  Pairing out;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const std::string name = canonical_point_name(points[k].name);
     const auto it = by_name.find(name);
-    if (it == by_name.end()) {
-      if (!other_runs.count(name)) out.ignored.push_back(p);
-      continue;
+    if (it != by_name.end()) {
+      found[it->second] = k;
+    } else if (!elsewhere.count(name)) {
+      out.ignored.push_back(points[k]);
     }
-    GridFilePoint g;
-    g.point = p.name;
-    g.line = p.line;
-    g.commanded_mm = planned[it->second].target_mm;
-    g.measured_mm = p.measured_mm;
-    found[it->second] = g;
   }
   std::string missing;
   int n_missing = 0;
   for (std::size_t i = 0; i < planned.size(); ++i) {
     if (found[i]) {
-      out.points.push_back(*found[i]);
+      out.found.push_back(*found[i]);
     } else if (++n_missing <= 5) {
       missing += (missing.empty() ? "" : ", ") + planned[i].label;
     }
@@ -848,10 +867,82 @@ GridFromExport grid_points_from_export(const CsvTable& t, const std::string& pre
   if (n_missing > 0) {
     throw CsvError(t.file, last_line(t), 0,
                    std::to_string(n_missing) + " of the program's " +
-                       std::to_string(planned.size()) + " " + prefix + " points are not in the " +
-                       "export (" + missing + (n_missing > 5 ? ", ..." : "") +
+                       std::to_string(planned.size()) + " " + what + " are not in the export (" +
+                       missing + (n_missing > 5 ? ", ..." : "") +
                        "): name each point as the program labels it ('" + planned.front().label +
-                       "'; case, separators and leading zeros do not matter: 'X_RUN_00')");
+                       "'; case, separators and leading zeros do not matter: '" +
+                       example_name(planned.front().label) + "')");
+  }
+  return out;
+}
+
+}  // namespace
+
+GridFromExport grid_points_from_export(const CsvTable& t, const std::string& prefix,
+                                       const GlobalCheckConfig& config) {
+  const std::vector<TrackerExportPoint> points = read_tracker_points_csv(t);
+  const std::vector<TrackerMove> program = global_check_program(CheckKind::GlobalGrid, config);
+  // The program's moves of this part with the main reflector: label prefix:<i>.
+  std::vector<ProgramPoint> planned;
+  std::set<std::string> elsewhere;  // the other runs' points, by any name
+  for (const TrackerMove& m : program) {
+    if (m.label.empty()) continue;
+    std::vector<std::string> names = names_of(m.label);
+    if (m.label.rfind(prefix + ":", 0) != 0) {
+      elsewhere.insert(names.begin(), names.end());
+      continue;
+    }
+    if (m.target != 0) continue;  // another reflector: reported as ignored when exported
+    std::string label = m.label;  // a grid point is named without its reflector
+    if (names.size() > 1) label.resize(label.size() - 3);
+    planned.push_back({&m, label, std::move(names)});
+  }
+  const Pairing pairing = pair_by_name(t, points, planned, elsewhere, prefix + " points");
+  GridFromExport out;
+  out.ignored = pairing.ignored;
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    const TrackerExportPoint& p = points[pairing.found[i]];
+    GridFilePoint g;
+    g.point = p.name;
+    g.line = p.line;
+    g.commanded_mm = stylus_ball_centre(planned[i].move->commanded, config.targets.front());
+    g.measured_mm = p.measured_mm;
+    out.points.push_back(g);
+  }
+  return out;
+}
+
+TrackerPointsFromExport tracker_points_from_export(const CsvTable& t, CheckKind kind,
+                                                   const GlobalCheckConfig& config) {
+  if (!is_tracker_check(kind)) {
+    throw std::invalid_argument(std::string(to_string(kind)) +
+                                " is not measured by the laser tracker: it has no point export");
+  }
+  const std::vector<TrackerExportPoint> points = read_tracker_points_csv(t);
+  const std::vector<TrackerMove> program = global_check_program(kind, config);
+  std::vector<ProgramPoint> planned;
+  for (const TrackerMove& m : program) {
+    if (!m.label.empty()) planned.push_back({&m, m.label, names_of(m.label)});
+  }
+  const Pairing pairing =
+      pair_by_name(t, points, planned, {}, std::string(to_string(kind)) + " points");
+  TrackerPointsFromExport out;
+  out.ignored = pairing.ignored;
+  for (std::size_t i = 0; i < planned.size(); ++i) {
+    const TrackerExportPoint& p = points[pairing.found[i]];
+    const TrackerMove& m = *planned[i].move;
+    TrackerPoint point;
+    point.label = m.label;
+    point.commanded = m.commanded;
+    point.measured_mm = p.measured_mm;
+    out.points.push_back(point);
+    GridFilePoint g;
+    g.point = p.name;
+    g.line = p.line;
+    g.commanded_mm =
+        stylus_ball_centre(m.commanded, config.targets.at(static_cast<std::size_t>(m.target)));
+    g.measured_mm = p.measured_mm;
+    out.located.push_back(g);
   }
   return out;
 }

@@ -19,7 +19,9 @@
 #include "ncqual/config.hpp"
 #include "ncqual/model.hpp"
 
+#include <cstddef>
 #include <string>
+#include <vector>
 
 namespace ncqual::probing {
 
@@ -27,6 +29,20 @@ namespace ncqual::probing {
 // global_check section.
 std::string write_tracker_nominals(const CheckRequest& request, const MachineConfig& machine,
                                    const std::string& version);
+
+// What a nominal list says about itself, read back from its NCQUAL comments: the machine, the
+// check and the request it was written for, how many points it lists, the request's parameters.
+struct TrackerNominalsDescription {
+  std::string machine_id, request_id, version;
+  CheckKind kind = CheckKind::GlobalGrid;
+  std::size_t points = 0;
+  std::vector<NamedValue> parameters;
+};
+
+// Throws ProgramError (ncqual/probing/program.hpp) naming the file, line and field when the
+// "# NCQUAL TRACKER NOMINALS" line is missing or malformed, or names no tracker check. The
+// points themselves read as a tracker point export (solver::read_tracker_points_csv).
+TrackerNominalsDescription read_tracker_nominals(const std::string& text, const std::string& file);
 
 // "ncqual-<request id>-nominals.csv"
 std::string tracker_nominals_file_name(const std::string& request_id);

@@ -154,6 +154,22 @@ struct GridFromExport {
 GridFromExport grid_points_from_export(const CsvTable& table, const std::string& prefix,
                                        const GlobalCheckConfig& config);
 
+// Every measured point of a tracker check from a point export: each labelled move of the
+// machine's program of `kind` (global_check_program; every reflector, the master-frame runs of
+// the session) paired by name as above ("c:3" or "C_03", "grid:17:t1", "run:2:down:4"), the
+// commanded axes the move's. What the tracker simulator measures, from a real tracker: the
+// solver judges it as it judges a simulated set. `points` in the program's order; `located`: the
+// same points with the reflector's nominal position as commanded_mm (for check_grid_envelope);
+// `ignored`: exported points the program does not name. A program point missing from the export
+// is refused as above; std::invalid_argument when `kind` is not a tracker check.
+struct TrackerPointsFromExport {
+  std::vector<TrackerPoint> points;
+  std::vector<GridFilePoint> located;
+  std::vector<TrackerExportPoint> ignored;
+};
+TrackerPointsFromExport tracker_points_from_export(const CsvTable& table, CheckKind kind,
+                                                   const GlobalCheckConfig& config);
+
 // ---- CMM results --------------------------------------------------------------------------------
 // A coordinate measuring machine's report of a part (or a fixture, a set-point block): per
 // characteristic, a feature's coordinate or size with its nominal, the measured value and the
