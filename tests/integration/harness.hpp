@@ -15,8 +15,11 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <cstdlib>
 #include <map>
 #include <random>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,6 +27,27 @@
 namespace ncqual::testing {
 
 namespace fs = std::filesystem;
+
+// deploy/security/ncqual-pki with `args` (init, add, revoke, ...), as a plant's administrator
+// runs it; its output merged.
+inline Outcome ncqual_pki(const std::vector<std::string>& args) {
+  std::vector<std::string> argv{std::string(NCQUAL_SOURCE_DIR) + "/deploy/security/ncqual-pki"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  return run(Launch(argv, Output::Merged).with_env("NCQUAL_CLI", NCQUAL_CLI_EXE));
+}
+
+// The one flag that runs the integration tests on a secured plant: NCQUAL_TEST_SECURITY=1 (not
+// empty, not 0). A Plant whose test writes no security: or network: section of its own is then
+// secured as a plant's administrator secures one (docs/deploy.md): ncqual-pki init from the
+// plant's machines with an operator station named after this host (the CLI's default identity,
+// operator-<host>), the plant's security: section, and discovery by peers on 127.0.0.1 (Fast DDS
+// 2.9 and multicast: participant.cpp). Services and `ncqual` runs take it from the plant file;
+// an acquisition of several machines gets an identity of its group (--identity). ctest runs a
+// set of tests this way too (tests/integration/CMakeLists.txt, label "secured").
+inline bool tests_secured() {
+  const char* flag = std::getenv("NCQUAL_TEST_SECURITY");
+  return flag && *flag && std::string(flag) != "0";
+}
 
 // A private plant: a temporary directory, a domain id of its own, machine configs, and the
 // four services.
@@ -90,6 +114,13 @@ class Plant {
       argv.push_back(a);
     }
     argv.insert(argv.end(), extra.begin(), extra.end());
+    if (!pki_.empty() && service == "acquisition") {
+      const std::string group = group_identity(extra);
+      if (!group.empty()) {
+        argv.push_back("--identity");
+        argv.push_back(group);
+      }
+    }
     processes_.push_back(
         std::make_unique<Process>(Launch(argv).log_to((dir_ / (service + ".log")).string())));
     return *processes_.back();
@@ -146,15 +177,61 @@ class Plant {
   std::string write_plant_file(const std::string& sections,
                                const std::string& file_name = "plant.yaml") {
     const auto path = dir_ / file_name;
+    write_plant_text(path, sections);
+    if (file_name != "plant.yaml") return path.string();  // another plant file, for a client
+    plant_file_ = path.string();
+    if (tests_secured() && sections.find("security:") == std::string::npos &&
+        sections.find("network:") == std::string::npos) {
+      // ncqual-pki reads the machines from the plant as written; then the plant again, secured.
+      const std::string pki = (dir_ / "harness-pki").string();
+      char host[256] = {};
+      gethostname(host, sizeof host - 1);
+      const Outcome made =
+          ncqual_pki({"init", "--plant", plant_file_, "--out", pki, "--operator", host});
+      if (made.exit_code != 0) throw std::runtime_error("ncqual-pki init failed:\n" + made.out);
+      write_plant_text(path, sections + "security: {dir: " + pki +
+                                 "}\nnetwork: {discovery: peers, peers: [127.0.0.1]}\n");
+      pki_ = pki;
+    }
+    return plant_file_;
+  }
+
+  void write_plant_text(const fs::path& path, const std::string& sections) const {
     std::ofstream out(path);
     out << "plant: test-plant\n"
         << "domain_id: " << domain_ << "\n"
         << qos_lines_ << "historian:\n  database: " << db_path() << "\n"
         << sections << "machines:\n";
     for (const auto& m : machines_) out << "  - " << m << "\n";
-    if (file_name != "plant.yaml") return path.string();  // another plant file, for a client
-    plant_file_ = path.string();
-    return plant_file_;
+  }
+
+  // On a secured plant, the identity of an acquisition started with `extra` when it serves more
+  // than one machine (--all, --machine a,b), made with ncqual-pki add the first time; "" when
+  // it serves one (its identity is acquisition-<id>) or names its own.
+  std::string group_identity(const std::vector<std::string>& extra) const {
+    std::vector<std::string> ids;
+    for (std::size_t k = 0; k < extra.size(); ++k) {
+      if (extra[k] == "--identity") return "";
+      if (extra[k] == "--all") {
+        for (const auto& m : machines_) ids.push_back(fs::path(m).stem().string());
+      }
+      if (extra[k] == "--machine" && k + 1 < extra.size()) {
+        std::stringstream list(extra[k + 1]);
+        for (std::string id; std::getline(list, id, ',');) ids.push_back(id);
+      }
+    }
+    if (ids.size() < 2) return "";
+    std::string joined;
+    for (const auto& id : ids) joined += (joined.empty() ? "" : ",") + id;
+    // A certificate's CN has at most 64 characters: the group is named by a hash of its ids.
+    const std::string name =
+        "acquisition-group-" + std::to_string(std::hash<std::string>{}(joined) % 1000000);
+    if (!fs::exists(fs::path(pki_) / "identities" / name)) {
+      const Outcome added = ncqual_pki(
+          {"add", "--out", pki_, "--role", "acquisition", "--name", name, "--machines", joined});
+      if (added.exit_code != 0) throw std::runtime_error("ncqual-pki add failed:\n" + added.out);
+    }
+    return name;
   }
 
   fs::path dir_;
@@ -162,17 +239,10 @@ class Plant {
       std::string("qos_profiles: ") + NCQUAL_SOURCE_DIR + "/deploy/qos/ncqual-qos.xml\n";
   int domain_ = 0;
   std::string plant_file_;
+  std::string pki_;  // the plant's security material when tests_secured() secured it
   std::vector<std::string> machines_;
   std::vector<std::unique_ptr<Process>> processes_;
 };
-
-// deploy/security/ncqual-pki with `args` (init, add, revoke, ...), as a plant's administrator
-// runs it; its output merged.
-inline Outcome ncqual_pki(const std::vector<std::string>& args) {
-  std::vector<std::string> argv{std::string(NCQUAL_SOURCE_DIR) + "/deploy/security/ncqual-pki"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  return run(Launch(argv, Output::Merged).with_env("NCQUAL_CLI", NCQUAL_CLI_EXE));
-}
 
 // A machine config for tests: nominal geometry of deploy/machines/pm1.yaml with the given
 // simulator errors section (YAML lines, indented under `errors:`).
