@@ -53,6 +53,8 @@ inline bool tests_secured() {
 // four services.
 class Plant {
  public:
+  static constexpr const char* kRigIdentity = "rig-tests";
+
   // Every test passes its own domain (tests/integration/domains.hpp allocates them), so tests
   // that ctest runs in parallel never hear each other.
   Plant(const std::string& name, TestDomain domain) : domain_(domain_id(domain)) {
@@ -134,6 +136,10 @@ class Plant {
     return NCQUAL_CLI_EXE;
   }
 
+  // The identity of the test's own participant (test_participant.hpp): a rig's on a plant
+  // tests_secured() secured, else none.
+  std::string test_identity() const { return pki_.empty() ? "" : kRigIdentity; }
+
   std::string db_path() const { return (dir_ / "historian.db").string(); }
   const fs::path& dir() const { return dir_; }
   int domain() const { return domain_; }
@@ -189,6 +195,11 @@ class Plant {
       const Outcome made =
           ncqual_pki({"init", "--plant", plant_file_, "--out", pki, "--operator", host});
       if (made.exit_code != 0) throw std::runtime_error("ncqual-pki init failed:\n" + made.out);
+      if (!fs::exists(fs::path(pki) / "identities" / kRigIdentity)) {
+        const Outcome rig =
+            ncqual_pki({"add", "--out", pki, "--role", "rig", "--name", kRigIdentity});
+        if (rig.exit_code != 0) throw std::runtime_error("ncqual-pki add failed:\n" + rig.out);
+      }
       write_plant_text(path, sections + "security: {dir: " + pki +
                                  "}\nnetwork: {discovery: peers, peers: [127.0.0.1]}\n");
       pki_ = pki;
