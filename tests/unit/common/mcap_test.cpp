@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // ncqual_mcap (common/mcap): round trips through every compression, a whole file's layout worked
-// out by hand from the specification (not from the writer), the CRC32 check value.
+// out by hand from the specification (not from the writer), the CRC32 check value, and bad files:
+// cut at every byte, wrong magic, corrupt chunks, lengths past the end, unknown channels.
 #include "ncqual/mcap.hpp"
 
 #include <gtest/gtest.h>
@@ -387,6 +388,154 @@ TEST(Mcap, ReadsRecordsOutsideChunksAndSkipsUnknownOpcodes) {
   EXPECT_EQ(r.channels.at(1).topic, "/t");
   EXPECT_FALSE(r.indexed);
   EXPECT_TRUE(r.chunks.empty());
+}
+
+// ---- bad files ------------------------------------------------------------------------------
+
+// The message of the mcap::Error that reading `bytes` throws ("" when it does not throw).
+std::string read_error(const std::string& bytes, const std::string& name = "bad.mcap") {
+  try {
+    mcap::read(bytes, name);
+  } catch (const mcap::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Mcap, AMessageOnAnUnknownChannelIsAnError) {
+  Bytes records = tiny_records();
+  records.erase(records.begin(), records.begin() + 58);  // the message alone: channel 1 unknown
+  EXPECT_EQ(read_error(unchunked(records), "lost.mcap"),
+            "lost.mcap: Message at byte 25: message on channel 1, which no Channel record before "
+            "it defines");
+}
+
+TEST(Mcap, WrongMagicIsAnErrorNamingTheMagic) {
+  Bytes e = tiny_file();
+  e[1] = 'N';
+  EXPECT_EQ(read_error(std::string(e.begin(), e.end()), "run.mcap"),
+            "run.mcap: Magic at byte 0: not an MCAP file (its first 8 bytes are not the MCAP "
+            "magic \\x89MCAP0\\r\\n)");
+  EXPECT_NE(read_error(""), "");
+  EXPECT_NE(read_error("PK\x03\x04 a zip file"), "");
+}
+
+class McapCorruption : public ::testing::TestWithParam<std::string> {
+ protected:
+  std::string write() {
+    mcap::Options options;
+    options.compression = GetParam();
+    options.chunk_size = 2048;
+    return write_sample(options, sample_, 60);
+  }
+  Sample sample_;
+};
+
+TEST_P(McapCorruption, AFlippedByteInsideAChunkIsAnErrorNamingTheChunk) {
+  std::string bytes = write();
+  const mcap::Recording good = mcap::read(bytes, "run.mcap");
+  ASSERT_GE(good.chunks.size(), 2U);
+  const mcap::ChunkInfo& chunk = good.chunks[1];
+  // The last byte of the records: message data (uncompressed) or the compressed stream.
+  bytes[chunk.offset + chunk.length - 1] ^= 0x10;
+  const std::string error = read_error(bytes, "run.mcap");
+  EXPECT_EQ(error.rfind("run.mcap: Chunk at byte " + std::to_string(chunk.offset) + ": ", 0), 0U)
+      << error;
+  if (GetParam().empty()) {
+    EXPECT_NE(error.find("uncompressed_crc"), std::string::npos) << error;
+  }
+}
+
+TEST_P(McapCorruption, AChunkLengthPastTheEndIsAnError) {
+  std::string bytes = write();
+  const mcap::Recording good = mcap::read(bytes, "run.mcap");
+  const std::uint64_t at = good.chunks[0].offset;
+  bytes[at + 4] = '\x01';  // length + 2^24
+  EXPECT_EQ(read_error(bytes, "run.mcap"),
+            "run.mcap: Chunk at byte " + std::to_string(at) + ": length " +
+                std::to_string(good.chunks[0].length - 9 + (1ULL << 24)) +
+                " runs past the end of the file (" + std::to_string(bytes.size()) + " bytes)");
+  bytes[at + 8] = '\x7F';  // a huge length: no overflow
+  EXPECT_NE(read_error(bytes, "run.mcap").find("Chunk at byte " + std::to_string(at) + ": length"),
+            std::string::npos);
+}
+
+TEST_P(McapCorruption, RecordsLengthPastTheChunkIsAnError) {
+  std::string bytes = write();
+  const mcap::Recording good = mcap::read(bytes, "run.mcap");
+  // records length: after opcode+length 9, times 16, uncompressed_size 8, crc 4, compression.
+  const std::uint64_t chunk = good.chunks[0].offset;
+  const std::uint64_t at = chunk + 9 + 28 + 4 + GetParam().size();
+  bytes[at + 3] = '\x01';
+  const std::string error = read_error(bytes, "run.mcap");
+  EXPECT_EQ(
+      error.rfind("run.mcap: Chunk at byte " + std::to_string(chunk) + ": records length ", 0), 0U)
+      << error;
+  EXPECT_NE(error.find("runs past the end of the record"), std::string::npos) << error;
+}
+
+TEST_P(McapCorruption, AFlippedByteInTheSummaryIsASummaryCrcError) {
+  std::string bytes = write();
+  bytes[bytes.size() - 8 - 29 - 30] ^= 0x01;  // in the summary offsets
+  EXPECT_NE(read_error(bytes, "run.mcap").find("Footer at byte"), std::string::npos);
+  EXPECT_NE(read_error(bytes, "run.mcap").find("summary_crc"), std::string::npos);
+}
+
+TEST_P(McapCorruption, AFlippedByteInAMessageIndexIsADataSectionCrcError) {
+  std::string bytes = write();
+  const mcap::Recording good = mcap::read(bytes, "run.mcap");
+  const auto& c = good.chunks[0];
+  bytes[c.offset + c.length + 9] ^= 0x01;  // the first MessageIndex's channel id
+  const std::string error = read_error(bytes, "run.mcap");
+  EXPECT_NE(error.find("DataEnd at byte"), std::string::npos) << error;
+  EXPECT_NE(error.find("data_section_crc"), std::string::npos) << error;
+}
+
+// Every prefix of a file: an error naming the Magic or Header when the cut is inside them;
+// otherwise the messages of every complete chunk, not one more, and a warning; never a crash.
+TEST_P(McapCorruption, AFileCutAtEveryByteGivesItsCompleteChunksOrAnError) {
+  const std::string bytes = write();
+  const mcap::Recording good = mcap::read(bytes, "run.mcap");
+  ASSERT_GE(good.chunks.size(), 3U);
+  for (std::size_t cut = 0; cut < bytes.size(); ++cut) {
+    SCOPED_TRACE("cut at " + std::to_string(cut));
+    const std::string prefix = bytes.substr(0, cut);
+    try {
+      const mcap::Recording r = mcap::read(prefix, "cut.mcap");
+      std::size_t expected = 0;
+      for (const auto& c : good.chunks) {
+        if (c.offset + c.length <= cut) expected += c.message_count;
+      }
+      EXPECT_FALSE(r.indexed);
+      ASSERT_FALSE(r.warnings.empty());
+      EXPECT_NE(r.warnings.back().find("cut.mcap: the summary and footer are missing"),
+                std::string::npos);
+      expect_messages_equal(sample_.messages, r.messages, expected);
+    } catch (const mcap::Error& e) {
+      const std::string what = e.what();
+      EXPECT_TRUE(what.rfind("cut.mcap: Magic at byte 0: ", 0) == 0 ||
+                  what.rfind("cut.mcap: Header at byte 8: ", 0) == 0)
+          << what;
+      EXPECT_LT(cut, good.chunks[0].offset) << what;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Compression, McapCorruption, ::testing::Values("", "zstd", "lz4"),
+                         [](const auto& info) {
+                           return info.param.empty() ? std::string("none") : info.param;
+                         });
+
+// A chunk whose compression this reader does not know ("Qstd"): an error, not a guess.
+TEST(Mcap, UnknownCompressionIsAnError) {
+  Sample sample;
+  std::string bytes = write_sample(mcap::Options{"", "", "zstd", 2048}, sample, 10);
+  const std::uint64_t chunk = mcap::read(bytes, "run.mcap").chunks.at(0).offset;
+  ASSERT_EQ(bytes.substr(chunk + 9 + 28 + 4, 4), "zstd");  // after the fields and the length 4
+  bytes[chunk + 9 + 28 + 4] = 'Q';
+  EXPECT_EQ(read_error(bytes, "run.mcap"), "run.mcap: Chunk at byte " + std::to_string(chunk) +
+                                               ": unknown compression 'Qstd' (this reader knows "
+                                               "zstd, lz4)");
 }
 
 // ---- the writer ----------------------------------------------------------------------------
