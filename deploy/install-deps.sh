@@ -7,7 +7,8 @@
 #        LinuxCNC for the test that runs a probing program on a real controller, and Cyclone DDS
 #        with its idlc for the test that reads and writes ncqual's topics from another vendor's
 #        DDS, tests/interop/cyclone, and systemd for systemd-analyze, which verifies the units of
-#        the .deb, tests/package)
+#        the .deb, tests/package), and node with npm for the independent MCAP reader of the
+#        McapInterop.* tests (tests/interop/mcap)
 set -euo pipefail
 
 packages=(
@@ -16,10 +17,14 @@ packages=(
   libeigen3-dev libceres-dev libsqlite3-dev sqlite3 libspdlog-dev libfmt-dev
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
   libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev libsystemd-dev
+  libzstd-dev liblz4-dev
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(clang-format-14 clang-tidy-14 iproute2 nftables linuxcnc-uspace
             cyclonedds-dev cyclonedds-tools systemd)
+  # Debian's nodejs and npm, unless a node with its npm is installed already (NodeSource's
+  # nodejs package bundles npm and conflicts with Debian's npm package).
+  if ! command -v npm > /dev/null; then packages+=(nodejs npm); fi
 fi
 
 missing=()
