@@ -248,13 +248,20 @@ struct Options {
 
 // ---- touches ------------------------------------------------------------------------------------
 
-// A set judged as the solver service judges it, printed (or its check record with --json).
-// `what`: "12 touches of LOG (program PROG, request R)".
-int judge_and_print(const MeasurementSet& set, const MachineConfig& machine, std::int64_t now,
-                    const std::string& what, bool as_json) {
+// The set of a file (o.file) and the program or nominal list it answers (o.program), read by
+// `from_files` (touches_from_files, points_from_files), judged as the solver service judges it
+// and printed (or its check record with --json). `what`: "touches" or "points"; `answers`:
+// "program" or "nominals".
+using SetFromFiles = MeasurementSet (*)(const std::string&, const std::string&,
+                                        const MachineConfig&, std::int64_t);
+int judge_files(const Options& o, SetFromFiles from_files, const char* what, const char* answers) {
+  const PlantConfig plant = plant_from(o.plant);
+  const MachineConfig& machine = configured_machine(plant, o.machine);
+  const std::int64_t now = WallClock().now_ns();
+  const MeasurementSet set = from_files(o.file, o.program, machine, now);
   CheckResult r = solver::solve(set, machine, now);
   r.produced_by = version_line("ncqual analyze");
-  if (as_json) {
+  if (o.json) {
     storage::CheckRecord rec;
     rec.machine_id = r.machine_id;
     rec.request_id = r.request_id;
@@ -269,7 +276,9 @@ int judge_and_print(const MeasurementSet& set, const MachineConfig& machine, std
     rec.measurement = measured;
     std::cout << storage::to_json(rec).dump(2) << "\n";
   } else {
-    fmt::print("{} on {}: {}: {}\n", to_string(r.kind), r.machine_id, what, to_string(r.verdict));
+    fmt::print("{} on {}: {} {} of {} ({} {}, request {}): {}\n", to_string(r.kind), r.machine_id,
+               set.touches.size() + set.tracker_points.size(), what, o.file, answers, o.program,
+               r.request_id, to_string(r.verdict));
     for (const Metric& m : r.metrics) {
       fmt::print("  {:<28} {:>12} {:<6} [{}, {}]{}\n", m.name, format_metric_value(m), m.unit,
                  format_metric_value(Metric{m.name, m.lower, m.unit, m.lower, m.upper, true}),
@@ -292,28 +301,12 @@ int judge_and_print(const MeasurementSet& set, const MachineConfig& machine, std
 }
 
 int run_touches(const Options& o) {
-  const PlantConfig plant = plant_from(o.plant);
-  const MachineConfig& machine = configured_machine(plant, o.machine);
-  const std::int64_t now = WallClock().now_ns();
-  const MeasurementSet set = touches_from_files(o.file, o.program, machine, now);
-  return judge_and_print(set, machine, now,
-                         fmt::format("{} touches of {} (program {}, request {})",
-                                     set.touches.size(), o.file, o.program, set.request_id),
-                         o.json);
+  return judge_files(o, touches_from_files, "touches", "program");
 }
 
 // ---- points -------------------------------------------------------------------------------------
 
-int run_points(const Options& o) {
-  const PlantConfig plant = plant_from(o.plant);
-  const MachineConfig& machine = configured_machine(plant, o.machine);
-  const std::int64_t now = WallClock().now_ns();
-  const MeasurementSet set = points_from_files(o.file, o.program, machine, now);
-  return judge_and_print(set, machine, now,
-                         fmt::format("{} points of {} (nominals {}, request {})",
-                                     set.tracker_points.size(), o.file, o.program, set.request_id),
-                         o.json);
-}
+int run_points(const Options& o) { return judge_files(o, points_from_files, "points", "nominals"); }
 
 int run_iso230_2(const Options& o) {
   const std::string& file = o.file;
