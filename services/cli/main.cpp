@@ -52,9 +52,9 @@ int run(int argc, char** argv) {
   app.formatter(std::make_shared<HelpFormatter>());
   app.require_subcommand(1);
   Commands commands;
-  for (auto add :
-       {add_history, add_check, add_wait, add_count, add_budget, add_analyze, add_import,
-        add_program, add_status, add_intervene, add_trend, add_uncertainty, add_config, add_db}) {
+  for (auto add : {add_history, add_check, add_wait, add_count, add_budget, add_analyze, add_import,
+                   add_program, add_status, add_intervene, add_trend, add_uncertainty, add_config,
+                   add_db, add_record, add_replay}) {
     add(app, commands);
   }
   for (CLI::App* command : app.get_subcommands({})) command->group("Commands");

@@ -83,7 +83,11 @@ Service::Service(const ServiceOptions& options) : options_(options) {
     dispatcher_.stop();
   });
   participant_ = std::make_unique<Participant>(options.participant);
-  heartbeat_ = std::make_unique<Writer<HeartbeatTopic>>(*participant_);
+  if (options.raw_heartbeat) {
+    raw_heartbeat_ = std::make_unique<RawWriter>(*participant_, *find_topic(HeartbeatTopic::kName));
+  } else {
+    heartbeat_ = std::make_unique<Writer<HeartbeatTopic>>(*participant_);
+  }
   dispatcher_.every(options.heartbeat_period, [this] { beat("running"); });
   // Under a unit with WatchdogSec=: pinged from the receive loop, so a loop that hangs is
   // restarted by systemd; twice per period, as sd_watchdog_enabled(3) advises.
@@ -104,7 +108,11 @@ void Service::beat(const std::string& state) {
   beat.state = state;
   beat.time_ns = clock_.now_ns();
   for (const auto& fill : fill_) fill(beat);
-  heartbeat_->write(beat);
+  if (raw_heartbeat_) {
+    raw_heartbeat_->write(serialize<HeartbeatTopic>(to_wire(beat)), beat.machine_id);
+  } else {
+    heartbeat_->write(beat);
+  }
 }
 
 int Service::run() {

@@ -207,7 +207,9 @@ struct Writer::State {
   std::uint64_t end_time = 0;
   std::map<std::uint16_t, std::uint64_t> channel_message_counts;
   std::uint32_t chunk_count = 0;
-  std::string chunk_indexes;  // the ChunkIndex records of the summary
+  std::string chunk_indexes;     // the ChunkIndex records of the summary
+  std::string metadata_indexes;  // the MetadataIndex records of the summary
+  std::uint32_t metadata_count = 0;
 
   void emit(std::string_view bytes) {
     out->write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -341,7 +343,7 @@ struct Writer::State {
     put_u16(stats, static_cast<std::uint16_t>(schemas.size()));
     put_u32(stats, static_cast<std::uint32_t>(channels.size()));
     put_u32(stats, 0);  // attachments
-    put_u32(stats, 0);  // metadata
+    put_u32(stats, metadata_count);
     put_u32(stats, chunk_count);
     put_u64(stats, message_count != 0 ? start_time : 0);
     put_u64(stats, message_count != 0 ? end_time : 0);
@@ -355,6 +357,7 @@ struct Writer::State {
     records.clear();
     put_record(records, kStatistics, stats);
     group(kStatistics, records);
+    group(kMetadataIndex, metadata_indexes);
     group(kChunkIndex, chunk_indexes);
 
     const std::uint64_t summary_offset_start = summary_start + summary.size();
@@ -457,6 +460,32 @@ void Writer::write(const Message& message) {
 
   if (s.chunk.size() > s.options.chunk_size) s.close_chunk();
 }
+
+void Writer::add_metadata(const std::string& name,
+                          const std::map<std::string, std::string>& metadata) {
+  State& s = *state_;
+  if (s.closed) throw Error(s.name + ": add_metadata after close()");
+  s.close_chunk();  // a Metadata record is never inside a chunk
+  std::string content;
+  put_prefixed32(content, name, "the metadata name");
+  std::string map;
+  for (const auto& [key, value] : metadata) {
+    put_prefixed32(map, key, "a metadata key");
+    put_prefixed32(map, value, "a metadata value");
+  }
+  put_prefixed32(content, map, "the metadata");
+  std::string bytes;
+  put_record(bytes, kMetadata, content);
+  std::string index;
+  put_u64(index, s.position);
+  put_u64(index, bytes.size());
+  put_prefixed32(index, name, "the metadata name");
+  put_record(s.metadata_indexes, kMetadataIndex, index);
+  ++s.metadata_count;
+  s.emit(bytes);
+}
+
+std::uint64_t Writer::size() const { return state_->position + state_->chunk.size(); }
 
 void Writer::close_chunk() {
   if (state_->closed) return;
@@ -856,7 +885,10 @@ class Parser {
     }
   }
 
-  void message(std::string_view content, const Place& place) {
+  // `chunk_offset`: of the Chunk record holding the message (0: none); `record_offset`: of the
+  // Message record in the chunk's records, or in the file.
+  void message(std::string_view content, const Place& place, std::uint64_t chunk_offset,
+               std::uint64_t record_offset) {
     Fields f(content, place);
     Message m;
     m.channel_id = f.u16("channel_id");
@@ -869,7 +901,17 @@ class Parser {
     }
     const std::string_view data = f.rest();
     m.data.assign(data.begin(), data.end());
+    m.chunk_offset = chunk_offset;
+    m.record_offset = record_offset;
     result_.messages.push_back(std::move(m));
+  }
+
+  void metadata(std::string_view content, const Place& place) {
+    Fields f(content, place);
+    Metadata m;
+    m.name = std::string(f.prefixed32("name"));
+    m.metadata = string_map(f.prefixed32("metadata"), place, "metadata");
+    result_.metadata.push_back(std::move(m));
   }
 
   void data_record(std::uint8_t opcode, std::string_view content, const Place& place,
@@ -877,11 +919,12 @@ class Parser {
     switch (opcode) {
       case kSchema: schema(content, place, false); break;
       case kChannel: channel(content, place, false); break;
-      case kMessage: message(content, place); break;
+      case kMessage: message(content, place, 0, pos); break;
       case kChunk: chunk(content, place, pos); break;
+      case kMetadata: metadata(content, place); break;
       case kHeader: warn(place.record + ": a second Header, ignored"); break;
       case kFooter: place.fail("a Footer inside the data section");
-      default: break;  // MessageIndex, Attachment, Metadata, private or unknown records
+      default: break;  // MessageIndex, Attachment, private or unknown records
     }
   }
 
@@ -933,7 +976,7 @@ class Parser {
       switch (r.opcode) {
         case kSchema: schema(r.content, inner, false); break;
         case kChannel: channel(r.content, inner, false); break;
-        case kMessage: message(r.content, inner); break;
+        case kMessage: message(r.content, inner, pos, p); break;
         default: break;  // other records in a chunk are skipped
       }
       p += kRecordPrefix + r.content.size();
@@ -991,7 +1034,7 @@ class Parser {
       }
       p += kRecordPrefix + r.content.size();
     }
-    result_.indexed = chunk_indexes != 0;
+    result_.indexed = chunk_indexes == result_.chunks.size();
     if (chunk_indexes != result_.chunks.size()) {
       warn("the summary indexes " + std::to_string(chunk_indexes) +
            " chunks, the data section holds " + std::to_string(result_.chunks.size()));
@@ -1004,6 +1047,14 @@ class Parser {
 };
 
 }  // namespace
+
+std::string location(const Message& message) {
+  std::string text = "Message at byte " + std::to_string(message.record_offset);
+  if (message.chunk_offset != 0) {
+    text += " of the Chunk at byte " + std::to_string(message.chunk_offset);
+  }
+  return text;
+}
 
 Recording read(std::string_view bytes, const std::string& file_name) {
   return Parser(bytes, file_name).run();

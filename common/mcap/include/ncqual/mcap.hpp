@@ -69,6 +69,21 @@ struct Message {
   std::uint64_t log_time = 0;      // ns, when it was recorded
   std::uint64_t publish_time = 0;  // ns, when it was published (log_time when unknown)
   std::vector<std::uint8_t> data;
+  // Where the reader found it: the Chunk record holding it (its file offset; 0 when not in a
+  // chunk) and the Message record's offset in the chunk's uncompressed records, or in the file.
+  // Not written.
+  std::uint64_t chunk_offset = 0;
+  std::uint64_t record_offset = 0;
+};
+
+// "Message at byte 120 of the Chunk at byte 1234" (or "Message at byte 120"), for errors about
+// a message's content.
+std::string location(const Message& message);
+
+// A Metadata record: a name and string pairs (e.g. who recorded, with which version).
+struct Metadata {
+  std::string name;
+  std::map<std::string, std::string> metadata;
 };
 
 // ---- Writer ----------------------------------------------------------------------------------
@@ -106,6 +121,11 @@ class Writer {
   // Appends a message to the current chunk, closing the chunk when it exceeds chunk_size. Error
   // for a channel add_channel() did not return, or after close().
   void write(const Message& message);
+  // A Metadata record, written at once (the current chunk is closed first: Metadata records are
+  // never in a chunk) and indexed in the summary.
+  void add_metadata(const std::string& name, const std::map<std::string, std::string>& metadata);
+  // The bytes written so far, the open chunk's records included (uncompressed).
+  std::uint64_t size() const;
   // Writes the current chunk (if it holds any record) and its message indexes, and flushes the
   // stream: everything written so far survives a killed process. For a recorder's timer.
   void close_chunk();
@@ -154,8 +174,9 @@ struct Recording {
   std::map<std::uint16_t, Schema> schemas;
   std::map<std::uint16_t, Channel> channels;
   std::vector<Message> messages;      // in file order
+  std::vector<Metadata> metadata;     // in file order
   std::vector<ChunkInfo> chunks;      // in file order
-  bool indexed = false;               // a summary with ChunkIndex records was read
+  bool indexed = false;               // a summary was read with a ChunkIndex for every chunk read
   std::set<std::string> compression;  // of the chunks ("" for uncompressed ones)
   std::optional<Statistics> statistics;
   std::vector<std::string> warnings;  // e.g. the summary is missing; each names the file

@@ -34,6 +34,13 @@ class Dispatcher {
     for (const auto& r : readers.readers()) on(*r, handler);
   }
 
+  // Calls `drain` whenever `condition` triggers (a reader's status condition with data
+  // available): for readers that are not typed (raw.hpp).
+  void on(eprosima::fastdds::dds::Condition& condition, std::function<void()> drain) {
+    handlers_.push_back(Entry{&condition, std::move(drain)});
+    waitset_.attach_condition(condition);
+  }
+
   // Calls `work` about every `period` (steady clock), on the dispatcher's thread.
   void every(std::chrono::milliseconds period, std::function<void()> work);
 

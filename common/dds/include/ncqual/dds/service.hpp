@@ -8,6 +8,7 @@
 #include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/dispatcher.hpp"
+#include "ncqual/dds/raw.hpp"
 #include "ncqual/dds/topics.hpp"
 
 #include <functional>
@@ -18,11 +19,14 @@
 namespace ncqual::dds {
 
 struct ServiceOptions {
-  std::string service;  // "scheduler", "acquisition", "solver", "historian"
+  std::string service;  // "scheduler", "acquisition", "solver", "historian", "recorder"
   std::string
       machine_id;  // for an acquisition service: its machine, or its machines joined by commas
   ParticipantOptions participant;  // its domain, QoS profiles and network (named ncqual-<service>)
   std::chrono::milliseconds heartbeat_period{2000};
+  // The heartbeat goes out through a RawWriter (raw.hpp): for a service whose participant reads
+  // every topic raw (the recorder), as a participant registers one type per type name.
+  bool raw_heartbeat = false;
 };
 
 class Service {
@@ -54,6 +58,7 @@ class Service {
   std::unique_ptr<Participant> participant_;
   Dispatcher dispatcher_;
   std::unique_ptr<Writer<HeartbeatTopic>> heartbeat_;
+  std::unique_ptr<RawWriter> raw_heartbeat_;
   std::vector<std::function<void()>> before_stop_;
   std::vector<std::function<void(Heartbeat&)>> fill_;
 };
