@@ -20,7 +20,7 @@
 #   --machines  with --weeks: a plant of K machines (default 1), the scenario's and K-1 nominal
 #               copies of pm1 (pm2, pm3, ...; each its own fixture and seed), all against one
 #               scheduler, solver and historian, their instruments in one acquisition process
-#   --domain    DDS domain id (default: NCQUAL_DOMAIN, else a random private one in 100..199)
+#   --domain    DDS domain id (default: NCQUAL_DOMAIN, else a random private one in 100..169)
 #   --secure    run the plant with DDS Security: deploy/security/ncqual-pki makes (or keeps) the
 #               plant CA, governance and one identity per service, acquisition and this host's
 #               operator in var/pki, and every process authenticates, encrypts and is held to its
@@ -31,7 +31,7 @@ set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 scenario="$root/deploy/machines/pm1.yaml"
-domain="${NCQUAL_DOMAIN:-$((100 + RANDOM % 100))}"
+domain="${NCQUAL_DOMAIN:-$((100 + RANDOM % 70))}"
 weeks=""
 machines=1
 secure=""

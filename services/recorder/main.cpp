@@ -16,7 +16,9 @@
 #include <string>
 #include <vector>
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   using namespace ncqual;
   namespace dds = ncqual::dds;
   dds::ServiceMain service_main(
@@ -85,4 +87,10 @@ int main(int argc, char** argv) {
                  recorder.lost());
     return code;
   });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ncqual::command_line::guarded_main("ncqual-recorder", [&] { return run(argc, argv); });
 }

@@ -3,7 +3,7 @@
 //
 // ctest runs tests in parallel (-j2 and more), and two tests on one domain would hear each
 // other's samples: every test that joins DDS has its own id, and Plant takes only a TestDomain,
-// never a number. The ids must be unique and within 200-232 (the demo draws from 100-199, a
+// never a number. The ids must be unique and within 170-232 (the demo draws from 100-169, a
 // plant's default is below 100, and 232 is the highest domain id Fast DDS's default port mapping
 // allows). A new test adds one enumerator here, and one case in domain_id() below.
 //
@@ -16,9 +16,9 @@
 namespace ncqual::testing {
 
 namespace detail {
-// In an enumerator's initializer: an id outside 200-232 does not compile.
+// In an enumerator's initializer: an id outside 170-232 does not compile.
 constexpr int test_domain(int id) {
-  return id >= 200 && id <= 232 ? id : throw std::logic_error("DDS test domains are 200-232");
+  return id >= 170 && id <= 232 ? id : throw std::logic_error("DDS test domains are 170-232");
 }
 }  // namespace detail
 
@@ -65,6 +65,14 @@ enum class TestDomain : int {
   SecureBenchSecured = detail::test_domain(231),
   // PlantNetwork.ASecuredPlantOfHosts...: the namespaces' hosts, secured, discovering by peers
   PlantNetworkSecured = detail::test_domain(232),
+  // Recordings.*: the live plant recorded, and the plant its recording is replayed into
+  RecordingLive = detail::test_domain(170),
+  RecordingReplay = detail::test_domain(171),
+  // Recordings.ARoundTrip...: replay and record again; the committed recordings replayed
+  RecordingRoundTrip = detail::test_domain(172),
+  RecordingCommitted = detail::test_domain(173),
+  // ncqual_recording_bench (tests/bench), its smoke run
+  RecordingBench = detail::test_domain(174),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -102,7 +110,12 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::ServiceManager:
     case TestDomain::SecureBenchOpen:
     case TestDomain::SecureBenchSecured:
-    case TestDomain::PlantNetworkSecured: break;
+    case TestDomain::PlantNetworkSecured:
+    case TestDomain::RecordingLive:
+    case TestDomain::RecordingReplay:
+    case TestDomain::RecordingRoundTrip:
+    case TestDomain::RecordingCommitted:
+    case TestDomain::RecordingBench: break;
   }
   return static_cast<int>(domain);
 }

@@ -65,6 +65,17 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
     {"db", {"check", "recover"}},
     {"db check", {"--plant", "--db"}},
     {"db recover", {"FROM", "TO"}},
+    {"record",
+     {"--out", "--topics", "--machine", "--compression", "--max-size-mib", "--split-every",
+      "--stop-after", "--duration", "--overwrite", "--plant", "--domain", "--secure",
+      "--identity"}},
+    {"recording", {"info", "recover"}},
+    {"recording info", {"FILE", "--json"}},
+    {"recording recover", {"IN", "OUT", "--overwrite"}},
+    {"replay",
+     {"FILE", "--rate", "--fast", "--topics", "--machine", "--from", "--to", "--readers",
+      "--resolve", "--json", "--metric-tolerance", "--plant", "--domain", "--secure",
+      "--identity"}},
 };
 
 TEST(CliUsage, HelpOfEveryCommandAndSubcommandNamesItsFlags) {
@@ -103,7 +114,8 @@ TEST(CliUsage, VersionOfTheCliAndOfEveryService) {
            {"ncqual-historian", NCQUAL_HISTORIAN_EXE},
            {"ncqual-solver", NCQUAL_SOLVER_EXE},
            {"ncqual-acquisition", NCQUAL_ACQUISITION_EXE},
-           {"ncqual-scheduler", NCQUAL_SCHEDULER_EXE}}) {
+           {"ncqual-scheduler", NCQUAL_SCHEDULER_EXE},
+           {"ncqual-recorder", NCQUAL_RECORDER_EXE}}) {
     const CliRun v = run_command({exe, "--version"}, Capture::Separate);
     EXPECT_EQ(v.exit_code, 0) << name << "\n" << v.err;
     EXPECT_TRUE(std::regex_match(v.out, std::regex(name + " " + version))) << v.out;
@@ -136,6 +148,9 @@ TEST(CliUsage, BadUsageExitsTwoNamingTheFlagWithTheCommandsUsage) {
            {"trend --machine pm1 --metrics 21", "--metrics"},
            {"intervene --machine pm1 --check monument_positioning", "--note"},
            {"status -x", "-x"},
+           {"record --plant p.yaml", "--out"},
+           {"record --out r.mcap --compression bzip2", "--compression"},
+           {"replay r.mcap --fast --rate 2", "--rate"},
            {"wait --timeout", "--timeout"},
            {"nothing", "nothing"}}) {
     const CliRun r = run(words(args));
@@ -183,8 +198,9 @@ bool has(const std::vector<std::string>& v, const std::string& s) {
 
 TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
   const auto commands = complete("ncqual \"\"");
-  for (const char* c : {"history", "check", "wait", "count", "budget", "analyze", "import",
-                        "program", "status", "intervene", "trend", "uncertainty"}) {
+  for (const char* c :
+       {"history", "check", "wait", "count", "budget", "analyze", "import", "program", "status",
+        "intervene", "trend", "uncertainty", "record", "recording", "replay"}) {
     EXPECT_TRUE(has(commands, c)) << c;
   }
   EXPECT_FALSE(has(commands, "completion"));
@@ -196,6 +212,8 @@ TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
   EXPECT_EQ(complete("ncqual analyze cm"), std::vector<std::string>{"cmm"});
   EXPECT_TRUE(has(complete("ncqual analyze circle --"), "--nominal-radius-mm"));
   EXPECT_TRUE(has(complete("ncqual check --kind monument_p"), "monument_positioning"));
+  EXPECT_EQ(complete("ncqual recording re"), std::vector<std::string>{"recover"});
+  EXPECT_TRUE(has(complete("ncqual replay --re"), "--resolve"));
 }
 
 // `config check`: every problem of the plant at once, with file, key and value, exit 4; the

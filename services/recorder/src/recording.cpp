@@ -33,6 +33,30 @@ std::string numbered(const std::string& path, std::size_t part) {
   return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
 }
 
+// The highest N of the files "<stem>-NNNN<ext>" beside `path` (0 when there is none).
+std::size_t highest_part(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::filesystem::path dir = p.parent_path().empty() ? "." : p.parent_path();
+  const std::string prefix = p.stem().string() + "-";
+  const std::string ext = p.extension().string();
+  std::size_t highest = 0;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() + ext.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+        name.compare(name.size() - ext.size(), ext.size(), ext) != 0) {
+      continue;
+    }
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - ext.size());
+    if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos ||
+        digits.size() > 9) {
+      continue;
+    }
+    highest = std::max<std::size_t>(highest, std::stoul(digits));
+  }
+  return highest;
+}
+
 std::string iso(std::uint64_t ns) {
   char buffer[32];
   return std::string(format_iso8601(static_cast<std::int64_t>(ns), buffer));
@@ -105,10 +129,9 @@ void RecordingWriter::open_next() {
   std::string file = path_;
   if (rotating) {
     // After the highest number there: a restarted recorder overwrites nothing.
-    if (files_.empty()) {
-      while (std::filesystem::exists(numbered(path_, next_part_ + 1))) ++next_part_;
-    }
+    if (files_.empty()) next_part_ = highest_part(path_);
     file = numbered(path_, ++next_part_);
+    while (std::filesystem::exists(file)) file = numbered(path_, ++next_part_);
   } else if (!options_.overwrite && std::filesystem::exists(file)) {
     throw mcap::Error(file + ": exists already; give another file, or --overwrite");
   }

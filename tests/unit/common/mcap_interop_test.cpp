@@ -261,3 +261,29 @@ INSTANTIATE_TEST_SUITE_P(Compression, McapInterop, ::testing::Values("", "zstd",
                          });
 
 }  // namespace
+
+// The committed recordings (tests/data/recordings, made by ncqual record from a plant's traffic):
+// Foxglove's indexed reader reads every schema, channel and message as ncqual's reader does.
+TEST(McapInteropRecordings, FoxgloveReadsEveryCommittedRecording) {
+  const std::string why = missing_reader();
+  if (!why.empty()) GTEST_SKIP() << why;
+  const fs::path dir = fs::path(NCQUAL_SOURCE_DIR) / "tests" / "data" / "recordings";
+  std::size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() != ".mcap") continue;
+    ++files;
+    const mcap::Recording ours = mcap::read_file(entry.path().string());
+    ASSERT_TRUE(ours.indexed) << entry.path();
+    const json theirs = independent_read(entry.path(), false);
+    ASSERT_FALSE(theirs.empty()) << entry.path();
+    Written w;
+    for (const auto& [id, s] : ours.schemas) w.schemas.push_back(s);
+    for (const auto& [id, c] : ours.channels) w.channels.push_back(c);
+    mcap::Options options;
+    options.profile = ours.header.profile;
+    options.library = ours.header.library;
+    expect_definitions(theirs, w, options);
+    expect_messages(theirs, ours.messages, false);
+  }
+  EXPECT_GT(files, 0U) << "no recording in " << dir;
+}

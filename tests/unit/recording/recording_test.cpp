@@ -521,17 +521,9 @@ TEST(RecordingWriter, SecondWriterContinuesNumbering) {
 }
 
 TEST(RecordingWriter, RestartAfterTheFirstPartsWereMovedAwayOverwritesNothing) {
-  // Known bug: services/recorder/src/recording.cpp, RecordingWriter::open_next() (line 109)
-  // counts up from part 1 while the files exist, so when run-0001.mcap is gone (archived) but
-  // run-0002.mcap and run-0003.mcap are there, a restarted writer starts at run-0001.mcap and its
-  // next rotations overwrite run-0002.mcap and run-0003.mcap; recording.hpp promises numbering
-  // "after the highest number already there, so a restarted recorder overwrites nothing"
-  // (expected: run-0004.mcap first).
-  // NCQUAL_RUN_KNOWN_BUGS=1 in the environment runs it.
-  if (std::getenv("NCQUAL_RUN_KNOWN_BUGS") == nullptr) {
-    GTEST_SKIP() << "known bug: RecordingWriter numbers rotated files from the first gap "
-                    "(recording.cpp:109), not after the highest part, and overwrites later parts";
-  }
+  // When run-0001.mcap is gone (archived) but run-0002.mcap and run-0003.mcap are there, a
+  // restarted writer goes on at run-0004.mcap and overwrites nothing (found by this test: the
+  // writer used to start at the first gap and overwrite the later parts).
   TempDir dir;
   const std::string path = dir.file("run.mcap");
   FileOptions options = file_options();
