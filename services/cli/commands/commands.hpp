@@ -26,6 +26,10 @@
 #include <utility>
 #include <vector>
 
+namespace ncqual::dds {
+struct TopicInfo;
+}
+
 namespace ncqual::cli {
 
 // Bad usage found once the command line is parsed (a value that makes no sense, no plant
@@ -159,6 +163,12 @@ MeasurementSet touches_from_files(const std::string& log_file, const std::string
 // exported points the program does not name are warned of on stderr.
 MeasurementSet points_from_files(const std::string& export_file, const std::string& nominals_file,
                                  const MachineConfig& machine, std::int64_t time_ns);
+
+// --topics T,... and --machine M,... of the commands that record or replay samples.
+void add_sample_filter_options(CLI::App* command, std::vector<std::string>& topics,
+                               std::vector<std::string>& machines);
+// The ncqual topics --topics names (recording::topics_named); UsageError naming an unknown one.
+std::vector<const dds::TopicInfo*> topics_option(const std::vector<std::string>& names);
 
 // The operator: $USER, else the host name.
 std::string operator_name();

@@ -3,6 +3,8 @@
 // ids of the samples they publish. See commands.hpp.
 #include "commands.hpp"
 
+#include "ncqual/recording/recording.hpp"
+
 #include "ncqual/check_kinds.hpp"
 
 #include "ncqual/clock.hpp"
@@ -210,6 +212,24 @@ std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const s
       table.file, part.ignored,
       prefix + " points of " + machine->machine_id + "'s program (or not of its reflector 0)");
   return part.points;
+}
+
+void add_sample_filter_options(CLI::App* command, std::vector<std::string>& topics,
+                               std::vector<std::string>& machines) {
+  command->add_option("--topics", topics, "only these topics (CheckResult,MeasurementSet,...)")
+      ->delimiter(',')
+      ->type_name("T,...");
+  command->add_option("--machine", machines, "only these machines' samples")
+      ->delimiter(',')
+      ->type_name("M,...");
+}
+
+std::vector<const dds::TopicInfo*> topics_option(const std::vector<std::string>& names) {
+  try {
+    return recording::topics_named(names);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--topics: ") + e.what());
+  }
 }
 
 }  // namespace ncqual::cli

@@ -45,14 +45,6 @@ std::chrono::nanoseconds duration_option(const std::string& flag, const std::str
   return std::chrono::nanoseconds(*ns);
 }
 
-std::vector<const dds::TopicInfo*> topics_option(const std::vector<std::string>& names) {
-  try {
-    return recording::topics_named(names);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("--topics: ") + e.what());
-  }
-}
-
 // ---- record ----------------------------------------------------------------------------------
 
 struct RecordOptions {
@@ -217,12 +209,7 @@ void add_record(CLI::App& app, Commands& commands) {
   cmd->add_option("--out", o->out, "the recording (numbered FILE-0001.mcap, ... when rotating)")
       ->type_name("FILE.mcap")
       ->required();
-  cmd->add_option("--topics", o->topics, "only these topics (CheckResult,MeasurementSet,...)")
-      ->delimiter(',')
-      ->type_name("T,...");
-  cmd->add_option("--machine", o->machines, "only these machines' samples")
-      ->delimiter(',')
-      ->type_name("M,...");
+  add_sample_filter_options(cmd, o->topics, o->machines);
   cmd->add_option("--compression", o->compression, "of the chunks (default zstd)")
       ->check(CLI::IsMember({"zstd", "lz4", "none"}));
   cmd->add_option("--max-size-mib", o->max_size_mib, "a new file past this size")->type_name("N");

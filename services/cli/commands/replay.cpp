@@ -65,11 +65,7 @@ std::optional<std::int64_t> time_option(const std::string& flag, const std::stri
 
 recording::Filter filter_of(const Options& o) {
   recording::Filter f;
-  try {
-    for (const auto* t : recording::topics_named(o.topics)) f.topics.insert(t->name);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(std::string("--topics: ") + e.what());
-  }
+  for (const auto* t : topics_option(o.topics)) f.topics.insert(t->name);
   f.machines = std::set<std::string>(o.machines.begin(), o.machines.end());
   f.from_ns = time_option("--from", o.from);
   f.to_ns = time_option("--to", o.to);
@@ -288,12 +284,7 @@ void add_replay(CLI::App& app, Commands& commands) {
   auto* rate =
       cmd->add_option("--rate", o->rate, "times the recorded pace (default 1)")->type_name("X");
   cmd->add_flag("--fast", o->fast, "as fast as the readers acknowledge")->excludes(rate);
-  cmd->add_option("--topics", o->topics, "only these topics (CheckResult,MeasurementSet,...)")
-      ->delimiter(',')
-      ->type_name("T,...");
-  cmd->add_option("--machine", o->machines, "only these machines' samples")
-      ->delimiter(',')
-      ->type_name("M,...");
+  add_sample_filter_options(cmd, o->topics, o->machines);
   cmd->add_option("--from", o->from, "from this recorded time (UTC, 2026-11-24T06:00Z)")
       ->type_name("TIME");
   cmd->add_option("--to", o->to, "up to this recorded time (UTC)")->type_name("TIME");
