@@ -8,7 +8,9 @@
 #        with its idlc for the test that reads and writes ncqual's topics from another vendor's
 #        DDS, tests/interop/cyclone, and systemd for systemd-analyze, which verifies the units of
 #        the .deb, tests/package), and node with npm for the independent MCAP reader of the
-#        McapInterop.* tests (tests/interop/mcap)
+#        McapInterop.* tests (tests/interop/mcap), SciPy, the independent implementation the trend
+#        library's statistics are checked against (tests/unit/trend), and Chromium, the real browser
+#        that renders the charts and the dashboard in tests
 set -euo pipefail
 
 packages=(
@@ -17,11 +19,11 @@ packages=(
   libeigen3-dev libceres-dev libsqlite3-dev sqlite3 libspdlog-dev libfmt-dev
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
   libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev libsystemd-dev
-  libzstd-dev liblz4-dev
+  libzstd-dev liblz4-dev libboost-math-dev libcpp-httplib-dev
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(clang-format-14 clang-tidy-14 iproute2 nftables linuxcnc-uspace
-            cyclonedds-dev cyclonedds-tools systemd)
+            cyclonedds-dev cyclonedds-tools systemd python3-scipy chromium fonts-dejavu-core)
   # Debian's nodejs and npm, unless a node with its npm is installed already (NodeSource's
   # nodejs package bundles npm and conflicts with Debian's npm package).
   if ! command -v npm > /dev/null; then packages+=(nodejs npm); fi
