@@ -191,13 +191,10 @@ void RecordingWriter::write(const std::string& topic, std::int64_t log_time_ns,
   Topic& t = it->second;
   define(t);
   if (file_start_ns_ < 0) file_start_ns_ = log_time_ns;
-  mcap::Message m;
-  m.channel_id = t.channel;
-  m.sequence = ++sequence_;
-  m.log_time = static_cast<std::uint64_t>(std::max<std::int64_t>(log_time_ns, 0));
-  m.publish_time = static_cast<std::uint64_t>(std::max<std::int64_t>(publish_time_ns, 0));
-  m.data = bytes;
-  writer_->write(m);
+  writer_->write(t.channel, ++sequence_,
+                 static_cast<std::uint64_t>(std::max<std::int64_t>(log_time_ns, 0)),
+                 static_cast<std::uint64_t>(std::max<std::int64_t>(publish_time_ns, 0)),
+                 std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   ++messages_;
 }
 

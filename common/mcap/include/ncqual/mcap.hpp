@@ -43,6 +43,10 @@ class Error : public std::runtime_error {
 // The CRC32 of MCAP (and zlib: reflected polynomial 0xEDB88320), chainable as zlib's:
 // crc32(b, crc32(a)) == crc32(a + b). crc32("123456789") == 0xCBF43926.
 std::uint32_t crc32(std::string_view bytes, std::uint32_t previous = 0);
+// The same from tables only, as on a CPU without carry-less multiplication (for the tests).
+std::uint32_t crc32_portable(std::string_view bytes, std::uint32_t previous = 0);
+// The CRC32 of a + b from crc32(a), crc32(b) and b's length, without reading either again.
+std::uint32_t crc32_combine(std::uint32_t crc_a, std::uint32_t crc_b, std::uint64_t length_b);
 
 // The name of a record opcode as the specification spells it ("Chunk", "MessageIndex"), or
 // "record 0xNN" for an opcode it does not define.
@@ -121,6 +125,9 @@ class Writer {
   // Appends a message to the current chunk, closing the chunk when it exceeds chunk_size. Error
   // for a channel add_channel() did not return, or after close().
   void write(const Message& message);
+  // The same for a message given by its fields, its data not copied but into the chunk.
+  void write(std::uint16_t channel_id, std::uint32_t sequence, std::uint64_t log_time,
+             std::uint64_t publish_time, std::string_view data);
   // A Metadata record, written at once (the current chunk is closed first: Metadata records are
   // never in a chunk) and indexed in the summary.
   void add_metadata(const std::string& name, const std::map<std::string, std::string>& metadata);
