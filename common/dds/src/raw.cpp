@@ -209,8 +209,8 @@ std::map<std::string, std::string> RawReader::qos_description() const {
 
 // ---- RawWriter -------------------------------------------------------------------------------
 
-RawWriter::RawWriter(Participant& participant, const TopicInfo& topic)
-    : participant_(participant), topic_(topic) {
+RawWriter::RawWriter(Participant& participant, const TopicInfo& topic, RawWriterOptions options)
+    : participant_(participant), topic_(topic), options_(options) {
   participant.topic(topic.name, eprosima::fastdds::dds::TypeSupport(new RawType(topic)));
 }
 
@@ -234,6 +234,9 @@ eprosima::fastdds::dds::DataWriter* RawWriter::writer_of(const std::string& mach
     // a raw writer could not evaluate them anyway.
     qos.writer_resource_limits().reader_filters_allocation =
         eprosima::fastrtps::ResourceLimitedContainerConfig::fixed_size_configuration(0);
+    if (options_.heartbeat_period) {
+      qos.reliable_writer_qos().times.heartbeatPeriod = to_dds_duration(*options_.heartbeat_period);
+    }
     writer = publisher->create_datawriter(t, qos);
     if (!writer) participant_.refused_unless_unprofiled(topic_.writer_profile, topic_.name, true);
   } else {
@@ -258,6 +261,23 @@ bool RawWriter::write(const std::vector<std::uint8_t>& bytes, const std::string&
                                          static_cast<std::uint32_t>(source_time_ns % 1000000000LL));
   return writer->write_w_timestamp(&sample, eprosima::fastrtps::rtps::c_InstanceHandle_Unknown,
                                    stamp) == ReturnCode_t::RETCODE_OK;
+}
+
+bool RawWriter::wait_for_acknowledgments(const std::string& machine_id,
+                                         std::chrono::milliseconds timeout) {
+  return writer_of(machine_id)->wait_for_acknowledgments(to_dds_duration(timeout)) ==
+         ReturnCode_t::RETCODE_OK;
+}
+
+int RawWriter::history_depth() {
+  using namespace eprosima::fastdds::dds;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (depth_ < 0) {
+    DataWriterQos qos = DATAWRITER_QOS_DEFAULT;  // without the profile: KEEP_LAST 1, as created
+    participant_.publisher()->get_datawriter_qos_from_profile(topic_.writer_profile, qos);
+    depth_ = qos.history().kind == KEEP_LAST_HISTORY_QOS ? qos.history().depth : 0;
+  }
+  return depth_;
 }
 
 bool RawWriter::wait_for_acknowledgments(std::chrono::milliseconds timeout) {

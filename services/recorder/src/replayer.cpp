@@ -14,7 +14,11 @@ Replayer::~Replayer() = default;
 
 dds::RawWriter& Replayer::writer_of(const dds::TopicInfo& topic) {
   auto& w = writers_[topic.name];
-  if (!w) w = std::make_unique<dds::RawWriter>(participant_, topic);
+  if (!w) {
+    dds::RawWriterOptions o;
+    if (options_.rate <= 0) o.heartbeat_period = options_.fast_heartbeat;
+    w = std::make_unique<dds::RawWriter>(participant_, topic, o);
+  }
   return *w;
 }
 
@@ -23,7 +27,8 @@ ReplayReport Replayer::run(const Selection& selection,
   ReplayReport report;
   const std::vector<std::int64_t> due = schedule(selection.samples, options_.rate);
   std::set<std::pair<std::string, std::string>> ready;  // (topic, partition's machine)
-  std::map<std::string, std::size_t> since_ack;
+  // Per (topic, partition's machine): written since the writer's last wait, and the window.
+  std::map<std::pair<std::string, std::string>, int> since_ack;
   for (std::size_t i = 0; i < selection.samples.size(); ++i) {
     const Sample& s = selection.samples[i];
     dds::RawWriter& writer = writer_of(*s.topic);
@@ -44,9 +49,10 @@ ReplayReport Replayer::run(const Selection& selection,
       report.problems.push_back(mcap::location(*s.message) + " (" + s.topic->name + " of " +
                                 s.machine_id + "): not written (the writer's history stayed full)");
     }
-    if (++since_ack[s.topic->name] >= options_.ack_every) {
-      since_ack[s.topic->name] = 0;
-      if (!writer.wait_for_acknowledgments(options_.ack_timeout)) {
+    const int window = std::max(1, writer.history_depth() / 2);
+    if (int& n = since_ack[{s.topic->name, machine}]; ++n >= window) {
+      n = 0;
+      if (!writer.wait_for_acknowledgments(machine, options_.ack_timeout)) {
         spdlog::warn("{}: readers did not acknowledge within {} ms; going on", s.topic->name,
                      options_.ack_timeout.count());
       }

@@ -22,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -110,9 +111,17 @@ class RawReader {
 // The writers of one topic with its profile's QoS (writer_profile): one in the default
 // partition, and for a per-machine topic one in each machine's partition, created the first time
 // that machine's sample is written, as ncqual's own MachineWriters.
+struct RawWriterOptions {
+  // The reliable writers' heartbeat period instead of the profile's (500 ms). A writer's
+  // readers acknowledge what they received when its heartbeat asks them to, so a writer that
+  // waits for acknowledgements between bursts (a replay as fast as the readers take it) waits
+  // about a heartbeat period each time. Not a matched QoS: readers see no difference.
+  std::optional<std::chrono::milliseconds> heartbeat_period;
+};
+
 class RawWriter {
  public:
-  RawWriter(Participant& participant, const TopicInfo& topic);
+  RawWriter(Participant& participant, const TopicInfo& topic, RawWriterOptions options = {});
   ~RawWriter();
   RawWriter(const RawWriter&) = delete;
   RawWriter& operator=(const RawWriter&) = delete;
@@ -124,6 +133,11 @@ class RawWriter {
              std::int64_t source_time_ns = 0);
   // Waits until every matched reader of every writer acknowledged everything, or the timeout.
   bool wait_for_acknowledgments(std::chrono::milliseconds timeout);
+  // The same for the writer of `machine_id`'s partition only ("" the default one).
+  bool wait_for_acknowledgments(const std::string& machine_id, std::chrono::milliseconds timeout);
+  // The writers' history depth (KEEP_LAST; per instance): how many samples of one machine may be
+  // written before the oldest not yet acknowledged is overwritten. 0 for KEEP_ALL.
+  int history_depth();
   // The readers matched by the writer of `machine_id` (created if needed; "" the default one).
   int matched_readers(const std::string& machine_id = "");
   // Waits until the writer of `machine_id` has `count` readers, or the timeout.
@@ -136,7 +150,9 @@ class RawWriter {
 
   Participant& participant_;
   TopicInfo topic_;
+  RawWriterOptions options_;
   std::mutex mutex_;
+  int depth_ = -1;  // history_depth(), once known
   // "" is the default partition's writer.
   std::map<std::string,
            std::pair<eprosima::fastdds::dds::Publisher*, eprosima::fastdds::dds::DataWriter*>>

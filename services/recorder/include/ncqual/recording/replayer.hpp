@@ -24,11 +24,15 @@ struct ReplayOptions {
   // (0: do not wait); `ready_timeout` bounds the wait.
   int readers = 0;
   std::chrono::milliseconds ready_timeout{30000};
-  // How long the writers wait for their readers' acknowledgements (every `ack_every` samples of a
-  // writer, so that a KEEP_LAST history never overwrites what a reader has not yet received, and
-  // at the end).
+  // How long a writer waits for its readers' acknowledgements: whenever it has written half its
+  // history depth (per machine's partition; 250 of the durable profile's 500, 50 of the command
+  // profile's 100) since the last wait, so that a KEEP_LAST history never overwrites what a reader
+  // has not yet received, and at the end.
   std::chrono::milliseconds ack_timeout{30000};
-  std::size_t ack_every = 100;
+  // When replaying as fast as the readers take it: the writers' heartbeat period (raw.hpp,
+  // RawWriterOptions), so that each wait for acknowledgements lasts about this long rather than
+  // the profile's 500 ms. A paced replay keeps the profile's.
+  std::chrono::milliseconds fast_heartbeat{10};
 };
 
 struct ReplayReport {
