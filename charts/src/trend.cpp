@@ -25,7 +25,7 @@ constexpr LineStyle kDataLine{palette::kLightGrey, 1, ""};
 constexpr LineStyle kFittedLine{palette::kAccent, 1.8, "8 4"};
 constexpr LineStyle kInterventionLine{palette::kDark, 1.2, "4 3"};
 constexpr LineStyle kCompensationLine{palette::kAccent, 1.5, "1.5 3"};
-constexpr LineStyle kCrossingLine{palette::kRed, 1.5, "2 2"};
+constexpr LineStyle kCrossingLine{palette::kRed, 1.5, "6 2 1.5 2"};
 constexpr MarkerStyle kPassMarker{Shape::Circle, 7, palette::kAccent, "#ffffff", 1};
 constexpr MarkerStyle kFailMarker{Shape::Diamond, 11, palette::kRed, palette::kInk, 0.8};
 
