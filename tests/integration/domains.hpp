@@ -68,11 +68,13 @@ enum class TestDomain : int {
   // Recordings.*: the live plant recorded, and the plant its recording is replayed into
   RecordingLive = detail::test_domain(170),
   RecordingReplay = detail::test_domain(171),
-  // Recordings.ARoundTrip...: replay and record again; the committed recordings replayed
-  RecordingRoundTrip = detail::test_domain(172),
+  // CommittedRecordings.*: each committed recording replayed into a historian and a solver
+  RecordingCommittedDrift = detail::test_domain(172),
   RecordingCommitted = detail::test_domain(173),
   // ncqual_recording_bench (tests/bench), its smoke run
   RecordingBench = detail::test_domain(174),
+  // McapInteropRecordings.FoxgloveReadsWhatTheLiveRecorderWrote: a replay recorded live
+  RecordingInterop = detail::test_domain(175),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -113,9 +115,10 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::PlantNetworkSecured:
     case TestDomain::RecordingLive:
     case TestDomain::RecordingReplay:
-    case TestDomain::RecordingRoundTrip:
+    case TestDomain::RecordingCommittedDrift:
     case TestDomain::RecordingCommitted:
-    case TestDomain::RecordingBench: break;
+    case TestDomain::RecordingBench:
+    case TestDomain::RecordingInterop: break;
   }
   return static_cast<int>(domain);
 }

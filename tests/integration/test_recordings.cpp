@@ -20,6 +20,7 @@
 #include <sqlite3.h>
 
 #include <fstream>
+#include <algorithm>
 #include <map>
 #include <set>
 
@@ -288,13 +289,25 @@ TEST(Recordings, ASimulatedWeekRecordedReplayedAndRecordedAgainGivesTheSameHisto
   EXPECT_EQ(positioning, 5u);  // one a working day
 }
 
-// The committed recording (tests/data/recordings/README.md) replayed through the real solver and
-// historian: its requests and measurement sets go in, and this build's solver must store a
+// The committed recordings (tests/data/recordings/README.md) replayed through the real solver and
+// historian: their requests and measurement sets go in, and this build's solver must store a
 // result for every set that judges it as the recorded result says (verdict, causes, every metric
 // within 1e-9 of its recorded value: another CPU's libm may move the last digits).
-TEST(Recordings, TheCommittedWeekReplayedThroughSolverAndHistorianStoresTheRecordedVerdicts) {
-  const std::string file =
-      std::string(NCQUAL_SOURCE_DIR) + "/tests/data/recordings/week-3-machines.mcap";
+struct Committed {
+  const char* file;
+  std::vector<const char*> machines;
+  TestDomain domain;
+  std::size_t at_least_results;
+  std::size_t failed;  // recorded FAIL verdicts
+};
+
+void PrintTo(const Committed& c, std::ostream* os) { *os << c.file; }
+
+class CommittedRecordings : public ::testing::TestWithParam<Committed> {};
+
+TEST_P(CommittedRecordings, ReplayedThroughSolverAndHistorianStoreTheRecordedVerdicts) {
+  const Committed& c = GetParam();
+  const std::string file = std::string(NCQUAL_SOURCE_DIR) + "/tests/data/recordings/" + c.file;
   const mcap::Recording r = mcap::read_file(file);
   std::map<std::string, CheckResult> recorded;  // by request id
   for (const auto& m : r.messages) {
@@ -306,11 +319,14 @@ TEST(Recordings, TheCommittedWeekReplayedThroughSolverAndHistorianStoresTheRecor
     ASSERT_TRUE(error.empty()) << error;
     recorded[result.request_id] = result;
   }
-  ASSERT_GT(recorded.size(), 100u);
+  ASSERT_GE(recorded.size(), c.at_least_results);
+  EXPECT_EQ(std::count_if(recorded.begin(), recorded.end(),
+                          [](const auto& r) { return r.second.verdict == Verdict::Fail; }),
+            static_cast<std::ptrdiff_t>(c.failed));
 
-  Plant plant("rec-committed", TestDomain::RecordingCommitted);
+  Plant plant("rec-committed", c.domain);
   const std::string machines = std::string(NCQUAL_SOURCE_DIR) + "/tests/data/recordings/machines/";
-  for (const char* id : {"r01", "r02", "r03"}) {
+  for (const char* id : c.machines) {
     plant.add_machine(id, "extends: " + machines + id + ".yaml\n");
   }
   plant.write_plant("[]");
@@ -364,6 +380,22 @@ TEST(Recordings, TheCommittedWeekReplayedThroughSolverAndHistorianStoresTheRecor
   EXPECT_NE(resolved.out.find(" 0 changed, 0 without a recorded result"), std::string::npos)
       << resolved.out;
 }
+
+// week-3-machines.mcap: a working week of three machines, every check passing (zstd).
+// drift-1-machine.mcap: one machine drifting along Y until its daily positioning check fails on
+// the sixth working day (lz4).
+INSTANTIATE_TEST_SUITE_P(
+    Recordings, CommittedRecordings,
+    ::testing::Values(
+        Committed{
+            "week-3-machines.mcap", {"r01", "r02", "r03"}, TestDomain::RecordingCommitted, 100, 0},
+        Committed{"drift-1-machine.mcap", {"d01"}, TestDomain::RecordingCommittedDrift, 40, 1}),
+    [](const auto& info) {
+      std::string name = info.param.file;
+      name = name.substr(0, name.find('.'));
+      name.erase(std::remove(name.begin(), name.end(), '-'), name.end());
+      return name;
+    });
 
 }  // namespace
 }  // namespace ncqual::testing

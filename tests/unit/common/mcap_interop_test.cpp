@@ -4,6 +4,8 @@
 // and message indexes) for complete files of every compression, its stream reader for the same
 // files and for a recording cut after a chunk. Every schema, channel and message (bytes and
 // times) must match what was written. Skipped, saying why, without node or the npm packages.
+#include "cli_runner.hpp"
+#include "harness.hpp"
 #include "ncqual/mcap.hpp"
 #include "process.hpp"
 
@@ -13,9 +15,12 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <random>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -286,4 +291,64 @@ TEST(McapInteropRecordings, FoxgloveReadsEveryCommittedRecording) {
     expect_messages(theirs, ours.messages, false);
   }
   EXPECT_GT(files, 0U) << "no recording in " << dir;
+}
+
+// A file the live recorder wrote: the committed drift recording's producer topics replayed by
+// `ncqual replay --fast` into a private domain where `ncqual record` records them (its own
+// readers, chunking, flushes and summary, lz4 as the plant's recorder may write). Foxglove reads
+// every schema, channel and message as ncqual does, and the messages are the replayed ones, byte
+// for byte.
+TEST(McapInteropRecordings, FoxgloveReadsWhatTheLiveRecorderWrote) {
+  using namespace ncqual::testing;
+  using ncqual::testing_cli::run_cli;
+  const std::string why = missing_reader();
+  if (!why.empty()) GTEST_SKIP() << why;
+  const std::string source =
+      (fs::path(NCQUAL_SOURCE_DIR) / "tests" / "data" / "recordings" / "drift-1-machine.mcap")
+          .string();
+  const std::string topics = "CheckRequest,MeasurementSet,CheckResult,Compensation,MachineStatus";
+  const std::set<std::string> topic_names = {"ncqual/CheckRequest", "ncqual/MeasurementSet",
+                                             "ncqual/CheckResult", "ncqual/Compensation",
+                                             "ncqual/MachineStatus"};
+  std::multiset<std::vector<std::uint8_t>> replayed;
+  const mcap::Recording from = mcap::read_file(source);
+  for (const auto& m : from.messages) {
+    if (topic_names.count(from.channels.at(m.channel_id).topic) != 0) replayed.insert(m.data);
+  }
+  ASSERT_GT(replayed.size(), 100U);
+
+  Plant plant("mcap-interop-live", TestDomain::RecordingInterop);
+  plant.write_plant("[]");
+  const std::string out = (plant.dir() / "live.mcap").string();
+  Process recorder(
+      Launch({NCQUAL_CLI_EXE, "record", "--plant", plant.plant_file(), "--out", out, "--topics",
+              topics, "--compression", "lz4", "--stop-after", std::to_string(replayed.size())})
+          .log_to((plant.dir() / "record.log").string()));
+  std::vector<std::string> replay = {"replay",   source, "--fast",    "--plant", plant.plant_file(),
+                                     "--topics", topics, "--readers", "1"};
+  if (!plant.test_identity().empty()) {
+    replay.insert(replay.end(), {"--identity", plant.test_identity()});
+  }
+  const auto run = run_cli(replay);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  ASSERT_TRUE(recorder.wait_for(std::chrono::seconds(60))) << plant.log("record");
+  ASSERT_EQ(recorder.wait(), 0) << plant.log("record");
+
+  const mcap::Recording ours = mcap::read_file(out);
+  ASSERT_TRUE(ours.indexed);
+  EXPECT_EQ(ours.compression, (std::set<std::string>{"lz4"}));
+  std::multiset<std::vector<std::uint8_t>> recorded;
+  for (const auto& m : ours.messages) recorded.insert(m.data);
+  EXPECT_TRUE(recorded == replayed)
+      << recorded.size() << " recorded, " << replayed.size() << " replayed";
+  const json theirs = independent_read(out, false);
+  ASSERT_FALSE(theirs.empty());
+  Written w;
+  for (const auto& [id, s] : ours.schemas) w.schemas.push_back(s);
+  for (const auto& [id, c] : ours.channels) w.channels.push_back(c);
+  mcap::Options options;
+  options.profile = ours.header.profile;
+  options.library = ours.header.library;
+  expect_definitions(theirs, w, options);
+  expect_messages(theirs, ours.messages, false);
 }
