@@ -294,6 +294,31 @@ DROP TABLE metrics;
 ALTER TABLE metrics_v5 RENAME TO metrics;
 )sql";
 
+// Version 6: trend warnings (trend/, docs/trends.md), raised and ended by the historian as it
+// assesses each metric's series after a stored result. One row per warning: its machine, metric
+// (and the check kind the metric belongs to), kind ("forecast", "ewma", "cusum_up", ...), the time
+// of the check where it first fired, the result that raised it and the one that ended it (NULL
+// while active), and for a forecast the dates the fitted line and its 95 % prediction bound cross
+// the tolerance (kept up to date while active).
+constexpr const char* kVersion6 = R"sql(
+CREATE TABLE trend_warnings (
+  machine_id           TEXT NOT NULL,
+  metric               TEXT NOT NULL,
+  check_kind           INTEGER NOT NULL,
+  kind                 TEXT NOT NULL,
+  started_ns           INTEGER NOT NULL,
+  raised_by            TEXT NOT NULL,
+  raised_ns            INTEGER NOT NULL,
+  ended_by             TEXT,
+  ended_ns             INTEGER,
+  expected_crossing_ns INTEGER,
+  earliest_crossing_ns INTEGER,
+  text                 TEXT NOT NULL,
+  PRIMARY KEY (machine_id, metric, kind, started_ns)
+) STRICT, WITHOUT ROWID;
+CREATE INDEX trend_warnings_by_machine_end ON trend_warnings (machine_id, ended_ns);
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
@@ -301,6 +326,7 @@ const std::vector<Migration> kMigrations = {
     {3, "store the software that judged each result", kVersion3},
     {4, "content hashes, writers, conflicts and service health", kVersion4},
     {5, "keep a metric that could not be evaluated, its value NULL", kVersion5},
+    {6, "trend warnings", kVersion6},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {
