@@ -121,7 +121,13 @@ Assessment assess(const std::vector<Point>& points, const Band& band,
   a.forecast =
       detail::fit_sorted(seg.data(), x.data(), n, a.segment.skipped, band, forecast_options);
   if (options.theil_sen) {
-    a.theil_sen = theil_sen(seg, band, forecast_options);
+    if (n > options.theil_sen_max_points) {
+      const std::vector<Point> recent(
+          seg.end() - static_cast<std::ptrdiff_t>(options.theil_sen_max_points), seg.end());
+      a.theil_sen = theil_sen(recent, band, forecast_options);
+    } else {
+      a.theil_sen = theil_sen(seg, band, forecast_options);
+    }
     a.theil_sen.skipped = a.segment.skipped;
   } else {
     a.theil_sen.error = "not computed (AssessOptions::theil_sen is false)";
@@ -154,11 +160,13 @@ Assessment assess(const std::vector<Point>& points, const Band& band,
   }
 
   if (auto side = forecast_condition(a.forecast, now_ns, options.horizon_days)) {
-    // Walk back over the prefixes while the condition held on the same side.
+    // Walk back over the prefixes while the condition held on the same side (each prefix's
+    // fit from running moments: O(1) a prefix).
+    const std::vector<detail::Moments> moments = detail::prefix_moments(seg.data(), x.data(), n);
     std::size_t since = n - 1;
     while (since > 0) {
-      const LinearForecast earlier =
-          detail::fit_sorted(seg.data(), x.data(), since, 0, band, forecast_options);
+      const LinearForecast earlier = detail::fit_prefix(seg.data(), x.data(), since,
+                                                        moments[since - 1], band, forecast_options);
       if (forecast_condition(earlier, seg[since - 1].time_ns, options.horizon_days) != side) {
         break;
       }

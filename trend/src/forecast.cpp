@@ -207,19 +207,55 @@ std::vector<double> days_from_first(const Point* points, std::size_t count) {
   return x;
 }
 
-LinearForecast fit_sorted(const Point* points, const double* x, std::size_t count,
-                          std::size_t skipped, const Band& band, const ForecastOptions& options) {
-  LinearForecast f;
+namespace {
+
+// The fit's checks of options, band and count; false (with f.error set) when there is no fit.
+bool start_fit(LinearForecast& f, std::size_t count, std::size_t skipped, const Band& band,
+               const ForecastOptions& options) {
   f.points = count;
   f.skipped = skipped;
   f.error = check_options(options);
   if (f.error.empty()) f.error = check_band(band);
-  if (f.error.empty() && count < options.min_points)
+  if (f.error.empty() && count < options.min_points) {
     f.error = not_enough(count, options.min_points);
-  if (!f.error.empty()) return f;
+  }
+  return f.error.empty();
+}
 
+// Everything after the moments (mean_x, mean_y, sxx, last_x, reference_ns set), from the slope's
+// numerator Sxy and the residual sum of squares.
+void finish_fit(LinearForecast& f, double sxy, double sse, std::int64_t last_ns, const Band& band,
+                const ForecastOptions& options) {
+  if (!(f.sxx > 0)) {
+    f.error = "every point is at the same time: no slope";
+    return;
+  }
+  const auto n = static_cast<double>(f.points);
+  f.slope = sxy / f.sxx;
+  f.intercept = f.mean_y - f.slope * f.mean_x;
+  const double df = n - 2;
+  f.residual_sd = std::sqrt(sse / df);
+  f.slope_se = f.residual_sd / std::sqrt(f.sxx);
+  f.intercept_se = f.residual_sd * std::sqrt(1 / n + f.mean_x * f.mean_x / f.sxx);
+  f.t_quantile = detail::t_quantile(0.5 + 0.5 * options.confidence, df);
+  f.slope_low = f.slope - f.t_quantile * f.slope_se;
+  f.slope_high = f.slope + f.t_quantile * f.slope_se;
+  f.trend = f.slope_low > 0 || f.slope_high < 0;
+  heading_of(f.slope, band, f.heading, f.limit);
+  f.expected =
+      line_crossing(f.trend, f.heading, f.limit, f.intercept, f.slope, f.reference_ns, f.last_x);
+  inverse_prediction(f, f.points, last_ns);
+}
+
+}  // namespace
+
+LinearForecast fit_sorted(const Point* points, const double* x, std::size_t count,
+                          std::size_t skipped, const Band& band, const ForecastOptions& options) {
+  LinearForecast f;
+  if (!start_fit(f, count, skipped, band, options)) return f;
   // x from the first point's time; y from the first value (so that a constant series has a
-  // slope of exactly 0, and small drifts on a large offset keep their digits).
+  // slope of exactly 0, and small drifts on a large offset keep their digits). Two passes for
+  // the moments, a third for the residuals.
   f.reference_ns = points[0].time_ns;
   const double y0 = points[0].value;
   const auto n = static_cast<double>(count);
@@ -238,29 +274,51 @@ LinearForecast fit_sorted(const Point* points, const double* x, std::size_t coun
     f.sxx += dx * dx;
     sxy += dx * ((points[i].value - y0) - mean_dy);
   }
-  if (!(f.sxx > 0)) {
-    f.error = "every point is at the same time: no slope";
-    return f;
-  }
-  f.slope = sxy / f.sxx;
-  f.intercept = f.mean_y - f.slope * f.mean_x;
   double sse = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const double r = points[i].value - (f.intercept + f.slope * x[i]);
-    sse += r * r;
+  if (f.sxx > 0) {
+    const double slope = sxy / f.sxx;
+    const double intercept = f.mean_y - slope * f.mean_x;
+    for (std::size_t i = 0; i < count; ++i) {
+      const double r = points[i].value - (intercept + slope * x[i]);
+      sse += r * r;
+    }
   }
-  const double df = n - 2;
-  f.residual_sd = std::sqrt(sse / df);
-  f.slope_se = f.residual_sd / std::sqrt(f.sxx);
-  f.intercept_se = f.residual_sd * std::sqrt(1 / n + f.mean_x * f.mean_x / f.sxx);
-  f.t_quantile = detail::t_quantile(0.5 + 0.5 * options.confidence, df);
-  f.slope_low = f.slope - f.t_quantile * f.slope_se;
-  f.slope_high = f.slope + f.t_quantile * f.slope_se;
-  f.trend = f.slope_low > 0 || f.slope_high < 0;
-  heading_of(f.slope, band, f.heading, f.limit);
-  f.expected =
-      line_crossing(f.trend, f.heading, f.limit, f.intercept, f.slope, f.reference_ns, f.last_x);
-  inverse_prediction(f, count, points[count - 1].time_ns);
+  finish_fit(f, sxy, sse, points[count - 1].time_ns, band, options);
+  return f;
+}
+
+std::vector<Moments> prefix_moments(const Point* points, const double* x, std::size_t count) {
+  std::vector<Moments> out(count);
+  Moments m;
+  const double y0 = count > 0 ? points[0].value : 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    // Welford's updates of the means and the co-moments (Welford 1962; Knuth TAOCP vol. 2,
+    // 4.2.2): C_k = C_{k-1} + (x_k - mean_{k-1})(y_k - mean_k), stable without a second pass.
+    const double k = static_cast<double>(i + 1);
+    const double dy_value = points[i].value - y0;
+    const double dx = x[i] - m.mean_x;
+    const double dy = dy_value - m.mean_dy;
+    m.mean_x += dx / k;
+    m.mean_dy += dy / k;
+    m.sxx += dx * (x[i] - m.mean_x);
+    m.sxy += dx * (dy_value - m.mean_dy);
+    m.syy += dy * (dy_value - m.mean_dy);
+    out[i] = m;
+  }
+  return out;
+}
+
+LinearForecast fit_prefix(const Point* points, const double* x, std::size_t count, const Moments& m,
+                          const Band& band, const ForecastOptions& options) {
+  LinearForecast f;
+  if (!start_fit(f, count, 0, band, options)) return f;
+  f.reference_ns = points[0].time_ns;
+  f.mean_x = m.mean_x;
+  f.mean_y = points[0].value + m.mean_dy;
+  f.sxx = m.sxx;
+  f.last_x = x[count - 1];
+  const double sse = f.sxx > 0 ? std::max(0.0, m.syy - m.sxy / f.sxx * m.sxy) : 0.0;
+  finish_fit(f, m.sxy, sse, points[count - 1].time_ns, band, options);
   return f;
 }
 

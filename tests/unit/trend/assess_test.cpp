@@ -268,5 +268,40 @@ TEST(Assess, AYearOfDailyChecksTakesWellUnderAMillisecond) {
 #endif
 }
 
+TEST(Assess, LongSeriesStayCheap) {
+  // Ten years of checks every 12 hours (7300 points), drifting above the limit from the start:
+  // the forecast warning's start is found from running moments (linear in the count), and
+  // Theil-Sen runs over the last theil_sen_max_points checks only.
+  std::vector<Point> points;
+  for (int i = 0; i < 7300; ++i) {
+    points.push_back({kT0 + i * kDay / 2, 0.002 + 0.00001 * i + 0.0004 * std::sin(1.7 * i)});
+  }
+  const Band band{-0.02, 0.001};
+  const std::int64_t now = points.back().time_ns;
+  const double start = thread_ms();
+  const Assessment a = assess(points, band, {}, now);
+  const double ms = thread_ms() - start;
+  ASSERT_TRUE(a.ok());
+  const Warning* w = a.warning(WarningKind::Forecast);
+  ASSERT_NE(w, nullptr);
+  // Its start agrees with the assessments of the checks up to it (exact fits) and one before.
+  ASSERT_GT(w->since_index, 0u);
+  ASSERT_LT(w->since_index, 100u);
+  auto up_to = [&](std::size_t i) {
+    return assess(std::vector<Point>(points.begin(), points.begin() + i + 1), band, {},
+                  points[i].time_ns);
+  };
+  EXPECT_NE(up_to(w->since_index).warning(WarningKind::Forecast), nullptr);
+  EXPECT_EQ(up_to(w->since_index - 1).warning(WarningKind::Forecast), nullptr);
+  ASSERT_TRUE(a.theil_sen.ok());
+  EXPECT_EQ(a.theil_sen.points, 1000u);
+  EXPECT_EQ(a.theil_sen.reference_ns, points[6300].time_ns);
+  EXPECT_EQ(a.forecast.points, 7300u);
+  std::cout << "assess of 7300 points: " << ms << " ms CPU\n";
+#ifdef NDEBUG
+  EXPECT_LT(ms, 100.0);
+#endif
+}
+
 }  // namespace
 }  // namespace ncqual::trend

@@ -13,7 +13,8 @@
 // The charts: the baseline is the segment's first `baseline_points` finite values (no SPC
 // warning until there are that many); the Western Electric rules, the EWMA (centre = baseline
 // mean, sigma = baseline sigma_within) and the CUSUM (the same) run over the whole segment,
-// baseline included. Capability is over the whole segment; the forecasts too.
+// baseline included. Capability is over the whole segment; the forecasts too (Theil-Sen over
+// its last theil_sen_max_points checks).
 //
 // A warning is active when its condition holds at the last point of the segment:
 //   control_limit        rule 1: the last point is beyond 3 sigma
@@ -88,6 +89,9 @@ struct AssessOptions {
   // third of a millisecond for a year of daily checks) and no warning uses it, so a caller that
   // wants only the warnings can leave it out.
   bool theil_sen = true;
+  // Theil-Sen over the segment's last this many checks at most: its time and memory grow with
+  // the square of the count (1000 checks are 499,500 slopes, 4 MB, some 10 ms).
+  std::size_t theil_sen_max_points = 1000;
 };
 
 struct Assessment {
