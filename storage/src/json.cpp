@@ -26,7 +26,8 @@ CheckRecordDocument document_of(const CheckRecord& record) {
     d.correction = result->correction;
   }
   if (const auto& m = record.measurement) {
-    d.measurement = MeasurementDocument{m->instrument, m->touches, m->tracker_points, m->error};
+    d.measurement = MeasurementDocument{m->instrument, m->touches, m->tracker_points, m->error,
+                                        m->points_thinned_ns};
   }
   d.conflicts = record.conflicts;
   const auto writer = [](const std::string& guid) {

@@ -319,6 +319,18 @@ CREATE TABLE trend_warnings (
 CREATE INDEX trend_warnings_by_machine_end ON trend_warnings (machine_id, ended_ns);
 )sql";
 
+// Version 7: retention (docs/export.md, "Retention"). Database::thin_points deletes the raw points
+// (touches, tracker_points) of old measurement sets and keeps everything else; the set row says
+// when (points_thinned_ns, NULL while its points are all there) and how many there were
+// (thinned_touches, thinned_tracker_points), so a check's summary still counts what was measured.
+// The index walks the sets in time order across machines (thinning, export).
+constexpr const char* kVersion7 = R"sql(
+ALTER TABLE measurement_sets ADD COLUMN points_thinned_ns INTEGER;
+ALTER TABLE measurement_sets ADD COLUMN thinned_touches INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE measurement_sets ADD COLUMN thinned_tracker_points INTEGER NOT NULL DEFAULT 0;
+CREATE INDEX measurement_sets_by_time ON measurement_sets (time_ns, request_id);
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
@@ -327,6 +339,7 @@ const std::vector<Migration> kMigrations = {
     {4, "content hashes, writers, conflicts and service health", kVersion4},
     {5, "keep a metric that could not be evaluated, its value NULL", kVersion5},
     {6, "trend warnings", kVersion6},
+    {7, "thinned points of old measurement sets", kVersion7},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

@@ -183,6 +183,19 @@ struct SecurityConfig {
   std::string identity;
 };
 
+// The `historian.retention:` section: what the historian deletes as it ages (docs/export.md,
+// "Retention"). Off unless configured: every point is kept.
+struct RetentionConfig {
+  // Delete the raw points (touches, tracker points) of measurement sets older than this many
+  // calendar months, keeping every request, set row, result, metric, verdict, cause, correction,
+  // compensation and status change (storage::Database::thin_points). Nothing: keep them all.
+  std::optional<int> thin_points_after_months;
+  // The time before which sets are thinned at `now_ns`: the same UTC date and time so many months
+  // earlier (the month's last day when it is shorter: 31 March less one month is 28 or 29
+  // February); nothing when off.
+  std::optional<std::int64_t> thin_points_before_ns(std::int64_t now_ns) const;
+};
+
 struct PlantConfig {
   std::string plant;
   std::string source_path;
@@ -195,6 +208,7 @@ struct PlantConfig {
   NetworkConfig network;           // the `network:` section
   SecurityConfig security;         // the `security:` section (its identity is left empty)
   std::string historian_database;  // absolute
+  RetentionConfig retention;       // historian.retention
   std::vector<MachineConfig> machines;
   // Without a calendar: the checks the scheduler runs for every machine when it starts, in order
   // (scheduler.startup_checks), once.

@@ -7,7 +7,10 @@
 #include "ncqual/clock.hpp"
 #include "ncqual/text.hpp"
 
+#include <date/date.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <set>
@@ -414,8 +417,12 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     p.security.dir = resolve(path, security["dir"].required_text().value_or(""));
   }
   const Node hist = root["historian"];
-  hist.map_of({"database"});
+  hist.map_of({"database", "retention"});
   p.historian_database = resolve(path, hist["database"].text("historian.db"));
+  if (const Node retention = hist["retention"]; retention.map_of({"thin_points_after_months"})) {
+    // At least a month: the points of a check just made are what its result was judged on.
+    p.retention.thin_points_after_months = retention["thin_points_after_months"].integer(1, 1200);
+  }
   p.scheduler_state_database =
       (fs::path(p.historian_database).parent_path() / "scheduler.db").string();
   if (const Node sched = root["scheduler"];
@@ -498,6 +505,15 @@ const Tolerance& MachineConfig::tolerance(const std::string& metric) const {
                       metric + "'");
   }
   return it->second;
+}
+
+std::optional<std::int64_t> RetentionConfig::thin_points_before_ns(std::int64_t now_ns) const {
+  if (!thin_points_after_months) return std::nullopt;
+  const date::sys_time<std::chrono::nanoseconds> now{std::chrono::nanoseconds(now_ns)};
+  const date::sys_days day = date::floor<date::days>(now);
+  date::year_month_day then = date::year_month_day(day) - date::months(*thin_points_after_months);
+  if (!then.ok()) then = then.year() / then.month() / date::last;  // 31 March -> 28/29 February
+  return (date::sys_days(then) + (now - day)).time_since_epoch().count();
 }
 
 const MachineConfig* PlantConfig::find_machine(const std::string& machine_id) const {

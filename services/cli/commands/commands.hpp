@@ -170,6 +170,11 @@ void add_sample_filter_options(CLI::App* command, std::vector<std::string>& topi
 // The ncqual topics --topics names (recording::topics_named); UsageError naming an unknown one.
 std::vector<const dds::TopicInfo*> topics_option(const std::vector<std::string>& names);
 
+// A UTC date ("2027-01-15": its midnight) or time ("2027-01-15T06:00Z", "2027-01-15
+// 06:00:30.5Z") given to `flag`, in ns since the epoch; UsageError naming the flag and the text
+// when it is neither.
+std::int64_t utc_time_option(const std::string& flag, const std::string& text);
+
 // The operator: $USER, else the host name.
 std::string operator_name();
 // "<prefix>-<machine>-<now ns>-<pid>": the id of a sample this process publishes.

@@ -9,8 +9,10 @@
 // under each check the DataWriters its request, set and result came from, and on a secured plant
 // (the plant's security.dir, or --secure) the identity each GUID names (ncqual/dds/identity.hpp).
 // --json prints every stored record (ncqual/storage_json.hpp; times as ns since the epoch, UTC),
-// its writers with their identities when known. Exit codes: 0, 6 when there is no historian
-// database at the path; 2 when the security material cannot be read.
+// its writers with their identities when known. A check whose raw points retention deleted (`ncqual
+// db thin`, docs/export.md) says "points thinned on <date>" with the counts measured (--json:
+// measurement.points_thinned_ns); its result is as it was judged. Exit codes: 0, 6 when there is no
+// historian database at the path; 2 when the security material cannot be read.
 #include "commands.hpp"
 
 #include "ncqual/calendar.hpp"
@@ -173,6 +175,12 @@ void print_check_records(const std::vector<storage::CheckRecord>& records, const
       // above is the one stored first; `ncqual conflicts` shows the other.
       fmt::print("{:{}} CONFLICT: {} other sample(s) with this request id kept beside it\n", "",
                  kIndent, r.conflicts);
+    }
+    if (r.measurement && r.measurement->points_thinned_ns) {
+      // Retention deleted the raw points (ncqual db thin); the result above is as it was judged.
+      fmt::print("{:{}} points thinned on {} ({} touches, {} tracker points no longer stored)\n",
+                 "", kIndent, calendar.local_text(*r.measurement->points_thinned_ns),
+                 r.measurement->touches, r.measurement->tracker_points);
     }
     if (writers) print_writers(r, *writers, kIndent);
   }

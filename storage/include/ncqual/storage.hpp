@@ -99,9 +99,34 @@ struct MeasurementSummary {
   std::string instrument;
   std::string frame;
   std::int64_t time_ns = 0;
-  std::int64_t touches = 0;         // number of touches
-  std::int64_t tracker_points = 0;  // number of tracker points
+  std::int64_t touches = 0;         // number of touches measured (also once thinned)
+  std::int64_t tracker_points = 0;  // number of tracker points measured (also once thinned)
   std::string error;                // non-empty when the instrument could not perform the request
+  // When retention deleted its touches and tracker points (Database::thin_points): the set,
+  // its parameters and its check's result stay, its points are gone. Nothing while they are all
+  // stored.
+  std::optional<std::int64_t> points_thinned_ns;
+};
+
+// Retention (Database::thin_points): what was removed, or in a dry run what would be.
+struct ThinReport {
+  std::int64_t sets = 0;                             // measurement sets whose points were deleted
+  std::int64_t touches = 0;                          // touches deleted
+  std::int64_t tracker_points = 0;                   // tracker points deleted
+  std::optional<std::int64_t> oldest_ns, newest_ns;  // the times of the oldest and newest such set
+  int transactions = 0;                              // write transactions it took (0: dry run)
+  bool dry_run = false;
+};
+
+struct ThinOptions {
+  bool dry_run = false;                // count only: nothing is written
+  std::optional<std::int64_t> now_ns;  // kept as each set's points_thinned_ns (default: wall clock)
+  // One write transaction deletes the points of at most this many sets, and stops adding sets
+  // once it holds this many points (a set is never split), then pauses: the historian's writers
+  // wait for one short transaction at a time, never for the whole thinning.
+  int sets_per_transaction = 100;
+  std::int64_t points_per_transaction = 50'000;
+  std::chrono::milliseconds pause{5};
 };
 
 // One check, joined by request id from whatever has arrived so far: a result can arrive before
@@ -222,6 +247,15 @@ class Database {
   std::vector<Heartbeat> services();
   // Samples kept for conflicting with a stored one, newest first; of one machine or of all.
   std::vector<ConflictRecord> conflicts(const std::optional<std::string>& machine_id = {});
+
+  // Retention: deletes the touches and tracker points of every measurement set whose time is
+  // before `before_ns` and whose points are still stored, and marks each such set thinned (its
+  // points_thinned_ns and how many points it had). Requests, sets, parameters, results, metrics,
+  // causes, corrections, compensations, status changes and everything else stay as they are.
+  // Sets without any point are left unmarked. Idempotent: a second run finds nothing to do.
+  // Runs in short write transactions (ThinOptions) so a running historian keeps storing; the
+  // freed pages are reused by new rows (the file does not shrink). Read-write connections only.
+  ThinReport thin_points(std::int64_t before_ns, const ThinOptions& options = {});
 
  private:
   struct Impl;

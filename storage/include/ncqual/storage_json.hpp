@@ -23,9 +23,11 @@ struct ParameterDocument {
 
 struct MeasurementDocument {
   std::string instrument;
-  std::int64_t touches = 0;
-  std::int64_t tracker_points = 0;
-  std::string error;  // empty unless the instrument could not perform the request
+  std::int64_t touches = 0;         // measured, also once thinned
+  std::int64_t tracker_points = 0;  // measured, also once thinned
+  std::string error;                // empty unless the instrument could not perform the request
+  // When retention deleted the set's points (ns since the epoch, UTC); null while stored.
+  std::optional<std::int64_t> points_thinned_ns;
 };
 
 // Who wrote a part of a check: the DataWriter's GUID; `ncqual history` adds the identity and
@@ -62,7 +64,8 @@ struct CheckRecordDocument {
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ParameterDocument, value, unit)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementDocument, instrument, touches, tracker_points, error)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementDocument, instrument, touches, tracker_points, error,
+                                   points_thinned_ns)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WriterDocument, guid)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WritersDocument, request, measurement, result)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckRecordDocument, machine_id, request_id, kind, requested_by,

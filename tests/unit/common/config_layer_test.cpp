@@ -266,6 +266,44 @@ TEST_F(ConfigLayer, TheNetworkSectionNamesTheDiscoveryAndItsAddresses) {
   }
 }
 
+// historian.retention: off unless configured; months back from now by the calendar, the last
+// day of a shorter month; a bad value or key named.
+TEST_F(ConfigLayer, TheRetentionPolicyIsOffByDefaultAndCountsCalendarMonths) {
+  const auto plant_with = [&](const std::string& historian) {
+    return write("plant.yaml",
+                 "plant: p\nhistorian: " + historian + "\nmachines: [" + kPm1 + "]\n");
+  };
+  const PlantConfig off = load_plant_config(plant_with("{database: h.db}"));
+  EXPECT_FALSE(off.retention.thin_points_after_months);
+  EXPECT_FALSE(off.retention.thin_points_before_ns(1'800'000'000'000'000'000));
+
+  const PlantConfig on =
+      load_plant_config(plant_with("{database: h.db, retention: {thin_points_after_months: 24}}"));
+  ASSERT_EQ(on.retention.thin_points_after_months, 24);
+  constexpr std::int64_t kDay = 86'400'000'000'000;
+  // 2027-01-15T08:00:01.5Z -> 2025-01-15T08:00:01.5Z (days since the epoch: 20833 and 20103).
+  const std::int64_t now = 20833 * kDay + 28'801'500'000'000;
+  EXPECT_EQ(on.retention.thin_points_before_ns(now), 20103 * kDay + 28'801'500'000'000);
+  RetentionConfig one{1};
+  // 2027-03-31T00:00Z (20908) -> 2027-02-28T00:00Z (20877).
+  EXPECT_EQ(one.thin_points_before_ns(20908 * kDay), 20877 * kDay);
+
+  for (const auto& [historian, problem] : std::vector<std::pair<std::string, std::string>>{
+           {"{retention: {thin_points_after_months: 0}}",
+            "historian.retention.thin_points_after_months = '0'"},
+           {"{retention: {thin_points_after_months: two}}",
+            "historian.retention.thin_points_after_months = 'two'"},
+           {"{retention: {thin_after_months: 24}}",
+            "historian.retention.thin_after_months = '24': unknown key"}}) {
+    try {
+      load_plant_config(plant_with(historian));
+      ADD_FAILURE() << "loaded " << historian;
+    } catch (const ConfigError& e) {
+      EXPECT_TRUE(names(e.problems(), problem)) << historian << "\n" << e.what();
+    }
+  }
+}
+
 TEST(CheckKindTable, OneRowPerKindOfTheWireContractInItsOrder) {
   const std::vector<std::string> idl = idl_check_kinds();
   ASSERT_EQ(idl.size(), static_cast<std::size_t>(kCheckKindCount));

@@ -123,10 +123,11 @@ TEST_F(StorageQuery, JsonOfAFinishedCheckHasTheStableNames) {
   EXPECT_EQ(json["correction"]["target"], "machine:work_offset");
   EXPECT_EQ(json["correction"]["offsets"][0],
             (nlohmann::json{{"name", "dx_mm"}, {"value", -0.0123}, {"unit", "mm"}}));
-  EXPECT_EQ(
-      json["measurement"],
-      (nlohmann::json{
-          {"instrument", "touch_probe"}, {"touches", 4}, {"tracker_points", 3}, {"error", ""}}));
+  EXPECT_EQ(json["measurement"], (nlohmann::json{{"instrument", "touch_probe"},
+                                                 {"touches", 4},
+                                                 {"tracker_points", 3},
+                                                 {"error", ""},
+                                                 {"points_thinned_ns", nullptr}}));
   // An infinite bound prints as null: JSON has no infinity.
   EXPECT_NE(json.dump().find("\"lower\":null"), std::string::npos);
 }
