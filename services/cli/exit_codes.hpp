@@ -14,11 +14,11 @@ enum ExitCode : int {
   kExitTimedOut = 5,  // `wait` or `check --wait` gave up
   kExitNotFound = 6,  // what was asked for is not there (e.g. no historian database)
   kExitCorrupt = 7,   // `db check`: the database fails PRAGMA integrity_check or cannot be read;
-                      // `db recover`: the recovered file fails it
+                      // `db recover`: the recovered file fails it; `backup`: the copy fails it
 };
 
 inline constexpr const char* kExitCodesHelp =
     "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out, 6 not found. "
-    "7 corrupt database (db check, db recover).";
+    "7 corrupt database (db check, db recover, backup).";
 
 }  // namespace ncqual::cli

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/storage.hpp"
 
+#include "open.hpp"
 #include "schema.hpp"
 #include "sqlite.hpp"
 #include "validate.hpp"
@@ -655,7 +656,7 @@ Database Database::open(const std::string& path) {
   return Database(std::move(impl));
 }
 
-Database Database::open_readonly(const std::string& path) {
+sqlite::Connection open_readonly_connection(const std::string& path) {
   check_sqlite_version();
   // No SQLITE_OPEN_CREATE: a missing file is an error, not a new empty database.
   auto db = sqlite::open_connection(path, SQLITE_OPEN_READONLY);
@@ -676,7 +677,11 @@ Database Database::open_readonly(const std::string& path) {
                             ? ": start the historian of this build once to migrate it"
                             : ": upgrade ncqual"));
   }
-  return Database(std::make_unique<Impl>(std::move(db), path, true));
+  return db;
+}
+
+Database Database::open_readonly(const std::string& path) {
+  return Database(std::make_unique<Impl>(open_readonly_connection(path), path, true));
 }
 
 int Database::latest_schema_version() { return schema::latest_version(); }

@@ -66,6 +66,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>> kCommands{
     {"db check", {"--plant", "--db"}},
     {"db recover", {"FROM", "TO"}},
     {"db thin", {"--before", "--dry-run", "--plant", "--db"}},
+    {"export", {"--since", "--until", "--machine", "--csv", "--overwrite", "--plant", "--db"}},
+    {"backup", {"--out", "--overwrite", "--quick", "--step-pages", "--plant", "--db"}},
     {"record",
      {"--out", "--topics", "--machine", "--compression", "--max-size-mib", "--split-every",
       "--stop-after", "--duration", "--overwrite", "--plant", "--domain", "--secure",
@@ -153,6 +155,10 @@ TEST(CliUsage, BadUsageExitsTwoNamingTheFlagWithTheCommandsUsage) {
            {"record --out r.mcap --compression bzip2", "--compression"},
            {"replay r.mcap --fast --rate 2", "--rate"},
            {"wait --timeout", "--timeout"},
+           {"export --csv out", "--since"},
+           {"export --since 2027-01-01", "--csv"},
+           {"backup --db h.db", "--out"},
+           {"db thin --before", "--before"},
            {"nothing", "nothing"}}) {
     const CliRun r = run(words(args));
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
@@ -199,9 +205,9 @@ bool has(const std::vector<std::string>& v, const std::string& s) {
 
 TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
   const auto commands = complete("ncqual \"\"");
-  for (const char* c :
-       {"history", "check", "wait", "count", "budget", "analyze", "import", "program", "status",
-        "intervene", "trend", "uncertainty", "record", "recording", "replay"}) {
+  for (const char* c : {"history", "check", "wait", "count", "budget", "analyze", "import",
+                        "program", "status", "intervene", "trend", "uncertainty", "record",
+                        "recording", "replay", "db", "export", "backup"}) {
     EXPECT_TRUE(has(commands, c)) << c;
   }
   EXPECT_FALSE(has(commands, "completion"));
@@ -215,6 +221,9 @@ TEST(CliUsage, BashCompletionOfCommandsFlagsAndKinds) {
   EXPECT_TRUE(has(complete("ncqual check --kind monument_p"), "monument_positioning"));
   EXPECT_EQ(complete("ncqual recording re"), std::vector<std::string>{"recover"});
   EXPECT_TRUE(has(complete("ncqual replay --re"), "--resolve"));
+  EXPECT_EQ(complete("ncqual db th"), std::vector<std::string>{"thin"});
+  EXPECT_EQ(complete("ncqual export --cs"), std::vector<std::string>{"--csv"});
+  EXPECT_EQ(complete("ncqual backup --ou"), std::vector<std::string>{"--out"});
 }
 
 // `config check`: every problem of the plant at once, with file, key and value, exit 4; the

@@ -183,8 +183,9 @@ struct SecurityConfig {
   std::string identity;
 };
 
-// The `historian.retention:` section: what the historian deletes as it ages (docs/export.md,
-// "Retention"). Off unless configured: every point is kept.
+// The `historian.retention:` section: what `ncqual db thin` deletes as the data ages when it is
+// run without --before (docs/export.md, "Retention"; the historian does not run it by itself).
+// Off unless configured: every point is kept.
 struct RetentionConfig {
   // Delete the raw points (touches, tracker points) of measurement sets older than this many
   // calendar months, keeping every request, set row, result, metric, verdict, cause, correction,

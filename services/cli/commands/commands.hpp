@@ -61,6 +61,8 @@ void add_trend(CLI::App& app, Commands& commands);        // trend.cpp
 void add_uncertainty(CLI::App& app, Commands& commands);  // uncertainty.cpp
 void add_config(CLI::App& app, Commands& commands);       // config.cpp
 void add_db(CLI::App& app, Commands& commands);           // db.cpp
+void add_export(CLI::App& app, Commands& commands);       // export.cpp
+void add_backup(CLI::App& app, Commands& commands);       // export.cpp
 void add_record(CLI::App& app, Commands& commands);       // record.cpp (record, recording)
 void add_replay(CLI::App& app, Commands& commands);       // replay.cpp
 void add_completion(CLI::App& app, Commands& commands);   // completion.cpp (hidden)
