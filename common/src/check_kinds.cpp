@@ -146,6 +146,14 @@ bool is_fixture_check(CheckKind kind) {
   return check_kind_info(kind).instrument == Instrument::FixtureProbe;
 }
 
+bool compensation_restarts(CheckKind issued_by, CheckKind series) {
+  if (is_tracker_check(issued_by) || series == issued_by) return true;
+  const auto related = [](CheckKind a, CheckKind b) {
+    return verified_by(a) == b || check_kind_info(a).satisfies == b;
+  };
+  return related(issued_by, series) || related(series, issued_by);
+}
+
 bool is_tolerance_key(std::string_view key) {
   return std::any_of(table().begin(), table().end(), [&](const CheckKindInfo& row) {
     return std::find(row.tolerances.begin(), row.tolerances.end(), key) != row.tolerances.end();

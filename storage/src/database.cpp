@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/storage.hpp"
 
+#include "access.hpp"
 #include "open.hpp"
 #include "schema.hpp"
 #include "sqlite.hpp"
@@ -1148,6 +1149,23 @@ std::vector<ConflictRecord> Database::conflicts(const std::optional<std::string>
                                   q.int64(6), q.text(7)});
   }
   return list;
+}
+
+sqlite::StatementCache& DatabaseAccess::statements(Database& db) { return db.impl_->statements; }
+
+void DatabaseAccess::read(Database& db, const std::function<void()>& body) {
+  db.impl_->read([&] {
+    body();
+    return 0;
+  });
+}
+
+void DatabaseAccess::write(Database& db, const std::string& what,
+                           const std::function<void()>& body) {
+  db.impl_->write(what, [&] {
+    body();
+    return 0;
+  });
 }
 
 ThinReport Database::thin_points(std::int64_t before_ns, const ThinOptions& options) {

@@ -331,6 +331,16 @@ ALTER TABLE measurement_sets ADD COLUMN thinned_tracker_points INTEGER NOT NULL 
 CREATE INDEX measurement_sets_by_time ON measurement_sets (time_ns, request_id);
 )sql";
 
+// Version 8: the historian for people (docs/trends.md). A metric's series is read by machine,
+// check kind and time (the results index then holds every row the trend of a metric walks);
+// a trend warning keeps its side (above or below; for a forecast the limit it heads to); the
+// warnings are listed by the time they started.
+constexpr const char* kVersion8 = R"sql(
+CREATE INDEX results_by_machine_kind_time ON results (machine_id, kind, time_ns);
+ALTER TABLE trend_warnings ADD COLUMN side TEXT NOT NULL DEFAULT '';
+CREATE INDEX trend_warnings_by_started ON trend_warnings (started_ns);
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
@@ -340,6 +350,7 @@ const std::vector<Migration> kMigrations = {
     {5, "keep a metric that could not be evaluated, its value NULL", kVersion5},
     {6, "trend warnings", kVersion6},
     {7, "thinned points of old measurement sets", kVersion7},
+    {8, "trend series index and warning sides", kVersion8},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

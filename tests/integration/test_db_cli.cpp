@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
-// `ncqual db check`, `ncqual db recover`, `ncqual count` and the services part of `ncqual status`
-// without DDS: historian files written here with storage::Database, damaged by overwriting a page,
-// and the built `ncqual` binary run on them. Recovery runs the sqlite3 shell (Debian package
-// sqlite3), which the tests also use to find a page of a given table (its dbstat table).
+// `ncqual db check`, `ncqual db recover`, `ncqual count`, the services and warnings of `ncqual
+// status` and `ncqual trend --metric` without DDS: historian files written here with
+// storage::Database, damaged by overwriting a page, and the built `ncqual` binary run on them.
+// Recovery runs the sqlite3 shell (Debian package sqlite3), which the tests also use to find a page
+// of a given table (its dbstat table).
 #include "cli_runner.hpp"
 
 #include "ncqual/storage.hpp"
+#include "ncqual/storage_trend.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -464,6 +467,118 @@ TEST_F(DbCli, StatusShowsServicesHealthSilenceAndConflicts) {
   EXPECT_NE(text.out.find("FAILED"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("silent since"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("90 s"), std::string::npos) << "the solver's oldest sample\n" << text.out;
+}
+
+// `ncqual trend --metric` on the hand-worked example of docs/trends.md (checks on 5 consecutive
+// days of 1.0, 1.2, 1.1, 1.5, 1.7 mm against an upper limit of 2.5 mm): b = 0.17 mm/day, 95 %
+// interval [0.039, 0.301], a = 0.96 mm, s = 0.1304 mm; the line reaches 2.5 mm at day 9.06, the
+// upper prediction bound at day 5.34, the lower at day 33.6. An INVALID check without a value is
+// counted, not used. Then `status` shows a warning the historian stored.
+TEST_F(DbCli, TrendOfAMetricGivesTheHandWorkedFiguresAndStatusShowsItsWarning) {
+  const std::string file = path("trend.db");
+  constexpr std::int64_t kDay = 86'400'000'000'000;
+  const double values[] = {1.0, 1.2, 1.1, 1.5, 1.7};
+  {
+    auto db = storage::Database::open(file);
+    for (int day = 0; day < 5; ++day) {
+      CheckResult r = result(day);
+      r.verdict = Verdict::Pass;
+      r.time_ns = kT0 + day * kDay;
+      r.metrics = {{"center_dy_mm", values[day], "mm", -2.5, 2.5, true}};
+      db.store(r);
+    }
+    CheckResult invalid = result(9);
+    invalid.verdict = Verdict::Invalid;
+    invalid.time_ns = kT0 + 2 * kDay + kDay / 2;
+    invalid.metrics = {{"center_dy_mm", std::nan(""), "mm", -2.5, 2.5, false}};
+    db.store(invalid);
+    storage::TrendWarningRecord w;
+    w.check_kind = CheckKind::MonumentPositioning;
+    w.kind = "forecast";
+    w.side = "above";
+    w.started_ns = kT0 + 4 * kDay;
+    w.expected_crossing_ns = kT0 + 9 * kDay;
+    w.earliest_crossing_ns = kT0 + 5 * kDay;
+    w.text = "center_dy_mm drifts +0.17 mm/day";
+    storage::apply_trend_warnings(db, "m1", "center_dy_mm", {w}, "req-4", kT0 + 4 * kDay);
+  }
+  const std::string plant = write_plant(file);
+  const CliRun json = run_cli({"trend", "--machine", "m1", "--metric", "center_dy_mm", "--json",
+                               "--db", file, "--plant", plant},
+                              Capture::Separate);
+  ASSERT_EQ(json.exit_code, 0) << json.out << json.err;
+  const auto doc = nlohmann::json::parse(json.out);
+  EXPECT_EQ(doc.at("checks"), 6);
+  EXPECT_EQ(doc.at("not_evaluated"), 1);
+  EXPECT_EQ(doc.at("segment_points"), 5);
+  EXPECT_EQ(doc.at("pass_rate").at("pass"), 5);
+  EXPECT_EQ(doc.at("pass_rate").at("invalid"), 1);
+  const auto& ls = doc.at("least_squares");
+  EXPECT_NEAR(ls.at("slope_per_day").get<double>(), 0.17, 1e-12);
+  EXPECT_NEAR(ls.at("intercept").get<double>(), 0.96, 1e-12);
+  EXPECT_NEAR(ls.at("residual_sd").get<double>(), 0.13038, 1e-5);
+  EXPECT_NEAR(ls.at("slope_low").get<double>(), 0.039, 1e-3);
+  EXPECT_NEAR(ls.at("slope_high").get<double>(), 0.301, 1e-3);
+  EXPECT_TRUE(ls.at("trend").get<bool>());
+  EXPECT_EQ(ls.at("heading"), "above");
+  const auto day_of = [&](const nlohmann::json& date) {
+    return static_cast<double>(date.at("time_ns").get<std::int64_t>() - kT0) / kDay;
+  };
+  EXPECT_NEAR(day_of(ls.at("expected")), 9.0588, 1e-3);
+  EXPECT_NEAR(day_of(ls.at("earliest")), 5.34, 5e-3);
+  EXPECT_NEAR(day_of(ls.at("latest")), 33.6, 0.05);
+  EXPECT_EQ(doc.at("theil_sen").at("method"), "theil_sen");
+  // Pairwise slopes 0.2, 0.05, 0.1667, 0.175, -0.1, 0.15, 0.1667, 0.4, 0.3, 0.2: median 0.1708.
+  EXPECT_NEAR(doc.at("theil_sen").at("slope_per_day").get<double>(), (0.1667 + 0.175) / 2, 1e-3);
+  ASSERT_EQ(doc.at("warnings").size(), 1u) << "the forecast is active now (horizon 30 days)";
+  EXPECT_EQ(doc.at("warnings")[0].at("kind"), "forecast");
+  ASSERT_EQ(doc.at("raised").size(), 1u);
+  EXPECT_EQ(doc.at("raised")[0].at("raised_by"), "req-4");
+  EXPECT_EQ(doc.at("points").size(), 6u);
+  EXPECT_TRUE(doc.at("points")[3].at("value").is_null()) << doc.at("points")[3];
+
+  const CliRun csv = run_cli({"trend", "--machine", "m1", "--metric", "center_dy_mm", "--csv",
+                              "--last", "2", "--db", file, "--plant", plant},
+                             Capture::Separate);
+  ASSERT_EQ(csv.exit_code, 0) << csv.err;
+  EXPECT_EQ(
+      csv.out.rfind("time_ns,time_utc,request_id,kind,value,lower,upper,verdict,in_segment,", 0),
+      0u)
+      << csv.out;
+  EXPECT_NE(csv.out.find(",req-4,monument_positioning,1.7,-2.5,2.5,PASS,1,"), std::string::npos)
+      << csv.out;
+  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 3) << "a header and 2 checks";
+
+  const CliRun text = run_cli(
+      {"trend", "--machine", "m1", "--metric", "center_dy_mm", "--db", file, "--plant", plant},
+      Capture::Separate);
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("a trend"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("warnings now:"), std::string::npos) << text.out;
+
+  const CliRun unknown = run_cli(
+      {"trend", "--machine", "m1", "--metric", "centre_dy_mm", "--db", file, "--plant", plant},
+      Capture::Separate);
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("'centre_dy_mm'"), std::string::npos) << unknown.err;
+  EXPECT_NE(unknown.err.find("center_dy_mm"), std::string::npos) << "lists what it has\n"
+                                                                 << unknown.err;
+  EXPECT_EQ(run_cli({"trend", "--machine", "m1", "--json", "--db", file, "--plant", plant},
+                    Capture::Separate)
+                .exit_code,
+            2)
+      << "--json without --metric";
+
+  const CliRun status =
+      run_cli({"status", "--json", "--db", file, "--plant", plant}, Capture::Separate);
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const auto warnings = nlohmann::json::parse(status.out).at("machines")[0].at("warnings");
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].at("metric"), "center_dy_mm");
+  EXPECT_EQ(warnings[0].at("earliest_crossing_ns"), kT0 + 5 * kDay);
+  const CliRun status_text = run_cli({"status", "--db", file, "--plant", plant}, Capture::Separate);
+  EXPECT_NE(status_text.out.find("center_dy_mm FORECAST (above)"), std::string::npos)
+      << status_text.out;
 }
 
 }  // namespace

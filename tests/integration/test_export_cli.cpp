@@ -199,7 +199,7 @@ class DbExport : public ::testing::Test {
          "INSERT INTO trend_warnings VALUES ('m1', 'center_dx_mm', 2, 'forecast', " +
              std::to_string(kJan15 - 3 * kDay) + ", 'req-12', " + std::to_string(kJan15) +
              ", NULL, NULL, " + std::to_string(kJan15 + 40 * kDay) +
-             ", NULL, 'center_dx_mm drifts 0.4 um/day, out of tolerance in 40 days')"},
+             ", NULL, 'center_dx_mm drifts 0.4 um/day, out of tolerance in 40 days', 'above')"},
         Capture::Separate);
     EXPECT_EQ(warning.exit_code, 0) << warning.err;
     return file;

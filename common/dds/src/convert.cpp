@@ -364,4 +364,42 @@ Alarm from_wire(const msg::Alarm& w, std::string& error) {
       w.time_ns()};
 }
 
+msg::TrendWarning to_wire(const TrendWarning& v) {
+  msg::TrendWarning w;
+  w.machine_id(v.machine_id);
+  w.metric_name(v.metric);
+  w.check_kind(wire_kind(v.check_kind));
+  w.kind(v.kind);
+  w.side(v.side);
+  w.active(v.active);
+  w.started_ns(v.started_ns);
+  w.raised_by(v.raised_by);
+  w.ended_by(v.ended_by);
+  w.expected_crossing_ns(v.expected_crossing_ns.value_or(0));
+  w.earliest_crossing_ns(v.earliest_crossing_ns.value_or(0));
+  w.text(v.text);
+  w.time_ns(v.time_ns);
+  return w;
+}
+TrendWarning from_wire(const msg::TrendWarning& w, std::string& error) {
+  const auto date = [](std::int64_t ns) {
+    return ns == 0 ? std::nullopt : std::optional<std::int64_t>(ns);
+  };
+  TrendWarning v;
+  v.machine_id = w.machine_id();
+  v.metric = w.metric_name();
+  v.check_kind = model_kind(w.check_kind(), "TrendWarning.check_kind", error);
+  v.kind = w.kind();
+  v.side = w.side();
+  v.active = w.active();
+  v.started_ns = w.started_ns();
+  v.raised_by = w.raised_by();
+  v.ended_by = w.ended_by();
+  v.expected_crossing_ns = date(w.expected_crossing_ns());
+  v.earliest_crossing_ns = date(w.earliest_crossing_ns());
+  v.text = w.text();
+  v.time_ns = w.time_ns();
+  return v;
+}
+
 }  // namespace ncqual::dds

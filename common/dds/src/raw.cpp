@@ -66,7 +66,7 @@ const std::vector<TopicInfo>& ncqual_topics() {
       info_of<CheckRequestTopic>(),  info_of<MeasurementSetTopic>(),  info_of<CheckResultTopic>(),
       info_of<MachineStatusTopic>(), info_of<CompensationTopic>(),    info_of<CheckCommandTopic>(),
       info_of<InterventionTopic>(),  info_of<AcknowledgementTopic>(), info_of<AlarmTopic>(),
-      info_of<HeartbeatTopic>(),
+      info_of<HeartbeatTopic>(),     info_of<TrendWarningTopic>(),
   };
   return topics;
 }

@@ -74,6 +74,13 @@ bool intervention_matches(CheckKind named, CheckKind held);
 bool is_tracker_check(CheckKind kind);  // instrument LaserTracker
 bool is_fixture_check(CheckKind kind);  // instrument FixtureProbe
 
+// Whether a compensation issued by a check of `issued_by` restarts the trend series of the
+// metrics of `series` (docs/trends.md, "The series and its segment"): a tracker check's
+// (volumetric) compensation moves the machine everywhere and restarts every series; any other
+// the series of its own kind and of the kinds it is verified by or satisfies (a fixture's zero
+// offsets restart the fixture checks' series, not the monument's).
+bool compensation_restarts(CheckKind issued_by, CheckKind series);
+
 // True when some kind's check reads tolerance key `key`.
 bool is_tolerance_key(std::string_view key);
 

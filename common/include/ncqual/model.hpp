@@ -258,6 +258,24 @@ struct Alarm {
   std::int64_t time_ns = 0;
 };
 
+// A trend warning's change (idl/ncqual.idl; docs/trends.md, "Warnings"): raised, updated or
+// ended by the historian.
+struct TrendWarning {
+  std::string machine_id;
+  std::string metric;
+  CheckKind check_kind = CheckKind::MonumentPositioning;
+  std::string kind;  // trend::to_string(WarningKind)
+  std::string side;  // "above", "below"
+  bool active = true;
+  std::int64_t started_ns = 0;
+  std::string raised_by;
+  std::string ended_by;                              // "" while active
+  std::optional<std::int64_t> expected_crossing_ns;  // 0 on the wire
+  std::optional<std::int64_t> earliest_crossing_ns;  // 0 on the wire
+  std::string text;
+  std::int64_t time_ns = 0;
+};
+
 // The id a sample is acknowledged and stored under: its request id; an intervention's id; a
 // status change's machine, time, state and request (the historian's identity of a status).
 std::string sample_id_of(const CheckRequest& v);

@@ -8,7 +8,9 @@
 //     when all its checks are), whether it is due or overdue now, and when it falls due next.
 //     "Now" is the wall clock, or with a simulated clock the time of the machine's newest status
 //     (heartbeats carry wall time). Per machine also the samples the historian kept for
-//     conflicting with stored ones (CONFLICT: n, when there are any). Then the services: the last
+//     conflicting with stored ones (CONFLICT: n, when there are any) and its active trend
+//     warnings (docs/trends.md, "Warnings": the metric, the kind, since when, and for a forecast
+//     the earliest and expected dates it reaches its tolerance). Then the services: the last
 //     heartbeat the historian stored of every service instance, with its state, health (and why,
 //     when not ok), outbox depth and the age of its oldest unacknowledged sample, and how long ago
 //     it was sent (wall clock); one older than 3 heartbeat periods is "silent since" then (or
@@ -17,7 +19,9 @@
 //     need not run.
 //     --json names (stable): {"plant", "now_ns", "machines": [{"machine_id", "state", "detail",
 //       "status_time_ns", "periods": [{"name", "every", "checks": [{"kind", "last_pass_ns"}],
-//       "last_pass_ns", "due", "overdue", "next_due_ns"}], "conflicts"}], "wall_now_ns",
+//       "last_pass_ns", "due", "overdue", "next_due_ns"}], "conflicts", "warnings": [{"metric",
+//       "check_kind", "kind", "side", "started_ns", "raised_by", "raised_ns",
+//       "expected_crossing_ns", "earliest_crossing_ns", "text"}]}], "wall_now_ns",
 //       "heartbeat_period_ms", "services": [{"service", "instance", "machine_id", "state",
 //       "health", "health_detail", "outbox_depth", "oldest_unacknowledged_ns",
 //       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent"}]} (StatusDocument below);
@@ -35,6 +39,7 @@
 #include "ncqual/dds/service.hpp"
 #include "ncqual/json.hpp"
 #include "ncqual/storage.hpp"
+#include "ncqual/storage_trend.hpp"
 
 #include <fmt/format.h>
 
@@ -60,13 +65,27 @@ struct PeriodDocument {
   bool overdue = false;
   std::int64_t next_due_ns = 0;
 };
+// An active trend warning (storage::TrendWarningRecord).
+struct WarningDocument {
+  std::string metric;
+  CheckKind check_kind = CheckKind::MonumentPositioning;
+  std::string kind;
+  std::string side;
+  std::int64_t started_ns = 0;
+  std::string raised_by;
+  std::int64_t raised_ns = 0;
+  std::optional<std::int64_t> expected_crossing_ns;
+  std::optional<std::int64_t> earliest_crossing_ns;
+  std::string text;
+};
 struct MachineDocument {
   std::string machine_id;
   MachineState state = MachineState::Unknown;
   std::string detail;
   std::optional<std::int64_t> status_time_ns;
   std::vector<PeriodDocument> periods;
-  std::int64_t conflicts = 0;  // samples kept beside stored ones for other content
+  std::int64_t conflicts = 0;             // samples kept beside stored ones for other content
+  std::vector<WarningDocument> warnings;  // active trend warnings, newest raised first
 };
 struct ServiceDocument {
   std::string service;
@@ -93,8 +112,11 @@ struct StatusDocument {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckDocument, kind, last_pass_ns)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PeriodDocument, name, every, checks, last_pass_ns, due, overdue,
                                    next_due_ns)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WarningDocument, metric, check_kind, kind, side, started_ns,
+                                   raised_by, raised_ns, expected_crossing_ns, earliest_crossing_ns,
+                                   text)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineDocument, machine_id, state, detail, status_time_ns,
-                                   periods, conflicts)
+                                   periods, conflicts, warnings)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ServiceDocument, service, instance, machine_id, state, health,
                                    health_detail, outbox_depth, oldest_unacknowledged_ns,
                                    oldest_unacknowledged_age_ns, time_ns, age_ns, silent)
@@ -232,6 +254,11 @@ int run(const Options& o) {
       machine.periods.push_back(std::move(p));
     }
     machine.conflicts = static_cast<std::int64_t>(db.conflicts(m.machine_id).size());
+    for (const auto& w : storage::trend_warnings(db, {m.machine_id, {}, true})) {
+      machine.warnings.push_back({w.metric, w.check_kind, w.kind, w.side, w.started_ns, w.raised_by,
+                                  w.raised_ns, w.expected_crossing_ns, w.earliest_crossing_ns,
+                                  w.text});
+    }
     out.now_ns = now;
   }
   // Heartbeats carry wall time, also on a simulated clock.
@@ -265,6 +292,20 @@ int run(const Options& o) {
                  p.overdue ? "OVERDUE"
                  : p.due   ? "due"
                            : "");
+    }
+    if (!machine.warnings.empty()) {
+      fmt::print(
+          "  trend warnings ({}; `ncqual trend --machine {} --metric NAME` for the figures)\n",
+          machine.warnings.size(), machine.machine_id);
+      for (const auto& w : machine.warnings) {
+        std::string dates;
+        if (w.kind == "forecast") {
+          dates = fmt::format("; earliest {}, expected {}", when(w.earliest_crossing_ns),
+                              when(w.expected_crossing_ns));
+        }
+        fmt::print("    {} {} ({}) since {}{}\n      {}\n", w.metric, upper(w.kind), w.side,
+                   calendar.local_text(w.started_ns), dates, w.text);
+      }
     }
     if (machine.conflicts > 0) {
       fmt::print(

@@ -8,19 +8,34 @@
 //     their tolerance over the whole history, the value in each period nearest its tolerance.
 //     A drift shows as a column creeping towards (!).
 //
-// Exit codes: 0, 2 bad usage (and a machine the plant does not configure), 6 no historian
-// database at the path.
+//   ncqual trend --machine M --metric NAME [--since D] [--until D] [--last N] [--json | --csv]
+//                [--plant F] [--db F]
+//     One metric's figures (docs/trends.md): the checks selected (of [--since, --until], the
+//     newest N with --last), and over the segment since the machine's last restart (an
+//     intervention, or a compensation that concerns the metric) the control chart, the Western
+//     Electric signals, EWMA and CUSUM, capability, the least-squares and Theil-Sen forecasts of
+//     the date the tolerance is reached, the pass rate, the warnings active now and those the
+//     historian raised. --json: the whole document (report::MetricTrend, names stable); --csv:
+//     the points with their EWMA and CUSUM (report::points_csv). A metric the machine does not
+//     report is refused with the machine's metrics listed.
+//
+// Exit codes: 0, 2 bad usage (and a machine the plant does not configure, a metric it does not
+// report), 6 no historian database at the path.
 #include "commands.hpp"
 
 #include "ncqual/calendar.hpp"
+#include "ncqual/report/metric_trend.hpp"
 #include "ncqual/storage.hpp"
+#include "ncqual/storage_trend.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <map>
+#include <nlohmann/json.hpp>
 
 namespace ncqual::cli {
 namespace {
@@ -42,11 +57,164 @@ struct Options {
   std::optional<std::string> db;
   std::optional<CheckKind> kind;
   int metrics = 3;
+  // --metric mode
+  std::optional<std::string> metric, since, until;
+  std::optional<int> last;
+  bool json = false, csv = false;
 };
+
+// ---- --metric -----------------------------------------------------------------------------------
+
+// A value of the metric in its unit, with the decimals its band calls for.
+std::string value_text(const report::MetricTrend& t, double value, int extra_decimals = 0) {
+  Metric m{t.metric,
+           value,
+           t.unit,
+           t.lower.value_or(-std::numeric_limits<double>::infinity()),
+           t.upper.value_or(std::numeric_limits<double>::infinity()),
+           true};
+  if (extra_decimals == 0) return format_metric_value(m);
+  return fmt::format("{:.{}f}", value, std::min(metric_decimals(m) + extra_decimals, 9));
+}
+
+std::string optional_ratio(const std::optional<double>& v) {
+  return v ? fmt::format("{:.2f}", *v) : std::string("-");
+}
+
+void print_metric_trend(const report::MetricTrend& t, const Calendar& calendar) {
+  const auto when = [&](std::optional<std::int64_t> ns) {
+    return ns ? calendar.local_text(*ns) : std::string("-");
+  };
+  const auto date = [&](const report::TrendDate& d) {
+    return d.time_ns ? calendar.local_text(*d.time_ns).substr(0, 10) +
+                           (d.status == "date" ? "" : " (" + d.status + ")")
+                     : d.status;
+  };
+  std::string kinds;
+  for (CheckKind k : t.check_kinds)
+    kinds += (kinds.empty() ? "" : ", ") + std::string(to_string(k));
+  fmt::print("{} {} ({}), tolerance {} .. {} {}\n", t.machine_id, t.metric, kinds,
+             t.lower ? value_text(t, *t.lower) : "-inf", t.upper ? value_text(t, *t.upper) : "inf",
+             t.unit);
+  fmt::print("checks {} ({} not evaluated), {} .. {}; pass rate {} of {}", t.checks,
+             t.not_evaluated, when(t.points.front().time_ns), when(t.points.back().time_ns),
+             t.pass_rate.pass, t.pass_rate.pass + t.pass_rate.fail);
+  if (t.pass_rate.rate) {
+    fmt::print(" = {:.1f} % (95 %: {:.1f} to {:.1f} %)", 100 * *t.pass_rate.rate,
+               100 * *t.pass_rate.lower, 100 * *t.pass_rate.upper);
+  }
+  fmt::print("{}\n", t.pass_rate.invalid ? fmt::format(", {} invalid", t.pass_rate.invalid) : "");
+  fmt::print(
+      "segment: {} checks {}, as of {}\n", t.segment_points,
+      t.restart_ns ? "since the restart of " + when(t.restart_ns) : std::string("(no restart)"),
+      when(t.now_ns));
+  if (!t.error.empty()) {
+    fmt::print("no figures: {}\n", t.error);
+    return;
+  }
+  const auto& b = t.baseline;
+  if (b.error.empty()) {
+    fmt::print(
+        "control chart (baseline of {}): centre {}, sigma within {}, overall {}, limits {} "
+        ".. {}\n",
+        b.points, value_text(t, b.mean, 1), value_text(t, b.sigma_within, 1),
+        value_text(t, b.sigma_overall, 1), value_text(t, b.lower_control_limit, 1),
+        value_text(t, b.upper_control_limit, 1));
+  } else {
+    fmt::print("control chart: {}\n", b.error);
+  }
+  const auto& c = t.capability;
+  if (c.error.empty()) {
+    fmt::print("capability ({} checks): Cp {}  Cpk {} (Cpu {}, Cpl {})  Pp {}  Ppk {}\n", c.points,
+               optional_ratio(c.cp), optional_ratio(c.cpk), optional_ratio(c.cpu),
+               optional_ratio(c.cpl), optional_ratio(c.pp), optional_ratio(c.ppk));
+  } else {
+    fmt::print("capability: {}\n", c.error);
+  }
+  for (const report::TrendForecast* f : {&t.least_squares, &t.theil_sen}) {
+    const std::string name = f->method == "least_squares" ? "least squares" : "Theil-Sen";
+    if (!f->error.empty()) {
+      fmt::print("forecast ({}): {}\n", name, f->error);
+      continue;
+    }
+    fmt::print("forecast ({}): {} {}/day (95 %: {} .. {}), {}", name,
+               value_text(t, f->slope_per_day, 2), t.unit, value_text(t, f->slope_low, 2),
+               value_text(t, f->slope_high, 2), f->trend ? "a trend" : "no trend");
+    if (f->trend && f->heading) {
+      fmt::print(", heading {} {}", *f->heading == "above" ? "up to" : "down to",
+                 f->limit ? value_text(t, *f->limit) + " " + t.unit : std::string("no limit"));
+    }
+    fmt::print("\n  expected {}", date(f->expected));
+    if (f->method == "least_squares") {
+      fmt::print(", earliest {}, latest {}", date(f->earliest), date(f->latest));
+    }
+    fmt::print("\n");
+  }
+  if (!t.signals.empty()) {
+    const auto& s = t.signals.back();
+    fmt::print("Western Electric: {} signals in the segment, the newest rule {} {} on {}\n",
+               t.signals.size(), s.rule, s.side, when(s.time_ns));
+  }
+  if (t.warnings.empty()) {
+    fmt::print("warnings now: none\n");
+  } else {
+    fmt::print("warnings now:\n");
+    for (const auto& w : t.warnings) {
+      fmt::print("  {} ({}) since {}: {}\n", w.kind, w.side, when(w.since_ns), w.text);
+    }
+  }
+  if (!t.raised.empty()) {
+    fmt::print("raised by the historian:\n");
+    for (const auto& w : t.raised) {
+      fmt::print("  {} ({}) {} .. {}{}\n", w.kind, w.side, when(w.started_ns),
+                 w.ended_ns ? when(w.ended_ns) : std::string("active"),
+                 w.ended_by ? " (ended by " + *w.ended_by + ")" : "");
+    }
+  }
+}
+
+int run_metric(const Options& o, const PlantConfig& plant, const std::string& machine) {
+  if (o.json && o.csv) throw UsageError("--json and --csv: choose one");
+  report::MetricTrendQuery query{machine, *o.metric};
+  if (o.since) query.since_ns = utc_time_option("--since", *o.since);
+  if (o.until) query.until_ns = utc_time_option("--until", *o.until);
+  query.last = o.last;
+  const std::string db_path = o.db.value_or(plant.historian_database);
+  auto opened = open_historian(db_path, "trend");
+  if (!opened) return kExitNotFound;
+  storage::Database& db = *opened;
+  const std::vector<storage::MetricInfo> known = storage::machine_metrics(db, machine);
+  if (std::none_of(known.begin(), known.end(),
+                   [&](const auto& m) { return m.name == *o.metric; })) {
+    std::string list;
+    for (const auto& m : known) {
+      if (list.find(" " + m.name + ",") == std::string::npos) list += " " + m.name + ",";
+    }
+    if (!list.empty()) list.pop_back();
+    throw UsageError("--metric '" + *o.metric + "': no stored result of " + machine +
+                     " reports it" +
+                     (list.empty() ? " (it has no results yet)" : "; it has" + list));
+  }
+  const report::MetricTrend t = report::metric_trend(db, query);
+  if (o.json) {
+    std::cout << nlohmann::json(t).dump(2) << "\n";
+  } else if (o.csv) {
+    std::cout << report::points_csv(t);
+  } else if (t.checks == 0) {
+    fmt::print("no check of {} reports {} in the range asked\n", machine, *o.metric);
+  } else {
+    print_metric_trend(t, Calendar(plant.calendar.value_or(default_calendar_config())));
+  }
+  return kExitOk;
+}
 
 int run(const Options& o) {
   const PlantConfig plant = plant_from(o.plant);
   const std::string machine = configured_machine(plant, o.machine).machine_id;
+  if (o.metric) return run_metric(o, plant, machine);
+  if (o.since || o.until || o.last || o.json || o.csv) {
+    throw UsageError("--since, --until, --last, --json and --csv go with --metric NAME");
+  }
   const std::optional<CheckKind>& only = o.kind;
   const std::string& every = o.every;
   PeriodConfig bucket_period;
@@ -133,6 +301,18 @@ void add_trend(CLI::App& app, Commands& commands) {
       ->type_name("N")
       ->capture_default_str()
       ->check(CLI::Range(0, 20).description(""));
+  cmd->add_option("--metric", o->metric,
+                  "one metric's SPC, forecast and warnings (docs/trends.md) instead of the table")
+      ->type_name("NAME");
+  cmd->add_option("--since", o->since, "with --metric: checks at or after this UTC date or time")
+      ->type_name("DATE");
+  cmd->add_option("--until", o->until, "with --metric: checks at or before this UTC date or time")
+      ->type_name("DATE");
+  cmd->add_option("--last", o->last, "with --metric: only the newest N checks of the range")
+      ->type_name("N")
+      ->check(CLI::Range(1, 1'000'000).description(""));
+  cmd->add_flag("--csv", o->csv, "with --metric: the points as CSV");
+  add_json_flag(cmd, o->json);
   add_historian_options(cmd, o->plant, o->db);
 }
 

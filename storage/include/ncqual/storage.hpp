@@ -174,6 +174,8 @@ struct ConnectionInfo {
 // One connection to the historian file. Movable, not copyable; a moved-from Database may only be
 // destroyed or assigned to. Not safe to use from two threads at once: open one per thread (any
 // number of connections, in any number of processes, may share the file).
+struct DatabaseAccess;
+
 class Database {
  public:
   // Opens read-write, creating the file and its parent directories if missing, and brings the
@@ -259,6 +261,7 @@ class Database {
 
  private:
   struct Impl;
+  friend struct DatabaseAccess;  // the library's other query files (storage/src/access.hpp)
   explicit Database(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

@@ -22,6 +22,7 @@ msg::Compensation to_wire(const Compensation& v);
 msg::Heartbeat to_wire(const Heartbeat& v);
 msg::Acknowledgement to_wire(const Acknowledgement& v);
 msg::Alarm to_wire(const Alarm& v);
+msg::TrendWarning to_wire(const TrendWarning& v);
 
 // Each returns the model; `error` is set (and the model holds what could be read, at least
 // machine_id and the request id) when the sample is malformed.
@@ -35,5 +36,6 @@ Compensation from_wire(const msg::Compensation& w, std::string& error);
 Heartbeat from_wire(const msg::Heartbeat& w, std::string& error);
 Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error);
 Alarm from_wire(const msg::Alarm& w, std::string& error);
+TrendWarning from_wire(const msg::TrendWarning& w, std::string& error);
 
 }  // namespace ncqual::dds

@@ -49,6 +49,10 @@ NCQUAL_TOPIC(AcknowledgementTopic, "ncqual/Acknowledgement", Acknowledgement, pr
 // late sees what was raised before it.
 NCQUAL_TOPIC(AlarmTopic, "ncqual/Alarm", Alarm, profiles::kAlarmWriter, profiles::kAlarmReader,
              false);
+// Trend warnings: raised, updated and ended by the historian; durable like the alarms, with
+// their QoS.
+NCQUAL_TOPIC(TrendWarningTopic, "ncqual/TrendWarning", TrendWarning, profiles::kAlarmWriter,
+             profiles::kAlarmReader, false);
 NCQUAL_TOPIC(HeartbeatTopic, "ncqual/Heartbeat", Heartbeat, profiles::kHeartbeatWriter,
              profiles::kHeartbeatReader, false);
 

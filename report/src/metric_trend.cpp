@@ -1,0 +1,262 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "ncqual/report/metric_trend.hpp"
+
+#include "ncqual/report/warnings.hpp"
+
+#include "ncqual/clock.hpp"
+#include "ncqual/json.hpp"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <set>
+
+namespace ncqual::report {
+namespace {
+
+std::optional<double> finite(double v) {
+  return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+}
+
+TrendDate date_of(const trend::LimitDate& d) {
+  return {std::string(trend::to_string(d.status)), d.time_ns};
+}
+
+std::string side_name(trend::Side side) { return std::string(trend::to_string(side)); }
+
+TrendForecast least_squares_of(const trend::LinearForecast& f) {
+  TrendForecast out;
+  out.method = "least_squares";
+  out.error = f.error;
+  out.points = f.points;
+  if (!f.ok()) return out;
+  out.reference_ns = f.reference_ns;
+  out.intercept = f.intercept;
+  out.slope_per_day = f.slope;
+  out.slope_low = f.slope_low;
+  out.slope_high = f.slope_high;
+  out.trend = f.trend;
+  if (f.heading) out.heading = side_name(*f.heading);
+  out.limit = f.limit;
+  out.residual_sd = f.residual_sd;
+  out.expected = date_of(f.expected);
+  out.earliest = date_of(f.earliest);
+  out.latest = date_of(f.latest);
+  return out;
+}
+
+TrendForecast theil_sen_of(const trend::TheilSen& f) {
+  TrendForecast out;
+  out.method = "theil_sen";
+  out.error = f.error;
+  out.points = f.points;
+  if (!f.ok()) return out;
+  out.reference_ns = f.reference_ns;
+  out.intercept = f.intercept;
+  out.slope_per_day = f.slope;
+  out.slope_low = f.slope_low;
+  out.slope_high = f.slope_high;
+  out.trend = f.trend;
+  if (f.heading) out.heading = side_name(*f.heading);
+  out.limit = f.limit;
+  out.expected = date_of(f.expected);
+  return out;
+}
+
+std::string real_text(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  std::array<char, 32> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
+  std::string text(buffer.data(), error == std::errc() ? end : buffer.data());
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  return text;
+}
+
+std::string optional_text(const std::optional<double>& v) { return v ? real_text(*v) : ""; }
+
+// A text field of RFC 4180: quoted (its quotes doubled) when it holds a comma, a quote or a line
+// break.
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendPoint, request_id, kind, time_ns, value, lower, upper,
+                                   verdict, in_segment, ewma, ewma_lower, ewma_upper, cusum_upper,
+                                   cusum_lower)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendDate, status, time_ns)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendBaseline, error, points, mean, sigma_within, sigma_overall,
+                                   lower_control_limit, upper_control_limit)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendSignal, rule, time_ns, side)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendCapability, error, points, cp, cpk, cpu, cpl, pp, ppk, ppu,
+                                   ppl)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendForecast, method, error, points, reference_ns, intercept,
+                                   slope_per_day, slope_low, slope_high, trend, heading, limit,
+                                   residual_sd, expected, earliest, latest)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendPassRate, pass, fail, invalid, rate, lower, upper)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendWarningNow, kind, side, since_ns, expected_ns, earliest_ns,
+                                   text)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StoredTrendWarning, kind, side, started_ns, raised_by, raised_ns,
+                                   ended_by, ended_ns, expected_crossing_ns, earliest_crossing_ns,
+                                   text)
+
+void to_json(nlohmann::json& j, const MetricTrend& v) {
+  j = nlohmann::json{{"machine_id", v.machine_id},
+                     {"metric", v.metric},
+                     {"unit", v.unit},
+                     {"check_kinds", v.check_kinds},
+                     {"lower", v.lower},
+                     {"upper", v.upper},
+                     {"since_ns", v.since_ns},
+                     {"until_ns", v.until_ns},
+                     {"last", v.last},
+                     {"now_ns", v.now_ns},
+                     {"restart_ns", v.restart_ns},
+                     {"checks", v.checks},
+                     {"not_evaluated", v.not_evaluated},
+                     {"segment_points", v.segment_points},
+                     {"baseline", v.baseline},
+                     {"signals", v.signals},
+                     {"capability", v.capability},
+                     {"least_squares", v.least_squares},
+                     {"theil_sen", v.theil_sen},
+                     {"pass_rate", v.pass_rate},
+                     {"warnings", v.warnings},
+                     {"raised", v.raised},
+                     {"points", v.points},
+                     {"error", v.error}};
+}
+
+MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
+                         const trend::AssessOptions& options) {
+  MetricTrend out;
+  out.machine_id = query.machine_id;
+  out.metric = query.metric;
+  out.since_ns = query.since_ns;
+  out.until_ns = query.until_ns;
+  out.last = query.last;
+  storage::MetricQuery q{query.machine_id, query.metric};
+  if (query.since_ns) q.since_ns = *query.since_ns;
+  if (query.until_ns) q.until_ns = *query.until_ns;
+  if (query.last) q.last = *query.last;
+  const std::vector<storage::MetricValue> series = storage::metric_series(db, q);
+  for (const auto& w : storage::trend_warnings(db, {query.machine_id, query.metric})) {
+    out.raised.push_back({w.kind, w.side, w.started_ns, w.raised_by, w.raised_ns, w.ended_by,
+                          w.ended_ns, w.expected_crossing_ns, w.earliest_crossing_ns, w.text});
+  }
+  out.checks = series.size();
+  if (series.empty()) return out;
+
+  std::set<CheckKind> kinds;
+  trend::VerdictCounts verdicts;
+  std::vector<trend::Point> points;
+  for (const auto& v : series) {
+    kinds.insert(v.kind);
+    (v.verdict == Verdict::Pass   ? verdicts.pass
+     : v.verdict == Verdict::Fail ? verdicts.fail
+                                  : verdicts.invalid)++;
+    if (!std::isfinite(v.value)) ++out.not_evaluated;
+    points.push_back({v.time_ns, v.value});
+  }
+  out.check_kinds.assign(kinds.begin(), kinds.end());
+  const storage::MetricValue& newest = series.back();
+  out.unit = newest.unit;
+  out.lower = finite(newest.lower);
+  out.upper = finite(newest.upper);
+  const trend::PassRate rate = trend::pass_rate(verdicts);
+  out.pass_rate = {verdicts.pass, verdicts.fail, verdicts.invalid,
+                   rate.rate,     rate.lower,    rate.upper};
+
+  // As the historian assesses: as of the newest check, or of the latest restart after it.
+  const std::vector<std::int64_t> restarts =
+      storage::restart_times(db, query.machine_id, newest.kind);
+  std::int64_t now = newest.time_ns;
+  for (std::int64_t r : restarts) {
+    if (r > now && (!query.until_ns || r <= *query.until_ns)) now = r;
+  }
+  out.now_ns = now;
+  const trend::Assessment a =
+      trend::assess(points, trend::Band{newest.lower, newest.upper}, restarts, now, options);
+  out.restart_ns = trend::last_restart(restarts, now);
+  for (const auto& v : series) {
+    TrendPoint p;
+    p.request_id = v.request_id;
+    p.kind = v.kind;
+    p.time_ns = v.time_ns;
+    p.value = finite(v.value);
+    p.lower = finite(v.lower);
+    p.upper = finite(v.upper);
+    p.verdict = v.verdict;
+    p.in_segment = (!out.restart_ns || v.time_ns > *out.restart_ns) && v.time_ns <= now;
+    out.points.push_back(std::move(p));
+  }
+  if (!a.ok()) {
+    out.error = a.error;
+    return out;
+  }
+  out.segment_points = a.segment.points.size();
+  const trend::Baseline& b = a.baseline;
+  out.baseline = {b.error,
+                  b.points,
+                  b.mean,
+                  b.sigma_within,
+                  b.sigma_overall,
+                  b.lower_control_limit,
+                  b.upper_control_limit};
+  for (const auto& s : a.rules) {
+    out.signals.push_back({s.rule, a.segment.points.at(s.index).time_ns, side_name(s.side)});
+  }
+  const trend::Capability& c = a.capability;
+  out.capability = {c.error, c.points, c.cp, c.cpk, c.cpu, c.cpl, c.pp, c.ppk, c.ppu, c.ppl};
+  out.least_squares = least_squares_of(a.forecast);
+  out.theil_sen = theil_sen_of(a.theil_sen);
+  const trend::Band band{newest.lower, newest.upper};
+  for (const auto& w : a.warnings) {
+    out.warnings.push_back({std::string(trend::to_string(w.kind)), side_name(w.side), w.since_ns,
+                            w.expected_ns, w.earliest_ns,
+                            warning_text(w, a, query.metric, newest.unit, band)});
+  }
+  // The segment's charts, point by point: the segment is the finite in-segment points in order.
+  std::size_t k = 0;
+  for (TrendPoint& p : out.points) {
+    if (!p.in_segment || !p.value) continue;
+    if (k < a.ewma.z.size() && a.ewma.error.empty()) {
+      p.ewma = a.ewma.z[k];
+      p.ewma_lower = a.ewma.lower_limit.at(k);
+      p.ewma_upper = a.ewma.upper_limit.at(k);
+    }
+    if (k < a.cusum.upper.size() && a.cusum.error.empty()) {
+      p.cusum_upper = a.cusum.upper[k];
+      p.cusum_lower = a.cusum.lower.at(k);
+    }
+    ++k;
+  }
+  return out;
+}
+
+std::string points_csv(const MetricTrend& t) {
+  std::string out =
+      "time_ns,time_utc,request_id,kind,value,lower,upper,verdict,in_segment,ewma,ewma_lower,"
+      "ewma_upper,cusum_upper,cusum_lower\r\n";
+  for (const TrendPoint& p : t.points) {
+    char buffer[32];
+    out += std::to_string(p.time_ns) + "," + std::string(format_iso8601(p.time_ns, buffer)) + "," +
+           csv_field(p.request_id) + "," + std::string(to_string(p.kind)) + "," +
+           optional_text(p.value) + "," + (p.lower ? real_text(*p.lower) : "-inf") + "," +
+           (p.upper ? real_text(*p.upper) : "inf") + "," + std::string(to_string(p.verdict)) + "," +
+           (p.in_segment ? "1" : "0") + "," + optional_text(p.ewma) + "," +
+           optional_text(p.ewma_lower) + "," + optional_text(p.ewma_upper) + "," +
+           optional_text(p.cusum_upper) + "," + optional_text(p.cusum_lower) + "\r\n";
+  }
+  return out;
+}
+
+}  // namespace ncqual::report
