@@ -3,13 +3,12 @@
 
 #include "ncqual/report/warnings.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/csv_fields.hpp"
 #include "ncqual/json.hpp"
 
 #include <algorithm>
-#include <array>
-#include <charconv>
 #include <cmath>
+#include <limits>
 #include <set>
 
 namespace ncqual::report {
@@ -25,9 +24,11 @@ TrendDate date_of(const trend::LimitDate& d) {
 
 std::string side_name(trend::Side side) { return std::string(trend::to_string(side)); }
 
-TrendForecast least_squares_of(const trend::LinearForecast& f) {
+// What both lines give (trend::LinearForecast and trend::TheilSen name them alike).
+template <typename Line>
+TrendForecast line_of(const char* method, const Line& f) {
   TrendForecast out;
-  out.method = "least_squares";
+  out.method = method;
   out.error = f.error;
   out.points = f.points;
   if (!f.ok()) return out;
@@ -39,52 +40,17 @@ TrendForecast least_squares_of(const trend::LinearForecast& f) {
   out.trend = f.trend;
   if (f.heading) out.heading = side_name(*f.heading);
   out.limit = f.limit;
-  out.residual_sd = f.residual_sd;
   out.expected = date_of(f.expected);
+  return out;
+}
+
+TrendForecast least_squares_of(const trend::LinearForecast& f) {
+  TrendForecast out = line_of("least_squares", f);
+  if (!f.ok()) return out;
+  out.residual_sd = f.residual_sd;
   out.earliest = date_of(f.earliest);
   out.latest = date_of(f.latest);
   return out;
-}
-
-TrendForecast theil_sen_of(const trend::TheilSen& f) {
-  TrendForecast out;
-  out.method = "theil_sen";
-  out.error = f.error;
-  out.points = f.points;
-  if (!f.ok()) return out;
-  out.reference_ns = f.reference_ns;
-  out.intercept = f.intercept;
-  out.slope_per_day = f.slope;
-  out.slope_low = f.slope_low;
-  out.slope_high = f.slope_high;
-  out.trend = f.trend;
-  if (f.heading) out.heading = side_name(*f.heading);
-  out.limit = f.limit;
-  out.expected = date_of(f.expected);
-  return out;
-}
-
-std::string real_text(double v) {
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  std::array<char, 32> buffer{};
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
-  std::string text(buffer.data(), error == std::errc() ? end : buffer.data());
-  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
-  return text;
-}
-
-std::string optional_text(const std::optional<double>& v) { return v ? real_text(*v) : ""; }
-
-// A text field of RFC 4180: quoted (its quotes doubled) when it holds a comma, a quote or a line
-// break.
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  return out + "\"";
 }
 
 }  // namespace
@@ -178,10 +144,8 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
   // As the historian assesses: as of the newest check, or of the latest restart after it.
   const std::vector<std::int64_t> restarts =
       storage::restart_times(db, query.machine_id, newest.kind);
-  std::int64_t now = newest.time_ns;
-  for (std::int64_t r : restarts) {
-    if (r > now && (!query.until_ns || r <= *query.until_ns)) now = r;
-  }
+  const std::int64_t now = trend::assessed_as_of(
+      newest.time_ns, restarts, query.until_ns.value_or(std::numeric_limits<std::int64_t>::max()));
   out.now_ns = now;
   const trend::Assessment a =
       trend::assess(points, trend::Band{newest.lower, newest.upper}, restarts, now, options);
@@ -217,7 +181,7 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
   const trend::Capability& c = a.capability;
   out.capability = {c.error, c.points, c.cp, c.cpk, c.cpu, c.cpl, c.pp, c.ppk, c.ppu, c.ppl};
   out.least_squares = least_squares_of(a.forecast);
-  out.theil_sen = theil_sen_of(a.theil_sen);
+  out.theil_sen = line_of("theil_sen", a.theil_sen);
   const trend::Band band{newest.lower, newest.upper};
   for (const auto& w : a.warnings) {
     out.warnings.push_back({std::string(trend::to_string(w.kind)), side_name(w.side), w.since_ns,
@@ -243,18 +207,37 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
 }
 
 std::string points_csv(const MetricTrend& t) {
+  using namespace storage::csv;
+  const auto real_or = [](std::string& out, const std::optional<double>& v, double none) {
+    if (v || std::isfinite(none)) append_real(out, v.value_or(none));
+  };
   std::string out =
       "time_ns,time_utc,request_id,kind,value,lower,upper,verdict,in_segment,ewma,ewma_lower,"
       "ewma_upper,cusum_upper,cusum_lower\r\n";
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
   for (const TrendPoint& p : t.points) {
-    char buffer[32];
-    out += std::to_string(p.time_ns) + "," + std::string(format_iso8601(p.time_ns, buffer)) + "," +
-           csv_field(p.request_id) + "," + std::string(to_string(p.kind)) + "," +
-           optional_text(p.value) + "," + (p.lower ? real_text(*p.lower) : "-inf") + "," +
-           (p.upper ? real_text(*p.upper) : "inf") + "," + std::string(to_string(p.verdict)) + "," +
-           (p.in_segment ? "1" : "0") + "," + optional_text(p.ewma) + "," +
-           optional_text(p.ewma_lower) + "," + optional_text(p.ewma_upper) + "," +
-           optional_text(p.cusum_upper) + "," + optional_text(p.cusum_lower) + "\r\n";
+    append_int(out, p.time_ns);
+    out += ',';
+    append_utc(out, p.time_ns);
+    out += ',';
+    append_text(out, p.request_id);
+    out += ',';
+    append_text(out, to_string(p.kind));
+    out += ',';
+    real_or(out, p.value, nan);
+    out += ',';
+    real_or(out, p.lower, -inf);
+    out += ',';
+    real_or(out, p.upper, inf);
+    out += ',';
+    append_text(out, to_string(p.verdict));
+    out += p.in_segment ? ",1" : ",0";
+    for (const auto* v : {&p.ewma, &p.ewma_lower, &p.ewma_upper, &p.cusum_upper, &p.cusum_lower}) {
+      out += ',';
+      real_or(out, *v, nan);
+    }
+    out += "\r\n";
   }
   return out;
 }

@@ -26,11 +26,8 @@ void TrendWatch::assess_metric(storage::Database& db, const std::string& machine
   for (const auto& v : series) points.push_back({v.time_ns, v.value});
   const storage::MetricValue& newest = series.back();
   const trend::Band band{newest.lower, newest.upper};
-  // As of the newest value, or of the latest restart when that came after it (a result from
-  // before an intervention that arrives after it must not warn of the ended segment).
   const std::vector<std::int64_t> restarts = storage::restart_times(db, machine_id, newest.kind);
-  const std::int64_t now =
-      restarts.empty() ? newest.time_ns : std::max(newest.time_ns, restarts.back());
+  const std::int64_t now = trend::assessed_as_of(newest.time_ns, restarts);
   const trend::Assessment a = trend::assess(points, band, restarts, now, options_);
   if (!a.ok()) return;  // a band the statistics cannot use: nothing to warn of
   const storage::TrendWarningChanges changes = storage::apply_trend_warnings(

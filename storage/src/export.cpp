@@ -2,6 +2,8 @@
 // export_csv: one CSV file per table from one read transaction (ncqual/storage_export.hpp).
 #include "ncqual/storage_export.hpp"
 
+#include "ncqual/csv_fields.hpp"
+
 #include "open.hpp"
 #include "schema.hpp"
 #include "sqlite.hpp"
@@ -26,6 +28,11 @@
 
 namespace ncqual::storage {
 namespace {
+
+using csv::append_int;
+using csv::append_real;
+using csv::append_text;
+using csv::append_utc;
 
 // One exported table: which rows, in which order. `from` names the table as `t` and, for the
 // parts of a sample, joins its sample as `p`; `first`/`last` are the row's time (the same column
@@ -111,55 +118,6 @@ struct Column {
   Extra extra = Extra::None;
   bool zero_is_none = false;
 };
-
-// "2027-01-15T08:00:01.000000123Z": every digit of the stored ns, UTC.
-void append_utc(std::string& out, std::int64_t ns) {
-  std::int64_t seconds = ns / 1'000'000'000;
-  std::int64_t fraction = ns % 1'000'000'000;
-  if (fraction < 0) {
-    fraction += 1'000'000'000;
-    seconds -= 1;
-  }
-  const auto t = static_cast<std::time_t>(seconds);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  std::array<char, 48> buffer{};
-  const int n = std::snprintf(buffer.data(), buffer.size(), "%04d-%02d-%02dT%02d:%02d:%02d.%09lldZ",
-                              tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday, tm.tm_hour, tm.tm_min,
-                              tm.tm_sec, static_cast<long long>(fraction));
-  if (n > 0) out.append(buffer.data(), static_cast<std::size_t>(n));
-}
-
-void append_int(std::string& out, std::int64_t value) {
-  std::array<char, 24> buffer{};
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  out.append(buffer.data(), end);
-}
-
-// The shortest text that reads back to the same double; "1200.0" rather than "1200", so a reader
-// guessing types sees a real; "inf", "-inf" for the infinite bounds of one-sided bands.
-void append_real(std::string& out, double value) {
-  std::array<char, 32> buffer{};
-  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
-  const std::string_view text(buffer.data(), static_cast<std::size_t>(end - buffer.data()));
-  out += text;
-  if (text.find_first_not_of("-0123456789") == std::string_view::npos) out += ".0";
-}
-
-// RFC 4180: quoted when it holds a separator, a quote or a line break; an empty text is quoted
-// too, so that it differs from NULL (an empty field).
-void append_text(std::string& out, std::string_view text) {
-  if (!text.empty() && text.find_first_of(",\"\r\n") == std::string_view::npos) {
-    out += text;
-    return;
-  }
-  out += '"';
-  for (const char c : text) {
-    if (c == '"') out += '"';
-    out += c;
-  }
-  out += '"';
-}
 
 void append_hex(std::string& out, const unsigned char* data, int size) {
   constexpr std::string_view kDigits = "0123456789abcdef";

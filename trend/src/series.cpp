@@ -103,4 +103,10 @@ std::vector<double> values_of(const std::vector<Point>& points) {
   return values;
 }
 
+std::int64_t assessed_as_of(std::int64_t newest_ns, const std::vector<std::int64_t>& restart_times,
+                            std::int64_t up_to_ns) {
+  const std::optional<std::int64_t> restart = last_restart(restart_times, up_to_ns);
+  return restart && *restart > newest_ns ? *restart : newest_ns;
+}
+
 }  // namespace ncqual::trend

@@ -183,19 +183,23 @@ int run_metric(const Options& o, const PlantConfig& plant, const std::string& ma
   auto opened = open_historian(db_path, "trend");
   if (!opened) return kExitNotFound;
   storage::Database& db = *opened;
-  const std::vector<storage::MetricInfo> known = storage::machine_metrics(db, machine);
-  if (std::none_of(known.begin(), known.end(),
-                   [&](const auto& m) { return m.name == *o.metric; })) {
-    std::string list;
-    for (const auto& m : known) {
-      if (list.find(" " + m.name + ",") == std::string::npos) list += " " + m.name + ",";
-    }
-    if (!list.empty()) list.pop_back();
-    throw UsageError("--metric '" + *o.metric + "': no stored result of " + machine +
-                     " reports it" +
-                     (list.empty() ? " (it has no results yet)" : "; it has" + list));
-  }
   const report::MetricTrend t = report::metric_trend(db, query);
+  // Nothing selected: a metric the machine never reported is a usage error, named with the
+  // metrics it has (looked up only then: machine_metrics counts every metric's checks).
+  if (t.checks == 0) {
+    const std::vector<storage::MetricInfo> known = storage::machine_metrics(db, machine);
+    if (std::none_of(known.begin(), known.end(),
+                     [&](const auto& m) { return m.name == *o.metric; })) {
+      std::string list;
+      for (const auto& m : known) {
+        if (list.find(" " + m.name + ",") == std::string::npos) list += " " + m.name + ",";
+      }
+      if (!list.empty()) list.pop_back();
+      throw UsageError("--metric '" + *o.metric + "': no stored result of " + machine +
+                       " reports it" +
+                       (list.empty() ? " (it has no results yet)" : "; it has" + list));
+    }
+  }
   if (o.json) {
     std::cout << nlohmann::json(t).dump(2) << "\n";
   } else if (o.csv) {

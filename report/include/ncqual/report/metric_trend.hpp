@@ -134,9 +134,10 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
 
 void to_json(nlohmann::json& j, const MetricTrend& v);
 
-// The points as CSV (RFC 4180, CRLF; docs/trends.md): time_ns, time_utc, request_id, kind,
-// value, lower, upper, verdict, in_segment, ewma, ewma_lower, ewma_upper, cusum_upper,
-// cusum_lower; reals to the shortest round-trip digits, null an empty field.
+// The points as CSV, written like `ncqual export`'s files (storage/csv_fields.hpp: RFC 4180,
+// CRLF, reals to the shortest round-trip digits, time_utc to the nanosecond, null an empty
+// field): time_ns, time_utc, request_id, kind, value, lower, upper, verdict, in_segment, ewma,
+// ewma_lower, ewma_upper, cusum_upper, cusum_lower.
 std::string points_csv(const MetricTrend& trend);
 
 }  // namespace ncqual::report

@@ -66,6 +66,11 @@ Series last_n(const std::vector<Point>& points, std::size_t n);
 // when there is none.
 std::optional<std::int64_t> last_restart(const std::vector<std::int64_t>& restart_times,
                                          std::int64_t up_to_ns);
+// The time a series is assessed at: its newest point, or the latest restart after it (at or
+// before up_to_ns) when there is one, so that a check from before an intervention that arrives
+// after it is not judged in the segment the intervention ended.
+std::int64_t assessed_as_of(std::int64_t newest_ns, const std::vector<std::int64_t>& restart_times,
+                            std::int64_t up_to_ns = std::numeric_limits<std::int64_t>::max());
 // The segment the statistics describe: the finite points strictly after the latest restart time
 // (every point when restart_times is empty). A check stamped at the very nanosecond of an
 // intervention belongs to the series before it: the intervention is recorded when it is done,
