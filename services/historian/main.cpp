@@ -13,6 +13,7 @@
 // start (PRAGMA quick_check). Conflicts and storage faults are also published as Alarms
 // (ncqual/Alarm: raised, and cleared when the storage is well again).
 #include "ingest.hpp"
+#include "watch_worker.hpp"
 
 #include "ncqual/clock.hpp"
 #include "ncqual/command_line.hpp"
@@ -49,13 +50,17 @@ AckOutcome ack_outcome(StoreOutcome outcome) {
 // Raises an alarm (machine id, alarm id, text).
 using Raise = std::function<void(const std::string&, const std::string&, const std::string&)>;
 
+// What follows a sample newly stored (the trend watch); not called for a duplicate or conflict.
+template <typename Model>
+using AfterStore = std::function<void(const Model&)>;
+
 // Stores one received sample and acknowledges it; a conflict is also raised as an alarm. A bad
 // sample is logged with its reason and refused; a database failure is rethrown for the ingest to
 // keep the sample (not acknowledged).
 template <typename Topic>
 void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const Raise& raise,
-           const char* what, const ncqual::dds::Received<typename Topic::Model>& in,
-           std::int64_t now_ns) {
+           const AfterStore<typename Topic::Model>& after, const char* what,
+           const ncqual::dds::Received<typename Topic::Model>& in, std::int64_t now_ns) {
   const std::string& machine_id = in.value.machine_id;
   const std::string id = ncqual::sample_id_of(in.value);
   if (!in.error.empty()) {
@@ -99,6 +104,7 @@ void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const
                           stored.outcome == StoreOutcome::Conflict
                               ? "stored first with content " + stored.stored_hash
                               : "");
+  if (stored.outcome == StoreOutcome::Stored && after) after(in.value);
 }
 
 std::string rescue_name(const std::string& path, std::int64_t now_ns) {
@@ -183,25 +189,52 @@ int run(int argc, char** argv) {
     });
     const auto steady_now = [] { return std::chrono::steady_clock::now(); };
 
+    // The trend watch (docs/trends.md, "Warnings"): after a result, an intervention or a
+    // compensation is stored and acknowledged, the warnings it starts or ends are stored and
+    // published, on the watch's own thread and connection (watch_worker.hpp).
+    ncqual::dds::Writer<ncqual::dds::TrendWarningTopic> trend_warnings(p);
+    historian::WatchWorker watch(db.open_another(), [&](const std::vector<TrendWarning>& changes) {
+      for (const TrendWarning& w : changes) {
+        if (w.active) {
+          spdlog::warn("trend warning raised: {}", w.text);
+        } else {
+          spdlog::info("trend warning of {} {} ({}) ended by {}", w.machine_id, w.metric, w.kind,
+                       w.ended_by);
+        }
+        if (!trend_warnings.write(w)) {
+          spdlog::error("trend warning of {} {} could not be published", w.machine_id, w.metric);
+        }
+      }
+    });
+    const AfterStore<CheckResult> after_result = [&](const CheckResult& r) {
+      watch.after_result(r);
+    };
+    const AfterStore<Compensation> after_compensation = [&](const Compensation& c) {
+      watch.after_compensation(c);
+    };
+    const AfterStore<Intervention> after_intervention = [&](const Intervention& i) {
+      watch.after_intervention(i);
+    };
+
     // Every sample a reader receives goes through the ingest: stored and acknowledged, or kept.
-    const auto ingest_from = [&](auto& reader, const char* what) {
+    const auto ingest_from = [&](auto& reader, const char* what, const auto& after) {
       using Topic = typename std::remove_reference_t<decltype(reader)>::TopicType;
       service.dispatcher().on(reader, [&, what](const auto& in) {
         const std::int64_t now = service.clock().now_ns();
         ingest.submit(
             now,
-            [&db, &acks, &raise_conflict, what, in, now] {
-              store<Topic>(db, acks, raise_conflict, what, in, now);
+            [&db, &acks, &raise_conflict, &after, what, in, now] {
+              store<Topic>(db, acks, raise_conflict, after, what, in, now);
             },
             steady_now());
       });
     };
-    ingest_from(requests, "request");
-    ingest_from(sets, "measurement set");
-    ingest_from(results, "result");
-    ingest_from(statuses, "status");
-    ingest_from(compensations, "compensation");
-    ingest_from(interventions, "intervention");
+    ingest_from(requests, "request", AfterStore<CheckRequest>{});
+    ingest_from(sets, "measurement set", AfterStore<MeasurementSet>{});
+    ingest_from(results, "result", after_result);
+    ingest_from(statuses, "status", AfterStore<MachineStatus>{});
+    ingest_from(compensations, "compensation", after_compensation);
+    ingest_from(interventions, "intervention", after_intervention);
     // Heartbeats are a service's latest word: stored when the database is well, else skipped.
     service.dispatcher().on(heartbeats, [&](const ncqual::dds::Received<Heartbeat>& in) {
       if (!in.error.empty()) {

@@ -3,13 +3,18 @@
 // the series of every metric the result reports (trend::assess over the machine's stored
 // values, restarted at its interventions and the compensations that concern it), keeps the
 // warnings that start, move or end in the trend_warnings table, and returns each change as a
-// TrendWarning to publish. An intervention or a compensation re-assesses the machine's metrics:
-// the warnings of the series it restarts end. No DDS here: the historian's main publishes what
-// comes back (a warning raised or ended; an active warning's new figures are only stored).
+// TrendWarning to publish. An intervention re-assesses every metric of the machine, a
+// compensation those whose series it restarts (compensation_restarts): the warnings of the
+// series they restart end. No DDS here: the historian publishes what comes back (a warning
+// raised or ended; an active warning's new figures are only stored). Cheap when nothing warns:
+// a metric with no stored active warning and none now costs its reads, no write transaction.
 //
-// Each assessment is "as of" the newest stored value of the metric (or the machine's latest
-// restart, when that is newer), so a result that arrives late (a replay, a restarted producer's
-// resend) is assessed in its place, and assessing twice changes nothing.
+// Each assessment is "as of" the event (the result or the restart): the series as it was then,
+// so that a watch running behind a burst of results (the historian runs it on a thread of its
+// own, watch_worker.hpp) raises and ends each warning at the check that did. A result that
+// arrives late (a replay, a restarted producer's resend: the metric was assessed past it
+// already) is assessed as of the newest stored value or restart instead, in its place, and
+// changes are by that newest event; assessing twice changes nothing.
 #pragma once
 
 #include "ncqual/model.hpp"
@@ -18,6 +23,9 @@
 #include "ncqual/trend/assess.hpp"
 
 #include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,18 +42,37 @@ class TrendWatch {
   // forecast's dates and text too), the warnings raised and ended returned, each once. Throws
   // StorageError (the database).
   std::vector<TrendWarning> after_result(storage::Database& db, const CheckResult& result);
-  // After an intervention or a compensation of `machine_id` at `at_ns` (named `by`) was stored:
-  // every metric of the machine is assessed again, so the warnings of the series it restarts end
-  // (by `by`), and a result after it that arrived first may still warn.
-  std::vector<TrendWarning> after_restart(storage::Database& db, const std::string& machine_id,
-                                          const std::string& by, std::int64_t at_ns);
+  // After an intervention was stored: every metric of the machine is assessed again, so the
+  // warnings of its series end (by the intervention), and a result after it that arrived first
+  // may still warn.
+  std::vector<TrendWarning> after_intervention(storage::Database& db,
+                                               const Intervention& intervention);
+  // After a compensation was stored: the metrics of the series it restarts (by the kind of the
+  // check that issued it; every metric when that check is unknown), the same way.
+  std::vector<TrendWarning> after_compensation(storage::Database& db,
+                                               const Compensation& compensation);
 
  private:
-  // One metric: assessed as of its newest value and applied; the changes appended.
-  void assess_metric(storage::Database& db, const std::string& machine_id,
-                     const std::string& metric, const std::string& by, std::int64_t at_ns,
-                     std::vector<TrendWarning>& out);
+  // The metrics of the series `restarted` (all when empty), assessed again after `by` at `at_ns`.
+  std::vector<TrendWarning> after_restart(storage::Database& db, const std::string& machine_id,
+                                          const std::string& by, std::int64_t at_ns,
+                                          std::optional<CheckKind> restarted);
+  // What one call reads once: the machine's restart times per series kind, and the metrics
+  // with a stored active warning.
+  struct Context;
+  // What the warnings change by: a stored result, or a restart (an intervention, a compensation).
+  struct Event {
+    std::string by;
+    std::int64_t at_ns = 0;
+    bool restart = false;
+  };
+  // One metric: assessed as of `event` (or, when the metric was assessed past it already, as of
+  // its newest value or restart) and applied; the changes appended.
+  void assess_metric(storage::Database& db, Context& context, const std::string& metric,
+                     const Event& event, std::vector<TrendWarning>& out);
   trend::AssessOptions options_;
+  // Per (machine, metric): the time of the newest event it was assessed as of, by this process.
+  std::map<std::pair<std::string, std::string>, std::int64_t> assessed_through_;
 };
 
 }  // namespace ncqual::historian

@@ -604,6 +604,22 @@ void check_application_id(sqlite3* db, const std::string& path) {
 
 }  // namespace
 
+namespace {
+// WAL: the command-line tool reads while the historian writes, and a commit is one append.
+// synchronous=NORMAL: in WAL mode a commit survives a crash of the process (what the crash test
+// checks); a power cut may lose the last commits but never corrupts the file.
+// foreign_keys is per connection and off by default in SQLite.
+void set_write_pragmas(sqlite3* db, const std::string& path) {
+  const std::string mode = sqlite::query_text(db, "set journal mode", "PRAGMA journal_mode=WAL");
+  if (mode != "wal" && path != ":memory:") {
+    throw StorageError("open '" + path + "': cannot switch to WAL journal mode (still " + mode +
+                       ")");
+  }
+  sqlite::exec(db, "set synchronous", "PRAGMA synchronous=NORMAL");
+  sqlite::exec(db, "enable foreign keys", "PRAGMA foreign_keys=ON");
+}
+}  // namespace
+
 Database Database::open(const std::string& path) {
   check_sqlite_version();
   if (path != ":memory:") {
@@ -635,25 +651,34 @@ Database Database::open(const std::string& path) {
     }
   }
 
-  // WAL: the command-line tool reads while the historian writes, and a commit is one append.
-  // synchronous=NORMAL: in WAL mode a commit survives a crash of the process (what the crash test
-  // checks); a power cut may lose the last commits but never corrupts the file.
-  // foreign_keys is per connection and off by default in SQLite.
-  const bool in_memory = path == ":memory:";
-  const std::string mode =
-      sqlite::query_text(db.get(), "set journal mode", "PRAGMA journal_mode=WAL");
-  if (mode != "wal" && !in_memory) {
-    throw StorageError("open '" + path + "': cannot switch to WAL journal mode (still " + mode +
-                       ")");
-  }
-  sqlite::exec(db.get(), "set synchronous", "PRAGMA synchronous=NORMAL");
-  sqlite::exec(db.get(), "enable foreign keys", "PRAGMA foreign_keys=ON");
-
+  set_write_pragmas(db.get(), path);
   schema::migrate(db.get(), path.c_str());
   check_application_id(db.get(), path);
   auto impl = std::make_unique<Impl>(std::move(db), path, false);
   struct stat st {};
-  if (!in_memory && ::stat(path.c_str(), &st) == 0) impl->identity = {st.st_dev, st.st_ino};
+  if (path != ":memory:" && ::stat(path.c_str(), &st) == 0) {
+    impl->identity = {st.st_dev, st.st_ino};
+  }
+  return Database(std::move(impl));
+}
+
+Database Database::open_another() const {
+  const std::string& path = impl_->path;
+  if (path == ":memory:") {
+    throw StorageError("open another connection: ':memory:' has none (it would be a new database)");
+  }
+  const std::string problem = file_problem();
+  if (!problem.empty()) throw StorageError("open another connection: " + problem);
+  auto db = sqlite::open_connection(
+      path, impl_->read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE);
+  sqlite3_busy_timeout(db.get(), kBusyTimeoutMs);
+  if (impl_->read_only) {
+    sqlite::exec(db.get(), "enable foreign keys", "PRAGMA foreign_keys=ON");
+  } else {
+    set_write_pragmas(db.get(), path);
+  }
+  auto impl = std::make_unique<Impl>(std::move(db), path, impl_->read_only);
+  impl->identity = impl_->identity;
   return Database(std::move(impl));
 }
 

@@ -75,6 +75,8 @@ enum class TestDomain : int {
   RecordingBench = detail::test_domain(174),
   // McapInteropRecordings.FoxgloveReadsWhatTheLiveRecorderWrote: a replay recorded live
   RecordingInterop = detail::test_domain(175),
+  // TrendWarnings.*: a machine drifting on the simulated clock, the historian running its watch
+  TrendWarnings = detail::test_domain(176),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -118,7 +120,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::RecordingCommittedDrift:
     case TestDomain::RecordingCommitted:
     case TestDomain::RecordingBench:
-    case TestDomain::RecordingInterop: break;
+    case TestDomain::RecordingInterop:
+    case TestDomain::TrendWarnings: break;
   }
   return static_cast<int>(domain);
 }

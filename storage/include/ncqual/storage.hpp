@@ -185,6 +185,10 @@ class Database {
   static Database open(const std::string& path);
   // Opens an existing, up-to-date database read-only; never migrates, never writes.
   static Database open_readonly(const std::string& path);
+  // Another read-write connection to the file this one opened, for another thread of the same
+  // process: the same settings, without open()'s quick_check and migration (this connection did
+  // both). Refused for ":memory:" (it would be another database) and after file_problem().
+  Database open_another() const;
 
   // The schema version this build writes and reads (PRAGMA user_version after all migrations).
   static int latest_schema_version();

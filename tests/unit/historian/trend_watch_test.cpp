@@ -6,6 +6,7 @@
 // intervention and not by a compensation of another check; a late result does not raise it
 // again.
 #include "trend_watch.hpp"
+#include "watch_worker.hpp"
 
 #include "storage_test_support.hpp"
 
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <mutex>
 
 namespace ncqual::historian {
 namespace {
@@ -96,7 +98,7 @@ TEST_F(TrendWatchTest, AForecastIsRaisedOnceWithTheHandWorkedDatesAndEndedByAnIn
   offsets.time_ns = kT0 + 5 * kDay + kDay / 3;
   offsets.correction = Correction{"work_offset:M1", {NamedValue{"dx_mm", 0.01, "mm"}}};
   ASSERT_TRUE(db_.store(offsets));
-  EXPECT_TRUE(watch_.after_restart(db_, "M1", "f1", offsets.time_ns).empty());
+  EXPECT_TRUE(watch_.after_compensation(db_, offsets).empty());
 
   // An intervention ends it.
   Intervention i;
@@ -105,7 +107,7 @@ TEST_F(TrendWatchTest, AForecastIsRaisedOnceWithTheHandWorkedDatesAndEndedByAnIn
   i.time_ns = kT0 + 5 * kDay + kDay / 2;
   i.note = "Y scale reading head fixed";
   ASSERT_TRUE(db_.store(i));
-  const std::vector<TrendWarning> ended = watch_.after_restart(db_, "M1", "i1", i.time_ns);
+  const std::vector<TrendWarning> ended = watch_.after_intervention(db_, i);
   ASSERT_EQ(ended.size(), 1u);
   EXPECT_FALSE(ended[0].active);
   EXPECT_EQ(ended[0].kind, "forecast");
@@ -148,6 +150,50 @@ TEST_F(TrendWatchTest, AnOutlierRaisesAControlLimitWarningThatTheNextCheckEnds) 
   for (const auto& w : after)
     ended |= w.kind == "control_limit" && !w.active && w.ended_by == "r11";
   EXPECT_TRUE(ended);
+}
+
+// The worker runs the same watch on its own connection, in the order the jobs were handed over:
+// the forecast of the hand-worked example raised by r4, then ended by the intervention; what it
+// wrote is what the historian's connection reads.
+TEST_F(TrendWatchTest, TheWorkerRunsTheWatchOnItsOwnConnectionInOrder) {
+  std::mutex mutex;
+  std::vector<TrendWarning> published;
+  WatchWorker worker(db_.open_another(), [&](const std::vector<TrendWarning>& changes) {
+    std::lock_guard lock(mutex);
+    published.insert(published.end(), changes.begin(), changes.end());
+  });
+  const double values[] = {1.0, 1.2, 1.1, 1.5, 1.7};
+  for (int day = 0; day < 5; ++day) {
+    const CheckResult r = check("r" + std::to_string(day), day, values[day]);
+    ASSERT_TRUE(db_.store(r));
+    worker.after_result(r);
+  }
+  // The watch reads what is stored when it runs: the intervention stored now would already end
+  // the series for the results' jobs, so it is stored once they are done.
+  worker.drain();
+  Intervention i;
+  i.machine_id = "M1";
+  i.intervention_id = "i1";
+  i.time_ns = kT0 + 4 * kDay + kDay / 2;
+  ASSERT_TRUE(db_.store(i));
+  worker.after_intervention(i);
+  worker.drain();
+  EXPECT_EQ(worker.pending(), 0u);
+
+  std::lock_guard lock(mutex);
+  ASSERT_EQ(published.size(), 2u);
+  EXPECT_TRUE(published[0].active);
+  EXPECT_EQ(published[0].raised_by, "r4");
+  EXPECT_FALSE(published[1].active);
+  EXPECT_EQ(published[1].ended_by, "i1");
+  const auto stored = storage::trend_warnings(db_, {"M1"});
+  ASSERT_EQ(stored.size(), 1u);
+  EXPECT_EQ(stored[0].ended_by, "i1");
+}
+
+TEST(DatabaseOpenAnother, RefusesAnInMemoryDatabase) {
+  auto db = storage::Database::open(":memory:");
+  EXPECT_THROW((void)db.open_another(), storage::StorageError);
 }
 
 }  // namespace

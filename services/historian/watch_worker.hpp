@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: Apache-2.0
+// The trend watch off the ingest path: the historian stores and acknowledges a sample first,
+// then hands the watch's work for it to this worker, which runs it on its own thread and its own
+// connection to the database (Database::open_another), in the order handed over. A slow
+// assessment (a machine with years of checks, many warnings ending at an intervention) never
+// delays storing or acknowledging; SQLite's WAL lets the two connections read while the other
+// writes, and each write transaction of the watch is short.
+//
+// A job that fails (the database) is logged and dropped: the sample stays stored, and the
+// metric's next result assesses it again. At stop the job in hand finishes; the ones still
+// waiting are dropped and counted in the log, for the same reason.
+#pragma once
+
+#include "trend_watch.hpp"
+
+#include "ncqual/model.hpp"
+#include "ncqual/storage.hpp"
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace ncqual::historian {
+
+class WatchWorker {
+ public:
+  // Called on the worker's thread with the warnings raised or ended by one job (never empty).
+  using Publish = std::function<void(const std::vector<TrendWarning>&)>;
+
+  WatchWorker(storage::Database connection, Publish publish, TrendWatch watch = TrendWatch());
+  ~WatchWorker();  // the job in hand finishes; the rest are dropped (logged)
+  WatchWorker(const WatchWorker&) = delete;
+  WatchWorker& operator=(const WatchWorker&) = delete;
+
+  void after_result(const CheckResult& result);
+  void after_intervention(const Intervention& intervention);
+  void after_compensation(const Compensation& compensation);
+
+  // Jobs handed over and not finished yet (the one in hand included).
+  std::size_t pending() const;
+  // Blocks until every job handed over before the call has finished (tests, orderly stops).
+  void drain();
+
+ private:
+  using Job = std::function<std::vector<TrendWarning>(storage::Database&, TrendWatch&)>;
+  void submit(std::string what, Job job);
+  void run();
+
+  storage::Database db_;
+  Publish publish_;
+  TrendWatch watch_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::condition_variable idle_;
+  std::deque<std::pair<std::string, Job>> jobs_;
+  std::size_t in_hand_ = 0;
+  bool stopping_ = false;
+  std::thread thread_;  // last: started when everything above is ready
+};
+
+}  // namespace ncqual::historian
