@@ -17,7 +17,14 @@ WatchWorker::WatchWorker(storage::Database connection, Publish publish, TrendWat
 WatchWorker::~WatchWorker() {
   std::size_t dropped = 0;
   {
-    std::lock_guard lock(mutex_);
+    // The jobs waiting are finished first (a stop right after a run still warns of it), for a
+    // bounded time: a long backlog (a replay) is left to the metrics' next results.
+    std::unique_lock lock(mutex_);
+    if (!jobs_.empty()) {
+      spdlog::info("trend watch: {} assessment(s) to finish before stopping (at most {} s)",
+                   jobs_.size() + in_hand_, kFinishAtStop.count());
+    }
+    idle_.wait_for(lock, kFinishAtStop, [this] { return jobs_.empty() && in_hand_ == 0; });
     stopping_ = true;
     dropped = jobs_.size();
     jobs_.clear();

@@ -7,8 +7,9 @@
 // writes, and each write transaction of the watch is short.
 //
 // A job that fails (the database) is logged and dropped: the sample stays stored, and the
-// metric's next result assesses it again. At stop the job in hand finishes; the ones still
-// waiting are dropped and counted in the log, for the same reason.
+// metric's next result assesses it again. At stop the jobs waiting are finished, for at most
+// kFinishAtStop; the ones still waiting then are dropped and counted in the log, for the same
+// reason.
 #pragma once
 
 #include "trend_watch.hpp"
@@ -16,6 +17,7 @@
 #include "ncqual/model.hpp"
 #include "ncqual/storage.hpp"
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -32,8 +34,13 @@ class WatchWorker {
   // Called on the worker's thread with the warnings raised or ended by one job (never empty).
   using Publish = std::function<void(const std::vector<TrendWarning>&)>;
 
+  // How long the destructor lets the waiting jobs finish: a stop right after a burst (a
+  // simulated month in seconds) still warns of all of it; within systemd's default stop
+  // timeout (90 s).
+  static constexpr std::chrono::seconds kFinishAtStop{60};
+
   WatchWorker(storage::Database connection, Publish publish, TrendWatch watch = TrendWatch());
-  ~WatchWorker();  // the job in hand finishes; the rest are dropped (logged)
+  ~WatchWorker();  // the waiting jobs finish (at most kFinishAtStop); the rest are dropped
   WatchWorker(const WatchWorker&) = delete;
   WatchWorker& operator=(const WatchWorker&) = delete;
 
