@@ -188,6 +188,23 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
                             w.expected_ns, w.earliest_ns,
                             warning_text(w, a, query.metric, newest.unit, band)});
   }
+  if (a.forecast.ok() && !a.segment.points.empty()) {
+    const std::int64_t from = a.segment.points.front().time_ns;
+    const auto day = static_cast<std::int64_t>(trend::kNanosecondsPerDay);
+    std::int64_t to = now + static_cast<std::int64_t>(options.horizon_days) * day;
+    const auto& expected = a.forecast.expected;
+    if (expected.status == trend::DateStatus::Date && expected.time_ns && *expected.time_ns > to &&
+        *expected.time_ns <= now + 365 * day) {
+      to = *expected.time_ns + (*expected.time_ns - from) / 20;
+    }
+    constexpr int kSamples = 48;
+    for (int i = 0; i <= kSamples && to > from; ++i) {
+      const std::int64_t t =
+          from + static_cast<std::int64_t>(static_cast<double>(to - from) * i / kSamples);
+      const trend::Interval band_at = trend::prediction_interval(a.forecast, t);
+      out.prediction.push_back({t, band_at.fitted, band_at.lower, band_at.upper});
+    }
+  }
   // The segment's charts, point by point: the segment is the finite in-segment points in order.
   std::size_t k = 0;
   for (TrendPoint& p : out.points) {

@@ -54,7 +54,7 @@ int run(int argc, char** argv) {
   Commands commands;
   for (auto add : {add_history, add_check, add_wait, add_count, add_budget, add_analyze, add_import,
                    add_program, add_status, add_intervene, add_trend, add_uncertainty, add_config,
-                   add_db, add_export, add_backup, add_record, add_replay}) {
+                   add_db, add_export, add_backup, add_record, add_replay, add_report}) {
     add(app, commands);
   }
   for (CLI::App* command : app.get_subcommands({})) command->group("Commands");

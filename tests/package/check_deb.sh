@@ -38,7 +38,8 @@ grep -qx './postinst' <<< "$control" || fail "no postinst in the control files: 
 root="$work/root"
 dpkg-deb -x "$deb" "$root"
 for f in usr/bin/ncqual usr/bin/ncqual-historian usr/bin/ncqual-solver usr/bin/ncqual-scheduler \
-  usr/bin/ncqual-acquisition usr/bin/ncqual-recorder usr/bin/ncqual-pki usr/share/ncqual/qos/ncqual-qos.xml \
+  usr/bin/ncqual-acquisition usr/bin/ncqual-recorder usr/bin/ncqual-web usr/bin/ncqual-pki \
+  usr/share/ncqual/qos/ncqual-qos.xml usr/lib/systemd/system/ncqual-web.service \
   usr/share/ncqual/idl/ncqual.idl usr/lib/sysusers.d/ncqual.conf etc/ncqual/plant.yaml \
   etc/ncqual/machines/pm1.yaml usr/lib/systemd/system/ncqual.target \
   usr/lib/systemd/system/ncqual-.service.d/10-ncqual.conf \
@@ -59,7 +60,8 @@ if [ -x /usr/bin/fast-discovery-server ]; then
 fi
 for u in /lib/systemd/system/*; do [ -e "$units/$(basename "$u")" ] || cp -a "$u" "$units/"; done
 for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.service \
-  ncqual-acquisition@pm1.service ncqual-discovery.service ncqual-recorder.service ncqual.target; do
+  ncqual-acquisition@pm1.service ncqual-discovery.service ncqual-recorder.service \
+  ncqual-web.service ncqual.target; do
   said="$(systemd-analyze --root="$root" verify "$units/${unit/@pm1/@}" 2>&1 \
     | sed "s|$units/||")" || fail "$unit: $said"
   [ -z "$said" ] || fail "$unit: systemd-analyze verify says: $said"
@@ -68,7 +70,8 @@ done
 # The hardening is the shared drop-in (ncqual-.service.d): rated as systemd applies it to each
 # unit, every one must come out below 5 ("OK" or better; without the drop-in about 9.6, "UNSAFE").
 for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.service \
-  ncqual-acquisition@pm1.service ncqual-discovery.service ncqual-recorder.service; do
+  ncqual-acquisition@pm1.service ncqual-discovery.service ncqual-recorder.service \
+  ncqual-web.service; do
   rating="$(systemd-analyze --root="$root" --offline=yes security "$units/${unit/@pm1/@}" 2>&1 \
     | tail -1)"
   echo "$rating"
@@ -79,7 +82,8 @@ for unit in ncqual-historian.service ncqual-solver.service ncqual-scheduler.serv
 done
 
 # The packaged executables run (their libraries are this host's Debian packages).
-for exe in ncqual ncqual-historian ncqual-solver ncqual-scheduler ncqual-acquisition ncqual-recorder; do
+for exe in ncqual ncqual-historian ncqual-solver ncqual-scheduler ncqual-acquisition ncqual-recorder \
+  ncqual-web; do
   "$root/usr/bin/$exe" --version > "$work/version" 2>&1 || fail "$exe --version: $(cat "$work/version")"
   echo "ran $(head -1 "$work/version")"
 done

@@ -197,6 +197,16 @@ struct RetentionConfig {
   std::optional<std::int64_t> thin_points_before_ns(std::int64_t now_ns) const;
 };
 
+// The `web:` section: where the dashboard (ncqual-web, docs/dashboard.md) listens. Read-only
+// pages and JSON of the historian, plain HTTP without authentication: by default on the loopback
+// address only; another address exposes it to that network (put a proxy with TLS and logins in
+// front when it leaves a trusted network).
+inline constexpr int kDefaultWebPort = 8470;
+struct WebConfig {
+  std::string bind = "127.0.0.1";  // an IPv4 address to listen on (0.0.0.0: every interface)
+  int port = kDefaultWebPort;      // 1..65535
+};
+
 struct PlantConfig {
   std::string plant;
   std::string source_path;
@@ -210,6 +220,7 @@ struct PlantConfig {
   SecurityConfig security;         // the `security:` section (its identity is left empty)
   std::string historian_database;  // absolute
   RetentionConfig retention;       // historian.retention
+  WebConfig web;                   // the `web:` section (the dashboard)
   std::vector<MachineConfig> machines;
   // Without a calendar: the checks the scheduler runs for every machine when it starts, in order
   // (scheduler.startup_checks), once.

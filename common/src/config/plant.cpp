@@ -396,6 +396,21 @@ NetworkConfig read_network(const Node& node) {
   return n;
 }
 
+// The `web:` section (the dashboard, ncqual-web): the address it listens on, an IPv4 address
+// (a host name would listen wherever it resolves to today), and the port.
+WebConfig read_web(const Node& node) {
+  WebConfig w;
+  if (!node.map_of({"bind", "port"})) return w;
+  w.bind = node["bind"].text(w.bind);
+  const auto address = parse_network_address(w.bind);
+  if (!address || address->port != 0 ||
+      w.bind.find_first_not_of("0123456789.") != std::string::npos) {
+    node["bind"].problem("expected an IPv4 address to listen on, e.g. 127.0.0.1 or 0.0.0.0");
+  }
+  w.port = node["port"].integer(1, 65535, w.port);
+  return w;
+}
+
 std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diagnostics) {
   const Node root = load_file(path, diagnostics);
   if (!root.present()) return std::nullopt;
@@ -404,7 +419,7 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     return std::nullopt;
   }
   root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "network", "security",
-               "historian", "scheduler", "clock", "machines"});
+               "historian", "scheduler", "clock", "machines", "web"});
   PlantConfig p;
   p.source_path = fs::absolute(path).lexically_normal().string();
   p.plant = root["plant"].text("plant");
@@ -423,6 +438,7 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     // At least a month: the points of a check just made are what its result was judged on.
     p.retention.thin_points_after_months = retention["thin_points_after_months"].integer(1, 1200);
   }
+  p.web = read_web(root["web"]);
   p.scheduler_state_database =
       (fs::path(p.historian_database).parent_path() / "scheduler.db").string();
   if (const Node sched = root["scheduler"];

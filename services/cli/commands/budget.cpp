@@ -41,6 +41,7 @@
 
 #include "ncqual/config.hpp"
 #include "ncqual/json.hpp"
+#include "ncqual/report/budget_history.hpp"
 #include "ncqual/solver/error_budget.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/units.hpp"
@@ -58,55 +59,15 @@
 namespace ncqual::cli {
 namespace {
 
-using solver::BudgetMetric;
 using solver::ErrorBudgetConfig;
 using solver::ErrorBudgetReport;
 
-// What the historian holds for the budget's metrics: values newest first in each metric's
-// configured unit, and the time of the newest.
-struct GatheredHistory {
-  solver::MetricHistories values;
-  std::map<std::string, std::int64_t> newest_time_ns;
-  int unconvertible = 0;  // values stored in a unit that cannot be turned into the metric's
-};
-
-// Factor turning a value in `from` into `to` when both are units of one dimension.
-std::optional<double> unit_factor(const std::string& from, const std::string& to) {
-  if (from == to || from.empty()) return 1.0;
-  for (auto dim : {units::Dimension::Length, units::Dimension::Angle}) {
-    const auto f = units::to_internal_factor(dim, from);
-    const auto t = units::to_internal_factor(dim, to);
-    if (f && t) return *f / *t;
-  }
-  return std::nullopt;
-}
+// What the historian holds for the budget's metrics (shared with `ncqual report`).
+using GatheredHistory = report::BudgetHistory;
 
 GatheredHistory gather_history(storage::Database& db, const std::string& machine_id,
                                const ErrorBudgetConfig& budget) {
-  std::map<std::string, const BudgetMetric*> wanted;
-  for (const auto& s : budget.sources) {
-    for (const auto& m : s.metrics) wanted[m.name] = &m;
-  }
-  storage::HistoryQuery q;
-  q.machine_id = machine_id;
-  q.limit = 0;  // every check: the newest N values of each metric may lie far apart
-  GatheredHistory h;
-  for (const auto& record : db.history(q)) {  // newest first
-    if (!record.result || record.result->verdict == Verdict::Invalid) continue;
-    for (const Metric& metric : record.result->metrics) {
-      const auto it = wanted.find(metric.name);
-      if (it == wanted.end()) continue;
-      const auto factor = unit_factor(metric.unit, it->second->unit);
-      if (!factor) {
-        ++h.unconvertible;
-        continue;
-      }
-      auto& values = h.values[metric.name];
-      if (values.empty()) h.newest_time_ns[metric.name] = record.result->time_ns;
-      values.push_back(metric.value * *factor);
-    }
-  }
-  return h;
+  return report::gather_budget_history(db, machine_id, budget);
 }
 
 double deg(double rad) { return units::rad_to_deg(rad); }

@@ -65,6 +65,7 @@ void add_export(CLI::App& app, Commands& commands);       // export.cpp
 void add_backup(CLI::App& app, Commands& commands);       // export.cpp
 void add_record(CLI::App& app, Commands& commands);       // record.cpp (record, recording)
 void add_replay(CLI::App& app, Commands& commands);       // replay.cpp
+void add_report(CLI::App& app, Commands& commands);       // report.cpp
 void add_completion(CLI::App& app, Commands& commands);   // completion.cpp (hidden)
 
 // ---- What several commands share (options.cpp) -------------------------------------------------

@@ -24,7 +24,8 @@
 //       "expected_crossing_ns", "earliest_crossing_ns", "text"}]}], "wall_now_ns",
 //       "heartbeat_period_ms", "services": [{"service", "instance", "machine_id", "state",
 //       "health", "health_detail", "outbox_depth", "oldest_unacknowledged_ns",
-//       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent"}]} (StatusDocument below);
+//       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent"}]} (ncqual/plant_status.hpp,
+//       shared with the dashboard's /api/v1/plant);
 //       times are ns since the Unix epoch UTC or null; the text form prints them in the plant's
 //       time zone. oldest_unacknowledged_age_ns is as of the heartbeat (null: nothing waits).
 //
@@ -32,119 +33,23 @@
 // database at the path.
 #include "commands.hpp"
 
-#include "ncqual/check_kinds.hpp"
-
 #include "ncqual/calendar.hpp"
 #include "ncqual/clock.hpp"
-#include "ncqual/dds/service.hpp"
 #include "ncqual/json.hpp"
+#include "ncqual/plant_status.hpp"
 #include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <iostream>
 
 namespace ncqual::cli {
 namespace {
 
-// The --json document; its names are stable (append, never rename).
-struct CheckDocument {
-  CheckKind kind = CheckKind::MonumentPositioning;
-  std::optional<std::int64_t> last_pass_ns;
-};
-struct PeriodDocument {
-  std::string name;
-  std::string every;
-  std::vector<CheckDocument> checks;
-  std::optional<std::int64_t> last_pass_ns;  // of the period: the oldest of its checks' newest
-  bool due = false;
-  bool overdue = false;
-  std::int64_t next_due_ns = 0;
-};
-// An active trend warning (storage::TrendWarningRecord).
-struct WarningDocument {
-  std::string metric;
-  CheckKind check_kind = CheckKind::MonumentPositioning;
-  std::string kind;
-  std::string side;
-  std::int64_t started_ns = 0;
-  std::string raised_by;
-  std::int64_t raised_ns = 0;
-  std::optional<std::int64_t> expected_crossing_ns;
-  std::optional<std::int64_t> earliest_crossing_ns;
-  std::string text;
-};
-struct MachineDocument {
-  std::string machine_id;
-  MachineState state = MachineState::Unknown;
-  std::string detail;
-  std::optional<std::int64_t> status_time_ns;
-  std::vector<PeriodDocument> periods;
-  std::int64_t conflicts = 0;             // samples kept beside stored ones for other content
-  std::vector<WarningDocument> warnings;  // active trend warnings, newest raised first
-};
-struct ServiceDocument {
-  std::string service;
-  std::string instance;
-  std::string machine_id;
-  std::string state;
-  std::string health;
-  std::string health_detail;
-  std::int64_t outbox_depth = 0;
-  std::int64_t oldest_unacknowledged_ns = 0;                 // 0: nothing waits
-  std::optional<std::int64_t> oldest_unacknowledged_age_ns;  // as of the heartbeat
-  std::int64_t time_ns = 0;                                  // of the last heartbeat (wall clock)
-  std::int64_t age_ns = 0;                                   // wall_now_ns - time_ns
-  bool silent = false;  // no heartbeat for more than kSilentPeriods periods
-};
-struct StatusDocument {
-  std::string plant;
-  std::optional<std::int64_t> now_ns;  // of the last machine; null without machines
-  std::vector<MachineDocument> machines;
-  std::int64_t wall_now_ns = 0;  // what the services' ages are measured from
-  std::int64_t heartbeat_period_ms = 0;
-  std::vector<ServiceDocument> services;
-};
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckDocument, kind, last_pass_ns)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(PeriodDocument, name, every, checks, last_pass_ns, due, overdue,
-                                   next_due_ns)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WarningDocument, metric, check_kind, kind, side, started_ns,
-                                   raised_by, raised_ns, expected_crossing_ns, earliest_crossing_ns,
-                                   text)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineDocument, machine_id, state, detail, status_time_ns,
-                                   periods, conflicts, warnings)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ServiceDocument, service, instance, machine_id, state, health,
-                                   health_detail, outbox_depth, oldest_unacknowledged_ns,
-                                   oldest_unacknowledged_age_ns, time_ns, age_ns, silent)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StatusDocument, plant, now_ns, machines, wall_now_ns,
-                                   heartbeat_period_ms, services)
-
-// A service is silent when its last heartbeat is older than this many heartbeat periods.
-constexpr int kSilentPeriods = 3;
-
-ServiceDocument service_document(const Heartbeat& beat, std::int64_t wall_now_ns,
-                                 std::int64_t period_ns) {
-  ServiceDocument d;
-  d.service = beat.service;
-  d.instance = beat.instance;
-  d.machine_id = beat.machine_id;
-  d.state = beat.state;
-  d.health = beat.health;
-  d.health_detail = beat.health_detail;
-  d.outbox_depth = beat.outbox_depth;
-  d.oldest_unacknowledged_ns = beat.oldest_unacknowledged_ns;
-  if (beat.oldest_unacknowledged_ns > 0) {
-    d.oldest_unacknowledged_age_ns = beat.time_ns - beat.oldest_unacknowledged_ns;
-  }
-  d.time_ns = beat.time_ns;
-  d.age_ns = wall_now_ns - beat.time_ns;
-  d.silent = d.age_ns > kSilentPeriods * period_ns;
-  return d;
-}
+// The --json document and its computation: ncqual/plant_status.hpp (the dashboard shows the same).
+using plant_status::StatusDocument;
 
 std::string upper(std::string text) {
   for (char& c : text) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -206,70 +111,11 @@ int run(const Options& o) {
   auto opened = open_historian(db_path, "status");
   if (!opened) return kExitNotFound;
   storage::Database& db = *opened;
-  const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
+  const Calendar calendar = plant_status::plant_calendar(plant);
   const auto& machine_filter = o.machine;
   if (machine_filter) (void)configured_machine(plant, *machine_filter);
-  StatusDocument out;
-  out.plant = plant.plant;
-  std::int64_t plant_now = WallClock().now_ns();
-  for (const auto& m : plant.machines) {
-    if (machine_filter && m.machine_id != *machine_filter) continue;
-    const auto status = db.latest_status(m.machine_id);
-    // On a simulated clock "now" is the scheduler's newest word on the machine (heartbeats carry
-    // wall time, so the machine's last-seen time would not do).
-    const std::int64_t now =
-        plant.simulated_clock ? (status ? status->time_ns : plant.simulated_start_ns) : plant_now;
-    MachineDocument& machine = out.machines.emplace_back();
-    machine.machine_id = m.machine_id;
-    machine.state = status ? status->state : MachineState::Unknown;
-    machine.detail = status ? status->detail : "no status stored yet";
-    if (status) machine.status_time_ns = status->time_ns;
-    for (const auto& period : calendar.config().periods) {
-      PeriodDocument p;
-      p.name = period.name;
-      p.every = std::string(to_string(period.unit));
-      std::optional<std::int64_t> oldest;
-      bool all = true;
-      for (CheckKind k : period.checks) {
-        if (!has_sections_for(m, k)) continue;
-        // The newest pass of the kind or of one that satisfies it (a fixture loop that ended in a
-        // passed post-calibration completes the week too): the check-kind table says which.
-        std::optional<std::int64_t> last;
-        for (CheckKind passing : kinds_passing(k)) {
-          const auto t = db.last_pass_ns(m.machine_id, passing);
-          if (t && (!last || *t > *last)) last = t;
-        }
-        p.checks.push_back({k, last});
-        if (!last) {
-          all = false;
-        } else if (!oldest || *last < *oldest) {
-          oldest = last;
-        }
-      }
-      if (p.checks.empty()) continue;
-      p.last_pass_ns = all ? oldest : std::nullopt;
-      p.due = calendar.due(period, p.last_pass_ns, now);
-      p.overdue = calendar.overdue(period, p.last_pass_ns, now);
-      p.next_due_ns = calendar.next_due(period, p.last_pass_ns, now);
-      machine.periods.push_back(std::move(p));
-    }
-    machine.conflicts = static_cast<std::int64_t>(db.conflicts(m.machine_id).size());
-    for (const auto& w : storage::trend_warnings(db, {m.machine_id, {}, true})) {
-      machine.warnings.push_back({w.metric, w.check_kind, w.kind, w.side, w.started_ns, w.raised_by,
-                                  w.raised_ns, w.expected_crossing_ns, w.earliest_crossing_ns,
-                                  w.text});
-    }
-    out.now_ns = now;
-  }
-  // Heartbeats carry wall time, also on a simulated clock.
-  const std::int64_t period_ns =
-      std::chrono::duration_cast<std::chrono::nanoseconds>(dds::ServiceOptions{}.heartbeat_period)
-          .count();
-  out.wall_now_ns = plant_now;
-  out.heartbeat_period_ms = period_ns / 1'000'000;
-  for (const Heartbeat& beat : db.services()) {
-    out.services.push_back(service_document(beat, plant_now, period_ns));
-  }
+  const StatusDocument out =
+      plant_status::plant_status(db, plant, calendar, {machine_filter, WallClock().now_ns()});
   if (o.json) {
     std::cout << nlohmann::json(out).dump(2) << "\n";
     return kExitOk;

@@ -304,6 +304,36 @@ TEST_F(ConfigLayer, TheRetentionPolicyIsOffByDefaultAndCountsCalendarMonths) {
   }
 }
 
+// web: (the dashboard, ncqual-web): the loopback address and port 8470 unless configured; an
+// address that is not IPv4, a port out of range and an unknown key named with their values.
+TEST_F(ConfigLayer, TheWebSectionListensOnTheLoopbackUnlessConfigured) {
+  const auto plant_with = [&](const std::string& web) {
+    return write("plant.yaml",
+                 "plant: p\nhistorian: {database: h.db}\n" + web + "machines: [" + kPm1 + "]\n");
+  };
+  const PlantConfig plain = load_plant_config(plant_with(""));
+  EXPECT_EQ(plain.web.bind, "127.0.0.1");
+  EXPECT_EQ(plain.web.port, 8470);
+  const PlantConfig open = load_plant_config(plant_with("web: {bind: 0.0.0.0, port: 8080}\n"));
+  EXPECT_EQ(open.web.bind, "0.0.0.0");
+  EXPECT_EQ(open.web.port, 8080);
+  for (const auto& [web, problem] : std::vector<std::pair<std::string, std::string>>{
+           {"web: {bind: dashboard.plant.example}\n",
+            "web.bind = 'dashboard.plant.example': expected an IPv4 address"},
+           {"web: {bind: 10.0.0.300}\n", "web.bind = '10.0.0.300': expected an IPv4 address"},
+           {"web: {bind: '127.0.0.1:80'}\n", "web.bind = '127.0.0.1:80': expected an IPv4"},
+           {"web: {port: 0}\n", "web.port = '0'"},
+           {"web: {port: 65536}\n", "web.port = '65536'"},
+           {"web: {address: 127.0.0.1}\n", "web.address = '127.0.0.1': unknown key"}}) {
+    try {
+      load_plant_config(plant_with(web));
+      ADD_FAILURE() << "loaded " << web;
+    } catch (const ConfigError& e) {
+      EXPECT_TRUE(names(e.problems(), problem)) << web << "\n" << e.what();
+    }
+  }
+}
+
 TEST(CheckKindTable, OneRowPerKindOfTheWireContractInItsOrder) {
   const std::vector<std::string> idl = idl_check_kinds();
   ASSERT_EQ(idl.size(), static_cast<std::size_t>(kCheckKindCount));

@@ -97,6 +97,12 @@ struct StoredTrendWarning {
   std::string text;
 };
 
+// One time of the least-squares line with its prediction interval (the metric's unit).
+struct TrendPrediction {
+  std::int64_t time_ns = 0;
+  double fitted = 0, lower = 0, upper = 0;
+};
+
 struct MetricTrend {
   std::string machine_id;
   std::string metric;
@@ -119,6 +125,11 @@ struct MetricTrend {
   std::vector<StoredTrendWarning> raised;  // what the historian raised for the metric, newest first
   std::vector<TrendPoint> points;          // oldest first
   std::string error;  // the statistics could not be computed (e.g. no band); points still given
+  // For charts (not in the JSON document): the least-squares line of the segment and its 95 %
+  // prediction interval (trend::prediction_interval) from the segment's first check to the
+  // horizon (the later of now + AssessOptions::horizon_days and the expected crossing, when that
+  // lies within a year of now); empty without a forecast.
+  std::vector<TrendPrediction> prediction;
 };
 
 struct MetricTrendQuery {

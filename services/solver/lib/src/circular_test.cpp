@@ -222,7 +222,7 @@ std::pair<double, double> radial_deviation(const std::vector<Eigen::Vector2d>& p
                                            const RadialReference& ref) {
   double hi = -INFINITY, lo = INFINITY;
   for (const auto& p : pts) {
-    const double f = (p - ref.centre_mm).norm() - ref.radius_mm;
+    const double f = radial_deviation_about(p, ref).deviation_mm;
     hi = std::max(hi, f);
     lo = std::min(lo, f);
   }
@@ -398,6 +398,11 @@ std::optional<CircularTestProblem> find_circular_test_problem(const CircularTest
     }
   }
   return std::nullopt;
+}
+
+RadialDeviation radial_deviation_about(const Eigen::Vector2d& p, const RadialReference& reference) {
+  return {angle_about(p, reference.centre_mm),
+          (p - reference.centre_mm).norm() - reference.radius_mm};
 }
 
 CircularTestResult evaluate_circular_test(const CircularTestInput& input) {

@@ -172,6 +172,134 @@ std::optional<MasterFrame> master_frame_of(const std::vector<LabelledPoint>& poi
   }
 }
 
+// The grid of the main target in the master frame of the set's own runs; else why not.
+std::optional<std::string> grid_of(const std::vector<LabelledPoint>& points,
+                                   const GlobalCheckConfig& gc, GlobalGridEvaluation* out) {
+  std::string why;
+  const auto frame = master_frame_of(points, gc, &why);
+  if (!frame) return why;
+  try {
+    out->grid = analyze_grid(*frame, group(points, "grid", gc, 0));
+  } catch (const std::invalid_argument& e) {
+    return std::string("grid: ") + e.what();
+  }
+  out->frame = *frame;
+  return std::nullopt;
+}
+
+Plane plane_of(CheckKind kind) {
+  return kind == CheckKind::CircleXY   ? Plane::XY
+         : kind == CheckKind::CircleYZ ? Plane::YZ
+                                       : Plane::XZ;
+}
+
+// The circular test of a circle set, evaluated; else why not (`check` names it).
+std::optional<std::string> circle_of(const MeasurementSet& set,
+                                     const std::vector<LabelledPoint>& points,
+                                     const GlobalCheckConfig& gc, const std::string& check,
+                                     CircleEvaluation* out) {
+  const Plane plane = plane_of(set.kind);
+  const int u = plane == Plane::YZ ? 1 : 0;
+  const int v = plane == Plane::XY ? 1 : 2;
+  // An imported export (`ncqual import circle`) is already in the machine's axes and carries its
+  // own reference; a tracker measurement is put in the master frame of its runs.
+  const bool imported = find_value(set.parameters, "imported") != nullptr;
+  Eigen::Isometry3d to_master = Eigen::Isometry3d::Identity();
+  if (!imported) {
+    std::string why;
+    const auto frame = master_frame_of(points, gc, &why);
+    if (!frame) return why;
+    to_master = frame->instrument_to_master;
+  }
+  CircularTestInput& input = out->input;
+  input.plane = plane;
+  for (const auto& lp : points) {
+    if (lp.group != "ccw" && lp.group != "cw") continue;
+    const Eigen::Vector3d m = to_master * lp.point->measured_mm;
+    input.points.push_back(
+        {Eigen::Vector2d(m[u], m[v]), lp.group == "ccw" ? PathDirection::Ccw : PathDirection::Cw});
+  }
+  AxisPosition centre;
+  centre.x_mm = gc.circle.centre_mm.x();
+  centre.y_mm = gc.circle.centre_mm.y();
+  centre.z_mm = gc.circle.centre_mm.z();
+  const Eigen::Vector3d c = stylus_ball_centre(centre, gc.targets.front());
+  if (!imported) {
+    input.nominal_centre_mm = Eigen::Vector2d(c[u], c[v]);
+    input.nominal_radius_mm = gc.circle.radius_mm;
+  } else {
+    const NamedValue* r0 = find_value(set.parameters, "nominal_radius_mm");
+    const NamedValue* cu = find_value(set.parameters, "centre_u_mm");
+    const NamedValue* cv = find_value(set.parameters, "centre_v_mm");
+    if (r0) input.nominal_radius_mm = r0->value;
+    if (cu && cv) input.nominal_centre_mm = Eigen::Vector2d(c[u] + cu->value, c[v] + cv->value);
+  }
+  try {
+    out->result = evaluate_circular_test(input);
+  } catch (const std::invalid_argument& e) {
+    return check + ": " + e.what();
+  }
+  return std::nullopt;
+}
+
+// The ISO 230-2 evaluation of a linear axis run; else why not.
+std::optional<std::string> linear_run_of(const MeasurementSet& set,
+                                         const std::vector<LabelledPoint>& points,
+                                         const GlobalCheckConfig& gc, LinearRunEvaluation* out) {
+  // The run's axis: the configured one, or the request's parameter `axis` (0, 1, 2) of an import.
+  int axis = gc.linear_run.axis;
+  if (const NamedValue* a = find_value(set.parameters, "axis")) {
+    if (!(a->value == 0 || a->value == 1 || a->value == 2)) {
+      return "MeasurementSet.parameters axis = " + format_number(a->value) +
+             ": expected 0, 1 or 2 (X, Y, Z)";
+    }
+    axis = static_cast<int>(a->value);
+  }
+  out->axis = axis;
+  // The position along the axis: the measured points projected on the run's best-fit line,
+  // oriented and zeroed like the commanded coordinate (ISO 230-2 figures are differences, so the
+  // zero does not matter; the orientation does).
+  std::vector<const LabelledPoint*> run_points;
+  for (const auto& p : points) {
+    if (p.group == "run") run_points.push_back(&p);
+  }
+  if (run_points.size() < 4) {
+    return "the linear axis run has " + std::to_string(run_points.size()) +
+           " run:<cycle>:<up|down>:<i> points; it needs at least 2 targets x 2 cycles";
+  }
+  std::vector<Eigen::Vector3d> measured;
+  double commanded_mean = 0;
+  for (const auto* p : run_points) {
+    measured.push_back(p->point->measured_mm);
+    commanded_mean += commanded_target(*p, gc)[axis];
+  }
+  commanded_mean /= static_cast<double>(run_points.size());
+  const PrincipalAxes line = principal_axes(measured);
+  const Eigen::Vector3d& centroid = line.centroid;
+  Eigen::Vector3d oriented = Eigen::Vector3d::Zero();
+  for (const auto* p : run_points) {
+    oriented +=
+        (p->point->measured_mm - centroid) * (commanded_target(*p, gc)[axis] - commanded_mean);
+  }
+  Eigen::Vector3d direction = line.vectors.col(2);
+  if (direction.dot(oriented) < 0) direction = -direction;
+  std::vector<PositioningReading>& readings = out->readings;
+  for (const auto* p : run_points) {
+    PositioningReading r;
+    r.target_mm = commanded_target(*p, gc)[axis];
+    r.cycle = p->cycle;
+    r.direction = p->up ? Approach::Up : Approach::Down;
+    r.measured_mm = commanded_mean + direction.dot(p->point->measured_mm - centroid);
+    readings.push_back(r);
+  }
+  try {
+    out->result = evaluate_iso230_2(readings);
+  } catch (const std::invalid_argument& e) {
+    return std::string("linear axis run: ") + e.what();
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 CheckResult check_global_master_frame(const MeasurementSet& set, const MachineConfig& machine) {
@@ -213,15 +341,10 @@ CheckResult check_global_grid(const MeasurementSet& set, const MachineConfig& ma
     return detail::invalid(result, *why);
   }
   const GlobalCheckConfig& gc = *machine.global_check;
-  std::string why;
-  const auto frame = master_frame_of(points, gc, &why);
-  if (!frame) return detail::invalid(result, why);
-  GridAnalysis grid;
-  try {
-    grid = analyze_grid(*frame, group(points, "grid", gc, 0));
-  } catch (const std::invalid_argument& e) {
-    return detail::invalid(result, std::string("grid: ") + e.what());
-  }
+  GlobalGridEvaluation evaluation;
+  if (auto why = grid_of(points, gc, &evaluation)) return detail::invalid(result, *why);
+  const MasterFrame* frame = &evaluation.frame;
+  const GridAnalysis& grid = evaluation.grid;
   add(result, machine, "grid_max_deviation_mm", grid.max_deviation_mm, "mm");
   add(result, machine, "grid_rms_deviation_mm", grid.rms_deviation_mm, "mm");
   add(result, machine, "grid_squareness_xy_urad", grid.affine.squareness_xy_urad, "urad");
@@ -386,57 +509,18 @@ CheckResult check_rotary_axis(const MeasurementSet& set, const MachineConfig& ma
 
 CheckResult check_circle(const MeasurementSet& set, const MachineConfig& machine) {
   CheckResult result = detail::result_for(set);
-  const Plane plane = set.kind == CheckKind::CircleXY   ? Plane::XY
-                      : set.kind == CheckKind::CircleYZ ? Plane::YZ
-                                                        : Plane::XZ;
-  const int u = plane == Plane::YZ ? 1 : 0;
-  const int v = plane == Plane::XY ? 1 : 2;
+  const Plane plane = plane_of(set.kind);
   std::string p = std::string(to_string(plane));
   for (char& ch : p) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   const std::string g_name = "circle_" + p + "_G_mm", h_name = "circle_" + p + "_H_mm";
   std::vector<LabelledPoint> points;
   const std::string check = "the " + std::string(to_string(plane)) + " circle";
   if (auto why = prepare(set, machine, {}, check, &points)) return detail::invalid(result, *why);
-  const GlobalCheckConfig& gc = *machine.global_check;
-  // An imported export (`ncqual import circle`) is already in the machine's axes and carries its
-  // own reference; a tracker measurement is put in the master frame of its runs.
-  const bool imported = find_value(set.parameters, "imported") != nullptr;
-  Eigen::Isometry3d to_master = Eigen::Isometry3d::Identity();
-  if (!imported) {
-    std::string why;
-    const auto frame = master_frame_of(points, gc, &why);
-    if (!frame) return detail::invalid(result, why);
-    to_master = frame->instrument_to_master;
+  CircleEvaluation evaluation;
+  if (auto why = circle_of(set, points, *machine.global_check, check, &evaluation)) {
+    return detail::invalid(result, *why);
   }
-  CircularTestInput input;
-  input.plane = plane;
-  for (const auto& lp : points) {
-    if (lp.group != "ccw" && lp.group != "cw") continue;
-    const Eigen::Vector3d m = to_master * lp.point->measured_mm;
-    input.points.push_back(
-        {Eigen::Vector2d(m[u], m[v]), lp.group == "ccw" ? PathDirection::Ccw : PathDirection::Cw});
-  }
-  AxisPosition centre;
-  centre.x_mm = gc.circle.centre_mm.x();
-  centre.y_mm = gc.circle.centre_mm.y();
-  centre.z_mm = gc.circle.centre_mm.z();
-  const Eigen::Vector3d c = stylus_ball_centre(centre, gc.targets.front());
-  if (!imported) {
-    input.nominal_centre_mm = Eigen::Vector2d(c[u], c[v]);
-    input.nominal_radius_mm = gc.circle.radius_mm;
-  } else {
-    const NamedValue* r0 = find_value(set.parameters, "nominal_radius_mm");
-    const NamedValue* cu = find_value(set.parameters, "centre_u_mm");
-    const NamedValue* cv = find_value(set.parameters, "centre_v_mm");
-    if (r0) input.nominal_radius_mm = r0->value;
-    if (cu && cv) input.nominal_centre_mm = Eigen::Vector2d(c[u] + cu->value, c[v] + cv->value);
-  }
-  CircularTestResult r;
-  try {
-    r = evaluate_circular_test(input);
-  } catch (const std::invalid_argument& e) {
-    return detail::invalid(result, check + ": " + e.what());
-  }
+  const CircularTestResult& r = evaluation.result;
   const bool both = r.G_b_mm.has_value();
   if (auto why = detail::why_tolerances_missing(machine,
                                                 both ? std::vector<std::string_view>{g_name, h_name}
@@ -482,59 +566,12 @@ CheckResult check_linear_axis_run(const MeasurementSet& set, const MachineConfig
                          "the linear axis run", &points)) {
     return detail::invalid(result, *why);
   }
-  const GlobalCheckConfig& gc = *machine.global_check;
-  // The run's axis: the configured one, or the request's parameter `axis` (0, 1, 2) of an import.
-  int axis = gc.linear_run.axis;
-  if (const NamedValue* a = find_value(set.parameters, "axis")) {
-    if (!(a->value == 0 || a->value == 1 || a->value == 2)) {
-      return detail::invalid(result, "MeasurementSet.parameters axis = " + format_number(a->value) +
-                                         ": expected 0, 1 or 2 (X, Y, Z)");
-    }
-    axis = static_cast<int>(a->value);
+  LinearRunEvaluation evaluation;
+  if (auto why = linear_run_of(set, points, *machine.global_check, &evaluation)) {
+    return detail::invalid(result, *why);
   }
-  // The position along the axis: the measured points projected on the run's best-fit line,
-  // oriented and zeroed like the commanded coordinate (ISO 230-2 figures are differences, so the
-  // zero does not matter; the orientation does).
-  std::vector<const LabelledPoint*> run_points;
-  for (const auto& p : points) {
-    if (p.group == "run") run_points.push_back(&p);
-  }
-  if (run_points.size() < 4) {
-    return detail::invalid(result, "the linear axis run has " + std::to_string(run_points.size()) +
-                                       " run:<cycle>:<up|down>:<i> points; it needs at least 2 "
-                                       "targets x 2 cycles");
-  }
-  std::vector<Eigen::Vector3d> measured;
-  double commanded_mean = 0;
-  for (const auto* p : run_points) {
-    measured.push_back(p->point->measured_mm);
-    commanded_mean += commanded_target(*p, gc)[axis];
-  }
-  commanded_mean /= static_cast<double>(run_points.size());
-  const PrincipalAxes line = principal_axes(measured);
-  const Eigen::Vector3d& centroid = line.centroid;
-  Eigen::Vector3d oriented = Eigen::Vector3d::Zero();
-  for (const auto* p : run_points) {
-    oriented +=
-        (p->point->measured_mm - centroid) * (commanded_target(*p, gc)[axis] - commanded_mean);
-  }
-  Eigen::Vector3d direction = line.vectors.col(2);
-  if (direction.dot(oriented) < 0) direction = -direction;
-  std::vector<PositioningReading> readings;
-  for (const auto* p : run_points) {
-    PositioningReading r;
-    r.target_mm = commanded_target(*p, gc)[axis];
-    r.cycle = p->cycle;
-    r.direction = p->up ? Approach::Up : Approach::Down;
-    r.measured_mm = commanded_mean + direction.dot(p->point->measured_mm - centroid);
-    readings.push_back(r);
-  }
-  Iso230_2Result iso;
-  try {
-    iso = evaluate_iso230_2(readings);
-  } catch (const std::invalid_argument& e) {
-    return detail::invalid(result, std::string("linear axis run: ") + e.what());
-  }
+  const std::vector<PositioningReading>& readings = evaluation.readings;
+  const Iso230_2Result& iso = evaluation.result;
   if (!iso.has_up || !iso.has_down) {
     // ISO 230-2's A and B (what the tolerances judge) are bidirectional figures.
     return detail::invalid(
@@ -563,6 +600,46 @@ CheckResult check_linear_axis_run(const MeasurementSet& set, const MachineConfig
   }
   detail::decide_verdict(result, causes);
   return result;
+}
+
+namespace {
+
+// The points of a set for an evaluation without judging (no tolerances needed); throws why not.
+std::vector<LabelledPoint> points_for_evaluation(const MeasurementSet& set,
+                                                 const MachineConfig& machine,
+                                                 std::string_view check) {
+  std::vector<LabelledPoint> points;
+  if (auto why = prepare(set, machine, {}, check, &points)) throw std::invalid_argument(*why);
+  return points;
+}
+
+}  // namespace
+
+GlobalGridEvaluation evaluate_global_grid(const MeasurementSet& set, const MachineConfig& machine) {
+  const auto points = points_for_evaluation(set, machine, "the grid check");
+  GlobalGridEvaluation out;
+  if (auto why = grid_of(points, *machine.global_check, &out)) throw std::invalid_argument(*why);
+  return out;
+}
+
+CircleEvaluation evaluate_circle(const MeasurementSet& set, const MachineConfig& machine) {
+  const std::string check = "the " + std::string(to_string(plane_of(set.kind))) + " circle";
+  const auto points = points_for_evaluation(set, machine, check);
+  CircleEvaluation out;
+  if (auto why = circle_of(set, points, *machine.global_check, check, &out)) {
+    throw std::invalid_argument(*why);
+  }
+  return out;
+}
+
+LinearRunEvaluation evaluate_linear_axis_run(const MeasurementSet& set,
+                                             const MachineConfig& machine) {
+  const auto points = points_for_evaluation(set, machine, "the linear axis run");
+  LinearRunEvaluation out;
+  if (auto why = linear_run_of(set, points, *machine.global_check, &out)) {
+    throw std::invalid_argument(*why);
+  }
+  return out;
 }
 
 }  // namespace ncqual::solver

@@ -195,6 +195,15 @@ struct CircularTestResult {
   std::optional<double> squareness_urad;  // > 0: angle between the u and v motions exceeds 90°
 };
 
+// A point about a reference (the F of one point, for polar plots): its angle about the centre
+// (counter-clockwise from +u, in [0, 2π)) and its radial deviation |p - c| - R0 (mm). F_max and
+// F_min are the extremes of the deviations about F_reference.
+struct RadialDeviation {
+  double angle_rad = 0;
+  double deviation_mm = 0;
+};
+RadialDeviation radial_deviation_about(const Eigen::Vector2d& p, const RadialReference& reference);
+
 // Evaluates the test. Throws std::invalid_argument "evaluate_circular_test: points[k]: <problem>"
 // for the problems find_circular_test_problem finds.
 CircularTestResult evaluate_circular_test(const CircularTestInput& input);

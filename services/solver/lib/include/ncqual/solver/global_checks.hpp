@@ -25,6 +25,12 @@
 
 #include "ncqual/config.hpp"
 #include "ncqual/model.hpp"
+#include "ncqual/solver/circular_test.hpp"
+#include "ncqual/solver/global_grid.hpp"
+#include "ncqual/solver/iso230_2.hpp"
+#include "ncqual/solver/master_frame.hpp"
+
+#include <vector>
 
 namespace ncqual::solver {
 
@@ -33,5 +39,30 @@ CheckResult check_global_grid(const MeasurementSet& set, const MachineConfig& ma
 CheckResult check_rotary_axis(const MeasurementSet& set, const MachineConfig& machine);
 CheckResult check_circle(const MeasurementSet& set, const MachineConfig& machine);
 CheckResult check_linear_axis_run(const MeasurementSet& set, const MachineConfig& machine);
+
+// What three of these checks evaluate before they judge, for charts (the report's, the
+// dashboard's): the same points, frame and evaluation the check's figures come from. Tolerances
+// are not needed. Each throws std::invalid_argument with the reason the check would give for
+// INVALID (no global_check section, a label the programs do not make, too few points, ...).
+struct GlobalGridEvaluation {
+  MasterFrame frame;  // of the set's own x_run and y_run
+  GridAnalysis grid;  // the main target's grid points (grid:<i>:t0) in the master frame
+};
+GlobalGridEvaluation evaluate_global_grid(const MeasurementSet& set, const MachineConfig& machine);
+
+struct CircleEvaluation {
+  CircularTestInput input;  // the points in the plane (master frame), the nominal circle
+  CircularTestResult result;
+};
+// A set of kind CircleXY, CircleYZ or CircleXZ.
+CircleEvaluation evaluate_circle(const MeasurementSet& set, const MachineConfig& machine);
+
+struct LinearRunEvaluation {
+  int axis = 0;                              // 0, 1, 2 = X, Y, Z
+  std::vector<PositioningReading> readings;  // as the check evaluates them
+  Iso230_2Result result;
+};
+LinearRunEvaluation evaluate_linear_axis_run(const MeasurementSet& set,
+                                             const MachineConfig& machine);
 
 }  // namespace ncqual::solver

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: Apache-2.0
+// What the historian holds for a machine's error budget (`ncqual budget`, the report's budget
+// section): the values of every metric a budget source names, newest first, in the metric's
+// configured unit. The math is solver::evaluate_error_budget's.
+#pragma once
+
+#include "ncqual/solver/error_budget.hpp"
+#include "ncqual/storage.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+
+namespace ncqual::report {
+
+struct BudgetHistory {
+  solver::MetricHistories values;  // newest first, the budget metric's unit
+  std::map<std::string, std::int64_t> newest_time_ns;
+  int unconvertible = 0;  // values stored in a unit that cannot be turned into the metric's
+};
+
+// Every judged (PASS or FAIL) result of the machine, newest first, up to `until_ns` (result
+// time; default: all).
+BudgetHistory gather_budget_history(
+    storage::Database& db, const std::string& machine_id, const solver::ErrorBudgetConfig& budget,
+    std::int64_t until_ns = std::numeric_limits<std::int64_t>::max());
+
+// Factor turning a value in unit `from` into `to` when both are units of one dimension (length
+// or angle); none otherwise. An empty `from` is taken as `to`.
+std::optional<double> unit_factor(const std::string& from, const std::string& to);
+
+}  // namespace ncqual::report

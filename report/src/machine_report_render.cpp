@@ -1,0 +1,552 @@
+// SPDX-License-Identifier: Apache-2.0
+// The report's HTML (machine_report.hpp, docs/report.md): the gathered data as sections with
+// inline SVG charts of ncqual_charts. Text in, text out; every text escaped.
+#include "ncqual/report/machine_report.hpp"
+
+#include "ncqual/charts/charts.hpp"
+#include "ncqual/check_kinds.hpp"
+#include "ncqual/units.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace ncqual::report {
+namespace {
+
+namespace svg = charts::svg;
+
+charts::DisplayUnit micrometres() { return {1000, "µm"}; }
+
+std::string esc(std::string_view text) { return svg::escape(text); }
+
+// "2026-03-02 06:00 UTC", or the date alone at midnight.
+std::string when(std::int64_t ns) {
+  const std::string t = charts::utc_date_time(ns);
+  return t + " UTC";
+}
+std::string day_or_time(std::int64_t ns) {
+  constexpr std::int64_t kDay = 86'400'000'000'000;
+  return ns % kDay == 0 ? charts::utc_date(ns) : when(ns);
+}
+
+// Where the report looks: "since 2026-01-05", "in check daily-1", "in the historian".
+std::string range_phrase(const MachineReport& r) {
+  if (r.check_id) return "in check " + *r.check_id;
+  if (r.since_ns) return "since " + day_or_time(*r.since_ns);
+  return "in the historian";
+}
+
+// One sentence for a section without data.
+std::string none_sentence(const std::string& what, const MachineReport& r) {
+  return "<p class=\"none\">No " + esc(what) + " " + esc(range_phrase(r)) + ".</p>\n";
+}
+
+std::string verdict_cell(const std::optional<Verdict>& v) {
+  if (!v) return "<span class=\"verdict none\">no result</span>";
+  const std::string name(to_string(*v));
+  std::string lower = name;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return "<span class=\"verdict " + lower + "\">" + esc(name) + "</span>";
+}
+
+// A length for people: mm shown in µm, never "-0.0".
+std::string um(double mm, int decimals = 1) { return svg::fixed(mm * 1000, decimals) + " µm"; }
+
+std::string check_title(const ReportedCheck& c) {
+  return std::string(check_kind_info(c.kind).title) + " — " + c.request_id + ", " + when(c.time_ns);
+}
+
+std::string check_line(const ReportedCheck& c) {
+  return "<p class=\"check\">" + esc(check_title(c)) + ": " + verdict_cell(c.verdict) + "</p>\n";
+}
+
+std::string figure(const std::string& svg_text) {
+  return "<figure class=\"chart\">" + svg_text + "</figure>\n";
+}
+
+// ---- 1. State ------------------------------------------------------------------------------
+
+std::string state_section(const MachineReport& r) {
+  std::string h =
+      "<section class=\"ncqual-report-state\">\n<h2>State of " + esc(r.machine_id) + "</h2>\n";
+  h += "<p class=\"asof\">As of " + esc(when(r.now_ns)) + "; checks " + esc(range_phrase(r)) +
+       (r.configured ? "" : "; no machine configuration given") + ".</p>\n";
+  if (!r.status) {
+    h += "<p class=\"none\">No status of " + esc(r.machine_id) + " is stored.</p>\n";
+  } else {
+    const MachineStatus& s = *r.status;
+    const std::string state(to_string(s.state));
+    h += "<table class=\"status\"><tbody>\n";
+    h += "<tr><th>state</th><td><span class=\"state " + esc(state) + "\">" + esc(state) +
+         "</span></td></tr>\n";
+    h += "<tr><th>since</th><td>" + esc(when(s.time_ns)) + "</td></tr>\n";
+    if (!s.detail.empty()) h += "<tr><th>detail</th><td>" + esc(s.detail) + "</td></tr>\n";
+    if (s.last_kind) {
+      h += "<tr><th>last check</th><td>" + esc(to_string(*s.last_kind)) +
+           (s.request_id.empty() ? "" : " (" + esc(s.request_id) + ")") + " " +
+           verdict_cell(s.last_verdict) + "</td></tr>\n";
+    }
+    h += "</tbody></table>\n";
+  }
+  h += "<h3>Trend warnings</h3>\n";
+  if (r.warnings.empty()) {
+    h += "<p class=\"none\">No trend warning was ever raised for " + esc(r.machine_id) + ".</p>\n";
+  } else {
+    h += "<ul class=\"warnings\">\n";
+    for (const auto& w : r.warnings) {
+      h += std::string("<li class=\"warning ") + (w.active() ? "active" : "ended") + "\">";
+      h += std::string("<strong>") + (w.active() ? "active" : "ended") + "</strong> " +
+           esc(w.metric) + " (" + esc(w.kind) + ", " + esc(w.side) + "), raised " +
+           esc(when(w.raised_ns)) + " by " + esc(w.raised_by);
+      if (w.ended_ns) {
+        h += ", ended " + esc(when(*w.ended_ns)) + (w.ended_by ? " by " + esc(*w.ended_by) : "");
+      }
+      h += ": " + esc(w.text) + "</li>\n";
+    }
+    h += "</ul>\n";
+    if (r.ended_warnings_not_listed > 0) {
+      h += "<p class=\"more\">" + std::to_string(r.ended_warnings_not_listed) +
+           " older ended warnings are not listed: <code>ncqual trend --machine " +
+           esc(r.machine_id) + " --metric NAME</code> lists those of a metric.</p>\n";
+    }
+  }
+  return h + "</section>\n";
+}
+
+// ---- 2. Monthly grid -----------------------------------------------------------------------
+
+// The number of a grid point: i of "grid:<i>:t<k>"; else its position + 1.
+int point_number(const std::string& label, std::size_t position) {
+  const auto colon = label.find(':');
+  if (colon != std::string::npos) {
+    const auto end = label.find(':', colon + 1);
+    const std::string digits = label.substr(colon + 1, end - colon - 1);
+    if (!digits.empty() && digits.size() < 7 &&
+        digits.find_first_not_of("0123456789") == std::string::npos) {
+      return std::stoi(digits);
+    }
+  }
+  return static_cast<int>(position) + 1;
+}
+
+std::string grid_section(const MachineReport& r) {
+  std::string h = "<section class=\"ncqual-report-grid\">\n<h2>Monthly grid</h2>\n";
+  if (!r.grid) return h + none_sentence("monthly grid", r) + "</section>\n";
+  const GridSection& g = *r.grid;
+  h += check_line(g.check);
+  if (!g.check.error.empty()) {
+    return h + "<p class=\"none\">The grid's charts cannot be drawn: " + esc(g.check.error) +
+           ".</p>\n</section>\n";
+  }
+  const double tol = g.tolerance_mm.value_or(0);
+  h += "<p class=\"how\">Per constant-Z plane: each nominal point's X/Y deviation (measured in "
+       "the master frame minus commanded) as a magnified arrow against its tolerance circle" +
+       std::string(g.tolerance_mm ? " (radius " + esc(um(tol)) + ", the grid's maximum deviation)"
+                                  : " (the result has no tolerance)") +
+       ", and the Z deviation by point number with the tolerance limits dashed.</p>\n";
+  for (const GridPlane& plane : g.planes) {
+    const std::string z = fmt::format("{:.1f}", plane.z_mm);
+    h += "<div class=\"plane\"><h3>Plane Z = " + esc(z) + " mm</h3>\n";
+    charts::DeviationVectorPlot v;
+    v.title = r.machine_id + ": grid plane Z = " + z + " mm, X/Y deviation";
+    v.description = "Check " + g.check.request_id + ".";
+    v.unit = micrometres();
+    v.tolerance = tol;
+    charts::PointDeviationChart zc;
+    zc.title = r.machine_id + ": grid plane Z = " + z + " mm, Z deviation";
+    zc.description = v.description;
+    zc.quantity = "Z deviation";
+    zc.unit = micrometres();
+    if (g.tolerance_mm) zc.tolerance = {-tol, tol};
+    for (std::size_t i = 0; i < plane.points.size(); ++i) {
+      const solver::GridPointResult& p = plane.points[i];
+      charts::PlaneDeviation d;
+      d.x = p.commanded_mm.x();
+      d.y = p.commanded_mm.y();
+      d.dx = p.deviation_mm.x();
+      d.dy = p.deviation_mm.y();
+      d.label = p.label;
+      if (g.tolerance_mm) d.out_of_tolerance = p.deviation_norm_mm > tol;
+      v.points.push_back(d);
+      zc.points.push_back({point_number(p.label, i), p.deviation_mm.z(), p.label});
+    }
+    // Both axes at one scale: a plot as wide as the trend charts, as high as the plane's shape
+    // asks (within 320..720 px), so a long, narrow envelope does not leave half the plot empty.
+    double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0;
+    for (std::size_t i = 0; i < v.points.size(); ++i) {
+      const auto& p = v.points[i];
+      x_lo = i ? std::min(x_lo, p.x) : p.x;
+      x_hi = i ? std::max(x_hi, p.x) : p.x;
+      y_lo = i ? std::min(y_lo, p.y) : p.y;
+      y_hi = i ? std::max(y_hi, p.y) : p.y;
+    }
+    if (x_hi > x_lo && y_hi > y_lo) {
+      v.size = {720, std::clamp(560 * (y_hi - y_lo) / (x_hi - x_lo) + 200, 320.0, 720.0)};
+    }
+    h += figure(charts::deviation_vector_plot(v)) + figure(charts::point_deviation_chart(zc)) +
+         "</div>\n";
+  }
+  return h + "</section>\n";
+}
+
+// ---- 3. ISO 230-2 run and circular tests ---------------------------------------------------
+
+const char* axis_name(int axis) { return axis == 0 ? "X" : axis == 1 ? "Y" : "Z"; }
+
+std::string figure_row(const std::string& name, const std::optional<double>& mm) {
+  return mm ? "<tr><th>" + esc(name) + "</th><td>" + esc(um(*mm)) + "</td></tr>" : "";
+}
+
+std::string linear_section(const MachineReport& r) {
+  std::string h =
+      "<section class=\"ncqual-report-linear\">\n<h2>Linear axis positioning (ISO 230-2)</h2>\n";
+  if (!r.linear_run) return h + none_sentence("ISO 230-2 linear axis run", r) + "</section>\n";
+  const LinearRunSection& s = *r.linear_run;
+  h += check_line(s.check);
+  if (!s.evaluation) {
+    return h + "<p class=\"none\">The run's chart cannot be drawn: " + esc(s.check.error) +
+           ".</p>\n</section>\n";
+  }
+  const solver::Iso230_2Result& iso = s.evaluation->result;
+  charts::PositioningChart c;
+  c.axis_name = axis_name(s.evaluation->axis);
+  c.title = r.machine_id + ": " + c.axis_name + " axis, bidirectional positioning";
+  c.description = "Check " + s.check.request_id + ".";
+  c.unit = micrometres();
+  for (const auto& t : iso.targets) {
+    charts::PositioningTarget p;
+    p.position = t.target_mm;
+    if (t.up) p.up = charts::DirectionStats{t.up->mean_mm, t.up->s_mm};
+    if (t.down) p.down = charts::DirectionStats{t.down->mean_mm, t.down->s_mm};
+    c.targets.push_back(p);
+  }
+  h += figure(charts::positioning_chart(c));
+  h += "<table class=\"figures\"><tbody>" + figure_row("accuracy A", iso.A_mm) +
+       figure_row("systematic deviation E", iso.E_mm) + figure_row("repeatability R", iso.R_mm) +
+       figure_row("reversal B", iso.B_mm) + figure_row("range of mean deviation M", iso.M_mm) +
+       figure_row("tolerance of A", s.tolerance_mm) + "</tbody></table>\n";
+  return h + "</section>\n";
+}
+
+std::string circles_section(const MachineReport& r) {
+  std::string h =
+      "<section class=\"ncqual-report-circles\">\n<h2>Circular tests "
+      "(ISO 230-4)</h2>\n";
+  if (r.circles.empty()) return h + none_sentence("circular test", r) + "</section>\n";
+  h += "<p class=\"how\">The radial deviation from the nominal circle against the angle, both "
+       "directions, magnified around the reference circle.</p>\n";
+  for (const CircleSection& s : r.circles) {
+    h += "<div class=\"circle\">" + check_line(s.check);
+    if (!s.evaluation) {
+      h += "<p class=\"none\">The test's chart cannot be drawn: " + esc(s.check.error) +
+           ".</p></div>\n";
+      continue;
+    }
+    const solver::CircularTestResult& res = s.evaluation->result;
+    const std::string plane(solver::to_string(res.plane));
+    charts::PolarChart c;
+    c.title = r.machine_id + ": circle in " + plane;
+    c.description = "Check " + s.check.request_id + ".";
+    c.u_name = plane.substr(0, 1);
+    c.v_name = plane.substr(1, 1);
+    c.unit = micrometres();
+    charts::PolarTrace ccw{"CCW", {}}, cw{"CW", {}};
+    for (const auto& p : s.evaluation->input.points) {
+      const solver::RadialDeviation d = solver::radial_deviation_about(p.uv_mm, res.F_reference);
+      (p.direction == solver::PathDirection::Ccw ? ccw : cw)
+          .samples.push_back({d.angle_rad, d.deviation_mm});
+    }
+    // Deviations below the instrument's resolution are not magnified into a shape: rings at
+    // least 1 µm apart.
+    double largest_um = 0;
+    for (const auto* t : {&ccw, &cw}) {
+      for (const auto& sample : t->samples) {
+        largest_um = std::max(largest_um, std::abs(sample.deviation) * 1000);
+      }
+    }
+    if (largest_um < 3) c.ring_step = 1.0;
+    if (!ccw.samples.empty()) c.traces.push_back(ccw);
+    if (!cw.samples.empty()) c.traces.push_back(cw);
+    h += figure(charts::polar_chart(c));
+    h += "<table class=\"figures\"><tbody>" + figure_row("circular deviation G", res.G_mm) +
+         figure_row("bidirectional G(b)", res.G_b_mm) + figure_row("hysteresis H", res.H_mm) +
+         figure_row("radial deviation F max", res.F_max_mm) +
+         figure_row("radial deviation F min", res.F_min_mm) +
+         figure_row("tolerance of G", s.tolerance_mm) + "</tbody></table></div>\n";
+  }
+  return h + "</section>\n";
+}
+
+// ---- 4. Trends -----------------------------------------------------------------------------
+
+charts::DisplayUnit display_unit(const std::string& unit) {
+  if (unit == "mm") return micrometres();
+  if (unit == "rad") return {180 / units::kPi, "°"};
+  if (unit == "urad") return {1, "µrad"};
+  if (unit == "um") return {1, "µm"};
+  if (unit == "um/m") return {1, "µm/m"};
+  return {1, unit};
+}
+
+std::string trend_figures(const MetricTrend& t) {
+  std::vector<std::string> parts;
+  parts.push_back(std::to_string(t.checks) + (t.checks == 1 ? " check" : " checks"));
+  if (t.pass_rate.rate) parts.push_back(fmt::format("pass rate {:.0f} %", 100 * *t.pass_rate.rate));
+  if (t.capability.cpk) parts.push_back(fmt::format("Cpk {:.2f}", *t.capability.cpk));
+  const TrendForecast& f = t.least_squares;
+  if (f.error.empty() && f.points > 0) {
+    const charts::DisplayUnit u = display_unit(t.unit);
+    parts.push_back(fmt::format("slope {:.3g} {}/day", f.slope_per_day * u.scale, u.unit));
+    if (f.expected.status == "date" && f.expected.time_ns) {
+      parts.push_back("expected to cross its limit " + charts::utc_date(*f.expected.time_ns));
+    }
+  }
+  if (!t.error.empty()) parts.push_back(t.error);
+  std::string out;
+  for (const auto& p : parts) out += (out.empty() ? "" : "; ") + p;
+  return out;
+}
+
+std::string trends_section(const MachineReport& r) {
+  std::string h = "<section class=\"ncqual-report-trends\">\n<h2>Trends</h2>\n";
+  if (r.trends.empty()) return h + none_sentence("metric trend", r) + "</section>\n";
+  h += "<p class=\"how\">The metrics to look at (those with a trend warning, then those out "
+       "of tolerance, then the nearest their tolerance; " +
+       std::to_string(kMaxTrendCharts) +
+       " at most) over time: the tolerance band (grey), control limits (dashed), the "
+       "least-squares forecast with its 95 % prediction band, and the interventions and "
+       "compensations that restart a series.</p>\n";
+  std::string singles;
+  for (const MetricTrend& t : r.trends) {
+    if (t.checks < 2) {
+      // One value is no trend: a row of the table below.
+      for (const auto& p : t.points) {
+        const charts::DisplayUnit u = display_unit(t.unit);
+        auto shown = [&](const std::optional<double>& v) {
+          return v ? svg::fixed(*v * u.scale, u.scale >= 1000 ? 1 : 2) : std::string("—");
+        };
+        const bool outside =
+            p.value && ((p.lower && *p.value < *p.lower) || (p.upper && *p.value > *p.upper));
+        singles += std::string(outside ? "<tr class=\"over\">" : "<tr>") + "<td>" + esc(t.metric) +
+                   "</td><td>" + esc(shown(p.value)) + "</td><td>" +
+                   esc("[" + shown(p.lower) + ", " + shown(p.upper) + "]") + "</td><td>" +
+                   esc(u.unit) + "</td><td>" + esc(p.request_id) + "</td><td>" +
+                   esc(when(p.time_ns)) + "</td></tr>\n";
+      }
+      continue;
+    }
+    charts::TrendChart c;
+    c.title = r.machine_id + ": " + t.metric;
+    c.quantity = t.metric;
+    c.unit = display_unit(t.unit);
+    std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = r.now_ns;
+    for (const auto& p : t.points) {
+      lo = std::min(lo, p.time_ns);
+      hi = std::max(hi, p.time_ns);
+      if (!p.value) continue;
+      // Failed: this metric outside its own band (the check's verdict may concern another).
+      const bool outside = (p.lower && *p.value < *p.lower) || (p.upper && *p.value > *p.upper);
+      c.points.push_back({p.time_ns, *p.value, outside, p.request_id});
+    }
+    c.tolerance = {t.lower.value_or(-charts::kNoLimit), t.upper.value_or(charts::kNoLimit)};
+    if (t.error.empty() && t.baseline.error.empty() && t.baseline.points > 0) {
+      c.control = charts::ControlLimits{t.baseline.mean, t.baseline.lower_control_limit,
+                                        t.baseline.upper_control_limit};
+    }
+    if (!t.prediction.empty()) {
+      charts::Forecast f;
+      for (const auto& s : t.prediction)
+        f.samples.push_back({s.time_ns, s.fitted, s.lower, s.upper});
+      if (t.least_squares.expected.status == "date") {
+        f.crossing_ns = t.least_squares.expected.time_ns;
+      }
+      hi = std::max(hi, f.samples.back().time_ns);
+      c.forecast = std::move(f);
+    }
+    for (const auto& m : r.markers) {
+      if (m.time_ns < lo || m.time_ns > hi) continue;
+      c.markers.push_back(
+          {m.time_ns, m.label,
+           m.compensation ? charts::MarkerKind::Compensation : charts::MarkerKind::Intervention});
+    }
+    h += "<div class=\"trend\">" + figure(charts::trend_chart(c)) + "<p class=\"figures\">" +
+         esc(trend_figures(t)) + "</p></div>\n";
+  }
+  if (!r.other_metrics.empty()) {
+    h += "<h3>The other " + std::to_string(r.other_metrics.size()) + " metrics " +
+         esc(range_phrase(r)) +
+         ", nearest their tolerance first</h3>\n<p class=\"how\">Each with the value that came "
+         "nearest its tolerance and how much of the tolerance it used (100 %: at the limit); "
+         "`ncqual trend --machine " +
+         esc(r.machine_id) +
+         " --metric NAME` gives its trend.</p>\n<table class=\"other-metrics\">\n<thead><tr>"
+         "<th>metric</th><th>check</th><th>checks</th><th>nearest value</th><th>tolerance</th>"
+         "<th>unit</th><th>used</th><th>time</th></tr></thead>\n<tbody>\n";
+    for (const MetricUsage& m : r.other_metrics) {
+      const charts::DisplayUnit u = display_unit(m.unit);
+      auto shown = [&](double v) {
+        return std::isfinite(v) ? svg::fixed(v * u.scale, u.scale >= 1000 ? 1 : 2)
+                                : std::string("—");
+      };
+      h += std::string(m.usage > 1 ? "<tr class=\"over\">" : "<tr>") + "<td>" + esc(m.metric) +
+           "</td><td>" + esc(to_string(m.kind)) + "</td><td>" + std::to_string(m.checks) +
+           "</td><td>" + esc(m.checks > 0 ? shown(m.value) : std::string("—")) + "</td><td>" +
+           esc("[" + shown(m.lower) + ", " + shown(m.upper) + "]") + "</td><td>" + esc(u.unit) +
+           "</td><td>" + esc(m.checks > 0 ? fmt::format("{:.0f} %", 100 * m.usage) : "—") +
+           "</td><td>" + esc(m.checks > 0 ? when(m.time_ns) : std::string("—")) + "</td></tr>\n";
+    }
+    h += "</tbody></table>\n";
+  }
+  if (!singles.empty()) {
+    h += "<h3>Metrics with one check " + esc(range_phrase(r)) +
+         "</h3>\n<table class=\"single-metrics\">\n<thead><tr><th>metric</th><th>value</th>"
+         "<th>tolerance</th><th>unit</th><th>request</th><th>time</th></tr></thead>\n<tbody>\n" +
+         singles + "</tbody></table>\n";
+  }
+  return h + "</section>\n";
+}
+
+// ---- 5. Checks -----------------------------------------------------------------------------
+
+std::string correction_text(const Correction& c) {
+  std::string out = c.target + ":";
+  for (const auto& o : c.offsets) {
+    if (o.unit == "mm") {
+      out += " " + o.name + " = " + um(o.value, 2);
+    } else if (o.unit == "rad") {
+      out += " " + o.name + " = " + fmt::format("{:.6f}°", units::rad_to_deg(o.value));
+    } else {
+      out += " " + o.name + " = " + fmt::format("{:.6g} {}", o.value, o.unit);
+    }
+  }
+  return out;
+}
+
+std::string checks_section(const MachineReport& r) {
+  std::string h = "<section class=\"ncqual-report-checks\">\n<h2>Checks</h2>\n";
+  if (r.checks.empty()) return h + none_sentence("check", r) + "</section>\n";
+  h += "<table class=\"checks\">\n<thead><tr><th>time (UTC)</th><th>kind</th><th>request</th>"
+       "<th>verdict</th><th>causes (most likely first)</th><th>corrections</th></tr></thead>\n"
+       "<tbody>\n";
+  for (const auto& c : r.checks) {
+    const std::int64_t t = c.result        ? c.result->time_ns
+                           : c.measurement ? c.measurement->time_ns
+                           : c.request     ? c.request->time_ns
+                                           : 0;
+    h += "<tr><td class=\"time\">" + esc(charts::utc_date_time(t)) + "</td><td>" +
+         esc(to_string(c.kind)) + "</td><td>" + esc(c.request_id) + "</td><td>" +
+         verdict_cell(c.result ? std::optional<Verdict>(c.result->verdict) : std::nullopt);
+    if (c.result && !c.result->reason.empty()) {
+      h += "<div class=\"reason\">" + esc(c.result->reason) + "</div>";
+    }
+    h += "</td><td>";
+    if (c.result && !c.result->likely_causes.empty()) {
+      h += "<ol class=\"causes\">";
+      for (const auto& cause : c.result->likely_causes) h += "<li>" + esc(cause) + "</li>";
+      h += "</ol>";
+    }
+    h += "</td><td>";
+    if (c.result && c.result->correction) h += esc(correction_text(*c.result->correction));
+    h += "</td></tr>\n";
+  }
+  return h + "</tbody></table>\n</section>\n";
+}
+
+// ---- 6. Error budget -----------------------------------------------------------------------
+
+std::string budget_section(const MachineReport& r) {
+  std::string h = "<section class=\"ncqual-report-budget\">\n<h2>Error budget</h2>\n";
+  const BudgetSection& b = r.budget;
+  if (!b.evaluation) return h + "<p class=\"none\">" + esc(b.error) + "</p>\n</section>\n";
+  const solver::ErrorBudgetReport& e = *b.evaluation;
+  charts::BudgetChart c;
+  c.title = r.machine_id + ": error budget at the tool tip (today)";
+  c.description = fmt::format(
+      "The newest value of each metric, up to {}; capabilities from the "
+      "newest {} values.",
+      when(b.until_ns), b.last);
+  c.unit = micrometres();
+  for (const auto& s : e.sources) c.contributions.push_back({s.name, s.today_contribution_mm});
+  c.total = charts::BudgetBar{"total (RSS)", e.today.rss_total_mm};
+  c.allowance = e.allowable_total_mm;
+  h += figure(charts::budget_chart(c));
+  h += "<p class=\"figures\">" +
+       esc(fmt::format("Total {} against an allowance of {} at θ = {:.1f}°: {}.",
+                       um(e.today.rss_total_mm), um(e.allowable_total_mm),
+                       units::rad_to_deg(e.today.theta_rad),
+                       e.today.within_budget ? "within budget" : "over budget")) +
+       (b.values == 0 ? " No value of its metrics is stored yet: the capabilities are the "
+                        "configured defaults."
+                      : "") +
+       "</p>\n";
+  return h + "</section>\n";
+}
+
+}  // namespace
+
+std::string machine_report_sections(const MachineReport& report) {
+  return state_section(report) + grid_section(report) + linear_section(report) +
+         circles_section(report) + trends_section(report) + checks_section(report) +
+         budget_section(report);
+}
+
+std::string report_stylesheet() {
+  return R"css(.ncqual-report { font-family: "DejaVu Sans", Arial, Helvetica, sans-serif; color: #000; max-width: 1100px; margin: 0 auto; padding: 0 16px; }
+.ncqual-report h1 { font-size: 1.6em; margin: 0.6em 0 0.2em; }
+section[class^="ncqual-report-"] { margin: 1.5em 0; }
+section[class^="ncqual-report-"] h2 { font-size: 1.3em; border-bottom: 2px solid #1f5fa8; padding-bottom: 0.15em; }
+section[class^="ncqual-report-"] h3 { font-size: 1.05em; margin: 1em 0 0.3em; }
+section[class^="ncqual-report-"] p.none { font-style: italic; color: #333; }
+section[class^="ncqual-report-"] p.how { color: #333; font-size: 0.92em; }
+section[class^="ncqual-report-"] figure.chart { margin: 0.5em 0; display: inline-block; vertical-align: top; break-inside: avoid; page-break-inside: avoid; }
+section[class^="ncqual-report-"] figure.chart svg { max-width: 100%; height: auto; }
+section[class^="ncqual-report-"] table { border-collapse: collapse; font-size: 0.9em; margin: 0.4em 0; }
+section[class^="ncqual-report-"] th, section[class^="ncqual-report-"] td { border: 1px solid #b4b4b4; padding: 3px 6px; text-align: left; vertical-align: top; }
+section[class^="ncqual-report-"] thead th { background: #eeeeee; }
+table.checks { width: 100%; }
+table.checks tr { break-inside: avoid; page-break-inside: avoid; }
+table.checks td.time { white-space: nowrap; }
+table.single-metrics tr.over td { color: #c8102e; font-weight: bold; }
+table.other-metrics tr.over td { color: #c8102e; font-weight: bold; }
+table.checks ol.causes { margin: 0; padding-left: 1.3em; }
+table.checks div.reason { font-size: 0.85em; color: #333; }
+.verdict { font-weight: bold; }
+.verdict.fail, .verdict.invalid { color: #c8102e; }
+.verdict.pass { color: #1f5fa8; }
+.state { font-weight: bold; }
+.state.NEEDS_INTERVENTION, .state.OVERDUE, .state.needs_intervention, .state.overdue { color: #c8102e; }
+ul.warnings li.active { color: #c8102e; }
+ul.warnings li.ended { color: #333; }
+div.plane, div.trend, div.circle { break-inside: avoid; page-break-inside: avoid; }
+@media print {
+  .ncqual-report { max-width: none; padding: 0; }
+  section[class^="ncqual-report-"] { break-before: page; page-break-before: always; margin: 0; }
+  section.ncqual-report-state { break-before: auto; page-break-before: auto; }
+  section[class^="ncqual-report-"] h2 { break-after: avoid; page-break-after: avoid; }
+  figure.chart svg { max-height: 24cm; }
+  a { color: inherit; text-decoration: none; }
+}
+@page { size: A4; margin: 12mm; }
+)css";
+}
+
+std::string machine_report_document(const MachineReport& report) {
+  std::string h = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n";
+  h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"/>\n";
+  h +=
+      "<title>" +
+      esc("Qualification report of " + report.machine_id + ", " + charts::utc_date(report.now_ns)) +
+      "</title>\n<style>\n" + report_stylesheet() + "</style>\n</head>\n<body>\n";
+  h += "<main class=\"ncqual-report\">\n<h1>" + esc("Qualification report: " + report.machine_id) +
+       "</h1>\n";
+  h += machine_report_sections(report);
+  h += "<footer><p class=\"how\">Written by ncqual report as of " + esc(when(report.now_ns)) +
+       ". Lengths in µm, angles in degrees.</p></footer>\n</main>\n</body>\n</html>\n";
+  return h;
+}
+
+}  // namespace ncqual::report

@@ -1,0 +1,217 @@
+// SPDX-License-Identifier: Apache-2.0
+// ncqual-web: the live plant dashboard (docs/dashboard.md). Serves the pages and the JSON of
+// ncqual/web/dashboard.hpp over HTTP (cpp-httplib 0.11) from the historian's database opened
+// read-only. A process of its own, not a part of the historian: a slow page or a fault here can
+// never hold up storage, and it joins no DDS domain.
+//
+//   ncqual-web [--plant F] [--db F] [--bind ADDR] [--port N] [--log-level L]
+//
+// --plant (else NCQUAL_PLANT) gives the machines, the calendar and, in its `web:` section, where
+// to listen (default 127.0.0.1:8470); --bind and --port replace those (--port 0: any free port,
+// logged). --db replaces the plant's historian database. SIGTERM or SIGINT stop it: the listener
+// closes, requests under way finish. Under systemd (Type=notify) it says READY once it listens
+// and, with WatchdogSec=, pings the watchdog while it still answers its own requests.
+#include "ncqual/web/dashboard.hpp"
+
+#include "ncqual/command_line.hpp"
+#include "ncqual/config.hpp"
+#include "ncqual/log.hpp"
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+#include <systemd/sd-daemon.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <mutex>
+#include <pthread.h>
+#include <string>
+#include <thread>
+#include <utility>
+
+namespace {
+
+using namespace ncqual;
+
+void notify(const char* state) {
+  if (const int r = sd_notify(0, state); r < 0) {
+    spdlog::warn("could not notify the service manager ({}): {}", state, std::strerror(-r));
+  }
+}
+
+// The request httplib parsed, as the dashboard takes it.
+web::Request request_of(const httplib::Request& req) {
+  web::Request r;
+  r.method = req.method;
+  r.path = req.path;
+  for (const auto& [name, value] : req.params) r.params.emplace_back(name, value);
+  return r;
+}
+
+void answer(web::Dashboard& dashboard, const httplib::Request& req, httplib::Response& res) {
+  const web::Reply reply = dashboard.handle(request_of(req));
+  res.status = reply.status;
+  for (const auto& [name, value] : reply.headers) res.set_header(name, value);
+  res.set_content(reply.body, reply.content_type);
+}
+
+int run(int argc, char** argv) {
+  CLI::App app(
+      "The live plant dashboard: the historian's machines, checks and warnings over "
+      "HTTP, read-only (docs/dashboard.md).",
+      "ncqual-web");
+  command_line::configure(app);
+  std::string plant_flag;
+  std::string db;
+  std::string bind;
+  int port = -1;
+  std::string log_level = "info";
+  app.add_option("--plant", plant_flag, "the plant config (else $NCQUAL_PLANT)");
+  app.add_option("--db", db, "the historian database, opened read-only (else the plant's)");
+  app.add_option("--bind", bind,
+                 "the IPv4 address to listen on (else the plant's web.bind, default 127.0.0.1)");
+  app.add_option("--port", port, "the port (else the plant's web.port, default 8470; 0: any)")
+      ->check(CLI::Range(0, 65535));
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical or off");
+  if (const auto code = command_line::parse(app, argc, argv)) return *code;
+  init_logging("web", log_level);
+
+  const std::string plant_file = plant_config_path(plant_flag);
+  if (plant_file.empty())
+    throw ConfigError("no plant config: pass --plant FILE or set NCQUAL_PLANT");
+  PlantConfig plant = load_plant_config(plant_file);
+  if (!bind.empty()) {
+    if (const auto a = parse_network_address(bind);
+        !a || a->port != 0 || bind.find_first_not_of("0123456789.") != std::string::npos) {
+      throw ConfigError("--bind '" + bind + "': expected an IPv4 address, e.g. 127.0.0.1");
+    }
+    plant.web.bind = bind;
+  }
+  if (port >= 0) plant.web.port = port;
+  const std::string database = db.empty() ? plant.historian_database : db;
+  if (!std::filesystem::exists(database)) {
+    throw storage::StorageError("no historian database at " + database +
+                                " (the historian creates it when it first starts)");
+  }
+
+  // SIGTERM and SIGINT are taken by one thread (sigwait), blocked in every thread's mask before
+  // httplib starts its workers; SIGUSR1 wakes that thread when listening ended by itself.
+  sigset_t waited;
+  sigemptyset(&waited);
+  sigaddset(&waited, SIGTERM);
+  sigaddset(&waited, SIGINT);
+  sigaddset(&waited, SIGUSR1);
+  pthread_sigmask(SIG_BLOCK, &waited, nullptr);
+
+  web::Dashboard dashboard(plant, database);
+  httplib::Server server;
+  server.set_payload_max_length(std::size_t{64} *
+                                1024);  // nothing is posted; a body is read no further
+  server.set_read_timeout(std::chrono::seconds(10));
+  server.set_write_timeout(std::chrono::seconds(10));
+  server.set_keep_alive_max_count(100);
+  // Every method reaches the dashboard, which answers 405 to all but GET and HEAD, before any
+  // body is read.
+  server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
+    if (req.method == "GET" || req.method == "HEAD")
+      return httplib::Server::HandlerResponse::Unhandled;
+    answer(dashboard, req, res);
+    return httplib::Server::HandlerResponse::Handled;
+  });
+  server.Get(".*", [&](const httplib::Request& req, httplib::Response& res) {
+    answer(dashboard, req, res);
+  });
+  server.set_exception_handler(
+      [](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
+        std::string what = "unknown error";
+        try {
+          std::rethrow_exception(std::move(ep));
+        } catch (const std::exception& e) {
+          what = e.what();
+        } catch (...) {}
+        spdlog::error("{} {}: {}", req.method, req.path.substr(0, 200), what);
+        res.status = 500;
+        res.set_content("{\"error\": {\"status\": 500, \"message\": \"internal error\"}}\n",
+                        "application/json");
+      });
+  server.set_logger([](const httplib::Request& req, const httplib::Response& res) {
+    spdlog::debug("{} {} -> {}", req.method, req.path.substr(0, 200), res.status);
+  });
+
+  int bound = 0;
+  if (plant.web.port == 0) {
+    bound = server.bind_to_any_port(plant.web.bind);
+  } else {
+    bound = server.bind_to_port(plant.web.bind, plant.web.port) ? plant.web.port : -1;
+  }
+  if (bound <= 0) {
+    throw ConfigError("cannot listen on " + plant.web.bind + ":" + std::to_string(plant.web.port) +
+                      " (in use, or not an address of this host)");
+  }
+
+  std::atomic<bool> stopping{false};
+  std::atomic<bool> listening_done{false};
+  std::mutex mutex;
+  std::condition_variable done;
+  std::thread signals([&] {
+    int signal = 0;
+    for (;;) {
+      sigwait(&waited, &signal);
+      if (signal != SIGUSR1) break;  // SIGTERM or SIGINT
+      if (listening_done) return;    // listening ended by itself: nothing to stop
+    }
+    spdlog::info("{}: stopping", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+    stopping = true;
+    notify("STOPPING=1");
+    // stop() closes the listener once listen has begun: asked again until listen returned.
+    std::unique_lock lock(mutex);
+    while (!listening_done) {
+      server.stop();
+      done.wait_for(lock, std::chrono::milliseconds(50));
+    }
+  });
+  // Under WatchdogSec=: pinged while the dashboard still answers a request of its own.
+  std::uint64_t watchdog_usec = 0;
+  std::thread watchdog;
+  if (sd_watchdog_enabled(0, &watchdog_usec) > 0 && watchdog_usec > 0) {
+    const auto period = std::chrono::microseconds(watchdog_usec / 2);
+    const std::string host = plant.web.bind == "0.0.0.0" ? "127.0.0.1" : plant.web.bind;
+    watchdog = std::thread([&, period, host] {
+      httplib::Client self(host, bound);
+      self.set_connection_timeout(std::chrono::seconds(2));
+      self.set_read_timeout(std::chrono::seconds(5));
+      std::unique_lock lock(mutex);
+      while (!done.wait_for(lock, period, [&] { return listening_done.load(); })) {
+        lock.unlock();
+        const auto res = self.Get("/api/v1/changes");
+        if (res && res->status == 200) notify("WATCHDOG=1");
+        lock.lock();
+      }
+    });
+  }
+
+  spdlog::info("serving plant {} on http://{}:{}/ from {} (read-only)", plant.plant, plant.web.bind,
+               bound, database);
+  notify("READY=1");
+  const bool ok = stopping || server.listen_after_bind();
+  {
+    const std::lock_guard lock(mutex);
+    listening_done = true;
+  }
+  done.notify_all();
+  if (!stopping) pthread_kill(signals.native_handle(), SIGUSR1);  // listen ended: end sigwait
+  signals.join();
+  if (watchdog.joinable()) watchdog.join();
+  spdlog::info("stopped");
+  return ok || stopping ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return ncqual::command_line::guarded_main("ncqual-web", [&] { return run(argc, argv); });
+}

@@ -1,0 +1,307 @@
+// SPDX-License-Identifier: Apache-2.0
+// The machine report (report/machine_report.hpp) from a historian built here
+// (report_historian.hpp): the document is read back by an XML parser of its own
+// (inspect_report.py, Debian's python3) and its sections, charts, table and data values are
+// compared with the stored data and the deviations worked by hand.
+#include "ncqual/report/machine_report.hpp"
+
+#include "report_historian.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+namespace ncqual::report {
+namespace {
+
+using nlohmann::json;
+using testing::kDay;
+using testing::kT0;
+
+class MachineReportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    static std::atomic<int> counter{0};
+    dir_ = std::filesystem::temp_directory_path() /
+           ("ncqual-report-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+
+  // The historian of `machine_id` (built once per test).
+  storage::Database historian(const MachineConfig& m) {
+    const std::string path = (dir_ / "historian.db").string();
+    testing::build_report_historian(path, m);
+    return storage::Database::open_readonly(path);
+  }
+
+  // The document as inspect_report.py reads it.
+  json inspect(const std::string& document) {
+    const std::string file = (dir_ / "report.html").string();
+    std::ofstream(file, std::ios::binary) << document;
+    const std::string command =
+        "/usr/bin/python3 " NCQUAL_REPORT_TEST_DIR "/inspect_report.py '" + file + "'";
+    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+    std::string out;
+    char buffer[4096];
+    while (pipe && fgets(buffer, sizeof buffer, pipe.get())) out += buffer;
+    return json::parse(out);
+  }
+
+  static const json* section(const json& doc, const std::string& cls) {
+    for (const auto& s : doc["sections"]) {
+      if (s["class"] == cls) return &s;
+    }
+    return nullptr;
+  }
+
+  std::filesystem::path dir_;
+};
+
+int count(const json& charts, const std::string& kind) {
+  int n = 0;
+  for (const auto& c : charts) n += c == kind;
+  return n;
+}
+
+TEST_F(MachineReportTest, EverySectionWithItsChartsAndTheStoredFigures) {
+  const MachineConfig m = testing::report_machine("PM1");
+  storage::Database db = historian(m);
+  MachineReportQuery q;
+  q.machine_id = "PM1";
+  q.since_ns = kT0;
+  q.now_ns = kT0 + 14 * kDay;
+  q.machine = &m;
+  const MachineReport r = gather_machine_report(db, q);
+
+  // The gathered data, against what was stored.
+  ASSERT_TRUE(r.status);
+  EXPECT_EQ(r.status->state, MachineState::NeedsIntervention);
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_EQ(r.checks.size(), 15u);  // 12 daily + grid + circle + linear run
+  ASSERT_TRUE(r.grid);
+  EXPECT_EQ(r.grid->check.request_id, "monthly-grid");
+  EXPECT_EQ(r.grid->check.error, "");
+  EXPECT_EQ(r.grid->check.verdict, Verdict::Fail);  // grid:20 is 0.16 mm off, limit 0.15
+  ASSERT_EQ(r.grid->planes.size(), 4u);             // pm1: Z 600, 800, 1000, 1200
+  EXPECT_EQ(r.grid->planes[0].points.size(), 54u);  // 9 x 6
+  ASSERT_TRUE(r.grid->tolerance_mm);
+  EXPECT_DOUBLE_EQ(*r.grid->tolerance_mm, 0.15);
+  ASSERT_EQ(r.circles.size(), 1u);
+  ASSERT_TRUE(r.circles[0].evaluation) << r.circles[0].check.error;
+  ASSERT_TRUE(r.linear_run && r.linear_run->evaluation) << r.linear_run->check.error;
+  // ISO 230-2 by hand: every cycle reads +2 µm going up and -2 µm going down, so B = 4 µm,
+  // s = 0 and A = 4 µm.
+  EXPECT_NEAR(*r.linear_run->evaluation->result.B_mm, 2 * testing::kBacklashHalfMm, 1e-9);
+  EXPECT_NEAR(*r.linear_run->evaluation->result.A_mm, 2 * testing::kBacklashHalfMm, 1e-9);
+  EXPECT_TRUE(r.budget.evaluation) << r.budget.error;
+  EXPECT_FALSE(r.trends.empty());
+  EXPECT_EQ(r.markers.size(), 1u);
+
+  const json doc = inspect(machine_report_document(r));
+  ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
+  EXPECT_TRUE(doc["forbidden"].empty()) << doc["forbidden"].dump();
+  EXPECT_EQ(doc["h1"], "Qualification report: PM1");
+
+  const json* state = section(doc, "ncqual-report-state");
+  ASSERT_TRUE(state);
+  const json* grid = section(doc, "ncqual-report-grid");
+  ASSERT_TRUE(grid);
+  EXPECT_EQ(count((*grid)["charts"], "deviation-vectors"), 4);
+  EXPECT_EQ(count((*grid)["charts"], "point-deviation"), 4);
+  const json* linear = section(doc, "ncqual-report-linear");
+  ASSERT_TRUE(linear);
+  EXPECT_EQ((*linear)["charts"], json::array({"positioning"}));
+  const json* circles = section(doc, "ncqual-report-circles");
+  ASSERT_TRUE(circles);
+  EXPECT_EQ((*circles)["charts"], json::array({"polar"}));
+  EXPECT_EQ(doc["traces"], json::array({"CCW", "CW"}));
+  // The circle by hand: about the nominal circle, F = 4 µm cos 2θ (+2 µm clockwise), so
+  // F max = 6 µm, F min = -4 µm, and H = 2 µm.
+  const solver::CircularTestResult& circle = r.circles[0].evaluation->result;
+  EXPECT_NEAR(circle.F_max_mm, testing::kCircleOvalMm + testing::kCircleCwOffsetMm, 1e-7);
+  EXPECT_NEAR(circle.F_min_mm, -testing::kCircleOvalMm, 1e-7);
+  EXPECT_NEAR(*circle.H_mm, testing::kCircleCwOffsetMm, 1e-6);
+  const json* trends = section(doc, "ncqual-report-trends");
+  ASSERT_TRUE(trends);
+  // A chart per metric with two checks or more (center_dx_mm alone); the monthly metrics (one
+  // check each) in the table below it.
+  EXPECT_EQ((*trends)["charts"], json::array({"trend"}));
+  EXPECT_GT(r.trends.size(), 10u);
+  const json* budget = section(doc, "ncqual-report-budget");
+  ASSERT_TRUE(budget);
+  EXPECT_EQ((*budget)["charts"], json::array({"budget"}));
+  ASSERT_TRUE(section(doc, "ncqual-report-checks"));
+  for (const auto& s : doc["sections"]) EXPECT_TRUE(s["none"].empty()) << s.dump();
+
+  // The hand-worked vectors: stored point minus nominal.
+  bool seen7 = false, seen20 = false;
+  int fails = 0;
+  for (const auto& v : doc["vectors"]) {
+    fails += v["class"] == "vector fail";
+    if (v["label"] == "grid:7:t0") {
+      seen7 = true;
+      EXPECT_NEAR(v["dx"].get<double>(), 0.012, 1e-9);
+      EXPECT_NEAR(v["dy"].get<double>(), -0.005, 1e-9);
+      EXPECT_NEAR(v["value"].get<double>(), 0.013, 1e-9);  // 5-12-13
+      EXPECT_EQ(v["class"], "vector pass");
+    } else if (v["label"] == "grid:20:t0") {
+      seen20 = true;
+      EXPECT_NEAR(v["value"].get<double>(), 0.160, 1e-9);
+      EXPECT_EQ(v["class"], "vector fail");
+    } else {
+      EXPECT_NEAR(v["value"].get<double>(), 0, 1e-9) << v["label"];
+    }
+  }
+  EXPECT_TRUE(seen7 && seen20);
+  EXPECT_EQ(fails, 1);
+  EXPECT_EQ(doc["vectors"].size(), 216u);
+
+  // The ISO 230-2 means: +2 µm up, -2 µm down at every target.
+  ASSERT_EQ(doc["means"].size(), 2 * m.global_check->linear_run.targets_mm.size());
+  for (const auto& mean : doc["means"]) {
+    EXPECT_NEAR(mean["value"].get<double>(),
+                mean["class"] == "mean up" ? testing::kBacklashHalfMm : -testing::kBacklashHalfMm,
+                1e-9);
+  }
+
+  // The table: newest first, the stored verdicts, the ranked causes, the correction.
+  const json& rows = doc["checks"];
+  ASSERT_EQ(rows.size(), 15u);
+  EXPECT_EQ(rows[0][2], "monthly-linear");
+  EXPECT_EQ(rows[0][1], "linear_axis_run");
+  int pass = 0, fail = 0;
+  for (const auto& row : rows) {
+    const std::string verdict = row[3];
+    pass += verdict.rfind("PASS", 0) == 0;
+    fail += verdict.rfind("FAIL", 0) == 0;
+  }
+  EXPECT_EQ(pass, 13);  // 11 daily, circle, run
+  EXPECT_EQ(fail, 2);   // daily-12, grid
+  for (const auto& row : rows) {
+    if (row[2] != "daily-12") continue;
+    EXPECT_EQ(row[4], "monument moved (loose clamping) probe stylus bent");
+    EXPECT_EQ(row[5], "machine:work_offset: dx = -30.00 µm");
+  }
+}
+
+TEST_F(MachineReportTest, SectionsWithoutDataSaySoInOneSentence) {
+  const MachineConfig m = testing::report_machine("PM1");
+  storage::Database db = historian(m);
+  MachineReportQuery q;
+  q.machine_id = "PM1";
+  q.since_ns = kT0 + 20 * kDay;  // after everything
+  q.now_ns = kT0 + 21 * kDay;
+  q.machine = &m;
+  const json doc = inspect(machine_report_document(gather_machine_report(db, q)));
+  ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
+  const json* grid = section(doc, "ncqual-report-grid");
+  ASSERT_TRUE(grid);
+  EXPECT_TRUE((*grid)["charts"].empty());
+  EXPECT_EQ((*grid)["none"], json::array({"No monthly grid since 2026-03-22."}));
+  EXPECT_EQ((*section(doc, "ncqual-report-linear"))["none"],
+            json::array({"No ISO 230-2 linear axis run since 2026-03-22."}));
+  EXPECT_EQ((*section(doc, "ncqual-report-circles"))["none"],
+            json::array({"No circular test since 2026-03-22."}));
+  EXPECT_EQ((*section(doc, "ncqual-report-trends"))["none"],
+            json::array({"No metric trend since 2026-03-22."}));
+  EXPECT_EQ((*section(doc, "ncqual-report-checks"))["none"],
+            json::array({"No check since 2026-03-22."}));
+  EXPECT_TRUE((*section(doc, "ncqual-report-checks"))["charts"].empty());
+}
+
+TEST_F(MachineReportTest, OneCheckOnlyAndNoConfiguration) {
+  const MachineConfig m = testing::report_machine("PM1");
+  storage::Database db = historian(m);
+  MachineReportQuery q;
+  q.machine_id = "PM1";
+  q.check_id = "daily-12";
+  q.now_ns = kT0 + 14 * kDay;
+  const MachineReport r = gather_machine_report(db, q);
+  ASSERT_EQ(r.checks.size(), 1u);
+  EXPECT_FALSE(r.grid);
+  ASSERT_EQ(r.trends.size(), 1u);
+  EXPECT_EQ(r.trends[0].metric, "center_dx_mm");
+  EXPECT_EQ(r.trends[0].checks, 12u);  // the history up to the check
+  const json doc = inspect(machine_report_document(r));
+  ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
+  EXPECT_EQ((*section(doc, "ncqual-report-grid"))["none"],
+            json::array({"No monthly grid in check daily-12."}));
+  EXPECT_EQ((*section(doc, "ncqual-report-budget"))["none"],
+            json::array({"The error budget needs the machine's configuration (its budget: "
+                         "section)."}));
+  ASSERT_EQ(doc["checks"].size(), 1u);
+  EXPECT_EQ(doc["checks"][0][3].get<std::string>().rfind("FAIL", 0), 0u);
+}
+
+TEST_F(MachineReportTest, UnknownMachineOrCheckIsNamed) {
+  const MachineConfig m = testing::report_machine("PM1");
+  storage::Database db = historian(m);
+  MachineReportQuery q;
+  q.machine_id = "PM9";
+  try {
+    (void)gather_machine_report(db, q);
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'PM9'"), std::string::npos) << e.what();
+  }
+  q.machine_id = "PM1";
+  q.check_id = "nope-1";
+  try {
+    (void)gather_machine_report(db, q);
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'nope-1'"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(MachineReportTest, HostileMachineNameIsEscaped) {
+  const std::string hostile = "PM<1>&\"'</section><script>x</script>";
+  const MachineConfig m = testing::report_machine(hostile);
+  storage::Database db = historian(m);
+  MachineReportQuery q;
+  q.machine_id = hostile;
+  q.now_ns = kT0 + 14 * kDay;
+  q.machine = &m;
+  const std::string html = machine_report_document(gather_machine_report(db, q));
+  EXPECT_EQ(html.find("<script>"), std::string::npos);
+  const json doc = inspect(html);
+  ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
+  EXPECT_TRUE(doc["forbidden"].empty()) << doc["forbidden"].dump();
+  EXPECT_EQ(doc["h1"], "Qualification report: " + hostile);  // the parser gives the text back
+  EXPECT_EQ(doc["sections"].size(), 7u);
+}
+
+TEST_F(MachineReportTest, SectionsFragmentAndStylesheetForTheDashboard) {
+  const MachineConfig m = testing::report_machine("PM1");
+  storage::Database db = historian(m);
+  MachineReportQuery q;
+  q.machine_id = "PM1";
+  q.now_ns = kT0 + 14 * kDay;
+  q.machine = &m;
+  const MachineReport r = gather_machine_report(db, q);
+  const std::string sections = machine_report_sections(r);
+  EXPECT_EQ(sections.rfind("<section class=\"ncqual-report-state\">", 0), 0u);
+  EXPECT_EQ(sections.find("<html"), std::string::npos);
+  EXPECT_EQ(sections.find("<body"), std::string::npos);
+  const std::string css = report_stylesheet();
+  EXPECT_NE(css.find("@media print"), std::string::npos);
+  EXPECT_NE(css.find("break-before: page"), std::string::npos);
+  EXPECT_NE(css.find("break-inside: avoid"), std::string::npos);
+  // Deterministic: the same data give the same bytes.
+  EXPECT_EQ(machine_report_document(r), machine_report_document(gather_machine_report(db, q)));
+}
+
+}  // namespace
+}  // namespace ncqual::report

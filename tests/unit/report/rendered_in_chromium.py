@@ -1,0 +1,65 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: Apache-2.0
+# report.RenderedInChromium: the tests' sample report (ncqual_report_sample) in headless Chromium:
+#  - --dump-dom: every section is in the DOM with its charts (the browser parsed what we wrote);
+#  - --print-to-pdf: it prints (a PDF of several pages, one per section at least);
+#  - --screenshot of the whole page, kept as OUTDIR/report.png to look at.
+# Usage: rendered_in_chromium.py SAMPLE_EXE OUTDIR. Skipped (77) without Chromium.
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+SECTIONS = ["state", "grid", "linear", "circles", "trends", "checks", "budget"]
+
+
+def run_chromium(chromium, args, timeout=120):
+    with tempfile.TemporaryDirectory(prefix="ncqual-chromium-") as profile:
+        cmd = [chromium, "--headless", "--disable-gpu", "--no-sandbox", "--no-first-run",
+               "--disable-extensions", "--hide-scrollbars", "--mute-audio",
+               "--user-data-dir=" + profile] + args
+        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              timeout=timeout, check=False)
+
+
+def main(exe, outdir):
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if chromium is None:
+        print("SKIPPED: chromium is not installed")
+        return 77
+    subprocess.run([exe, outdir], check=True)
+    page = "file://" + os.path.abspath(os.path.join(outdir, "report.html"))
+    failures = []
+    dom = run_chromium(chromium, ["--dump-dom", page]).stdout.decode("utf-8", "replace")
+    for s in SECTIONS:
+        if f'class="ncqual-report-{s}"' not in dom:
+            failures.append(f"section {s} is not in the DOM")
+    charts = re.findall(r'data-chart="([a-z-]+)"', dom)
+    for kind in ("deviation-vectors", "point-deviation", "positioning", "polar", "trend",
+                 "budget"):
+        if kind not in charts:
+            failures.append(f"no {kind} chart in the DOM")
+    if "<script" in dom:
+        failures.append("a script in the DOM")
+    pdf = os.path.join(outdir, "report.pdf")
+    run_chromium(chromium, ["--print-to-pdf=" + pdf, "--no-pdf-header-footer", page])
+    if not os.path.exists(pdf):
+        failures.append("no PDF printed")
+    else:
+        pages = len(re.findall(rb"/Type\s*/Page[^s]", open(pdf, "rb").read()))
+        if pages < len(SECTIONS):
+            failures.append(f"the PDF has {pages} pages, fewer than the {len(SECTIONS)} sections")
+    shot = os.path.join(outdir, "report.png")
+    run_chromium(chromium, ["--screenshot=" + shot, "--window-size=1200,16000", page])
+    if not os.path.exists(shot):
+        failures.append("no screenshot")
+    for f in failures:
+        print("FAIL:", f)
+    print(f"{len(charts)} charts; PDF {pdf}; screenshot {shot}")
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1], sys.argv[2]))

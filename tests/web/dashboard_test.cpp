@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: Apache-2.0
+// The dashboard as a function (ncqual/web/dashboard.hpp), without HTTP: routes, refusals, bounds,
+// escaping and the change token, on a historian written here.
+#include "ncqual/web/dashboard.hpp"
+
+#include "ncqual/storage.hpp"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+namespace ncqual {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::int64_t kSecond = 1'000'000'000;
+constexpr std::int64_t kNow = 1'800'000'000 * kSecond;
+
+class Dashboard : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("ncqual-web-test-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "pm1.yaml")
+        << "extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\nmachine_id: pm1\n";
+    std::ofstream(dir_ / "plant.yaml")
+        << "plant: unit\nhistorian: {database: historian.db}\nmachines: [pm1.yaml]\n";
+    auto db = storage::Database::open((dir_ / "historian.db").string());
+    store(db, "r<1>", kNow - 60 * kSecond, Verdict::Fail);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  static void store(storage::Database& db, const std::string& id, std::int64_t t, Verdict v) {
+    CheckResult r;
+    r.machine_id = "pm1";
+    r.request_id = id;
+    r.kind = CheckKind::MonumentPositioning;
+    r.verdict = v;
+    r.reason = "<b>out</b> & about";
+    r.time_ns = t;
+    r.metrics = {{"center_dx_mm", 0.031, "mm", -0.025, 0.025, false}};
+    db.store(r);
+  }
+
+  web::Dashboard make() {
+    return web::Dashboard(load_plant_config((dir_ / "plant.yaml").string()),
+                          (dir_ / "historian.db").string(), {}, [] { return kNow; });
+  }
+  fs::path dir_;
+};
+
+web::Reply get(web::Dashboard& d, const std::string& path,
+               std::vector<std::pair<std::string, std::string>> params = {}) {
+  return d.handle({"GET", path, std::move(params)});
+}
+
+TEST_F(Dashboard, PagesAndDocumentsOfWhatIsStored) {
+  auto d = make();
+  const auto plant = get(d, "/api/v1/plant");
+  ASSERT_EQ(plant.status, 200) << plant.body;
+  const auto j = nlohmann::json::parse(plant.body);
+  EXPECT_EQ(j["status"]["machines"][0]["machine_id"], "pm1");
+  EXPECT_EQ(j["failures"][0]["request_id"], "r<1>");
+  EXPECT_EQ(j["failures"][0]["verdict"], "FAIL");
+  const auto check = get(d, "/checks/r<1>");
+  ASSERT_EQ(check.status, 200);
+  EXPECT_EQ(check.content_type, "text/html; charset=utf-8");
+  // Stored text is escaped, never markup.
+  EXPECT_NE(check.body.find("&lt;b&gt;out&lt;/b&gt; &amp; about"), std::string::npos);
+  EXPECT_EQ(check.body.find("<b>out</b>"), std::string::npos);
+  EXPECT_NE(check.body.find("0.031"), std::string::npos);
+  EXPECT_EQ(d.handle({"HEAD", "/", {}}).status, 200);
+}
+
+TEST_F(Dashboard, RefusalsSayWhyWithTheirStatus) {
+  auto d = make();
+  for (const auto& [method, path, params, status] :
+       std::vector<std::tuple<std::string, std::string,
+                              std::vector<std::pair<std::string, std::string>>, int>>{
+           {"POST", "/api/v1/plant", {}, 405},
+           {"DELETE", "/", {}, 405},
+           {"GET", "/api/v1/machines/pm9", {}, 404},
+           {"GET", "/machines/pm9", {}, 404},
+           {"GET", "/api/v1/checks/none", {}, 404},
+           {"GET", "/nothing", {}, 404},
+           {"GET", "/api/v1/machines/pm1", {{"checks", "0"}}, 400},
+           {"GET", "/api/v1/machines/pm1", {{"checks", "201"}}, 400},
+           {"GET", "/api/v1/machines/pm1", {{"checks", "5"}, {"checks", "6"}}, 400},
+           {"GET", "/machines/pm1", {{"days", "367"}}, 400},
+           {"GET", "/api/v1/plant", {{"x", "1"}}, 400},
+           {"GET", "/api/v1/changes", {{"since", "1;DROP"}}, 400},
+           {"GET", "/api/v1/changes", {{"since", std::string(201, '1')}}, 400},
+           {"GET", "/api/v1/checks/" + std::string(129, 'c'), {}, 400}}) {
+    const auto r = d.handle({method, path, params});
+    EXPECT_EQ(r.status, status) << method << " " << path << "\n" << r.body;
+    EXPECT_LT(r.body.size(), 4096u) << path;
+    if (path.rfind("/api/", 0) == 0) {
+      EXPECT_EQ(nlohmann::json::parse(r.body)["error"]["status"], status) << r.body;
+    }
+  }
+  const auto post = d.handle({"POST", "/", {}});
+  EXPECT_NE(std::find(post.headers.begin(), post.headers.end(),
+                      std::pair<std::string, std::string>{"Allow", "GET, HEAD"}),
+            post.headers.end());
+}
+
+TEST_F(Dashboard, TheChangeTokenMovesWhenAResultIsStoredAndOnlyThen) {
+  auto d = make();
+  const auto token = [&](const std::string& since = "") {
+    const auto r =
+        since.empty() ? get(d, "/api/v1/changes") : get(d, "/api/v1/changes", {{"since", since}});
+    EXPECT_EQ(r.status, 200) << r.body;
+    return nlohmann::json::parse(r.body);
+  };
+  const std::string before = token()["token"];
+  EXPECT_FALSE(token(before)["changed"]);
+  {
+    auto db = storage::Database::open((dir_ / "historian.db").string());
+    Heartbeat beat;
+    beat.service = "historian";
+    beat.instance = "h:1";
+    beat.state = "running";
+    beat.time_ns = kNow;
+    db.store(beat);  // a heartbeat is not what the pages show
+    EXPECT_EQ(token()["token"], before);
+    store(db, "r2", kNow, Verdict::Pass);
+  }
+  const auto after = token(before);
+  EXPECT_TRUE(after["changed"]);
+  EXPECT_NE(after["token"], before);
+}
+
+}  // namespace
+}  // namespace ncqual
