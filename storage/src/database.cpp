@@ -144,10 +144,15 @@ constexpr Sql kInsertConflict{
     "INSERT INTO conflicts (topic, sample_id, machine_id, content_hash, stored_hash, writer, "
     "received_ns, document) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8) "
     "ON CONFLICT (topic, sample_id, content_hash) DO NOTHING"};
+// Two statements: "?1 IS NULL OR machine_id = ?1" would keep SQLite from the machine's index.
 constexpr Sql kSelectConflicts{
     "select conflicts",
     "SELECT topic, sample_id, machine_id, content_hash, stored_hash, writer, received_ns, document "
-    "FROM conflicts WHERE (?1 IS NULL OR machine_id = ?1) ORDER BY received_ns DESC, id DESC"};
+    "FROM conflicts ORDER BY received_ns DESC, id DESC"};
+constexpr Sql kSelectMachineConflicts{
+    "select conflicts of a machine",
+    "SELECT topic, sample_id, machine_id, content_hash, stored_hash, writer, received_ns, document "
+    "FROM conflicts WHERE machine_id = ?1 ORDER BY received_ns DESC, id DESC"};
 constexpr Sql kSelectCheckWriters{"select the writers of a check",
                                   "SELECT (SELECT writer FROM requests WHERE request_id = ?1), "
                                   "(SELECT writer FROM measurement_sets WHERE request_id = ?1), "
@@ -1167,8 +1172,8 @@ std::vector<Compensation> Database::compensations(const std::string& machine_id)
 
 std::vector<ConflictRecord> Database::conflicts(const std::optional<std::string>& machine_id) {
   std::vector<ConflictRecord> list;
-  Query q(impl_->statements, kSelectConflicts);
-  q.bind(machine_id);
+  Query q(impl_->statements, machine_id ? kSelectMachineConflicts : kSelectConflicts);
+  if (machine_id) q.bind(*machine_id);
   while (q.step()) {
     list.push_back(ConflictRecord{q.text(0), q.text(1), q.text(2), q.text(3), q.text(4), q.text(5),
                                   q.int64(6), q.text(7)});

@@ -341,6 +341,19 @@ ALTER TABLE trend_warnings ADD COLUMN side TEXT NOT NULL DEFAULT '';
 CREATE INDEX trend_warnings_by_started ON trend_warnings (started_ns);
 )sql";
 
+// Version 9: the pages of a plant with a year of checks (docs/history-bench.md). A machine's
+// newest failed checks (storage::recent_failures: the plant and machine pages) and its newest pass
+// of a kind (Database::last_pass_ns: every period of `ncqual status`) each walked every result of
+// the machine (of the kind) to test its verdict; partial indexes of the results that did not pass
+// and of those that passed make each a search of the rows it returns (plant page of 50 machines x
+// 365 days: 50 ms to 9 ms).
+constexpr const char* kVersion9 = R"sql(
+CREATE INDEX results_not_passed_by_machine_time ON results (machine_id, time_ns, request_id)
+  WHERE verdict <> 'PASS';
+CREATE INDEX results_passed_by_machine_kind_time ON results (machine_id, kind, time_ns)
+  WHERE verdict = 'PASS';
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
@@ -351,6 +364,7 @@ const std::vector<Migration> kMigrations = {
     {6, "trend warnings", kVersion6},
     {7, "thinned points of old measurement sets", kVersion7},
     {8, "trend series index and warning sides", kVersion8},
+    {9, "indexes of failed and passed results by machine", kVersion9},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {
