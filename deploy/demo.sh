@@ -4,7 +4,8 @@
 # private DDS domain, run a qualification cycle (the monthly global check with a laser tracker:
 # master frame, grid, rotary C, A and W, circles in XY, YZ and XZ, an ISO 230-2 run of X; daily
 # monument checks 1 to 4; the weekly fixture pre-calibration, with its post-calibration when it
-# issues zero offsets; the set points of the first part), print a summary, stop everything. The probe is qualified on the monument before it
+# issues zero offsets; the set points of the first part), print a summary, stop everything and
+# write the machine's report (docs/report.md) and print where it is. The probe is qualified on the monument before it
 # measures the fixture: a bent stylus would otherwise be "corrected" into the fixture's zero
 # offsets (patent: the fixture check "is performed only after all of the monument checks have
 # been successfully completed").
@@ -16,7 +17,10 @@
 #               (from Monday 5 January 2026, two shifts a day Monday to Friday, Europe/Berlin):
 #               the monthly, daily and weekly checks at each shift start and a part every ~4 h,
 #               as fast as the services answer; then every machine's status and the trend of
-#               the daily checks. Try it with --scenario deploy/scenarios/drift.yaml.
+#               the daily checks, and the machine's report (var/.../report-MACHINE.html).
+#               Try it with --scenario deploy/scenarios/drift.yaml: the historian's forecast
+#               warning on check 3's center_dy_mm is raised on 9 or 12 January, four weeks before
+#               the check fails on 9 February (docs/trends.md, "The drift scenario").
 #   --machines  with --weeks: a plant of K machines (default 1), the scenario's and K-1 nominal
 #               copies of pm1 (pm2, pm3, ...; each its own fixture and seed), all against one
 #               scheduler, solver and historian, their instruments in one acquisition process
@@ -76,9 +80,11 @@ if [ -n "$weeks" ]; then
   plant="$var/demo-plant.yaml"
   db="$var/historian.db"
   # The simulated weeks start at the same instant each run, so their request ids repeat: the
-  # scheduler's and the acquisition's state of an earlier run must go with its history.
+  # scheduler's, the acquisition's and the solver's state of an earlier run must go with its
+  # history (the solver would answer the repeated ids as already solved).
   rm -f "$db" "$db-wal" "$db-shm" "$var/scheduler.db" "$var/scheduler.db-wal" "$var/scheduler.db-shm" \
-    "$var"/acquisition-*.db "$var"/acquisition-*.db-wal "$var"/acquisition-*.db-shm
+    "$var"/acquisition-*.db "$var"/acquisition-*.db-wal "$var"/acquisition-*.db-shm \
+    "$var/solver.db" "$var/solver.db-wal" "$var/solver.db-shm"
   # The other machines of the plant: nominal pm1s, each with its own fixture and noise.
   rm -rf "$var/machines"
   mkdir -p "$var/machines"
@@ -173,6 +179,16 @@ start() {  # start NAME ARGS...: a service in the background, its log in var/log
   pids+=($!)
 }
 
+# The machine's report, one self-contained HTML file (docs/report.md); its path is printed.
+write_report() {
+  local report="$var/report-$machine_id.html"
+  "$bin/cli/ncqual" report --machine "$machine_id" "$@" --out "$report" > /dev/null \
+    || { echo "demo.sh: the report of $machine_id could not be written" >&2; exit 1; }
+  echo
+  echo "== the report of $machine_id (open it in a browser; it prints to PDF):"
+  echo "   $report"
+}
+
 # How to go on from here with the operator's tool, against this run's plant and historian.
 look_further() {
   echo
@@ -181,6 +197,7 @@ look_further() {
   echo "   $bin/cli/ncqual status          # every machine's state and what is due"
   echo "   $bin/cli/ncqual history --machine $machine_id --limit 20"
   echo "   $bin/cli/ncqual config check --print"
+  echo "   $bin/web/ncqual-web             # the dashboard: open http://127.0.0.1:8470/ (docs/dashboard.md)"
 }
 
 since_ns="$(date +%s%N)"
@@ -210,6 +227,7 @@ if [ -n "$weeks" ]; then
   echo
   echo "== the daily checks and the fixture, week by week"
   "$bin/cli/ncqual" trend --machine "$machine_id" --every week
+  write_report
   look_further
   exit 0
 fi
@@ -232,4 +250,5 @@ stop_all
 echo
 echo "== summary (historian $db), newest first"
 "$bin/cli/ncqual" history --machine "$machine_id" --since-ns "$since_ns"
+write_report
 look_further

@@ -35,6 +35,12 @@ CheckResult check(const std::string& id, double day, double dy, double dx = 0.0)
   return r;
 }
 
+storage::TrendWarningQuery of_machine(const std::string& machine_id) {
+  storage::TrendWarningQuery q;
+  q.machine_id = machine_id;
+  return q;
+}
+
 class TrendWatchTest : public ::testing::Test {
  protected:
   std::vector<TrendWarning> store(const CheckResult& r) {
@@ -120,7 +126,7 @@ TEST_F(TrendWatchTest, AForecastIsRaisedOnceWithTheHandWorkedDatesAndEndedByAnIn
   EXPECT_TRUE(store(check("r4b", 4.5, 1.8)).empty());
   // The same checks again (a replay): nothing changes.
   EXPECT_TRUE(watch_.after_result(db_, check("r5", 5, 1.9)).empty());
-  EXPECT_EQ(storage::trend_warnings(db_, {"M1"}).size(), 1u);
+  EXPECT_EQ(storage::trend_warnings(db_, of_machine("M1")).size(), 1u);
 }
 
 // A flat series with scatter raises no forecast: the slope's interval contains zero.
@@ -186,7 +192,7 @@ TEST_F(TrendWatchTest, TheWorkerRunsTheWatchOnItsOwnConnectionInOrder) {
   EXPECT_EQ(published[0].raised_by, "r4");
   EXPECT_FALSE(published[1].active);
   EXPECT_EQ(published[1].ended_by, "i1");
-  const auto stored = storage::trend_warnings(db_, {"M1"});
+  const auto stored = storage::trend_warnings(db_, of_machine("M1"));
   ASSERT_EQ(stored.size(), 1u);
   EXPECT_EQ(stored[0].ended_by, "i1");
 }
