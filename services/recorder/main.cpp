@@ -81,6 +81,7 @@ int run(int argc, char** argv) {
       }
     });
     const int code = service.run();
+    recorder.finish();
     writer.close();
     spdlog::info("{} samples recorded into {} file(s), the last {}; {} lost by the readers",
                  recorder.recorded(), writer.files().size(), writer.files().back(),

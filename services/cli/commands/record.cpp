@@ -94,6 +94,7 @@ int run_record(const RecordOptions& o) {
     dispatcher.run_until([] { return false; },
                          std::chrono::duration_cast<std::chrono::milliseconds>(limit));
   }
+  recorder.finish();
   writer.close();
   std::cerr << recorder.recorded() << " samples recorded into " << writer.files().size()
             << " file(s):";

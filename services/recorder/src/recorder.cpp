@@ -29,6 +29,11 @@ std::size_t Recorder::drain() {
   return n;
 }
 
+std::size_t Recorder::finish() {
+  if (options_.stop_after != 0 && recorded_ >= options_.stop_after) return 0;
+  return drain();
+}
+
 std::size_t Recorder::drain(dds::RawReader& reader) {
   std::size_t n = 0;
   for (auto& sample : reader.take()) {

@@ -35,6 +35,10 @@ class Recorder {
 
   // Takes what every reader holds now and writes it; returns how many samples were written.
   std::size_t drain();
+  // At stop, before the file is closed: what the readers received (and so acknowledged) that the
+  // dispatcher had not handed over yet is written too, unless --stop-after was reached. A
+  // recorder stopped right after a burst lost the tail of it without this.
+  std::size_t finish();
 
   std::uint64_t recorded() const { return recorded_; }
   std::uint64_t left_out() const { return left_out_; }      // another machine's, or local
