@@ -175,7 +175,9 @@ void print_metric_trend(const report::MetricTrend& t, const Calendar& calendar) 
 
 int run_metric(const Options& o, const PlantConfig& plant, const std::string& machine) {
   if (o.json && o.csv) throw UsageError("--json and --csv: choose one");
-  report::MetricTrendQuery query{machine, *o.metric};
+  report::MetricTrendQuery query;
+  query.machine_id = machine;
+  query.metric = *o.metric;
   if (o.since) query.since_ns = utc_time_option("--since", *o.since);
   if (o.until) query.until_ns = utc_time_option("--until", *o.until);
   query.last = o.last;
