@@ -5,6 +5,8 @@
 #include "ncqual/report/budget_history.hpp"
 #include "ncqual/report/machine_report.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -141,8 +143,66 @@ std::optional<LinearRunSection> linear_run_section(storage::Database& db,
   return s;
 }
 
-BudgetSection budget_section(storage::Database& db, const std::string& machine_id,
-                             const MachineConfig* machine, std::int64_t until_ns) {
+}  // namespace
+
+std::string budget_fingerprint(const solver::ErrorBudgetConfig& c) {
+  std::string f;
+  const auto add = [&f](auto value) { f += fmt::format("{};", value); };
+  add(c.allowable_total_mm);
+  add(c.panel_radius_mm);
+  add(c.theta_min_rad);
+  add(c.theta_max_rad);
+  add(static_cast<int>(c.method));
+  add(c.coverage);
+  add(c.samples);
+  add(c.seed);
+  for (const auto& s : c.sources) {
+    f += s.name + ';';
+    add(static_cast<int>(s.direction));
+    add(s.bound.y_mm);
+    add(s.bound.z_mm);
+    add(s.bound.s_mm);
+    add(static_cast<int>(s.distribution));
+    add(s.weibull_shape);
+    for (const auto& m : s.metrics) {
+      f += m.name + ';' + m.unit + ';';
+      add(static_cast<int>(m.axis));
+      add(m.angle);
+      add(m.lever_arm_mm);
+      add(m.mm_per_unit);
+    }
+    f += '|';
+  }
+  return f;  // fmt prints doubles in their shortest exact form: equal text, equal value
+}
+
+std::optional<BudgetSection> BudgetMemo::find(const std::string& machine_id, const Key& key) const {
+  const std::lock_guard lock(mutex_);
+  const auto it = newest_.find(machine_id);
+  if (it == newest_.end() || !(it->second.first == key)) return std::nullopt;
+  ++hits_;
+  return it->second.second;
+}
+
+void BudgetMemo::keep(const std::string& machine_id, Key key, BudgetSection section) {
+  const std::lock_guard lock(mutex_);
+  ++evaluations_;
+  newest_[machine_id] = {std::move(key), std::move(section)};
+}
+
+std::size_t BudgetMemo::hits() const {
+  const std::lock_guard lock(mutex_);
+  return hits_;
+}
+
+std::size_t BudgetMemo::evaluations() const {
+  const std::lock_guard lock(mutex_);
+  return evaluations_;
+}
+
+BudgetSection machine_budget(storage::Database& db, const std::string& machine_id,
+                             const MachineConfig* machine, std::int64_t until_ns,
+                             BudgetMemo* memo) {
   BudgetSection s;
   s.until_ns = until_ns;
   if (!machine) {
@@ -153,6 +213,15 @@ BudgetSection budget_section(storage::Database& db, const std::string& machine_i
     s.error = "The machine's configuration has no budget: section.";
     return s;
   }
+  std::optional<BudgetMemo::Key> key;
+  if (memo) {
+    key = BudgetMemo::Key{budget_fingerprint(*machine->budget),
+                          storage::results_up_to(db, machine_id, until_ns)};
+    if (auto kept = memo->find(machine_id, *key)) {
+      kept->until_ns = until_ns;
+      return std::move(*kept);
+    }
+  }
   s.config = *machine->budget;
   const BudgetHistory history = gather_budget_history(db, machine_id, *s.config, until_ns);
   for (const auto& [name, values] : history.values) s.values += static_cast<int>(values.size());
@@ -161,10 +230,9 @@ BudgetSection budget_section(storage::Database& db, const std::string& machine_i
   } catch (const std::invalid_argument& e) {
     s.error = std::string("The error budget could not be evaluated: ") + e.what();
   }
+  if (memo) memo->keep(machine_id, std::move(*key), s);
   return s;
 }
-
-}  // namespace
 
 double tolerance_usage(double value, double lower, double upper) {
   if (!std::isfinite(value)) return 0;
@@ -284,7 +352,7 @@ MachineReport gather_machine_report(storage::Database& db, const MachineReportQu
   std::sort(out.markers.begin(), out.markers.end(),
             [](const auto& a, const auto& b) { return a.time_ns < b.time_ns; });
 
-  out.budget = budget_section(db, query.machine_id, query.machine, until_ns);
+  out.budget = machine_budget(db, query.machine_id, query.machine, until_ns, query.budget_memo);
   return out;
 }
 

@@ -194,6 +194,29 @@ int run(int argc, char** argv) {
     });
   }
 
+  // The error budgets, evaluated when the historian changes rather than when a page asks (their
+  // Monte Carlo would be most of a machine page's time): at start, then whenever the change
+  // token moves, looked at every second.
+  std::thread budgets([&] {
+    web::ChangeWatch changes(database);
+    std::string seen;
+    std::unique_lock lock(mutex);
+    do {
+      lock.unlock();
+      try {
+        if (const std::string token = changes.token(); token != seen) {
+          const std::size_t evaluated =
+              dashboard.refresh_budgets([&] { return listening_done.load(); });
+          if (evaluated > 0) spdlog::debug("error budgets evaluated again: {}", evaluated);
+          seen = token;
+        }
+      } catch (const std::exception& e) {
+        spdlog::warn("error budgets: {} (tried again in a second)", e.what());
+      }
+      lock.lock();
+    } while (!done.wait_for(lock, std::chrono::seconds(1), [&] { return listening_done.load(); }));
+  });
+
   spdlog::info("serving plant {} on http://{}:{}/ from {} (read-only)", plant.plant, plant.web.bind,
                bound, database);
   notify("READY=1");
@@ -206,6 +229,7 @@ int run(int argc, char** argv) {
   if (!stopping) pthread_kill(signals.native_handle(), SIGUSR1);  // listen ended: end sigwait
   signals.join();
   if (watchdog.joinable()) watchdog.join();
+  budgets.join();
   spdlog::info("stopped");
   return ok || stopping ? 0 : 1;
 }

@@ -30,10 +30,12 @@ constexpr Sql kSelectNewestMetrics{
     "JOIN (SELECT request_id, time_ns FROM results WHERE machine_id = ?1 AND kind = ?2 "
     "      ORDER BY time_ns DESC, request_id DESC LIMIT 1) AS r USING (request_id) "
     "ORDER BY m.idx"};
-constexpr Sql kCountMetric{
-    "count metric",
-    "SELECT count(*), max(r.time_ns) FROM results AS r JOIN metrics AS m "
-    "ON m.request_id = r.request_id AND m.name = ?3 WHERE r.machine_id = ?1 AND r.kind = ?2"};
+// How many of the machine's results of one kind report each metric, and the newest's time: one
+// walk of the kind's results (results_by_machine_kind_time) and their metrics, not one per metric.
+constexpr Sql kCountMetrics{
+    "count metrics",
+    "SELECT m.name, count(*), max(r.time_ns) FROM results AS r JOIN metrics AS m "
+    "ON m.request_id = r.request_id WHERE r.machine_id = ?1 AND r.kind = ?2 GROUP BY m.name"};
 // Oldest first within [since, until]; ?6 > 0 keeps the newest ?6 (read newest first).
 constexpr Sql kSelectSeriesAscending{
     "select metric series",
@@ -203,12 +205,16 @@ std::vector<MetricInfo> machine_metrics(Database& db, const std::string& machine
           of_kind.push_back(std::move(m));
         }
       }
+      std::map<std::string, std::pair<std::int64_t, std::int64_t>> counted;
+      {
+        Query q(statements, kCountMetrics);
+        q.bind(machine_id, static_cast<std::int64_t>(kind));
+        while (q.step()) counted[q.text(0)] = {q.int64(1), q.int64(2)};
+      }
       for (MetricInfo& m : of_kind) {
-        Query q(statements, kCountMetric);
-        q.bind(machine_id, static_cast<std::int64_t>(kind), m.name);
-        if (q.step()) {
-          m.count = q.int64(0);
-          if (!q.is_null(1)) m.last_ns = q.int64(1);
+        if (const auto it = counted.find(m.name); it != counted.end()) {
+          m.count = it->second.first;
+          m.last_ns = it->second.second;
         }
         out.push_back(std::move(m));
       }

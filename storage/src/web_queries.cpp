@@ -32,6 +32,11 @@ constexpr Sql kSelectFailures{
     "SELECT request_id, kind, verdict, reason, time_ns FROM results "
     "WHERE machine_id = ?1 AND verdict <> 'PASS' ORDER BY time_ns DESC, request_id DESC LIMIT ?2"};
 
+// Index-only (results_by_machine_time).
+constexpr Sql kResultsUpTo{"results up to",
+                           "SELECT count(*), coalesce(max(time_ns), 0) FROM results WHERE "
+                           "machine_id = ?1 AND time_ns <= ?2"};
+
 }  // namespace
 
 std::int64_t data_version(Database& db) {
@@ -49,6 +54,16 @@ std::string change_token(Database& db) {
     }
   });
   return token;
+}
+
+ResultsUpTo results_up_to(Database& db, const std::string& machine_id, std::int64_t until_ns) {
+  ResultsUpTo out;
+  DatabaseAccess::read(db, [&] {
+    Query q(DatabaseAccess::statements(db), kResultsUpTo);
+    q.bind(machine_id, until_ns);
+    if (q.step()) out = {q.int64(0), q.int64(1)};
+  });
+  return out;
 }
 
 std::vector<FailureRecord> recent_failures(Database& db, const std::string& machine_id, int limit) {

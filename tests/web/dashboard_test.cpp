@@ -140,5 +140,31 @@ TEST_F(Dashboard, TheChangeTokenMovesWhenAResultIsStoredAndOnlyThen) {
   EXPECT_NE(after["token"], before);
 }
 
+// ncqual-web evaluates the error budgets when the historian changes (Dashboard::refresh_budgets),
+// so that a machine page finds its budget ready: each machine once per new result of its own.
+TEST_F(Dashboard, TheBudgetsAreEvaluatedAgainOnlyForAMachineWithANewResult) {
+  auto d = make();
+  EXPECT_EQ(d.refresh_budgets(), 1u);  // pm1: configured, with a budget and a stored result
+  EXPECT_EQ(d.refresh_budgets(), 0u);  // nothing new
+  {
+    auto db = storage::Database::open((dir_ / "historian.db").string());
+    store(db, "r2", kNow - 30 * kSecond, Verdict::Pass);
+  }
+  EXPECT_EQ(d.refresh_budgets(), 1u);
+  // The machine page takes the section refresh_budgets left: no evaluation of its own.
+  const std::size_t evaluated = d.budgets().evaluations();
+  const auto page = get(d, "/machines/pm1");
+  EXPECT_EQ(page.status, 200);
+  EXPECT_NE(page.body.find("ncqual-report-budget"), std::string::npos);
+  EXPECT_EQ(d.budgets().evaluations(), evaluated);
+  EXPECT_GE(d.budgets().hits(), 1u);
+  // A stop asked before the first machine: nothing evaluated.
+  {
+    auto db = storage::Database::open((dir_ / "historian.db").string());
+    store(db, "r3", kNow - 20 * kSecond, Verdict::Pass);
+  }
+  EXPECT_EQ(d.refresh_budgets([] { return true; }), 0u);
+}
+
 }  // namespace
 }  // namespace ncqual

@@ -155,6 +155,19 @@ Dashboard::Dashboard(PlantConfig plant, const std::string& database_path, Limits
       pool_(database_path),
       watch_(database_path) {}
 
+std::size_t Dashboard::refresh_budgets(const std::function<bool()>& stop) {
+  const std::size_t before = budgets_.evaluations();
+  pool_.with([&](storage::Database& db) {
+    const std::int64_t now = now_ns_();
+    for (const auto& machine : plant_.machines) {
+      if (stop && stop()) break;
+      if (!machine.budget || !db.machine(machine.machine_id)) continue;
+      (void)report::machine_budget(db, machine.machine_id, &machine, now, &budgets_);
+    }
+  });
+  return budgets_.evaluations() - before;
+}
+
 Reply Dashboard::handle(const Request& request) {
   const bool json = starts_with(request.path, "/api/");
   Reply reply;
@@ -307,7 +320,7 @@ Reply Dashboard::machine_page(const Request& request, const std::string& id, boo
       try {
         constexpr std::int64_t kDayNs = 86'400'000'000'000;
         view.report_sections =
-            report_sections(db, *config, view.now_ns - days * kDayNs, view.now_ns);
+            report_sections(db, *config, view.now_ns - days * kDayNs, view.now_ns, &budgets_);
       } catch (const std::invalid_argument& e) {
         view.report_problem = e.what();  // e.g. the historian has nothing of the machine yet
       }

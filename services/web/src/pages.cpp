@@ -543,8 +543,10 @@ std::string error_page(const PlantConfig& plant, int status, const std::string& 
 }
 
 std::string report_sections(storage::Database& db, const MachineConfig& machine,
-                            std::int64_t since_ns, std::int64_t now_ns) {
+                            std::int64_t since_ns, std::int64_t now_ns,
+                            report::BudgetMemo* budgets) {
   report::MachineReportQuery query;
+  query.budget_memo = budgets;
   query.machine_id = machine.machine_id;
   query.since_ns = since_ns;
   query.now_ns = now_ns;

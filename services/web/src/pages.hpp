@@ -50,6 +50,7 @@ std::string error_page(const PlantConfig& plant, int status, const std::string& 
 // The machine report's sections (ncqual/report/machine_report.hpp) of `machine`'s checks since
 // `since_ns`, as of `now_ns`. std::invalid_argument when the historian has nothing of it.
 std::string report_sections(storage::Database& db, const MachineConfig& machine,
-                            std::int64_t since_ns, std::int64_t now_ns);
+                            std::int64_t since_ns, std::int64_t now_ns,
+                            report::BudgetMemo* budgets = nullptr);
 
 }  // namespace ncqual::web

@@ -42,4 +42,17 @@ struct FailureRecord {
 // (1..1000; std::invalid_argument naming the value otherwise).
 std::vector<FailureRecord> recent_failures(Database& db, const std::string& machine_id, int limit);
 
+// How many results of the machine are stored with a result time up to `until_ns`, and the newest
+// such time: what something evaluated from those results (the error budget) was evaluated from,
+// as far as a cache needs to know (results are never changed once stored; a late one raises the
+// count). Reads the index only.
+struct ResultsUpTo {
+  std::int64_t count = 0;
+  std::int64_t newest_ns = 0;
+  bool operator==(const ResultsUpTo& o) const {
+    return count == o.count && newest_ns == o.newest_ns;
+  }
+};
+ResultsUpTo results_up_to(Database& db, const std::string& machine_id, std::int64_t until_ns);
+
 }  // namespace ncqual::storage

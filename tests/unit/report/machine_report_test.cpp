@@ -196,6 +196,74 @@ TEST_F(MachineReportTest, EverySectionWithItsChartsAndTheStoredFigures) {
   }
 }
 
+// The budget's Monte Carlo is evaluated once per new result: a memo gives the section back while
+// the machine's results up to the report's time are the same ones under the same configuration.
+TEST_F(MachineReportTest, TheBudgetIsEvaluatedAgainOnlyWhenItsResultsOrConfigurationChange) {
+  MachineConfig m = testing::report_machine("pm1");
+  const std::string path = (dir_ / "historian.db").string();
+  testing::build_report_historian(path, m);
+  storage::Database db = storage::Database::open(path);
+  // Twelve daily checks and three monthly ones; the newest is the ISO 230-2 run's, judged a minute
+  // after its set of 2 h after day 13 (report_historian.hpp: store_checked).
+  const std::int64_t newest = kT0 + 13 * kDay + kDay / 12 + 60'000'000'000;
+  EXPECT_EQ(storage::results_up_to(db, "pm1", kT0 + 20 * kDay), (storage::ResultsUpTo{15, newest}));
+  EXPECT_EQ(storage::results_up_to(db, "pm1", kT0 + 3 * kDay + 6 * 3'600'000'000'000),
+            (storage::ResultsUpTo{3, kT0 + 3 * kDay + 6 * 3'600'000'000'000}));
+  EXPECT_EQ(storage::results_up_to(db, "pm9", kT0 + 20 * kDay), (storage::ResultsUpTo{0, 0}));
+
+  BudgetMemo memo;
+  const BudgetSection first = machine_budget(db, "pm1", &m, kT0 + 14 * kDay, &memo);
+  ASSERT_TRUE(first.evaluation) << first.error;
+  EXPECT_EQ(memo.evaluations(), 1u);
+  // A day later, nothing new stored: the same section, not evaluated again, at the new time.
+  const BudgetSection later = machine_budget(db, "pm1", &m, kT0 + 15 * kDay, &memo);
+  EXPECT_EQ(memo.evaluations(), 1u);
+  EXPECT_EQ(memo.hits(), 1u);
+  EXPECT_EQ(later.until_ns, kT0 + 15 * kDay);
+  ASSERT_TRUE(later.evaluation);
+  EXPECT_EQ(later.evaluation->capability_monte_carlo.total_mm,
+            first.evaluation->capability_monte_carlo.total_mm);
+  EXPECT_EQ(later.values, first.values);
+  // Without the memo: the same figures (the memo only saves the work).
+  const BudgetSection fresh = machine_budget(db, "pm1", &m, kT0 + 15 * kDay);
+  EXPECT_EQ(fresh.evaluation->allocation_monte_carlo.total_mm,
+            later.evaluation->allocation_monte_carlo.total_mm);
+  EXPECT_EQ(memo.evaluations(), 1u);
+
+  // A new result of a metric the budget reads (machine_y's center_dy_mm): evaluated again, from
+  // one more value.
+  CheckResult dy = testing::monument_result("pm1", 14, 0.002);
+  dy.metrics[0].name = "center_dy_mm";
+  db.store(dy);
+  const BudgetSection after = machine_budget(db, "pm1", &m, kT0 + 15 * kDay, &memo);
+  EXPECT_EQ(memo.evaluations(), 2u);
+  EXPECT_EQ(after.values, first.values + 1);
+  // Another configuration (a tighter allowable total): evaluated again.
+  MachineConfig tighter = m;
+  tighter.budget->allowable_total_mm *= 0.5;
+  EXPECT_NE(budget_fingerprint(*tighter.budget), budget_fingerprint(*m.budget));
+  const BudgetSection other = machine_budget(db, "pm1", &tighter, kT0 + 15 * kDay, &memo);
+  EXPECT_EQ(memo.evaluations(), 3u);
+  ASSERT_TRUE(other.evaluation);
+  EXPECT_LT(other.evaluation->allocation_rss.total_mm, after.evaluation->allocation_rss.total_mm);
+  // An earlier time holds fewer results: evaluated again, as of then.
+  (void)machine_budget(db, "pm1", &tighter, kT0 + 5 * kDay, &memo);
+  EXPECT_EQ(memo.evaluations(), 4u);
+  // The report takes the memo too.
+  MachineReportQuery q;
+  q.machine_id = "pm1";
+  q.now_ns = kT0 + 15 * kDay;
+  q.machine = &m;
+  q.budget_memo = &memo;
+  (void)machine_budget(db, "pm1", &m, q.now_ns, &memo);
+  const std::size_t evaluated = memo.evaluations();
+  const MachineReport r = gather_machine_report(db, q);
+  EXPECT_EQ(memo.evaluations(), evaluated);
+  ASSERT_TRUE(r.budget.evaluation);
+  EXPECT_EQ(r.budget.evaluation->capability_monte_carlo.total_mm,
+            after.evaluation->capability_monte_carlo.total_mm);
+}
+
 TEST_F(MachineReportTest, SectionsWithoutDataSaySoInOneSentence) {
   const MachineConfig m = testing::report_machine("PM1");
   storage::Database db = historian(m);

@@ -693,5 +693,32 @@ TEST(ErrorBudgetConfig, RefusesBadValuesNamingFileKeyAndValue) {
   }
 }
 
+// evaluate_error_budget draws the capability's and the allocation's Monte Carlo totals in one
+// pass of random numbers: each must be exactly what a run of its own gives (the same unit draws,
+// scaled by its own bounds), with every distribution in the mix.
+TEST(ErrorBudgetReport, BothMonteCarloTotalsOfOnePassAreThoseOfTheirOwnRuns) {
+  auto c = config(
+      0.762, 25,
+      {measured("machine_y", BudgetDirection::Y, y(0.1), BudgetAxis::Y, "center_dy_mm"),
+       measured("machine_z", BudgetDirection::Z, z(0.08), BudgetAxis::Z, "face_dz_mm"),
+       fixed("wander", BudgetDirection::S, s(0.127)), fixed("pin", BudgetDirection::Y, y(0.05))});
+  c.sources[1].distribution = BudgetDistribution::Uniform;
+  c.sources[2].distribution = BudgetDistribution::Weibull;
+  c.sources[2].weibull_shape = 2;
+  c.samples = 20000;
+  MetricHistories h;
+  h["center_dy_mm"] = {0.02, 0.01, -0.01, 0.0, 0.01, 0.015};
+  const ErrorBudgetReport r = evaluate_error_budget(c, h, 30);
+  std::vector<SourceError> capabilities(c.sources.size());
+  for (const auto& s : r.sources) capabilities[s.index] = s.capability;
+  EXPECT_EQ(r.capability_monte_carlo.total_mm, monte_carlo_total(c, capabilities).total_mm);
+  EXPECT_EQ(r.capability_monte_carlo.theta_rad, monte_carlo_total(c, capabilities).theta_rad);
+  EXPECT_EQ(r.allocation_monte_carlo.total_mm,
+            monte_carlo_total(c, r.allocation.allowances).total_mm);
+  EXPECT_EQ(r.allocation_monte_carlo.samples, 20000);
+  // The two sets differ (the allocation scales the measured sources), and so do their totals.
+  EXPECT_NE(r.capability_monte_carlo.total_mm, r.allocation_monte_carlo.total_mm);
+}
+
 }  // namespace
 }  // namespace ncqual::solver

@@ -14,10 +14,13 @@
 #include "ncqual/solver/global_checks.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/storage_trend.hpp"
+#include "ncqual/storage_web.hpp"
 
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +35,8 @@ struct MachineReportQuery {
   // The machine's configuration (the plant's): the nominal positions of the monthly grid, circle
   // and linear run, and the budget: section. Without it those sections say that they need it.
   const MachineConfig* machine = nullptr;
+  // Budget sections already evaluated (a dashboard keeps one); none: evaluated every time.
+  class BudgetMemo* budget_memo = nullptr;
 };
 
 // A stored check a chart section draws: which one, and what became of its evaluation.
@@ -125,6 +130,41 @@ struct MachineReport {
   std::vector<RestartMarker> markers;  // interventions and compensations, oldest first
   BudgetSection budget;
 };
+
+// The machine's error budget as of `until_ns`: the values of its results up to then
+// (gather_budget_history) through solver::evaluate_error_budget. Its Monte Carlo makes it the
+// costliest part of a report (about 0.1 s with 100,000 draws), so a `memo` that holds the
+// machine's section evaluated from the same results under the same configuration gives it back
+// instead; a new result (storage::results_up_to) evaluates it again.
+BudgetSection machine_budget(storage::Database& db, const std::string& machine_id,
+                             const MachineConfig* machine, std::int64_t until_ns,
+                             BudgetMemo* memo = nullptr);
+
+// The newest budget section of each machine with what it was evaluated from; any thread.
+class BudgetMemo {
+ public:
+  struct Key {
+    std::string config;  // budget_fingerprint of the configuration
+    // The results up to the section's time: two times with the same count and newest result
+    // hold the same results (a later time holds all of an earlier one's).
+    storage::ResultsUpTo results;
+    bool operator==(const Key& o) const { return config == o.config && results == o.results; }
+  };
+  std::optional<BudgetSection> find(const std::string& machine_id, const Key& key) const;
+  void keep(const std::string& machine_id, Key key, BudgetSection section);
+  std::size_t hits() const;
+  std::size_t evaluations() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::map<std::string, std::pair<Key, BudgetSection>> newest_;
+  mutable std::size_t hits_ = 0;
+  std::size_t evaluations_ = 0;
+};
+
+// Every field of a budget configuration that its evaluation depends on, as text: equal texts,
+// equal evaluations of equal histories.
+std::string budget_fingerprint(const solver::ErrorBudgetConfig& config);
 
 // How much of its tolerance a value uses, against the nominal 0: |value| over the limit on its
 // side (0.5: half; 1: at the limit; above 1: outside). A side without a finite limit: 0.

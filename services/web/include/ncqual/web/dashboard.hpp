@@ -22,6 +22,7 @@
 
 #include "ncqual/calendar.hpp"
 #include "ncqual/config.hpp"
+#include "ncqual/report/machine_report.hpp"
 #include "ncqual/storage.hpp"
 
 #include <cstddef>
@@ -102,6 +103,13 @@ class Dashboard {
 
   const PlantConfig& plant() const { return plant_; }
 
+  // Evaluates the error budget of every configured machine whose results changed since its last
+  // evaluation (report::machine_budget with this dashboard's memo), so that a machine page finds
+  // it ready: ncqual-web calls it when the change token moves, off the requests' threads. Returns
+  // how many were evaluated. Any thread; stops between machines once `stop` says so.
+  std::size_t refresh_budgets(const std::function<bool()>& stop = {});
+  const report::BudgetMemo& budgets() const { return budgets_; }
+
  private:
   Reply route(const Request& request);
   Reply plant_page(const Request& request, bool json);
@@ -115,10 +123,10 @@ class Dashboard {
   std::function<std::int64_t()> now_ns_;
   ConnectionPool pool_;
   ChangeWatch watch_;
+  report::BudgetMemo budgets_;  // each machine's newest budget section (refresh_budgets)
 
   // The machine pages' report sections by (machine, days), with the change token they were
-  // gathered at: gathered again only when the historian changed (the report evaluates the error
-  // budget's Monte Carlo, a third of a second on a year of checks). Bounded: cleared when full.
+  // gathered at: gathered again only when the historian changed. Bounded: cleared when full.
   struct CachedReport {
     std::string token;
     std::string sections;
