@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/report/budget_history.hpp"
 
+#include "ncqual/storage_trend.hpp"
 #include "ncqual/units.hpp"
 
 namespace ncqual::report {
@@ -22,27 +23,25 @@ BudgetHistory gather_budget_history(storage::Database& db, const std::string& ma
   for (const auto& s : budget.sources) {
     for (const auto& m : s.metrics) wanted[m.name] = &m;
   }
-  // Every check's result, not storage::metric_series: that finds a metric's series by the newest
-  // result of its kind, and an INVALID newest result that reports only some metrics hides the
-  // others' values.
-  storage::HistoryQuery q;
-  q.machine_id = machine_id;
-  q.limit = 0;  // every check: the newest N values of each metric may lie far apart
+  // Each metric's series (storage::metric_series: every kind of check that ever reported it),
+  // newest first; an INVALID check's values are not the machine's.
   BudgetHistory h;
-  for (const auto& record : db.history(q)) {  // newest first
-    if (!record.result || record.result->verdict == Verdict::Invalid) continue;
-    if (record.result->time_ns > until_ns) continue;
-    for (const Metric& metric : record.result->metrics) {
-      const auto it = wanted.find(metric.name);
-      if (it == wanted.end()) continue;
-      const auto factor = unit_factor(metric.unit, it->second->unit);
+  for (const auto& [name, metric] : wanted) {
+    storage::MetricQuery q;
+    q.machine_id = machine_id;
+    q.metric = name;
+    q.until_ns = until_ns;
+    const std::vector<storage::MetricValue> series = storage::metric_series(db, q);
+    for (auto it = series.rbegin(); it != series.rend(); ++it) {
+      if (it->verdict == Verdict::Invalid) continue;
+      const auto factor = unit_factor(it->unit, metric->unit);
       if (!factor) {
         ++h.unconvertible;
         continue;
       }
-      auto& values = h.values[metric.name];
-      if (values.empty()) h.newest_time_ns[metric.name] = record.result->time_ns;
-      values.push_back(metric.value * *factor);
+      auto& values = h.values[name];
+      if (values.empty()) h.newest_time_ns[name] = it->time_ns;
+      values.push_back(it->value * *factor);
     }
   }
   return h;

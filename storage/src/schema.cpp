@@ -354,6 +354,27 @@ CREATE INDEX results_passed_by_machine_kind_time ON results (machine_id, kind, t
   WHERE verdict = 'PASS';
 )sql";
 
+// Version 10: which metrics a machine's checks of each kind have ever reported (docs/trends.md,
+// "The series and its segment"). A metric's series (storage::metric_series) and a machine's list
+// of metrics (storage::machine_metrics) found them through the machine's newest result of each
+// kind, so a newest result that reported fewer metrics (an INVALID check, a fixture check of
+// another pogo rotation) hid the others' history. Kept by a trigger as metrics are stored (a
+// result's row is stored before its metrics), filled once from the metrics already stored.
+constexpr const char* kVersion10 = R"sql(
+CREATE TABLE reported_metrics (
+  machine_id TEXT NOT NULL,
+  name       TEXT NOT NULL,
+  kind       INTEGER NOT NULL,
+  PRIMARY KEY (machine_id, name, kind)
+) STRICT, WITHOUT ROWID;
+INSERT OR IGNORE INTO reported_metrics (machine_id, name, kind)
+  SELECT DISTINCT r.machine_id, m.name, r.kind FROM metrics AS m JOIN results AS r USING (request_id);
+CREATE TRIGGER metrics_reported AFTER INSERT ON metrics BEGIN
+  INSERT OR IGNORE INTO reported_metrics (machine_id, name, kind)
+    SELECT machine_id, NEW.name, kind FROM results WHERE request_id = NEW.request_id;
+END;
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
@@ -365,6 +386,7 @@ const std::vector<Migration> kMigrations = {
     {7, "thinned points of old measurement sets", kVersion7},
     {8, "trend series index and warning sides", kVersion8},
     {9, "indexes of failed and passed results by machine", kVersion9},
+    {10, "the metrics each machine's checks of a kind reported", kVersion10},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

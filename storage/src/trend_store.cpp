@@ -23,19 +23,19 @@ using sqlite::Sql;
 // The kinds of check the machine has results of (index-only: results_by_machine_kind_time).
 constexpr Sql kSelectResultKinds{"select result kinds",
                                  "SELECT DISTINCT kind FROM results WHERE machine_id = ?1"};
-// The metrics of the machine's newest result of one kind, in the order the check reports them.
-constexpr Sql kSelectNewestMetrics{
-    "select newest metrics",
-    "SELECT m.name, m.unit, m.lower, m.upper, r.time_ns FROM metrics AS m "
-    "JOIN (SELECT request_id, time_ns FROM results WHERE machine_id = ?1 AND kind = ?2 "
-    "      ORDER BY time_ns DESC, request_id DESC LIMIT 1) AS r USING (request_id) "
-    "ORDER BY m.idx"};
-// How many of the machine's results of one kind report each metric, and the newest's time: one
-// walk of the kind's results (results_by_machine_kind_time) and their metrics, not one per metric.
-constexpr Sql kCountMetrics{
-    "count metrics",
-    "SELECT m.name, count(*), max(r.time_ns) FROM results AS r JOIN metrics AS m "
-    "ON m.request_id = r.request_id WHERE r.machine_id = ?1 AND r.kind = ?2 GROUP BY m.name"};
+// The kinds of the machine's checks that ever reported a metric (reported_metrics, schema 10).
+constexpr Sql kSelectKindsReporting{
+    "select kinds reporting",
+    "SELECT kind FROM reported_metrics WHERE machine_id = ?1 AND name = ?2 ORDER BY kind"};
+// Every metric the machine's results of one kind reported, how many results and the newest's time,
+// with the unit, band and place in its check of that newest value (SQLite takes a bare column from
+// the row of the one max() aggregate): one walk of the kind's results
+// (results_by_machine_kind_time) and their metrics.
+constexpr Sql kSelectKindMetrics{
+    "select metrics of a kind",
+    "SELECT m.name, m.unit, m.lower, m.upper, m.idx, count(*), max(r.time_ns) FROM results AS r "
+    "JOIN metrics AS m ON m.request_id = r.request_id WHERE r.machine_id = ?1 AND r.kind = ?2 "
+    "GROUP BY m.name"};
 // Oldest first within [since, until]; ?6 > 0 keeps the newest ?6 (read newest first).
 constexpr Sql kSelectSeriesAscending{
     "select metric series",
@@ -124,20 +124,13 @@ std::vector<CheckKind> result_kinds(sqlite::StatementCache& statements,
   return kinds;
 }
 
-// The kinds whose newest result reports `metric`.
+// The kinds of the machine's checks that ever reported `metric`.
 std::vector<CheckKind> kinds_reporting(sqlite::StatementCache& statements,
                                        const std::string& machine_id, const std::string& metric) {
   std::vector<CheckKind> out;
-  for (CheckKind kind : result_kinds(statements, machine_id)) {
-    Query q(statements, kSelectNewestMetrics);
-    q.bind(machine_id, static_cast<std::int64_t>(kind));
-    while (q.step()) {
-      if (q.text(0) == metric) {
-        out.push_back(kind);
-        break;
-      }
-    }
-  }
+  Query q(statements, kSelectKindsReporting);
+  q.bind(machine_id, metric);
+  while (q.step()) out.push_back(static_cast<CheckKind>(q.int64(0)));
   return out;
 }
 
@@ -190,34 +183,24 @@ std::vector<MetricInfo> machine_metrics(Database& db, const std::string& machine
   DatabaseAccess::read(db, [&] {
     auto& statements = DatabaseAccess::statements(db);
     for (CheckKind kind : result_kinds(statements, machine_id)) {
-      std::vector<MetricInfo> of_kind;
-      {
-        Query q(statements, kSelectNewestMetrics);
-        q.bind(machine_id, static_cast<std::int64_t>(kind));
-        while (q.step()) {
-          MetricInfo m;
-          m.name = q.text(0);
-          m.kind = kind;
-          m.unit = q.text(1);
-          m.lower = q.real(2);
-          m.upper = q.real(3);
-          m.last_ns = q.int64(4);
-          of_kind.push_back(std::move(m));
-        }
+      std::vector<std::pair<std::int64_t, MetricInfo>> of_kind;  // with the place in its check
+      Query q(statements, kSelectKindMetrics);
+      q.bind(machine_id, static_cast<std::int64_t>(kind));
+      while (q.step()) {
+        MetricInfo m;
+        m.name = q.text(0);
+        m.kind = kind;
+        m.unit = q.text(1);
+        m.lower = q.real(2);
+        m.upper = q.real(3);
+        m.count = q.int64(5);
+        m.last_ns = q.int64(6);
+        of_kind.emplace_back(q.int64(4), std::move(m));
       }
-      std::map<std::string, std::pair<std::int64_t, std::int64_t>> counted;
-      {
-        Query q(statements, kCountMetrics);
-        q.bind(machine_id, static_cast<std::int64_t>(kind));
-        while (q.step()) counted[q.text(0)] = {q.int64(1), q.int64(2)};
-      }
-      for (MetricInfo& m : of_kind) {
-        if (const auto it = counted.find(m.name); it != counted.end()) {
-          m.count = it->second.first;
-          m.last_ns = it->second.second;
-        }
-        out.push_back(std::move(m));
-      }
+      std::sort(of_kind.begin(), of_kind.end(), [](const auto& a, const auto& b) {
+        return std::tie(a.first, a.second.name) < std::tie(b.first, b.second.name);
+      });
+      for (auto& [idx, m] : of_kind) out.push_back(std::move(m));
     }
   });
   return out;

@@ -38,7 +38,8 @@ struct MetricQuery {
   int last = 0;  // > 0: only the newest `last` values of the range
 };
 
-// Oldest first (by result time, then request id). Empty when the machine never reported it.
+// Oldest first (by result time, then request id), from every kind of check that ever reported the
+// metric (not only those whose newest result does). Empty when the machine never reported it.
 std::vector<MetricValue> metric_series(Database& db, const MetricQuery& query);
 
 // A metric a machine reports, with the band and unit of its newest value.
@@ -51,7 +52,8 @@ struct MetricInfo {
   std::int64_t last_ns = 0;  // the newest such check's result time
 };
 
-// Every metric the machine's results carry, by check kind then the order the check reports them.
+// Every metric the machine's results of each kind ever carried (a metric of two kinds: once per
+// kind), by check kind, then the place its newest value had in its check, then name.
 std::vector<MetricInfo> machine_metrics(Database& db, const std::string& machine_id);
 
 // What restarts the series of a metric of `series` checks (docs/trends.md, "The series and its

@@ -125,6 +125,48 @@ TEST_F(TrendStore, AMachinesMetricsAreThoseItsChecksReport) {
   EXPECT_TRUE(machine_metrics(db, "M9").empty());
 }
 
+// A newest result that reports fewer metrics (an INVALID check that measured nothing; a fixture
+// check of another pogo rotation) hides none of the older ones' history: the kinds that ever
+// reported a metric are kept (schema 10, reported_metrics) as results are stored, and filled from
+// what was stored before the migration.
+TEST_F(TrendStore, ANewestResultWithFewerMetricsHidesNoneOfTheirHistory) {
+  {
+    Database db = Database::open(path_);
+    CheckResult invalid = result_at("p11", "M1", CheckKind::MonumentPositioning, 11, 0);
+    invalid.verdict = Verdict::Invalid;
+    invalid.reason = "the probe did not trigger";
+    invalid.metrics.clear();
+    db.store(invalid);
+    CheckResult other = result_at("p13", "M1", CheckKind::MonumentPositioning, 13, 0);
+    other.metrics = {{"rotation_b_mm", 0.001, "mm", -0.01, 0.01, true}};
+    db.store(other);
+  }
+  Database db = Database::open_readonly(path_);
+  const auto series = metric_series(db, {"M1", "center_dy_mm"});
+  ASSERT_EQ(series.size(), 12u);  // p1..p10 and c2, c12, as before the two newest checks
+  EXPECT_EQ(series[series.size() - 2].request_id, "p10");
+  const auto metrics = machine_metrics(db, "M1");
+  ASSERT_EQ(metrics.size(), 7u);  // three of monument_c_alignment, four of monument_positioning
+  EXPECT_EQ(metrics[3].kind, CheckKind::MonumentPositioning);
+  EXPECT_EQ(metrics[3].name, "center_dx_mm");  // place 0 in its newest check, then by name
+  EXPECT_EQ(metrics[4].name, "rotation_b_mm");
+  EXPECT_EQ(metrics[4].count, 1);
+  EXPECT_EQ(metrics[4].last_ns, 13 * kDay);
+  EXPECT_EQ(metrics[5].name, "center_dy_mm");
+  EXPECT_EQ(metrics[5].count, 10);
+  EXPECT_EQ(metrics[5].last_ns, 10 * kDay);  // p11 reported nothing
+  EXPECT_EQ(metrics[6].name, "tilt_arcsec");
+
+  // A historian of schema 9 (before reported_metrics) gets the table filled when migrated.
+  {
+    RawDb raw(path_);
+    raw.exec("DROP TRIGGER metrics_reported; DROP TABLE reported_metrics; PRAGMA user_version = 9");
+  }
+  Database migrated = Database::open(path_);
+  EXPECT_EQ(metric_series(migrated, {"M1", "center_dy_mm"}).size(), 12u);
+  EXPECT_EQ(machine_metrics(migrated, "M1").size(), 7u);
+}
+
 // p7 (monument_positioning) issued the compensations: they restart its own series and not the
 // fixture's; the intervention restarts every series.
 TEST_F(TrendStore, RestartsAreTheInterventionsAndTheCompensationsThatConcernTheSeries) {
