@@ -24,6 +24,7 @@
 #include "commands.hpp"
 
 #include "ncqual/calendar.hpp"
+#include "ncqual/report/machine_report.hpp"
 #include "ncqual/report/metric_trend.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/storage_trend.hpp"
@@ -40,12 +41,9 @@
 namespace ncqual::cli {
 namespace {
 
-// How much of its tolerance band a value uses: |v - centre| / half-width (> 1: out of tolerance).
-double band_use(const Metric& m) {
-  const double half = 0.5 * (m.upper - m.lower);
-  if (!(half > 0)) return 0;
-  return std::abs(m.value - 0.5 * (m.upper + m.lower)) / half;
-}
+// How much of its tolerance a value uses, as the report ranks its metrics
+// (report::tolerance_usage: against the nominal 0, one-sided bands too; > 1: out of tolerance).
+double band_use(const Metric& m) { return report::tolerance_usage(m.value, m.lower, m.upper); }
 
 struct Bucket {
   int pass = 0, fail = 0, invalid = 0;
