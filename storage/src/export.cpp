@@ -86,7 +86,10 @@ const std::array<TableSpec, 19> kTables{{
      "t.received_ns, t.id"},
     {"services", "services AS t", "t.first_seen_ns", "t.last_seen_ns", "t.machine_id",
      "t.service, t.instance"},
-    {"trend_warnings", "trend_warnings AS t", "t.started_ns", "t.started_ns", "t.machine_id",
+    // A warning spans its start to its end (an active one: to now and on), so a range holds every
+    // warning that was active in it, not only those that started in it.
+    {"trend_warnings", "trend_warnings AS t", "t.started_ns",
+     "coalesce(t.ended_ns, 9223372036854775807)", "t.machine_id",
      "t.started_ns, t.machine_id, t.metric, t.kind"},
 }};
 

@@ -40,7 +40,7 @@ TIMES = {
     "services": ("first_seen_ns", "last_seen_ns"),
     "checks": ("sort_ns", "sort_ns"),
     "conflicts": ("received_ns", "received_ns"),
-    "trend_warnings": ("started_ns", "started_ns"),
+    "trend_warnings": ("started_ns", "ended_ns"),  # ended_ns NULL: still active
 }
 
 
@@ -74,7 +74,8 @@ def main():
             p = parents[parent].get(row[column])
             return p is not None and wanted(parent, p)
         first, last = TIMES.get(table, ("time_ns", "time_ns"))
-        if not (row[last] >= since and row[first] < until):
+        end = row[last] if row[last] is not None else float("inf")
+        if not (end >= since and row[first] < until):
             return False
         return not machines or row["machine_id"] in machines
 

@@ -319,6 +319,13 @@ TEST_F(DbExport, TheTimeRangeIsHalfOpenToTheNanosecondAndMachinesFilter) {
   EXPECT_EQ(data_lines(dir + "/touches.csv").size(), 8u);
   EXPECT_EQ(ids("machines.csv"), (std::set<std::string>{"m1"}));
   EXPECT_TRUE(ids("interventions.csv").empty()) << "16 January is after --until";
+  // The forecast warning started on 12 January at 00:00, before --since, and is still active:
+  // it was active in the range, so it is in.
+  EXPECT_EQ(ids("trend_warnings.csv"), (std::set<std::string>{"m1"}));
+  const std::string before = path("before");
+  export_and_check(db, before, {"--since", "2027-01-01", "--until", "2027-01-12T00:00:00Z"});
+  EXPECT_TRUE(first_fields(before + "/trend_warnings.csv").empty())
+      << "a range that ends as the warning starts does not hold it";
 
   // One nanosecond later --until, req-14's result is in.
   const std::string later = path("later");
