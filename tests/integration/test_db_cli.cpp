@@ -563,6 +563,30 @@ TEST_F(DbCli, TrendOfAMetricGivesTheHandWorkedFiguresAndStatusShowsItsWarning) {
   EXPECT_NE(unknown.err.find("'centre_dy_mm'"), std::string::npos) << unknown.err;
   EXPECT_NE(unknown.err.find("center_dy_mm"), std::string::npos) << "lists what it has\n"
                                                                  << unknown.err;
+  // A machine of many metrics (a fixture check names every pogo's): the nearest few by name.
+  {
+    auto db = storage::Database::open(file);
+    CheckResult fixture = result(20);
+    fixture.kind = CheckKind::FixturePreCalibration;
+    fixture.verdict = Verdict::Pass;
+    fixture.time_ns = kT0 + 5 * kDay;
+    fixture.metrics.clear();
+    for (int column = 1; column <= 4; ++column) {
+      for (int row = 1; row <= 5; ++row) {
+        fixture.metrics.push_back(
+            {"pogo_C" + std::to_string(column) + "R" + std::to_string(row) + "_dz_mm", 0.001, "mm",
+             -0.05, 0.05, true});
+      }
+    }
+    db.store(fixture);
+  }
+  const CliRun near = run_cli(
+      {"trend", "--machine", "m1", "--metric", "pogo_C3R2_dz", "--db", file, "--plant", plant},
+      Capture::Separate);
+  EXPECT_EQ(near.exit_code, 2);
+  EXPECT_NE(near.err.find("the nearest of its 21 metrics: pogo_C3R2_dz_mm, "), std::string::npos)
+      << near.err;
+  EXPECT_EQ(near.err.find("pogo_C4R5_dz_mm"), std::string::npos) << "not all 21\n" << near.err;
   EXPECT_EQ(run_cli({"trend", "--machine", "m1", "--json", "--db", file, "--plant", plant},
                     Capture::Separate)
                 .exit_code,

@@ -2,6 +2,7 @@
 // Small text helpers shared by the configuration, the solver's labels and the state file.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -24,6 +25,10 @@ std::optional<double> parse_finite_number(const std::string& word);
 // The whole file at `path`, bytes as they are; nothing, with `*why` ("is a directory", the
 // system's reason, "read error"), when it cannot be read. Callers name the file in their error.
 std::optional<std::string> read_text_file(const std::string& path, std::string* why);
+
+// The Levenshtein distance of `a` and `b` (insertions, deletions and substitutions of a byte),
+// for "did you mean" in messages.
+std::size_t edit_distance(std::string_view a, std::string_view b);
 
 // Writes `text` to `path` so that a reader never sees part of it: into ".<name>.part" beside it,
 // flushed to disk, then renamed over `path`. False, with `*why` (the system's reason), when it

@@ -17,7 +17,8 @@
 //     the date the tolerance is reached, the pass rate, the warnings active now and those the
 //     historian raised. --json: the whole document (report::MetricTrend, names stable); --csv:
 //     the points with their EWMA and CUSUM (report::points_csv). A metric the machine does not
-//     report is refused with the machine's metrics listed.
+//     report is refused with the machine's metrics listed (the nearest five by name when it has
+//     more than twelve).
 //
 // Exit codes: 0, 2 bad usage (and a machine the plant does not configure, a metric it does not
 // report), 6 no historian database at the path.
@@ -28,6 +29,7 @@
 #include "ncqual/report/metric_trend.hpp"
 #include "ncqual/storage.hpp"
 #include "ncqual/storage_trend.hpp"
+#include "ncqual/text.hpp"
 
 #include <fmt/format.h>
 
@@ -62,6 +64,29 @@ struct Options {
 };
 
 // ---- --metric -----------------------------------------------------------------------------------
+
+// What the machine's metrics are, for the message that `wanted` is not one: all of them when they
+// are few, else the nearest few by edit distance (a fixture machine reports hundreds).
+std::string metrics_named(const std::vector<storage::MetricInfo>& known,
+                          const std::string& wanted) {
+  constexpr std::size_t kListedAll = 12, kNearest = 5;
+  std::vector<std::pair<std::size_t, std::string>> names;
+  for (const auto& m : known) {
+    const bool listed =
+        std::any_of(names.begin(), names.end(), [&](const auto& n) { return n.second == m.name; });
+    if (!listed) names.emplace_back(edit_distance(wanted, m.name), m.name);
+  }
+  if (names.empty()) return " (it has no results yet)";
+  const std::size_t all = names.size();
+  std::string list;
+  if (all <= kListedAll) {
+    for (const auto& [d, name] : names) list += (list.empty() ? " " : ", ") + name;
+    return "; it has" + list;
+  }
+  std::sort(names.begin(), names.end());
+  for (std::size_t i = 0; i < kNearest; ++i) list += (list.empty() ? " " : ", ") + names[i].second;
+  return "; the nearest of its " + std::to_string(all) + " metrics:" + list;
+}
 
 // A value of the metric in its unit, with the decimals its band calls for.
 std::string value_text(const report::MetricTrend& t, double value, int extra_decimals = 0) {
@@ -190,14 +215,8 @@ int run_metric(const Options& o, const PlantConfig& plant, const std::string& ma
     const std::vector<storage::MetricInfo> known = storage::machine_metrics(db, machine);
     if (std::none_of(known.begin(), known.end(),
                      [&](const auto& m) { return m.name == *o.metric; })) {
-      std::string list;
-      for (const auto& m : known) {
-        if (list.find(" " + m.name + ",") == std::string::npos) list += " " + m.name + ",";
-      }
-      if (!list.empty()) list.pop_back();
       throw UsageError("--metric '" + *o.metric + "': no stored result of " + machine +
-                       " reports it" +
-                       (list.empty() ? " (it has no results yet)" : "; it has" + list));
+                       " reports it" + metrics_named(known, *o.metric));
     }
   }
   if (o.json) {
