@@ -198,13 +198,12 @@ int run(int argc, char** argv) {
   // Monte Carlo would be most of a machine page's time): at start, then whenever the change
   // token moves, looked at every second.
   std::thread budgets([&] {
-    web::ChangeWatch changes(database);
     std::string seen;
     std::unique_lock lock(mutex);
     do {
       lock.unlock();
       try {
-        if (const std::string token = changes.token(); token != seen) {
+        if (const std::string token = dashboard.change_token(); token != seen) {
           const std::size_t evaluated =
               dashboard.refresh_budgets([&] { return listening_done.load(); });
           if (evaluated > 0) spdlog::debug("error budgets evaluated again: {}", evaluated);

@@ -38,6 +38,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <set>
 #include <nlohmann/json.hpp>
 
 namespace ncqual::cli {
@@ -71,10 +72,9 @@ std::string metrics_named(const std::vector<storage::MetricInfo>& known,
                           const std::string& wanted) {
   constexpr std::size_t kListedAll = 12, kNearest = 5;
   std::vector<std::pair<std::size_t, std::string>> names;
+  std::set<std::string> seen;  // a metric of two kinds is in `known` twice
   for (const auto& m : known) {
-    const bool listed =
-        std::any_of(names.begin(), names.end(), [&](const auto& n) { return n.second == m.name; });
-    if (!listed) names.emplace_back(edit_distance(wanted, m.name), m.name);
+    if (seen.insert(m.name).second) names.emplace_back(edit_distance(wanted, m.name), m.name);
   }
   if (names.empty()) return " (it has no results yet)";
   const std::size_t all = names.size();

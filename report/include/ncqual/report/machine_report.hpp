@@ -27,6 +27,8 @@
 
 namespace ncqual::report {
 
+class BudgetMemo;  // below
+
 struct MachineReportQuery {
   std::string machine_id;
   std::optional<std::string> check_id;  // one check (its request id) instead of a period
@@ -36,7 +38,7 @@ struct MachineReportQuery {
   // and linear run, and the budget: section. Without it those sections say that they need it.
   const MachineConfig* machine = nullptr;
   // Budget sections already evaluated (a dashboard keeps one); none: evaluated every time.
-  class BudgetMemo* budget_memo = nullptr;
+  BudgetMemo* budget_memo = nullptr;
 };
 
 // A stored check a chart section draws: which one, and what became of its evaluation.

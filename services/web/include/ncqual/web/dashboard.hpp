@@ -109,6 +109,8 @@ class Dashboard {
   // how many were evaluated. Any thread; stops between machines once `stop` says so.
   std::size_t refresh_budgets(const std::function<bool()>& stop = {});
   const report::BudgetMemo& budgets() const { return budgets_; }
+  // The change token the pages poll (/api/v1/changes), as ChangeWatch keeps it. Any thread.
+  std::string change_token() { return watch_.token(); }
 
  private:
   Reply route(const Request& request);
