@@ -148,12 +148,12 @@ fi
 acquisition_identity=()
 if [ -n "$secure" ]; then
   echo "== DDS Security: the plant's identities in $var/pki (deploy/security/ncqual-pki)"
-  NCQUAL_CLI="$bin/cli/ncqual" "$root/deploy/security/ncqual-pki" init --plant "$plant" \
+  NCQUAL_CLI="$bin/cli/ncqual" "$root/deploy/security/ncqual-pki" init --demo --plant "$plant" \
     --out "$var/pki" --operator "$(hostname)" | sed 's/^/   /'
   if [ "$machines" -gt 1 ]; then
     # One acquisition process serves the whole plant here: one identity for all its machines.
     all="$(printf '%s,' "$machine_id" $(seq -f 'pm%g' 2 "$machines"))"
-    NCQUAL_CLI="$bin/cli/ncqual" "$root/deploy/security/ncqual-pki" add --out "$var/pki" \
+    NCQUAL_CLI="$bin/cli/ncqual" "$root/deploy/security/ncqual-pki" add --demo --out "$var/pki" \
       --role acquisition --name acquisition-plant --machines "${all%,}" | sed 's/^/   /'
     acquisition_identity=(--identity acquisition-plant)
   fi

@@ -19,6 +19,7 @@
 #include "ncqual/command_line.hpp"
 #include "ncqual/config.hpp"
 #include "ncqual/dds/acknowledged.hpp"
+#include "ncqual/dds/identity.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/log.hpp"
 #include "ncqual/storage.hpp"
@@ -49,6 +50,31 @@ AckOutcome ack_outcome(StoreOutcome outcome) {
 
 // Raises an alarm (machine id, alarm id, text).
 using Raise = std::function<void(const std::string&, const std::string&, const std::string&)>;
+// A writer's GUID as people read it: the plant identity whose subject bits it carries (a secured
+// plant), else the GUID.
+using NameWriter = std::function<std::string(const std::string&)>;
+
+// The text of a conflict, its log line and its Alarm. For a check's measurement set or result it
+// opens with what the scheduler holds the machine for (scheduler.hpp: Scheduler::conflict):
+// "conflicting measurements of REQUEST from WRITER A and WRITER B".
+std::string conflict_text(const char* what, const std::string& id, const std::string& machine_id,
+                          const ncqual::storage::StoreResult& stored, const std::string& writer,
+                          const std::string& content_hash, const NameWriter& name) {
+  const std::string first = stored.stored_writer.empty() ? std::string("an unrecorded writer")
+                                                         : name(stored.stored_writer);
+  const std::string second = name(writer);
+  const std::string both = fmt::format(
+      "(content {} stored first, {} kept beside it); both kept, the stored one unchanged",
+      stored.stored_hash.substr(0, 12), content_hash.substr(0, 12));
+  const std::string w(what);
+  if (w == "measurement set" || w == "result") {
+    return fmt::format("conflicting {} of {} of machine '{}' from {} and {} {}",
+                       w == "result" ? "results" : "measurements", id, machine_id, first, second,
+                       both);
+  }
+  return fmt::format("{} {} of machine '{}' from {} differs from the one stored from {} {}", what,
+                     id, machine_id, second, first, both);
+}
 
 // What follows a sample newly stored (the trend watch); not called for a duplicate or conflict.
 template <typename Model>
@@ -59,12 +85,14 @@ using AfterStore = std::function<void(const Model&)>;
 // keep the sample (not acknowledged).
 template <typename Topic>
 void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const Raise& raise,
-           const AfterStore<typename Topic::Model>& after, const char* what,
-           const ncqual::dds::Received<typename Topic::Model>& in, std::int64_t now_ns) {
+           const NameWriter& name, const AfterStore<typename Topic::Model>& after, const char* what,
+           const ncqual::dds::Received<typename Topic::Model>& in, std::int64_t now_ns,
+           bool open_plant) {
   const std::string& machine_id = in.value.machine_id;
   const std::string id = ncqual::sample_id_of(in.value);
   if (!in.error.empty()) {
-    spdlog::error("{} {} of machine '{}' refused: {}", what, id, machine_id, in.error);
+    spdlog::error("{} {} of machine '{}' from {} refused: {}", what, id, machine_id,
+                  name(in.writer), in.error);
     acks.acknowledge<Topic>(in, AckOutcome::Refused, in.error);
     return;
   }
@@ -78,23 +106,28 @@ void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const
     acks.acknowledge<Topic>(in, AckOutcome::Refused, e.what());
     return;
   }
+  // A per-machine topic's sample says where it came from (Received::partition): on an open plant
+  // at info, so that a writer outside the machines' partitions (the default one) is on record.
+  const std::string where = ncqual::dds::where_received(in);
+  const auto level = in.partition && open_plant ? spdlog::level::info : spdlog::level::debug;
   switch (stored.outcome) {
-    case StoreOutcome::Stored: spdlog::debug("stored {} {} of {}", what, id, machine_id); break;
+    case StoreOutcome::Stored:
+      spdlog::log(level, "stored {} {} of {}{}{}", what, id, machine_id, where.empty() ? "" : ", ",
+                  where.empty() ? "" : "written " + where + " by " + in.writer);
+      break;
     case StoreOutcome::Duplicate:
-      spdlog::debug("{} {} of {} already stored", what, id, machine_id);
+      spdlog::log(level, "{} {} of {} already stored{}", what, id, machine_id,
+                  where.empty() ? "" : " (sent again " + where + ")");
       break;
     case StoreOutcome::Conflict: {
-      const std::string text = fmt::format(
-          "CONFLICT: {} {} of machine '{}' from writer {} differs from the one stored (content "
-          "{} against {}); both kept, the stored one unchanged",
-          what, id, machine_id, in.writer, in.content_hash.substr(0, 12),
-          stored.stored_hash.substr(0, 12));
+      const std::string text =
+          conflict_text(what, id, machine_id, stored, in.writer, in.content_hash, name);
       // Raised once: a resend of the same content is answered CONFLICT again, not re-raised.
       if (!stored.new_conflict) {
-        spdlog::debug("{} (sent again; already kept)", text);
+        spdlog::debug("CONFLICT: {} (sent again; already kept)", text);
         break;
       }
-      spdlog::error("{}", text);
+      spdlog::error("CONFLICT: {}", text);
       raise(machine_id, "conflict/" + std::string(Topic::kName) + "/" + id + "/" + in.content_hash,
             text);
       break;
@@ -216,6 +249,24 @@ int run(int argc, char** argv) {
       watch.after_intervention(i);
     };
 
+    const bool open_plant = !p.secured();
+    // On a secured plant a writer's GUID names its identity (ncqual/dds/identity.hpp): a conflict
+    // says who wrote each side. Read once; a certificate that cannot be read leaves GUIDs.
+    std::vector<ncqual::dds::PlantIdentity> identities;
+    if (!open_plant) {
+      try {
+        identities = ncqual::dds::plant_identities(plant.security.dir);
+      } catch (const std::exception& e) {
+        spdlog::warn("the plant's identities are not read ({}): conflicts name writers by GUID",
+                     e.what());
+      }
+    }
+    const NameWriter name_writer = [&identities](const std::string& guid) {
+      if (const auto id = ncqual::dds::identity_of_guid(guid, identities)) {
+        return id->name + " (writer " + guid + ")";
+      }
+      return "writer " + guid;
+    };
     // Every sample a reader receives goes through the ingest: stored and acknowledged, or kept.
     const auto ingest_from = [&](auto& reader, const char* what, const auto& after) {
       using Topic = typename std::remove_reference_t<decltype(reader)>::TopicType;
@@ -223,8 +274,8 @@ int run(int argc, char** argv) {
         const std::int64_t now = service.clock().now_ns();
         ingest.submit(
             now,
-            [&db, &acks, &raise_conflict, &after, what, in, now] {
-              store<Topic>(db, acks, raise_conflict, after, what, in, now);
+            [&db, &acks, &raise_conflict, &name_writer, &after, what, in, now, open_plant] {
+              store<Topic>(db, acks, raise_conflict, name_writer, after, what, in, now, open_plant);
             },
             steady_now());
       });

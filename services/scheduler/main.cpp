@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // ncqual-scheduler: runs the qualification process (scheduler.hpp) for every machine of the
-// plant, or of --machine. Reads CheckResults, CheckCommands and Interventions; writes
+// plant, or of --machine. Reads CheckResults, CheckCommands, Interventions and the historian's
+// conflict Alarms (a check whose record is in doubt holds its machine); writes
 // CheckRequests and MachineStatus; its durable state is the plant's scheduler.state_database.
 // Acknowledged (docs/architecture.md, "Acknowledged storage"): its requests, statuses and the
 // interventions it applied stay in the state file's outbox until the historian stored them; it
@@ -87,6 +88,8 @@ int run(int argc, char** argv) {
     ncqual::dds::Reader<ncqual::dds::CheckCommandTopic> commands(p);
     ncqual::dds::Reader<ncqual::dds::InterventionTopic> interventions(p);
     ncqual::dds::Writer<ncqual::dds::InterventionTopic> relayed(p);
+    // The historian's conflicts: two different sets or results for one request hold the machine.
+    ncqual::dds::Reader<ncqual::dds::AlarmTopic> alarms(p);
     ncqual::dds::Acknowledger acks(service, roles::kScheduler);
     ncqual::dds::Outbox outbox(service, state);
     outbox.route(requests);
@@ -159,6 +162,17 @@ int run(int argc, char** argv) {
         return;
       }
       acks.acknowledge<ncqual::dds::InterventionTopic>(in, AckOutcome::Accepted, unchanged);
+    });
+    service.dispatcher().on(alarms, [&](const ncqual::dds::Received<Alarm>& in) {
+      const auto conflict = scheduler::check_conflict_of(in.value);
+      if (!conflict || served.others.count(in.value.machine_id)) return;
+      if (!in.error.empty()) {
+        spdlog::error("alarm {} not read: {}", in.value.alarm_id, in.error);
+        return;
+      }
+      progress = true;
+      const std::string unchanged = sched.conflict(in.value.machine_id, *conflict, in.value.text);
+      if (!unchanged.empty()) spdlog::warn("conflict {}: {}", in.value.alarm_id, unchanged);
     });
     sched.start(cycle);
 

@@ -62,10 +62,12 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(PendingCheck, request_ids, kind,
                                                 in_sequence, rearmed)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(Hold, kind, request_id, detail, rerun, parameters,
                                                 in_sequence)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(JudgedCheck, request_id, kind, parameters,
+                                                in_sequence)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(MachineRun, last_pass_ns, queue, pending, hold,
                                                 planned_shift_ns, next_part_ns, part_step,
                                                 local_time_ns, sequence, interventions, orders,
-                                                state, detail)
+                                                judged, conflicts, state, detail)
 
 namespace {
 
@@ -402,6 +404,8 @@ void Scheduler::result(const CheckResult& res) {
   if (p == m.run.pending.end()) return;  // not ours, or already handled
   const PendingCheck done = *p;
   m.run.pending.erase(p);
+  m.run.judged.push_back(JudgedCheck{res.request_id, res.kind, done.parameters, done.in_sequence});
+  if (m.run.judged.size() > kRememberedIds) m.run.judged.erase(m.run.judged.begin());
   if (plant_.simulated_clock) m.run.local_time_ns = std::max(m.run.local_time_ns, res.time_ns);
   const std::int64_t t = now(m);
   if (res.verdict == Verdict::Pass) {
@@ -454,6 +458,63 @@ void Scheduler::result(const CheckResult& res) {
   std::vector<NamedValue> parameters = done.parameters;
   hold(m, Hold{res.kind, res.request_id, detail, rerun, parameters, done.in_sequence});
   commit(m);
+}
+
+std::optional<ConflictAlarm> check_conflict_of(const Alarm& alarm) {
+  if (alarm.kind != AlarmKind::Conflict || !alarm.active) return std::nullopt;
+  // conflict/<topic>/<sample id>/<content hash>, the topic itself "ncqual/<Type>".
+  for (const char* topic : {"ncqual/MeasurementSet", "ncqual/CheckResult"}) {
+    const std::string head = "conflict/" + std::string(topic) + "/";
+    if (alarm.alarm_id.rfind(head, 0) != 0) continue;
+    const std::size_t hash_at = alarm.alarm_id.rfind('/');
+    if (hash_at < head.size()) return std::nullopt;
+    const std::string request_id = alarm.alarm_id.substr(head.size(), hash_at - head.size());
+    if (request_id.empty()) return std::nullopt;
+    return ConflictAlarm{topic, request_id, alarm.alarm_id};
+  }
+  return std::nullopt;
+}
+
+std::string Scheduler::conflict(const std::string& machine_id, const ConflictAlarm& conflict,
+                                const std::string& text) {
+  auto it = machines_.find(machine_id);
+  if (it == machines_.end()) return "machine '" + machine_id + "' is not served here";
+  Machine& m = it->second;
+  if (contains(m.run.conflicts, conflict.alarm_id)) return "";  // delivered again
+  std::optional<JudgedCheck> check;
+  for (const auto& j : m.run.judged) {
+    if (j.request_id == conflict.request_id) check = j;
+  }
+  const auto pending = std::find_if(m.run.pending.begin(), m.run.pending.end(), [&](const auto& p) {
+    return contains(p.request_ids, conflict.request_id);
+  });
+  if (!check && pending != m.run.pending.end()) {
+    check =
+        JudgedCheck{conflict.request_id, pending->kind, pending->parameters, pending->in_sequence};
+    m.run.pending.erase(pending);  // its result, whichever set it came from, does not count
+  }
+  if (!check) {
+    return "request " + conflict.request_id +
+           " is not a check this scheduler issued (an import?) or remembers: the machine's state "
+           "is unchanged";
+  }
+  remember(m.run.conflicts, conflict.alarm_id);
+  spdlog::error("{}: {}; held until a person decides", machine_id, text);
+  if (m.run.hold) {
+    m.run.hold->detail += "; also: " + text;
+    update_state(m, conflict.request_id, check->kind, Verdict::Fail);
+    commit(m);
+    return "";
+  }
+  const std::string kind(to_string(check->kind));
+  hold(m, Hold{check->kind, conflict.request_id,
+               text + "; next: compare the two (ncqual history --writers --machine " + machine_id +
+                   "), stop the writer that should not have written, then ncqual intervene "
+                   "--machine " +
+                   machine_id + " --check " + kind + " --note \"...\" (re-runs the check)",
+               check->kind, check->parameters, check->in_sequence});
+  commit(m);
+  return "";
 }
 
 std::string Scheduler::intervention(const Intervention& iv) {

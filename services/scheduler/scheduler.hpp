@@ -82,6 +82,27 @@ struct Hold {
   bool in_sequence = true;
 };
 
+// A check whose result the scheduler applied: kept (the newest 64) so that a conflict found later
+// (two different measurement sets or results for its request) holds the machine for it.
+struct JudgedCheck {
+  std::string request_id;
+  CheckKind kind = CheckKind::MonumentPositioning;
+  std::vector<NamedValue> parameters;
+  bool in_sequence = true;
+};
+
+// A conflict the historian raised (ncqual/Alarm of kind CONFLICT): its alarm id is
+// conflict/<topic>/<sample id>/<content hash>; of a MeasurementSet or a CheckResult, the sample
+// id is the request id.
+struct ConflictAlarm {
+  std::string topic;  // "ncqual/MeasurementSet"
+  std::string request_id;
+  std::string alarm_id;
+};
+// The conflict of a check's measurement set or result that `alarm` raises, if it is one (an
+// active CONFLICT alarm of those topics); nothing for any other alarm.
+std::optional<ConflictAlarm> check_conflict_of(const Alarm& alarm);
+
 // Everything the scheduler knows about one machine; persisted as one document.
 struct MachineRun {
   std::map<CheckKind, std::int64_t> last_pass_ns;  // newest PASS of each kind (result time)
@@ -95,6 +116,8 @@ struct MachineRun {
   std::uint64_t sequence = 0;                    // request ids issued
   std::vector<std::string> interventions;        // ids applied (newest 64)
   std::vector<std::string> orders;               // operator orders issued (newest 64)
+  std::vector<JudgedCheck> judged;               // results applied (newest 64)
+  std::vector<std::string> conflicts;            // conflict alarm ids acted on (newest 64)
   MachineState state = MachineState::Unknown;
   std::string detail;
 };
@@ -132,6 +155,15 @@ class Scheduler {
   std::string command(const CheckCommand& cmd);
   // A result from the solver. Results of requests this scheduler did not issue are ignored.
   void result(const CheckResult& res);
+  // A conflict of a check's measurement set or result (the historian's alarm, whose `text` names
+  // the request and both writers): the record of that check is in doubt, so the machine is held
+  // (NEEDS_INTERVENTION, the text as its cause) until a person decides and records an
+  // intervention for the check, which runs it again under a new request id. A check still
+  // pending is taken off (its result will not count); a machine already held keeps its hold,
+  // with the conflict added to its detail. Returns an empty string, or why it changed nothing (a
+  // request this scheduler did not issue or no longer remembers; an alarm already acted on).
+  std::string conflict(const std::string& machine_id, const ConflictAlarm& conflict,
+                       const std::string& text);
   // A recorded intervention: re-arms the machine's held check when it names it. Returns an
   // empty string, or why it changed nothing (naming the field).
   std::string intervention(const Intervention& iv);

@@ -23,7 +23,8 @@
 #include <deque>
 #include <filesystem>
 #include <iostream>
-#include <unordered_set>
+#include <tuple>
+#include <unordered_map>
 
 namespace {
 
@@ -33,53 +34,61 @@ using namespace ncqual;
 // than any outbox or durable history can send again.
 struct SolvedDocument {
   std::int64_t time_ns = 0;  // the set's
+  std::string content_hash;  // of the set solved ("" when an older version solved it)
+  std::string writer;        // its writer's GUID
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(SolvedDocument, time_ns)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(SolvedDocument, time_ns, content_hash, writer)
 constexpr std::size_t kSolvedKept = 20000;
 constexpr const char* kSolvedPrefix = "solved/";
 
 class SolvedSets {
  public:
   explicit SolvedSets(storage::StateFile& file) : file_(file) {
-    std::vector<std::pair<std::int64_t, std::string>> found;
+    std::vector<std::tuple<std::int64_t, std::string, SolvedDocument>> found;
     for (const auto& [key, doc] : file_.load()) {
       if (key.rfind(kSolvedPrefix, 0) != 0) continue;
       try {
-        found.emplace_back(nlohmann::json::parse(doc).get<SolvedDocument>().time_ns,
-                           key.substr(std::char_traits<char>::length(kSolvedPrefix)));
+        const auto solved = nlohmann::json::parse(doc).get<SolvedDocument>();
+        found.emplace_back(solved.time_ns,
+                           key.substr(std::char_traits<char>::length(kSolvedPrefix)), solved);
       } catch (const nlohmann::json::exception&) {
         spdlog::warn("solver state {}: '{}' unreadable, ignored", file_.path(), key);
       }
     }
-    std::sort(found.begin(), found.end());
-    for (const auto& [t, id] : found) {
-      ids_.insert(id);
+    std::sort(found.begin(), found.end(),
+              [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+    for (const auto& [t, id, solved] : found) {
+      ids_[id] = solved;
       order_.push_back(id);
     }
   }
-  bool contains(const std::string& id) const { return ids_.count(id) > 0; }
+  // The set solved for request `id`, if any.
+  const SolvedDocument* find(const std::string& id) const {
+    const auto it = ids_.find(id);
+    return it == ids_.end() ? nullptr : &it->second;
+  }
   // Saves the set as solved, with the outbox entries of its answer, in one transaction.
-  void save(const MeasurementSet& set, const std::vector<storage::OutboxEntry>& answer) {
+  void save(const MeasurementSet& set, const std::string& content_hash, const std::string& writer,
+            const std::vector<storage::OutboxEntry>& answer) {
     // The oldest beyond the bound go in the same transaction; memory follows once it committed.
     const std::size_t excess =
         order_.size() + 1 > kSolvedKept ? order_.size() + 1 - kSolvedKept : 0;
     std::vector<std::string> erase;
     erase.reserve(excess);
     for (std::size_t i = 0; i < excess; ++i) erase.push_back(kSolvedPrefix + order_[i]);
-    file_.save(
-        {{kSolvedPrefix + set.request_id, nlohmann::json(SolvedDocument{set.time_ns}).dump()}},
-        erase, answer);
+    const SolvedDocument solved{set.time_ns, content_hash, writer};
+    file_.save({{kSolvedPrefix + set.request_id, nlohmann::json(solved).dump()}}, erase, answer);
     for (std::size_t i = 0; i < excess; ++i) {
       ids_.erase(order_.front());
       order_.pop_front();
     }
     order_.push_back(set.request_id);
-    ids_.insert(set.request_id);
+    ids_[set.request_id] = solved;
   }
 
  private:
   storage::StateFile& file_;
-  std::unordered_set<std::string> ids_;
+  std::unordered_map<std::string, SolvedDocument> ids_;
   std::deque<std::string> order_;
 };
 
@@ -118,15 +127,28 @@ int run(int argc, char** argv) {
       const MeasurementSet& set = in.value;
       if (in.foreign) {
         // Written on another machine's behalf: no answer for that machine, only the refusal.
-        spdlog::error("{} {}: measurement set refused: {}", set.machine_id, set.request_id,
-                      in.error);
+        spdlog::error("{} {}: measurement set from writer {} refused: {}", set.machine_id,
+                      set.request_id, in.writer, in.error);
         acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Refused, in.error);
         return;
       }
-      if (solved.contains(set.request_id)) {
-        spdlog::debug("{} {}: already solved, acknowledged again", set.machine_id, set.request_id);
-        acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Accepted,
-                                                           "already solved");
+      if (const SolvedDocument* done = solved.find(set.request_id)) {
+        if (done->content_hash.empty() || done->content_hash == in.content_hash) {
+          spdlog::debug("{} {}: already solved, acknowledged again", set.machine_id,
+                        set.request_id);
+          acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Accepted,
+                                                             "already solved");
+          return;
+        }
+        // Another set for a request already solved: not solved again, and not forgotten. The
+        // historian keeps it as a conflict and raises it; the scheduler holds the machine.
+        const std::string detail = "conflicting measurements of " + set.request_id +
+                                   ": solved from writer " + done->writer + "'s set (content " +
+                                   done->content_hash.substr(0, 12) + "), this one from writer " +
+                                   in.writer + " (content " + in.content_hash.substr(0, 12) +
+                                   ") differs; not solved again";
+        spdlog::error("{} {}: {}", set.machine_id, set.request_id, detail);
+        acks.acknowledge<ncqual::dds::MeasurementSetTopic>(in, AckOutcome::Conflict, detail);
         return;
       }
       // On a simulated clock a result is stamped with its measurement's time (judging takes no
@@ -145,9 +167,10 @@ int run(int argc, char** argv) {
         result = solver::solve(set, plant, now);
       }
       result.produced_by = produced_by;  // every verdict names the software that made it
-      spdlog::info("{} {} {}: {}{}", result.machine_id, result.request_id, to_string(result.kind),
-                   to_string(result.verdict),
-                   result.reason.empty() ? "" : " (" + result.reason + ")");
+      spdlog::info("{} {} {}: {}{} (set {} from writer {})", result.machine_id, result.request_id,
+                   to_string(result.kind), to_string(result.verdict),
+                   result.reason.empty() ? "" : " (" + result.reason + ")",
+                   ncqual::dds::where_received(in), in.writer);
       std::vector<storage::OutboxEntry> answer{outbox.entry<ncqual::dds::CheckResultTopic>(
           result, {roles::kHistorian, roles::kScheduler})};
       if (result.correction) {
@@ -156,7 +179,7 @@ int run(int argc, char** argv) {
             {roles::kHistorian, roles::kAcquisition}));
       }
       try {
-        solved.save(set, answer);
+        solved.save(set, in.content_hash, in.writer, answer);
       } catch (const storage::StorageError& e) {
         // Not acknowledged: the acquisition sends the set again and it is solved then.
         spdlog::error("{} {}: result not saved to {}: {}", set.machine_id, set.request_id,

@@ -124,21 +124,26 @@ constexpr Sql kInsertCompensation{
     "INSERT INTO compensations (request_id, target, machine_id, time_ns, content_hash, writer) "
     "VALUES (?1, ?2, ?3, ?4, ?5, ?6) ON CONFLICT (request_id, target) DO NOTHING"};
 
-// The content hash a sample was stored with, by its identity (NULL: stored before version 4).
+// The content hash a sample was stored with, and its writer, by its identity (NULL: stored
+// before version 4).
 constexpr Sql kRequestHash{"read request hash",
-                           "SELECT content_hash FROM requests WHERE request_id = ?1"};
+                           "SELECT content_hash, writer FROM requests WHERE request_id = ?1"};
 constexpr Sql kMeasurementSetHash{
-    "read measurement set hash", "SELECT content_hash FROM measurement_sets WHERE request_id = ?1"};
+    "read measurement set hash",
+    "SELECT content_hash, writer FROM measurement_sets WHERE request_id = ?1"};
 constexpr Sql kResultHash{"read result hash",
-                          "SELECT content_hash FROM results WHERE request_id = ?1"};
-constexpr Sql kStatusHash{"read status change hash",
-                          "SELECT content_hash FROM status_changes WHERE machine_id = ?1 AND "
-                          "time_ns = ?2 AND state = ?3 AND request_id = ?4"};
+                          "SELECT content_hash, writer FROM results WHERE request_id = ?1"};
+constexpr Sql kStatusHash{
+    "read status change hash",
+    "SELECT content_hash, writer FROM status_changes WHERE machine_id = ?1 AND "
+    "time_ns = ?2 AND state = ?3 AND request_id = ?4"};
 constexpr Sql kInterventionHash{
-    "read intervention hash", "SELECT content_hash FROM interventions WHERE intervention_id = ?1"};
-constexpr Sql kCompensationHash{"read compensation hash",
-                                "SELECT content_hash FROM compensations WHERE request_id = ?1 AND "
-                                "target = ?2"};
+    "read intervention hash",
+    "SELECT content_hash, writer FROM interventions WHERE intervention_id = ?1"};
+constexpr Sql kCompensationHash{
+    "read compensation hash",
+    "SELECT content_hash, writer FROM compensations WHERE request_id = ?1 AND "
+    "target = ?2"};
 constexpr Sql kInsertConflict{
     "insert conflict",
     "INSERT INTO conflicts (topic, sample_id, machine_id, content_hash, stored_hash, writer, "
@@ -377,20 +382,24 @@ struct Database::Impl {
   StoreResult already_stored(const Sql& select_hash, const char* topic, const Model& sample,
                              const Origin& origin, const Identity&... identity) {
     std::optional<std::string> stored_hash;
+    std::string stored_writer;
     {
       Query q(statements, select_hash);
       q.bind(identity...);
-      if (q.step()) stored_hash = q.optional_text(0);
+      if (q.step()) {
+        stored_hash = q.optional_text(0);
+        stored_writer = q.optional_text(1).value_or("");
+      }
     }
     if (!stored_hash || origin.content_hash.empty() || *stored_hash == origin.content_hash) {
-      return StoreResult{StoreOutcome::Duplicate, stored_hash.value_or("")};
+      return StoreResult{StoreOutcome::Duplicate, stored_hash.value_or(""), false, stored_writer};
     }
     Query insert(statements, kInsertConflict);
     insert
         .bind(topic, sample_id_of(sample), sample.machine_id, origin.content_hash, *stored_hash,
               origin.writer, origin.received_ns, nlohmann::json(sample).dump())
         .run();
-    return StoreResult{StoreOutcome::Conflict, *stored_hash, insert.changes() > 0};
+    return StoreResult{StoreOutcome::Conflict, *stored_hash, insert.changes() > 0, stored_writer};
   }
 
   void touch_machine(const std::string& machine_id, std::int64_t time_ns) {

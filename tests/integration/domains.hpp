@@ -77,6 +77,12 @@ enum class TestDomain : int {
   RecordingInterop = detail::test_domain(175),
   // TrendWarnings.*: a machine drifting on the simulated clock, the historian running its watch
   TrendWarnings = detail::test_domain(176),
+  // Permissions.*: every role, topic and partition against Fast DDS's own permission checks
+  Permissions = detail::test_domain(177),
+  // SecurePlant.AnAcquisitionIdentityCannotMeasureAnotherMachine: the attack of issue 35
+  SecureAttack = detail::test_domain(178),
+  // Conflict.AConflictingMeasurementHoldsTheMachine...: the scheduler holds on a conflict
+  ConflictHold = detail::test_domain(179),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -121,7 +127,10 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::RecordingCommitted:
     case TestDomain::RecordingBench:
     case TestDomain::RecordingInterop:
-    case TestDomain::TrendWarnings: break;
+    case TestDomain::TrendWarnings:
+    case TestDomain::Permissions:
+    case TestDomain::SecureAttack:
+    case TestDomain::ConflictHold: break;
   }
   return static_cast<int>(domain);
 }

@@ -193,11 +193,11 @@ class Plant {
       char host[256] = {};
       gethostname(host, sizeof host - 1);
       const Outcome made =
-          ncqual_pki({"init", "--plant", plant_file_, "--out", pki, "--operator", host});
+          ncqual_pki({"init", "--demo", "--plant", plant_file_, "--out", pki, "--operator", host});
       if (made.exit_code != 0) throw std::runtime_error("ncqual-pki init failed:\n" + made.out);
       if (!fs::exists(fs::path(pki) / "identities" / kRigIdentity)) {
         const Outcome rig =
-            ncqual_pki({"add", "--out", pki, "--role", "rig", "--name", kRigIdentity});
+            ncqual_pki({"add", "--demo", "--out", pki, "--role", "rig", "--name", kRigIdentity});
         if (rig.exit_code != 0) throw std::runtime_error("ncqual-pki add failed:\n" + rig.out);
       }
       write_plant_text(path, sections + "security: {dir: " + pki +

@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -218,6 +219,25 @@ TEST(PlantNetwork, ASecuredPlantOfHostsQualifiesByPeersAndNamesWhoWroteEachPart)
     EXPECT_EQ(w.at("result").value("identity", ""), "solver") << r.dump();
   }
   EXPECT_TRUE(found) << ordered << " not in\n" << history.out;
+
+  // What listens where (docs/deploy.md): the services bind their UDP sockets to their host's
+  // address among the plant's peers, none to every interface (0.0.0.0).
+  const Outcome sockets = sh("ip netns exec " + lan.host(kSrv).name + " ss -H -u -l -n -p");
+  int ours = 0;
+  std::stringstream lines(sockets.out);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find("ncqual-") == std::string::npos) continue;
+    ++ours;
+    // State, Recv-Q, Send-Q, then the local address:port.
+    std::stringstream fields(line);
+    std::string state, recv_q, send_q, local;
+    fields >> state >> recv_q >> send_q >> local;
+    EXPECT_EQ(local.rfind(lan.host(kSrv).address + ":", 0), 0u)
+        << "not bound to the host's plant address: " << line;
+  }
+  EXPECT_GE(ours, 6) << sockets.out;  // historian, solver, scheduler: metatraffic and user data
+  EXPECT_NE(plant.log("historian").find("listening on " + lan.host(kSrv).address + " only"),
+            std::string::npos);
 }
 
 }  // namespace

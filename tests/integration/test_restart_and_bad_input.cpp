@@ -233,7 +233,13 @@ TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
   EXPECT_NE(raised[0].alarm_id.find("conflict/ncqual/CheckResult/" + genuine.request_id),
             std::string::npos)
       << raised[0].alarm_id;
-  EXPECT_NE(raised[0].text.find("CONFLICT"), std::string::npos) << raised[0].text;
+  // What the scheduler holds the machine for, naming both writers (GUIDs on an open plant).
+  EXPECT_EQ(
+      raised[0].text.rfind(
+          "conflicting results of " + genuine.request_id + " of machine 'pm1' from writer ", 0),
+      0u)
+      << raised[0].text;
+  EXPECT_NE(raised[0].text.find(" and writer "), std::string::npos) << raised[0].text;
 
   auto db = storage::Database::open_readonly(plant.db_path());
   const auto record = db.find_check(genuine.request_id);
@@ -254,6 +260,82 @@ TEST(Conflict, ASecondDifferentResultForAStoredRequestIsKeptAndFlagged) {
   const auto history = testing_cli::run_cli({"history", "--db", plant.db_path()});
   EXPECT_EQ(history.exit_code, 0) << history.out;
   EXPECT_NE(history.out.find("CONFLICT: 1 other sample(s)"), std::string::npos) << history.out;
+}
+
+// Two different measurement sets for one request (a second acquisition configured for the same
+// machine, a replay into a live plant): the record of that check is in doubt. The historian keeps
+// both and raises the conflict naming both writers, the solver does not solve the second one nor
+// call it "already solved", and the scheduler holds the machine, though the first set's PASS had
+// released it, until a person records an intervention, which re-runs the check.
+TEST(Conflict, AConflictingMeasurementHoldsTheMachineUntilAPersonDecides) {
+  Plant plant("conflict-hold", TestDomain::ConflictHold);
+  plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0.002, 0, 0]\n"));
+  plant.write_plant();
+  plant.start("historian");
+  plant.start("solver");
+  plant.start("scheduler");
+  plant.start("acquisition", {"--machine", "pm1"});
+  std::string request;
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    const auto st = db.latest_status("pm1");
+    if (!st || st->state != MachineState::Qualified) return false;
+    request = st->request_id;
+    return true;
+  })) << plant.log("scheduler");
+
+  // Another writer's set for the same request: the same check, other touches.
+  MeasurementSet other = [&] {
+    auto db = storage::Database::open_readonly(plant.db_path());
+    return *db.load_measurement_set(request);
+  }();
+  ASSERT_FALSE(other.touches.empty());
+  other.touches[0].axes.x_mm += 0.040;
+  ncqual::dds::Participant participant(test_participant(plant));
+  ncqual::dds::Writer<ncqual::dds::MeasurementSetTopic> sets(participant,
+                                                             ncqual::dds::InPartitionOf{"pm1"});
+  const auto answered = ncqual::dds::send_acknowledged(
+      participant, sets, other, {roles::kHistorian, roles::kSolver}, std::chrono::seconds(60));
+  ASSERT_TRUE(answered.silent.empty()) << plant.log("historian") << plant.log("solver");
+  EXPECT_EQ(answered.answers.at(roles::kHistorian).outcome, AckOutcome::Conflict);
+  EXPECT_EQ(answered.answers.at(roles::kSolver).outcome, AckOutcome::Conflict);
+  EXPECT_NE(answered.answers.at(roles::kSolver).detail.find("not solved again"), std::string::npos)
+      << answered.answers.at(roles::kSolver).detail;
+
+  // Held, saying why and what to do.
+  std::string detail;
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    const auto st = db.latest_status("pm1");
+    if (!st || st->state != MachineState::NeedsIntervention) return false;
+    detail = st->detail;
+    return true;
+  })) << plant.log("scheduler")
+      << plant.log("historian");
+  EXPECT_EQ(
+      detail.rfind("conflicting measurements of " + request + " of machine 'pm1' from writer ", 0),
+      0u)
+      << detail;
+  EXPECT_NE(detail.find(" and writer "), std::string::npos) << detail;
+  EXPECT_NE(detail.find("ncqual intervene --machine pm1 --check monument_positioning"),
+            std::string::npos)
+      << detail;
+  const auto status = testing_cli::run_cli({"status", "--plant", plant.plant_file()});
+  EXPECT_NE(status.out.find("conflicting measurements of " + request), std::string::npos)
+      << status.out;
+  {
+    auto db = storage::Database::open_readonly(plant.db_path());
+    EXPECT_EQ(db.find_check(request)->conflicts, 1);
+    EXPECT_EQ(db.count_results("pm1"), 1);  // the second set was not solved
+  }
+
+  // A person decides: the intervention re-runs the check, whose PASS releases the machine.
+  const auto intervened = testing_cli::run_cli(
+      {"intervene", "--machine", "pm1", "--check", "monument_positioning", "--note",
+       "second acquisition of pm1 stopped", "--plant", plant.plant_file()});
+  ASSERT_EQ(intervened.exit_code, 0) << intervened.out;
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    const auto st = db.latest_status("pm1");
+    return st && st->state == MachineState::Qualified && st->request_id != request;
+  })) << plant.log("scheduler");
 }
 
 }  // namespace

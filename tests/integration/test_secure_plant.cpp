@@ -12,10 +12,13 @@
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"
 
+#include <fastdds/dds/publisher/qos/PublisherQos.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ncqual::testing {
@@ -286,6 +289,222 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
   EXPECT_GE(named, 9) << history.out;  // three checks, each request, set and result
   const Outcome table = cli(plant, {"history", "--writers", "--machine", "held", "--limit", "1"});
   EXPECT_NE(table.out.find("result written by solver (CN=solver"), std::string::npos) << table.out;
+}
+
+// A writer of MeasurementSets on its own publisher, created where the identity may write and
+// then moved (a participant whose own permission checks were skipped could announce any
+// partition; the plant's participants must refuse it themselves).
+class MovedSetWriter {
+ public:
+  MovedSetWriter(dds::Participant& p, const std::string& from_machine) : participant_(p) {
+    using namespace eprosima::fastdds::dds;
+    PublisherQos qos = PUBLISHER_QOS_DEFAULT;
+    qos.partition().push_back(dds::machine_partition(from_machine).c_str());
+    publisher_ = p.get()->create_publisher(qos);
+    DataWriterQos wq;
+    publisher_->get_datawriter_qos_from_profile(dds::profiles::kDurableWriter, wq);
+    writer_ =
+        publisher_->create_datawriter(p.topic(dds::MeasurementSetTopic::kName,
+                                              TypeSupport(new dds::MeasurementSetTopic::PubSub())),
+                                      wq);
+  }
+  ~MovedSetWriter() {
+    if (writer_) publisher_->delete_datawriter(writer_);
+    participant_.get()->delete_publisher(publisher_);
+  }
+  MovedSetWriter(const MovedSetWriter&) = delete;
+  MovedSetWriter& operator=(const MovedSetWriter&) = delete;
+  bool created() const { return writer_ != nullptr; }
+  // Into `partitions`; {} is the default partition, named explicitly (""): an update whose list
+  // is empty carries no partition at all in Fast DDS 2.9.1, and the others keep the old one.
+  bool move_to(const std::vector<std::string>& partitions) {
+    auto qos = publisher_->get_qos();
+    qos.partition().clear();
+    for (const auto& name : partitions) qos.partition().push_back(name.c_str());
+    if (partitions.empty()) qos.partition().push_back("");
+    return publisher_->set_qos(qos) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+  void write(const MeasurementSet& set) {
+    auto wire = dds::to_wire(set);
+    writer_->write(&wire);
+    // Delivered to whoever matched it (none, if the plant refused it).
+    writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(5, 0));
+  }
+
+ private:
+  dds::Participant& participant_;
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+};
+
+// Issue 35's attack: the genuine identity acquisition-pm1 tries to measure pm2, held by a failed
+// check, and so release it: a set naming pm2 and the request its re-run after an intervention is
+// waiting for, written in the default partition, in pm2's partition, in pm1's partition, and by
+// moving a writer into the default and pm2's partitions after creation. Nothing is stored, pm2
+// is not released, and the plant's log names the identity that tried. Then pm2's own acquisition
+// measures that request, and its genuine FAIL holds pm2 again.
+TEST(SecurePlant, AnAcquisitionIdentityCannotMeasureAnotherMachine) {
+  Plant plant("attack", TestDomain::SecureAttack);
+  plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0.002, 0, 0]\n"));
+  plant.add_machine("pm2", machine_yaml("pm2", "    machine_shift_mm: [0.045, 0, 0]\n"));
+  plant.write_plant();
+  const std::string dir = (plant.dir() / "pki").string();
+  const Outcome made =
+      ncqual_pki({"init", "--plant", plant.plant_file(), "--out", dir, "--operator", "station1"});
+  ASSERT_EQ(made.exit_code, 0) << made.out;
+  // Not a demo: the CA key beside the services' keys is said to be wrong.
+  EXPECT_NE(made.out.find("warning: the plant CA's key"), std::string::npos) << made.out;
+  EXPECT_NE(made.out.find("ncqual-pki host --out"), std::string::npos) << made.out;
+  plant.write_plant_with("security: {dir: " + dir +
+                         "}\nnetwork: {discovery: peers, peers: [127.0.0.1]}\n");
+  plant.start("historian");
+  plant.start("solver");
+  plant.start("scheduler");
+  plant.start("acquisition", {"--machine", "pm1"});
+  Process& pm2_acquisition = plant.start("acquisition", {"--machine", "pm2"});
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) {
+    const auto pm1 = db.latest_status("pm1");
+    const auto pm2 = db.latest_status("pm2");
+    return pm1 && pm2 && pm1->state == MachineState::Qualified &&
+           pm2->state == MachineState::NeedsIntervention;
+  })) << plant.log("scheduler");
+  const std::string failed = [&] {
+    auto db = storage::Database::open_readonly(plant.db_path());
+    return db.latest_status("pm2")->request_id;
+  }();
+
+  // pm2's acquisition is away; a person records an intervention: the re-run waits for a set.
+  pm2_acquisition.terminate();
+  ASSERT_EQ(pm2_acquisition.wait(), 0);
+  const Outcome intervened =
+      cli(plant, {"intervene", "--machine", "pm2", "--check", "monument_positioning", "--note",
+                  "stylus replaced", "--identity", "operator-station1"});
+  ASSERT_EQ(intervened.exit_code, 0) << intervened.out << intervened.err;
+  std::string rerun;
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    const auto pm2 = db.latest_status("pm2");
+    if (!pm2 || pm2->state != MachineState::Checking || pm2->request_id == failed) return false;
+    rerun = pm2->request_id;
+    return db.find_check(rerun).has_value();
+  })) << plant.log("scheduler");
+
+  // The attacker: acquisition-pm1's genuine identity, and a set for pm2 that would pass.
+  dds::Participant attacker(as(plant, dir, "acquisition-pm1"));
+  MeasurementSet forged;
+  forged.machine_id = "pm2";
+  forged.request_id = rerun;
+  forged.kind = CheckKind::MonumentPositioning;
+  forged.instrument = "touch_probe";
+  forged.frame = "machine";
+  forged.time_ns = 1;
+  // Its own participant refuses a writer in the default partition (the hole: allowed before
+  // each block had its own rule) and in pm2's.
+  for (const auto& [what, make] : std::vector<std::pair<std::string, std::function<void()>>>{
+           {"the default partition", [&] { dds::Writer<dds::MeasurementSetTopic> w(attacker); }},
+           {"pm2's partition", [&] {
+              dds::Writer<dds::MeasurementSetTopic> w(attacker, dds::InPartitionOf{"pm2"});
+            }}}) {
+    try {
+      make();
+      ADD_FAILURE() << "acquisition-pm1 made a MeasurementSet writer in " << what;
+    } catch (const dds::DdsError& e) {
+      EXPECT_NE(std::string(e.what()).find("permissions of identity 'acquisition-pm1'"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  // Moved after creation, into the default partition and into pm2's: the plant's participants
+  // check the new partitions against the writer's signed permissions and match neither.
+  MovedSetWriter to_default(attacker, "pm1");
+  MovedSetWriter to_pm2(attacker, "pm1");
+  ASSERT_TRUE(to_default.created() && to_pm2.created());
+  ASSERT_TRUE(to_default.move_to({}));
+  ASSERT_TRUE(to_pm2.move_to({dds::machine_partition("pm2")}));
+  to_default.write(forged);
+  to_pm2.write(forged);
+  // In its own partition, naming pm2: refused by the historian and the solver, saying why.
+  {
+    dds::Writer<dds::MeasurementSetTopic> sets(attacker, dds::InPartitionOf{"pm1"});
+    const dds::OrderOutcome answered = dds::send_acknowledged(
+        attacker, sets, forged, {"historian", "solver"}, std::chrono::seconds(60));
+    EXPECT_TRUE(answered.silent.empty());
+    for (const std::string role : {"historian", "solver"}) {
+      const auto it = answered.answers.find(role);
+      ASSERT_NE(it, answered.answers.end()) << role;
+      EXPECT_EQ(it->second.outcome, AckOutcome::Refused) << role;
+      EXPECT_NE(it->second.detail.find("names machine 'pm2'"), std::string::npos)
+          << role << ": " << it->second.detail;
+    }
+  }
+  // The sentinel: a heartbeat of the attacker, which its role may write, created after the moved
+  // writers (its announcement follows theirs) and written after their sets: once the historian
+  // stored it, it has judged the moved writers and taken whatever they delivered.
+  {
+    dds::Writer<dds::HeartbeatTopic> beats(attacker);
+    Heartbeat beat;
+    beat.service = "acquisition";
+    beat.instance = "attack-sentinel";
+    beat.state = "running";
+    beat.time_ns = WallClock().now_ns();
+    ASSERT_TRUE(beats.wait_for_readers(1, std::chrono::seconds(30)));
+    ASSERT_TRUE(beats.write(beat));
+    ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) {
+      for (const auto& s : db.services()) {
+        if (s.instance == "attack-sentinel") return true;
+      }
+      return false;
+    })) << plant.log("historian");
+  }
+
+  // Nothing stored, nothing released, and who tried is on record.
+  {
+    auto db = storage::Database::open_readonly(plant.db_path());
+    const auto check = db.find_check(rerun);
+    ASSERT_TRUE(check);
+    EXPECT_FALSE(check->measurement) << "a forged set was stored for " << rerun;
+    EXPECT_FALSE(check->result);
+    EXPECT_EQ(check->conflicts, 0);
+    EXPECT_EQ(db.latest_status("pm2")->state, MachineState::Checking);
+  }
+  const std::string historian_log = plant.log("historian");
+  EXPECT_NE(historian_log.find("DDS Security refused a remote writer of identity "
+                               "'acquisition-pm1'"),
+            std::string::npos)
+      << historian_log;
+  // Both moved writers: into the default partition ("" named) and into pm2's.
+  std::size_t refusals = 0;
+  const std::string refused_line = "refused a remote writer of identity 'acquisition-pm1'";
+  for (std::size_t at = historian_log.find(refused_line); at != std::string::npos;
+       at = historian_log.find(refused_line, at + 1)) {
+    ++refusals;
+  }
+  EXPECT_GE(refusals, 2u) << historian_log;
+  EXPECT_NE(historian_log.find("): ncqual/machine/pm2 partition not found in rule"),
+            std::string::npos);
+  EXPECT_NE(historian_log.find("):  partition not found in rule"), std::string::npos);
+  EXPECT_NE(historian_log.find("names machine 'pm2'"), std::string::npos);
+
+  // pm2's own acquisition comes back and measures the re-run: the genuine FAIL holds pm2 again.
+  plant.start("acquisition", {"--machine", "pm2"});
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    const auto check = db.find_check(rerun);
+    return check && check->result;
+  })) << plant.log("acquisition");
+  auto db = storage::Database::open_readonly(plant.db_path());
+  const auto check = db.find_check(rerun);
+  EXPECT_EQ(check->result->verdict, Verdict::Fail);
+  EXPECT_EQ(check->conflicts, 0);
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& db) {
+    return db.latest_status("pm2")->state == MachineState::NeedsIntervention;
+  }));
+  const Outcome history = cli(plant, {"history", "--json", "--limit", "0", "--machine", "pm2"});
+  ASSERT_EQ(history.exit_code, 0) << history.err;
+  for (const auto& r : nlohmann::json::parse(history.out)) {
+    const auto& w = r.at("writers");
+    if (!w.at("measurement").is_null()) {
+      EXPECT_EQ(w["measurement"].value("identity", ""), "acquisition-pm2") << r.dump();
+    }
+  }
 }
 
 }  // namespace

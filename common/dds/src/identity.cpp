@@ -104,4 +104,31 @@ std::optional<PlantIdentity> identity_of_guid(const std::string& guid_text,
   return std::nullopt;
 }
 
+std::optional<std::string> describe_refused_endpoint(const std::string& fast_dds_message,
+                                                     const std::vector<PlantIdentity>& identities) {
+  static const std::string kPrefix = "Error checking create remote ";
+  const std::size_t at = fast_dds_message.find(kPrefix);
+  if (at == std::string::npos) return std::nullopt;
+  std::size_t pos = at + kPrefix.size();
+  const std::size_t kind_end = fast_dds_message.find(' ', pos);
+  if (kind_end == std::string::npos) return std::nullopt;
+  const std::string kind = fast_dds_message.substr(pos, kind_end - pos);  // writer, reader
+  pos = kind_end + 1;
+  const std::size_t guid_end = fast_dds_message.find(' ', pos);
+  const std::string guid = fast_dds_message.substr(
+      pos, guid_end == std::string::npos ? std::string::npos : guid_end - pos);
+  std::string why;
+  if (guid_end != std::string::npos) {
+    why = fast_dds_message.substr(guid_end + 1);
+    if (why.size() >= 2 && why.front() == '(') why = why.substr(1, why.rfind(')') - 1);
+  }
+  const auto identity = identity_of_guid(guid, identities);
+  const std::string who = identity ? "identity '" + identity->name + "' (" + identity->subject +
+                                         "; " + kind + " " + guid + ")"
+                                   : "(no identity of the plant; " + kind + " " + guid + ")";
+  return "DDS Security refused a remote " + kind + " of " + who + ": " +
+         (why.empty() ? "its permissions do not allow it" : why) +
+         (kind == "writer" ? "; nothing it writes is received" : "; it receives nothing");
+}
+
 }  // namespace ncqual::dds

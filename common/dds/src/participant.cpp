@@ -1,18 +1,27 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/dds/participant.hpp"
 
+#include "ncqual/dds/identity.hpp"
+
 #include "ncqualTypeObject.h"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/attributes/ServerAttributes.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+
+#include <ifaddrs.h>
+#include <netinet/in.h>
+#include <arpa/inet.h>
 
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <set>
 
 namespace ncqual::dds {
 using namespace eprosima::fastdds::dds;
@@ -104,6 +113,78 @@ void apply_network(const NetworkConfig& network, DomainParticipantQos& qos) {
           locator_of(network.peers[i], 0, where(network, "peers", i)));
     }
   }
+}
+
+// This host's IPv4 addresses (every interface that is up, loopback too).
+std::set<std::string> host_ipv4_addresses() {
+  std::set<std::string> out;
+  ifaddrs* list = nullptr;
+  if (getifaddrs(&list) != 0) return out;
+  for (const ifaddrs* a = list; a != nullptr; a = a->ifa_next) {
+    if (a->ifa_addr == nullptr || a->ifa_addr->sa_family != AF_INET) continue;
+    char text[INET_ADDRSTRLEN] = {};
+    const auto* in = reinterpret_cast<const sockaddr_in*>(a->ifa_addr);
+    if (inet_ntop(AF_INET, &in->sin_addr, text, sizeof text) != nullptr) out.insert(text);
+  }
+  freeifaddrs(list);
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> listening_addresses(const NetworkConfig& network,
+                                             const std::set<std::string>& host_addresses) {
+  using eprosima::fastrtps::rtps::IPLocator;
+  std::vector<std::string> out;
+  const auto consider = [&](const std::vector<NetworkAddress>& list, const char* what) {
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string ip =
+          IPLocator::toIPv4string(locator_of(list[i], 0, where(network, what, i)));
+      if (host_addresses.count(ip) && std::find(out.begin(), out.end(), ip) == out.end()) {
+        out.push_back(ip);
+      }
+    }
+  };
+  consider(network.peers, "peers");
+  consider(network.servers, "servers");
+  return out;
+}
+
+namespace {
+
+// The plant's addresses of this host, as the UDP transports' interface whitelist: unicast
+// sockets are bound to them instead of every interface (0.0.0.0), and nothing goes out through
+// another interface. Multicast sockets (discovery: multicast) still bind 0.0.0.0; a host none of
+// whose addresses the plant names listens everywhere, and on a peers plant says so.
+void restrict_interfaces(const NetworkConfig& network, DomainParticipantQos& qos) {
+  using eprosima::fastdds::rtps::UDPv4TransportDescriptor;
+  if (network.peers.empty() && network.servers.empty()) return;
+  const std::vector<std::string> listen = listening_addresses(network, host_ipv4_addresses());
+  if (listen.empty()) {
+    if (!network.peers.empty()) {
+      static std::once_flag said;
+      std::call_once(said, [&] {
+        spdlog::warn(
+            "{}network.peers names none of this host's addresses: listening on every "
+            "interface (list this host's address on the plant network there)",
+            network.source_path.empty() ? "" : network.source_path + ": ");
+      });
+    }
+    return;
+  }
+  for (auto& transport : qos.transport().user_transports) {
+    const auto* udp = dynamic_cast<const UDPv4TransportDescriptor*>(transport.get());
+    if (udp == nullptr) continue;
+    auto restricted = std::make_shared<UDPv4TransportDescriptor>(*udp);
+    restricted->interfaceWhiteList = listen;
+    transport = restricted;
+  }
+  static std::once_flag said;
+  std::call_once(said, [&] {
+    std::string joined;
+    for (const auto& ip : listen) joined += (joined.empty() ? "" : ", ") + ip;
+    spdlog::info("listening on {} only: this host's addresses among the plant's", joined);
+  });
 }
 
 // "file://" + the absolute path of `dir`/`relative`, which must exist.
@@ -222,6 +303,47 @@ void warn_if_secured_over_multicast(const ParticipantOptions& options) {
 }
 }  // namespace
 
+// A remote endpoint that DDS Security refuses (its permissions do not allow its topic or
+// partition, e.g. a writer moved into another machine's partition) is logged by Fast DDS with its
+// GUID only. Said again in the service's own log, naming the identity whose subject bits the GUID
+// carries (identity.hpp), so that an attempt is on record with who made it.
+namespace {
+class RefusedEndpointLog : public eprosima::fastdds::dds::LogConsumer {
+ public:
+  explicit RefusedEndpointLog(std::string dir) : dir_(std::move(dir)) {}
+  void Consume(const eprosima::fastdds::dds::Log::Entry& entry) override {
+    if (entry.kind != eprosima::fastdds::dds::Log::Kind::Error) return;
+    if (entry.message.find("Error checking create remote") == std::string::npos) return;
+    if (!loaded_) {  // on the logging thread, the first time one is refused
+      loaded_ = true;
+      try {
+        identities_ = plant_identities(dir_);
+      } catch (const std::exception& e) {
+        spdlog::warn("the plant's identities could not be read to name a refused endpoint: {}",
+                     e.what());
+      }
+    }
+    if (const auto said = describe_refused_endpoint(entry.message, identities_)) {
+      spdlog::error("{}", *said);
+    }
+  }
+
+ private:
+  std::string dir_;
+  bool loaded_ = false;
+  std::vector<PlantIdentity> identities_;
+};
+
+void log_refused_endpoints(const SecurityConfig& security) {
+  if (security.dir.empty()) return;
+  static std::once_flag registered;
+  std::call_once(registered, [&] {
+    eprosima::fastdds::dds::Log::RegisterConsumer(
+        std::make_unique<RefusedEndpointLog>(security.dir));
+  });
+}
+}  // namespace
+
 // What to do when the profiles are not there, said once for all of the process's refusals.
 constexpr const char* kProfilesRemedy =
     "set qos_profiles in the plant config (deploy/qos/ncqual-qos.xml) or "
@@ -253,8 +375,10 @@ Participant::Participant(const ParticipantOptions& options)
     qos = PARTICIPANT_QOS_DEFAULT;
   }
   apply_network(options.network, qos);
+  restrict_interfaces(options.network, qos);
   apply_security(options.security, qos);
   warn_if_secured_over_multicast(options);
+  log_refused_endpoints(options.security);
   if (!options.name.empty()) qos.name(options.name);
   participant_ = factory->create_participant(options.domain_id, qos);
   if (!participant_) {

@@ -79,6 +79,7 @@ struct StoreResult {
   // Conflict: false when this very content was already kept as a conflict (a resend): the
   // conflict is known, nothing new to raise.
   bool new_conflict = false;
+  std::string stored_writer;  // Conflict: the GUID of the writer of the sample stored first
   explicit operator bool() const { return outcome == StoreOutcome::Stored; }
 };
 

@@ -72,6 +72,8 @@ TEST(StateDocument, EveryFieldSurvivesARoundTrip) {
   run.sequence = 19;
   run.interventions = {"iv-9"};
   run.orders = {"op-pm1-1"};
+  run.judged = {{"r0", CheckKind::MonumentPositioning, {{"part", 3, ""}}, false}};
+  run.conflicts = {"conflict/ncqual/MeasurementSet/r0/ab12"};
   run.state = MachineState::NeedsIntervention;
   run.detail = "held";
 
@@ -84,6 +86,10 @@ TEST(StateDocument, EveryFieldSurvivesARoundTrip) {
   EXPECT_TRUE(back.pending.at(0).rearmed);
   EXPECT_EQ(back.state, MachineState::NeedsIntervention);
   EXPECT_EQ(back.orders, std::vector<std::string>{"op-pm1-1"});
+  ASSERT_EQ(back.judged.size(), 1u);
+  EXPECT_EQ(back.judged[0].kind, CheckKind::MonumentPositioning);
+  EXPECT_FALSE(back.judged[0].in_sequence);
+  EXPECT_EQ(back.conflicts, run.conflicts);
 }
 
 std::string refusal(const std::string& text) {

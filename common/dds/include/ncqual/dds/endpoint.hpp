@@ -60,7 +60,9 @@ bool wait_until_matched(eprosima::fastdds::dds::StatusCondition& condition,
 // In one machine's partition (machine_partition): where a per-machine topic's writer writes and
 // its reader reads. A reader bound so reads unfiltered and flags every sample that names another
 // machine `foreign`; with an empty id, it reads the default partition (writers without
-// partitions, which only an open plant has), unbound. A type of its own, so that a machine id is
+// partitions, which only an open plant has), unbound; on a secured plant every sample it
+// receives is foreign (refused, naming its writer): a machine-bound sample travels only in its
+// machine's partition there. A type of its own, so that a machine id is
 // never taken for a QoS profile name (both are strings).
 struct InPartitionOf {
   std::string machine_id;
@@ -170,7 +172,18 @@ struct Received {
   // another machine, so its writer, bound to that partition, wrote on another machine's behalf.
   // `error` says so. Refused whole: not even an answer on the named machine's behalf.
   bool foreign = false;
+  // Of a per-machine topic read with InPartitionOf: the partition it was read in (its
+  // machine's, or "" for the default partition); nothing for other readers.
+  std::optional<std::string> partition;
 };
+
+// "in partition 'ncqual/machine/pm1'", "in the default partition", or "" (not known).
+template <typename Model>
+std::string where_received(const Received<Model>& in) {
+  if (!in.partition) return "";
+  return in.partition->empty() ? "in the default partition"
+                               : "in partition '" + *in.partition + "'";
+}
 
 template <typename Topic>
 class Reader {
@@ -198,7 +211,9 @@ class Reader {
   }
   Reader(Participant& participant, const InPartitionOf& where,
          const char* profile = Topic::kReaderProfile)
-      : participant_(participant), bound_machine_(where.machine_id) {
+      : participant_(participant),
+        bound_machine_(where.machine_id),
+        partition_(where.machine_id.empty() ? "" : machine_partition(where.machine_id)) {
     static_assert(Topic::kPerMachine, "only a per-machine topic has machine partitions");
     auto* topic = participant.topic(
         Topic::kName, eprosima::fastdds::dds::TypeSupport(new typename Topic::PubSub()));
@@ -227,7 +242,14 @@ class Reader {
       guid << writer_guid;
       r.writer = guid.str();
       r.local = writer_guid.guidPrefix == participant_.get()->guid().guidPrefix;
-      if (!bound_machine_.empty() && r.value.machine_id != bound_machine_) {
+      r.partition = partition_;
+      if (partition_ && partition_->empty() && participant_.secured()) {
+        r.foreign = true;
+        r.error = "written in the default partition by writer " + r.writer +
+                  ": on a secured plant a machine's samples travel only in its partition '" +
+                  machine_partition(r.value.machine_id) + "'" +
+                  (r.error.empty() ? "" : "; " + r.error);
+      } else if (!bound_machine_.empty() && r.value.machine_id != bound_machine_) {
         r.foreign = true;
         r.error = "written in machine '" + bound_machine_ + "''s partition '" +
                   machine_partition(bound_machine_) + "' but names machine '" + r.value.machine_id +
@@ -275,6 +297,7 @@ class Reader {
 
   Participant& participant_;
   std::string bound_machine_;  // InPartitionOf: the machine whose partition this reader reads
+  std::optional<std::string> partition_;  // InPartitionOf: the partition read ("" the default)
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
 };
@@ -321,7 +344,12 @@ class MachineWriters {
 // historian, the solver): one in each machine's partition, so that a sample naming another
 // machine than its partition's is known as foreign (Received::foreign; on a secured plant only
 // that machine's identities may write there), and one in the default partition for an open
-// plant's writers without partitions. A machine not named here is not heard.
+// plant's writers without partitions (another vendor's program; Received::partition says which
+// partition a sample came in). On a secured plant the default partition's samples are all
+// refused, naming their writer: there a sample could name any machine, and only the writer's
+// permissions would keep it out (Fast DDS 2.9.1 once let an acquisition write there:
+// docs/deploy.md, "Threat model"). The reader stays, so that DDS Security checks (and logs)
+// such a writer. A machine not named here is not heard.
 template <typename Topic>
 class MachineReaders {
  public:

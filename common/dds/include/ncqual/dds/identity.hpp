@@ -45,4 +45,12 @@ std::vector<PlantIdentity> plant_identities(const std::string& dir);
 std::optional<PlantIdentity> identity_of_guid(const std::string& guid_text,
                                               const std::vector<PlantIdentity>& identities);
 
+// What Fast DDS 2.9.1 logs when DDS Security refuses a remote endpoint (SecurityManager:
+// "Error checking create remote writer <GUID> (<why>)", the same for a reader), said for people:
+// "refused a remote writer of identity 'acquisition-pm1' (CN=...; writer <GUID>): <why>; nothing
+// it writes is received". nullopt for any other message. The identity is the plant's whose
+// subject bits the GUID carries, else "(no identity of the plant)".
+std::optional<std::string> describe_refused_endpoint(const std::string& fast_dds_message,
+                                                     const std::vector<PlantIdentity>& identities);
+
 }  // namespace ncqual::dds

@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include "ncqual/config.hpp"
 #include "ncqual/error.hpp"
@@ -66,6 +67,13 @@ int resolve_domain_id(int flag_value, int config_value);
 // permissions name its machines' partitions only (docs/deploy.md, "Roles").
 std::string machine_partition(const std::string& machine_id);
 
+// The addresses of `host_addresses` (this host's IPv4 addresses) that the plant's network names
+// (peers, discovery servers; host names looked up), in the plant's order: where a participant's
+// unicast UDP transports listen when not empty (Fast DDS's interface whitelist), instead of
+// every interface (docs/deploy.md, "What listens where").
+std::vector<std::string> listening_addresses(const NetworkConfig& network,
+                                             const std::set<std::string>& host_addresses);
+
 // Profile names in deploy/qos/ncqual-qos.xml.
 namespace profiles {
 inline constexpr const char* kParticipant = "ncqual_participant";  // discovery: multicast
@@ -98,6 +106,8 @@ class Participant {
   // The subscriber whose readers are in `partitions` (created on first use).
   eprosima::fastdds::dds::Subscriber* subscriber_in(const std::vector<std::string>& partitions);
   int domain_id() const { return domain_id_; }
+  // Runs with DDS Security (the plant's security: section).
+  bool secured() const { return !security_.dir.empty(); }
   // For a writer or reader whose profile is not loaded: throws the DdsError naming the remedies,
   // unless the plant allows Fast DDS's defaults (then the caller uses them).
   void require_default_qos_allowed(const std::string& profile, const std::string& topic) const;
