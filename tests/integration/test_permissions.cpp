@@ -9,6 +9,7 @@
 // participant whose own checks were skipped could announce) is matched by no reader of another
 // participant, synchronised by an allowed sentinel writer of the same participant.
 #include "harness.hpp"
+#include "movable_writer.hpp"
 #include "test_participant.hpp"
 
 #include "ncqual/dds/endpoint.hpp"
@@ -258,56 +259,6 @@ TEST(Permissions, EveryRoleTopicAndPartitionIsAllowedExactlyWhereTheRoleTableSay
   std::cout << "permissions: " << allowed << " endpoints allowed, " << refused << " refused\n";
 }
 
-// A writer on its own publisher, so that it can be moved into other partitions after it was
-// created (the local check happens once, at creation: a participant whose own checks were
-// skipped could announce any partition; the other participants' checks must refuse it).
-class MovableWriter {
- public:
-  MovableWriter(dds::Participant& p, const dds::TopicInfo& info,
-                const std::vector<std::string>& partitions)
-      : participant_(p) {
-    PublisherQos qos = eprosima::fastdds::dds::PUBLISHER_QOS_DEFAULT;
-    for (const auto& name : partitions) qos.partition().push_back(name.c_str());
-    publisher_ = p.get()->create_publisher(qos);
-    eprosima::fastdds::dds::DataWriterQos wq;
-    publisher_->get_datawriter_qos_from_profile(info.writer_profile, wq);
-    writer_ = publisher_->create_datawriter(raw_topic(p, info), wq);
-  }
-  ~MovableWriter() {
-    if (writer_) publisher_->delete_datawriter(writer_);
-    participant_.get()->delete_publisher(publisher_);
-  }
-  MovableWriter(const MovableWriter&) = delete;
-  MovableWriter& operator=(const MovableWriter&) = delete;
-
-  bool created() const { return writer_ != nullptr; }
-  // Into `partitions`; {} is the default partition, named explicitly (""): an update whose list
-  // is empty carries no partition at all in Fast DDS 2.9.1, and the other participants keep the
-  // partitions they knew (the writer stays where it may write).
-  bool move_to(const std::vector<std::string>& partitions) {
-    PublisherQos qos = publisher_->get_qos();
-    qos.partition().clear();
-    for (const auto& name : partitions) qos.partition().push_back(name.c_str());
-    if (partitions.empty()) qos.partition().push_back("");
-    return publisher_->set_qos(qos) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
-  }
-  int matched_readers() const {
-    eprosima::fastdds::dds::PublicationMatchedStatus status;
-    writer_->get_publication_matched_status(status);
-    return status.current_count;
-  }
-  bool wait_for_readers(int n, std::chrono::milliseconds timeout) {
-    return dds::wait_until_matched(
-        writer_->get_statuscondition(), eprosima::fastdds::dds::StatusMask::publication_matched(),
-        [this] { return matched_readers(); }, n, timeout);
-  }
-
- private:
-  dds::Participant& participant_;
-  Publisher* publisher_ = nullptr;
-  DataWriter* writer_ = nullptr;
-};
-
 // A reader of one topic in the given partitions, with the topic's reader profile.
 class PartitionReader {
  public:
@@ -373,10 +324,11 @@ TEST(Permissions, AWriterMovedOutsideItsPartitionsIsRefusedByTheOtherParticipant
     ASSERT_TRUE(where_allowed.created() && where_moved.created());
     dds::Participant adversary(as(plant, m.identity));
     {  // Outside its partitions from the start: refused by its own participant.
-      MovableWriter outside(adversary, info, m.target.partitions);
+      MovableWriter outside(adversary, raw_topic(adversary, info), info.writer_profile,
+                            m.target.partitions);
       EXPECT_FALSE(outside.created());
     }
-    MovableWriter moved(adversary, info, m.allowed);
+    MovableWriter moved(adversary, raw_topic(adversary, info), info.writer_profile, m.allowed);
     ASSERT_TRUE(moved.created()) << "allowed where it starts";
     // Matched where it may write: discovery and authentication are done before it moves.
     ASSERT_TRUE(moved.wait_for_readers(1, std::chrono::seconds(30)));
@@ -387,7 +339,8 @@ TEST(Permissions, AWriterMovedOutsideItsPartitionsIsRefusedByTheOtherParticipant
     const dds::TopicInfo& sentinel_topic = *dds::find_topic(
         m.identity.rfind("operator", 0) == 0 ? "ncqual/Intervention" : "ncqual/Heartbeat");
     PartitionReader sentinel_reader(historian, sentinel_topic, {});
-    MovableWriter sentinel(adversary, sentinel_topic, {});
+    MovableWriter sentinel(adversary, raw_topic(adversary, sentinel_topic),
+                           sentinel_topic.writer_profile, {});
     ASSERT_TRUE(sentinel.created());
     ASSERT_TRUE(sentinel.wait_for_readers(1, std::chrono::seconds(30)))
         << "the sentinel was never matched";

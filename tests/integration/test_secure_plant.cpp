@@ -5,6 +5,7 @@
 // asserted on the historian's database, beside a positive control that shows the same samples
 // would have been carried had the adversary been allowed.
 #include "harness.hpp"
+#include "movable_writer.hpp"
 #include "test_participant.hpp"
 
 #include "ncqual/dds/acknowledged_send.hpp"
@@ -12,7 +13,6 @@
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"
 
-#include <fastdds/dds/publisher/qos/PublisherQos.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -291,52 +291,6 @@ TEST(SecurePlant, OnlyIdentitiesOfThePlantWithTheirRolesReadAndWrite) {
   EXPECT_NE(table.out.find("result written by solver (CN=solver"), std::string::npos) << table.out;
 }
 
-// A writer of MeasurementSets on its own publisher, created where the identity may write and
-// then moved (a participant whose own permission checks were skipped could announce any
-// partition; the plant's participants must refuse it themselves).
-class MovedSetWriter {
- public:
-  MovedSetWriter(dds::Participant& p, const std::string& from_machine) : participant_(p) {
-    using namespace eprosima::fastdds::dds;
-    PublisherQos qos = PUBLISHER_QOS_DEFAULT;
-    qos.partition().push_back(dds::machine_partition(from_machine).c_str());
-    publisher_ = p.get()->create_publisher(qos);
-    DataWriterQos wq;
-    publisher_->get_datawriter_qos_from_profile(dds::profiles::kDurableWriter, wq);
-    writer_ =
-        publisher_->create_datawriter(p.topic(dds::MeasurementSetTopic::kName,
-                                              TypeSupport(new dds::MeasurementSetTopic::PubSub())),
-                                      wq);
-  }
-  ~MovedSetWriter() {
-    if (writer_) publisher_->delete_datawriter(writer_);
-    participant_.get()->delete_publisher(publisher_);
-  }
-  MovedSetWriter(const MovedSetWriter&) = delete;
-  MovedSetWriter& operator=(const MovedSetWriter&) = delete;
-  bool created() const { return writer_ != nullptr; }
-  // Into `partitions`; {} is the default partition, named explicitly (""): an update whose list
-  // is empty carries no partition at all in Fast DDS 2.9.1, and the others keep the old one.
-  bool move_to(const std::vector<std::string>& partitions) {
-    auto qos = publisher_->get_qos();
-    qos.partition().clear();
-    for (const auto& name : partitions) qos.partition().push_back(name.c_str());
-    if (partitions.empty()) qos.partition().push_back("");
-    return publisher_->set_qos(qos) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
-  }
-  void write(const MeasurementSet& set) {
-    auto wire = dds::to_wire(set);
-    writer_->write(&wire);
-    // Delivered to whoever matched it (none, if the plant refused it).
-    writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(5, 0));
-  }
-
- private:
-  dds::Participant& participant_;
-  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
-  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
-};
-
 // Issue 35's attack: the genuine identity acquisition-pm1 tries to measure pm2, held by a failed
 // check, and so release it: a set naming pm2 and the request its re-run after an intervention is
 // waiting for, written in the default partition, in pm2's partition, in pm1's partition, and by
@@ -415,13 +369,22 @@ TEST(SecurePlant, AnAcquisitionIdentityCannotMeasureAnotherMachine) {
   }
   // Moved after creation, into the default partition and into pm2's: the plant's participants
   // check the new partitions against the writer's signed permissions and match neither.
-  MovedSetWriter to_default(attacker, "pm1");
-  MovedSetWriter to_pm2(attacker, "pm1");
+  auto* set_topic =
+      attacker.topic(dds::MeasurementSetTopic::kName,
+                     eprosima::fastdds::dds::TypeSupport(new dds::MeasurementSetTopic::PubSub()));
+  MovableWriter to_default(attacker, set_topic, dds::profiles::kDurableWriter,
+                           {dds::machine_partition("pm1")});
+  MovableWriter to_pm2(attacker, set_topic, dds::profiles::kDurableWriter,
+                       {dds::machine_partition("pm1")});
   ASSERT_TRUE(to_default.created() && to_pm2.created());
   ASSERT_TRUE(to_default.move_to({}));
   ASSERT_TRUE(to_pm2.move_to({dds::machine_partition("pm2")}));
-  to_default.write(forged);
-  to_pm2.write(forged);
+  for (MovableWriter* w : {&to_default, &to_pm2}) {
+    auto wire = dds::to_wire(forged);
+    w->get()->write(&wire);
+    // Delivered to whoever matched it (none, if the plant refused it).
+    w->get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(5, 0));
+  }
   // In its own partition, naming pm2: refused by the historian and the solver, saying why.
   {
     dds::Writer<dds::MeasurementSetTopic> sets(attacker, dds::InPartitionOf{"pm1"});
