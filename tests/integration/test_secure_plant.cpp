@@ -309,6 +309,21 @@ TEST(SecurePlant, AnAcquisitionIdentityCannotMeasureAnotherMachine) {
   // Not a demo: the CA key beside the services' keys is said to be wrong.
   EXPECT_NE(made.out.find("warning: the plant CA's key"), std::string::npos) << made.out;
   EXPECT_NE(made.out.find("ncqual-pki host --out"), std::string::npos) << made.out;
+  // What it advises: a host's share holds no CA key, its own identities' keys, the others'
+  // certificates only.
+  const std::string share = (plant.dir() / "for-srv").string();
+  const Outcome hosted =
+      ncqual_pki({"host", "--out", dir, "--to", share, "--name", "historian,solver"});
+  ASSERT_EQ(hosted.exit_code, 0) << hosted.out;
+  EXPECT_FALSE(fs::exists(fs::path(share) / "ca" / "ca.key"));
+  EXPECT_TRUE(fs::exists(fs::path(share) / "ca" / "ca.pem"));
+  EXPECT_TRUE(fs::exists(fs::path(share) / "governance.p7s"));
+  EXPECT_TRUE(fs::exists(fs::path(share) / "identities" / "solver" / "key.pem"));
+  EXPECT_TRUE(fs::exists(fs::path(share) / "identities" / "acquisition-pm1" / "cert.pem"));
+  EXPECT_FALSE(fs::exists(fs::path(share) / "identities" / "acquisition-pm1" / "key.pem"));
+  EXPECT_NE(ncqual_pki({"host", "--out", dir, "--to", share, "--name", "nobody"})
+                .out.find("no identity 'nobody'"),
+            std::string::npos);
   plant.write_plant_with("security: {dir: " + dir +
                          "}\nnetwork: {discovery: peers, peers: [127.0.0.1]}\n");
   plant.start("historian");
