@@ -205,7 +205,13 @@ TEST(PlantNetwork, ASecuredPlantOfHostsQualifiesByPeersAndNamesWhoWroteEachPart)
       << ordered << "\n"
       << plant.log("solver");
 
-  // Who wrote each part of the operator's check, from the GUIDs the historian stored.
+  // Who wrote each part of the operator's check, from the GUIDs the historian stored. The result
+  // (from the solver, on the historian's host) may be stored before the set (from m1's host):
+  // wait for both.
+  ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
+    const auto rec = db.find_check(ordered);
+    return rec && rec->request && rec->measurement && rec->result;
+  })) << plant.log("historian");
   const Outcome history = run(
       Launch({NCQUAL_CLI_EXE, "history", "--json", "--plant", plant.plant_file(), "--limit", "0"}));
   ASSERT_EQ(history.exit_code, 0) << history.err;
