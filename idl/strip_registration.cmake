@@ -5,7 +5,7 @@
 # adds all TypeObjects to the factory again, with no once-flag: about 0.1 ms per constructed
 # struct, so converting a measurement set of 1,000,000 tracker points took minutes. The calls are
 # taken out of the generated source here; ncqual::dds::Participant registers the types once,
-# before any topic exists (common/dds/src/participant.cpp).
+# before any topic exists (dds/src/participant.cpp).
 file(READ ${FILE} text)
 string(REPLACE "    // Just to register all known types\n    register${STEM}Types();\n"
                "    // (types registered once by ncqual::dds::Participant: idl/strip_registration.cmake)\n"

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/calendar.hpp"
+#include "ncqual/common/calendar.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/config.hpp"
 
 #include <date/tz.h>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/check_kinds.hpp"
 
-#include "ncqual/enum_names.hpp"
+#include "ncqual/common/enum_names.hpp"
 
 #include <algorithm>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/command_line.hpp"
+#include "ncqual/common/command_line.hpp"
 
-#include "ncqual/version.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <iostream>
 

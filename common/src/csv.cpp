@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/csv.hpp"
+#include "ncqual/common/csv.hpp"
 
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <cctype>
 #include <charconv>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/fixture.hpp"
+#include "ncqual/common/fixture.hpp"
 
 #include <cctype>
 #include <cmath>

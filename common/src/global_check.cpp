@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/global_check.hpp"
+#include "ncqual/common/global_check.hpp"
 
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <cmath>
 #include <cstdint>

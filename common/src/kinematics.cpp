@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/enum_names.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/enum_names.hpp"
 
 #include <algorithm>
 #include <array>
@@ -21,7 +21,7 @@ constexpr std::array<std::string_view, 2> kAlarmNames = {"CONFLICT", "STORAGE"};
 
 }  // namespace
 
-// Check kinds are named by their row of the table (ncqual/check_kinds.hpp).
+// Check kinds are named by their row of the table (ncqual/common/check_kinds.hpp).
 std::string_view to_string(CheckKind kind) {
   const int k = static_cast<int>(kind);
   return k >= 0 && k < kCheckKindCount ? check_kind_info(kind).name : "unknown";

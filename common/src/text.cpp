@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <cerrno>
 #include <cmath>

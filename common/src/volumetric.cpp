@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/volumetric.hpp"
+#include "ncqual/common/volumetric.hpp"
 
 #include <cmath>
 #include <sstream>

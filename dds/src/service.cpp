@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/dds/service.hpp"
 
-#include "ncqual/log.hpp"
+#include "ncqual/common/log.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// The MCAP writer and reader of ncqual/mcap.hpp: record layouts as in the specification
+// The MCAP writer and reader of ncqual/mcap/mcap.hpp: record layouts as in the specification
 // (https://mcap.dev/spec), chunk compression with libzstd (one zstd frame) and liblz4 (the LZ4
 // frame format), CRC32 of the reflected polynomial 0xEDB88320 (carry-less multiplication where
 // the CPU has it, else eight bytes a step from tables).
-#include "ncqual/mcap.hpp"
+#include "ncqual/mcap/mcap.hpp"
 
 #include <lz4frame.h>
 #include <zstd.h>

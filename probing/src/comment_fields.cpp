@@ -2,7 +2,7 @@
 #include "comment_fields.hpp"
 
 #include "ncqual/probing/program.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <sstream>
 #include <string_view>

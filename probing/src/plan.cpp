@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/probing/plan.hpp"
 
-#include "ncqual/kinematics.hpp"
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <cmath>
 #include <cstdio>

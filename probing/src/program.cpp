@@ -3,10 +3,10 @@
 
 #include "comment_fields.hpp"
 
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/check_kinds.hpp"
 #include "ncqual/probing/plan.hpp"
-#include "ncqual/text.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/text.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <algorithm>
 #include <cctype>

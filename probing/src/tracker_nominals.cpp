@@ -4,11 +4,11 @@
 #include "comment_fields.hpp"
 #include "ncqual/probing/program.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/kinematics.hpp"
-#include "ncqual/text.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/text.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <stdexcept>
 #include <vector>

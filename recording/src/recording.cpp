@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/recording/recording.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <unistd.h>
 

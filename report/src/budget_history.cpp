@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/report/budget_history.hpp"
 
-#include "ncqual/storage_trend.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/storage/trend.hpp"
+#include "ncqual/common/units.hpp"
 
 namespace ncqual::report {
 

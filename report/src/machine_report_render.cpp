@@ -4,8 +4,8 @@
 #include "ncqual/report/machine_report.hpp"
 
 #include "ncqual/charts/charts.hpp"
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <fmt/format.h>
 

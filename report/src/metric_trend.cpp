@@ -3,8 +3,8 @@
 
 #include "ncqual/report/warnings.hpp"
 
-#include "ncqual/csv_fields.hpp"
-#include "ncqual/json.hpp"
+#include "ncqual/storage/csv_fields.hpp"
+#include "ncqual/common/json.hpp"
 
 #include <algorithm>
 #include <cmath>

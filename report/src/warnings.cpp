@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/report/warnings.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 
 #include <fmt/format.h>
 

@@ -14,12 +14,12 @@
 // performed, until the historian stored it and the solver saved its result
 // (docs/architecture.md, "Acknowledged storage"): a restart sends it again, never measures again.
 #include "ncqual/acquisition/station.hpp"
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
-#include "ncqual/log.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/log.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <spdlog/spdlog.h>
 

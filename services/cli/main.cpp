@@ -6,9 +6,9 @@
 #include "exit_codes.hpp"
 #include "help.hpp"
 
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
-#include "ncqual/csv.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/csv.hpp"
 
 #include <spdlog/spdlog.h>
 

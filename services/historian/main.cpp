@@ -12,17 +12,17 @@
 // waiting sample, and goes out at once when the health changes. A damaged file is refused at
 // start (PRAGMA quick_check). Conflicts and storage faults are also published as Alarms
 // (ncqual/Alarm: raised, and cleared when the storage is well again).
-#include "ingest.hpp"
-#include "watch_worker.hpp"
+#include "ncqual/historian/ingest.hpp"
+#include "ncqual/historian/watch_worker.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/identity.hpp"
 #include "ncqual/dds/service.hpp"
-#include "ncqual/log.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/log.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <spdlog/spdlog.h>
 

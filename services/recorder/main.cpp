@@ -7,7 +7,7 @@
 #include "ncqual/dds/service.hpp"
 #include "ncqual/recording/recorder.hpp"
 #include "ncqual/recording/recording.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -9,13 +9,13 @@
 // so a result produced while it was down is sent again by the solver until it is learnt.
 // Wall clock: it decides as results arrive and once a second; simulated clock: run_simulated
 // (driver.hpp). This file parses the command line and wires DDS to the Scheduler and driver.hpp.
-#include "driver.hpp"
-#include "scheduler.hpp"
+#include "ncqual/scheduler/driver.hpp"
+#include "ncqual/scheduler/scheduler.hpp"
 
-#include "ncqual/command_line.hpp"
+#include "ncqual/common/command_line.hpp"
 #include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
-#include "ncqual/log.hpp"
+#include "ncqual/common/log.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -7,15 +7,15 @@
 // the solver's state file, and only then is the set acknowledged to the acquisition. A set sent
 // again (its acknowledgement was lost, the solver was killed) is acknowledged again, never solved
 // again. The result stays in the outbox until the historian stored it and the scheduler applied it.
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
-#include "ncqual/json.hpp"
-#include "ncqual/log.hpp"
+#include "ncqual/common/json.hpp"
+#include "ncqual/common/log.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/state_file.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/storage/state_file.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -13,9 +13,9 @@
 // and, with WatchdogSec=, pings the watchdog while it still answers its own requests.
 #include "ncqual/web/dashboard.hpp"
 
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
-#include "ncqual/log.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/log.hpp"
 
 #include <httplib.h>
 #include <spdlog/spdlog.h>

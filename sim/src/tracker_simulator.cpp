@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/sim/tracker_simulator.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/sim/request_random.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <Eigen/Geometry>
 

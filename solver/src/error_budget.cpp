@@ -2,7 +2,7 @@
 // The error budget (patent: "Math Model Relating Production Part Accuracy to Machine System
 // Parameters"). In the order of the model:
 //   1. the budget as configured (read at load by the configuration layer,
-//   ncqual/config/budget.hpp);
+//   ncqual/common/config/budget.hpp);
 //   2. geometry: the ΔS of each source's error at inclination θ;
 //   3. totals: root sum square, or Monte Carlo with other distributions;
 //   4. capability of each source from the historian;
@@ -10,9 +10,9 @@
 //   6. consumption: how much of the budget today's errors take.
 #include "ncqual/solver/error_budget.hpp"
 
-#include "ncqual/enum_names.hpp"
+#include "ncqual/common/enum_names.hpp"
 
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <algorithm>
 #include <array>

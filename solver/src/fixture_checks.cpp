@@ -13,8 +13,8 @@
 //      deltas against the commanded positions (6).
 #include "ncqual/solver/fixture_checks.hpp"
 
-#include "ncqual/fixture.hpp"
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/fixture.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "result_building.hpp"
 #include "touch_input.hpp"
 

@@ -3,8 +3,8 @@
 // evaluations, judge the figures against the machine's tolerances, rank the likely causes.
 #include "ncqual/solver/global_checks.hpp"
 
-#include "ncqual/global_check.hpp"
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/solver/circle_fit.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/global_grid.hpp"
@@ -12,8 +12,8 @@
 #include "ncqual/solver/master_frame.hpp"
 #include "ncqual/solver/rotary_axes.hpp"
 #include "ncqual/solver/volumetric_identification.hpp"
-#include "ncqual/text.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/text.hpp"
+#include "ncqual/common/units.hpp"
 #include "result_building.hpp"
 #include "touch_input.hpp"
 

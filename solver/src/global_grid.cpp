@@ -3,7 +3,7 @@
 
 #include "ncqual/solver/circle_fit.hpp"
 
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 #include "result_building.hpp"
 
 #include <Eigen/Dense>

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/instrument_files.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/text.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/text.hpp"
+#include "ncqual/common/units.hpp"
 #include "result_building.hpp"
 
 #include <algorithm>

@@ -9,7 +9,7 @@
 //   5. verdict, likely causes in the order to investigate, reason.
 #include "ncqual/solver/monument_positioning.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/solver/circle_fit.hpp"
 #include "result_building.hpp"
 #include "touch_input.hpp"
@@ -120,7 +120,7 @@ using detail::find_tolerance;
 // ---- Step 1: stylus ball centres of the touches --------------------------------------------
 
 // Ball centre of each touch from its latched readouts with the nominal kinematics:
-//   b = P + Rz(c) Rx(a) ((ox, oy, 0) - (L + w) e_z)     (see ncqual/kinematics.hpp)
+//   b = P + Rz(c) Rx(a) ((ox, oy, 0) - (L + w) e_z)     (see ncqual/common/kinematics.hpp)
 struct TouchedBallCentres {
   std::vector<Eigen::Vector3d> hole_edge;
   std::vector<Eigen::Vector3d> face;

@@ -9,9 +9,9 @@
 //   4. verdict and likely causes in the order to investigate them.
 #include "ncqual/solver/monument_probe_checks.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/solver/circle_fit.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 #include "result_building.hpp"
 #include "touch_input.hpp"
 

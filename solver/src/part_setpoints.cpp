@@ -7,7 +7,7 @@
 //      reference (a work offset), on FAIL the likely causes.
 #include "ncqual/solver/part_setpoints.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "result_building.hpp"
 #include "touch_input.hpp"
 

@@ -2,8 +2,8 @@
 // Small helpers every check uses to build its CheckResult (internal to the solver library).
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <string>
 #include <string_view>

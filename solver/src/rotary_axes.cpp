@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/rotary_axes.hpp"
 
-#include "ncqual/enum_names.hpp"
+#include "ncqual/common/enum_names.hpp"
 
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 #include "result_building.hpp"
 
 #include "ncqual/solver/circle_fit.hpp"

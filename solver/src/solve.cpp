@@ -23,8 +23,8 @@ CheckResult stamped(CheckResult result, const MeasurementSet& set, std::int64_t 
   return result;
 }
 
-// One solver check per row of the check-kind table (ncqual/check_kinds.hpp). No `default:`, so
-// that the compiler (-Wswitch) names a kind added to the table without its check here.
+// One solver check per row of the check-kind table (ncqual/common/check_kinds.hpp). No `default:`,
+// so that the compiler (-Wswitch) names a kind added to the table without its check here.
 CheckResult dispatch(const MeasurementSet& set, const MachineConfig& machine) {
   switch (set.kind) {
     case CheckKind::MonumentCAlignment: return check_c_axis_alignment(set, machine);

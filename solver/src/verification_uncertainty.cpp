@@ -6,7 +6,7 @@
 #include "result_building.hpp"
 #include "volumetric_model.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/solver/volumetric_identification.hpp"
 
 #include <Eigen/Cholesky>

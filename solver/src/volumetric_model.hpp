@@ -8,7 +8,7 @@
 // wording.
 #pragma once
 
-#include "ncqual/volumetric.hpp"
+#include "ncqual/common/volumetric.hpp"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// The plant's status (ncqual/plant_status.hpp): `ncqual status` and the dashboard's plant page.
-#include "ncqual/plant_status.hpp"
+// The plant's status (ncqual/status/plant_status.hpp): `ncqual status` and the dashboard's plant
+// page.
+#include "ncqual/status/plant_status.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/dds/service.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <utility>
 
@@ -33,9 +33,7 @@ ServiceDocument service_document(const Heartbeat& beat, std::int64_t wall_now_ns
 
 }  // namespace
 
-std::chrono::milliseconds service_heartbeat_period() {
-  return dds::ServiceOptions{}.heartbeat_period;
-}
+std::chrono::milliseconds service_heartbeat_period() { return kHeartbeatPeriod; }
 
 Calendar plant_calendar(const PlantConfig& plant) {
   return Calendar(plant.calendar.value_or(default_calendar_config()));

@@ -6,7 +6,7 @@
 
 #include "sqlite.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <functional>
 #include <string>

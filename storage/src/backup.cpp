@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // backup: SQLite's online backup API from one read transaction of the running historian's file
-// into a temporary file, checked, then renamed (ncqual/storage_export.hpp).
-#include "ncqual/storage_export.hpp"
+// into a temporary file, checked, then renamed (ncqual/storage/export.hpp).
+#include "ncqual/storage/export.hpp"
 
 #include "open.hpp"
 #include "schema.hpp"
 #include "sqlite.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/csv_fields.hpp"
+#include "ncqual/storage/csv_fields.hpp"
 
 #include <array>
 #include <charconv>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include "access.hpp"
 #include "open.hpp"
@@ -7,8 +7,8 @@
 #include "sqlite.hpp"
 #include "validate.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/json.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/json.hpp"
 
 #include <sys/stat.h>
 

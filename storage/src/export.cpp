@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
-// export_csv: one CSV file per table from one read transaction (ncqual/storage_export.hpp).
-#include "ncqual/storage_export.hpp"
+// export_csv: one CSV file per table from one read transaction (ncqual/storage/export.hpp).
+#include "ncqual/storage/export.hpp"
 
-#include "ncqual/csv_fields.hpp"
+#include "ncqual/storage/csv_fields.hpp"
 
 #include "open.hpp"
 #include "schema.hpp"
 #include "sqlite.hpp"
 
-#include "ncqual/model.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/storage_json.hpp"
+#include "ncqual/storage/json.hpp"
 
 namespace ncqual::storage {
 

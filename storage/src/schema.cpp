@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "schema.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 #include "sqlite.hpp"
 
 #include <string>

@@ -4,7 +4,7 @@
 // at a time (bind, step, read, reset), and transactions that roll back unless committed.
 #pragma once
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <sqlite3.h>
 

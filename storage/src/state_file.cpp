@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/state_file.hpp"
+#include "ncqual/storage/state_file.hpp"
 
 #include "sqlite.hpp"
 
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// A metric's history, restarts and trend warnings (ncqual/storage_trend.hpp).
-#include "ncqual/storage_trend.hpp"
+// A metric's history, restarts and trend warnings (ncqual/storage/trend.hpp).
+#include "ncqual/storage/trend.hpp"
 
 #include "access.hpp"
 #include "sqlite.hpp"
 
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/check_kinds.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 // NaN (CheckResult 'r-17')").
 #pragma once
 
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 namespace ncqual::storage::validate {
 

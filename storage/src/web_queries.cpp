@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The dashboard's queries (ncqual/storage_web.hpp).
-#include "ncqual/storage_web.hpp"
+// The dashboard's queries (ncqual/storage/web.hpp).
+#include "ncqual/storage/web.hpp"
 
 #include "access.hpp"
 #include "sqlite.hpp"

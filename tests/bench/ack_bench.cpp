@@ -24,17 +24,17 @@
 #include "quantile.hpp"
 #include "test_participant.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/state_file.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/storage/state_file.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -17,11 +17,11 @@
 #include "history_gen.hpp"
 #include "quantile.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/plant_status.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
-#include "ncqual/storage_web.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/status/plant_status.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
+#include "ncqual/storage/web.hpp"
 #include "ncqual/trend/assess.hpp"
 #if NCQUAL_BENCH_HAS_REPORT
 #include "ncqual/report/machine_report.hpp"

@@ -11,7 +11,7 @@
 // the import failed (its output and the services' logs are printed), 2 for bad usage.
 #include "harness.hpp"
 
-#include "ncqual/command_line.hpp"
+#include "ncqual/common/command_line.hpp"
 
 #include <sys/types.h>
 

@@ -7,9 +7,9 @@
 //       with one full identification timed for comparison, and the best tracker location;
 //   (c) the resident set size before, after the first round and after many rounds (a round:
 //       one analysis, one Monte Carlo, one location search).
-#include "ncqual/config.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 #include "ncqual/sim/tracker_simulator.hpp"
 #include "ncqual/solver/solve.hpp"

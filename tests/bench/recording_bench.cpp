@@ -25,18 +25,18 @@
 #include "quantile.hpp"
 #include "test_participant.hpp"
 
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/convert.hpp"
 #include "ncqual/dds/raw.hpp"
 #include "ncqual/dds/serialized.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/mcap.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/mcap/mcap.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/recording/recording.hpp"
 #include "ncqual/recording/replayer.hpp"
 #include "ncqual/sim/tracker_simulator.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <algorithm>
 #include <chrono>

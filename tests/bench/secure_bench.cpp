@@ -17,14 +17,14 @@
 #include "quantile.hpp"
 #include "test_participant.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -6,8 +6,8 @@
 #include "domains.hpp"
 #include "process.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <unistd.h>
 

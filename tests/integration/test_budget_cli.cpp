@@ -5,8 +5,8 @@
 #include "cli_runner.hpp"
 
 #include "ncqual/solver/error_budget.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -11,9 +11,9 @@
 // machine shift; pm-bad's check is stored INVALID with the log's file, line and value.
 #include "harness.hpp"
 
-#include "ncqual/config.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/probing/program.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <gtest/gtest.h>
 

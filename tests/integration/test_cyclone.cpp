@@ -9,7 +9,7 @@
 #include "harness.hpp"
 #include "test_participant.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/dds/acknowledged_send.hpp"
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"

@@ -6,8 +6,8 @@
 // of a given table (its dbstat table).
 #include "cli_runner.hpp"
 
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -5,8 +5,8 @@
 #include "cli_runner.hpp"
 #include "harness.hpp"
 
-#include "ncqual/version.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/version.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 

@@ -5,8 +5,8 @@
 // check_export.py), `ncqual backup` while a writer commits, and `ncqual db thin` (retention).
 #include "cli_runner.hpp"
 
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_export.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/export.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

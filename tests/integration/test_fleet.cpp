@@ -16,8 +16,8 @@
 #include "cli_runner.hpp"
 #include "harness.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/check_kinds.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

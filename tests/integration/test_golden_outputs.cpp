@@ -10,7 +10,7 @@
 // tests/data/golden/ and commit it with the change that explains it.
 #include "cli_runner.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 #include "harness.hpp"
 #include "tracker_export.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <gtest/gtest.h>
 

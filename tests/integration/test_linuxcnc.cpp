@@ -18,9 +18,9 @@
 // (ProbingProgram.RecordedLinuxCncLogsGiveTheInjectedShift) keep the log path covered.
 #include "harness.hpp"
 
-#include "ncqual/config.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <gtest/gtest.h>
 

@@ -6,7 +6,7 @@
 
 #include "harness.hpp"
 
-#include "ncqual/config.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/participant.hpp"
 
 #include <string>

@@ -13,8 +13,8 @@
 #include "ncqual/dds/raw.hpp"
 #include "ncqual/dds/serialized.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/mcap.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/mcap/mcap.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -12,7 +12,7 @@
 
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>

@@ -16,7 +16,7 @@
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/participant.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

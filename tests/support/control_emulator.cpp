@@ -3,8 +3,8 @@
 
 #include "ncqual/acquisition/instruments.hpp"
 #include "ncqual/probing/program.hpp"
-#include "ncqual/text.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/text.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <cstdio>
 #include <filesystem>

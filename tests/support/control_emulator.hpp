@@ -5,8 +5,8 @@
 // formats it. Physics only: it knows nothing of the acquisition's code paths beyond the files.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <cstdint>
 #include <string>

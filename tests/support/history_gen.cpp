@@ -3,10 +3,10 @@
 #include "history_gen.hpp"
 
 #include "ncqual/acquisition/instruments.hpp"
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/clock.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "trend_watch.hpp"
+#include "ncqual/historian/trend_watch.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -20,8 +20,8 @@
 // fills it. Deterministic for a seed.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <cstdint>
 #include <functional>

@@ -6,7 +6,7 @@
 // The file must not exist yet. Exit 0 when written, 2 for a bad command line, 1 for a failure.
 #include "history_gen.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 
 #include <cstdio>
 #include <exception>

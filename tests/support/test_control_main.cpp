@@ -5,7 +5,7 @@
 // until SIGTERM. Prints "answered <request id>" per program.
 #include "control_emulator.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 
 #include <csignal>
 #include <cstdio>

@@ -3,7 +3,7 @@
 // escaping and the change token, on a historian written here.
 #include "ncqual/web/dashboard.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

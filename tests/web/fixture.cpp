@@ -10,9 +10,9 @@
 //   ncqual_web_fixture add DIR ID            one more check of pm1 now, request id ID, a FAIL
 //       with center_dx_mm = 0.0777 mm, and the status change it leads to.
 // Times are the wall clock's, so that due dates are as a running plant's.
-#include "ncqual/clock.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <cstdint>
 #include <cstdlib>

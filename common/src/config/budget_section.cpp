@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `budget:` section of a machine config (ncqual/config/budget.hpp).
+// The `budget:` section of a machine config (ncqual/common/config/budget.hpp).
 #include "node.hpp"
 
-#include "ncqual/enum_names.hpp"
+#include "ncqual/common/enum_names.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `scheduler.calendar:` section of a plant config (ncqual/calendar.hpp).
+// The `scheduler.calendar:` section of a plant config (ncqual/common/calendar.hpp).
 #include "node.hpp"
 
 #include <algorithm>

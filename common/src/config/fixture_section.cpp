@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `fixture:` section of a machine config (ncqual/fixture.hpp).
+// The `fixture:` section of a machine config (ncqual/common/fixture.hpp).
 #include "node.hpp"
 
 #include <cctype>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `global_check:` section of a machine config (ncqual/global_check.hpp): the monthly
+// The `global_check:` section of a machine config (ncqual/common/global_check.hpp): the monthly
 // laser-tracker check and the planned verification's uncertainty.
 #include "node.hpp"
 

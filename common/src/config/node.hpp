@@ -19,8 +19,8 @@
 // `ncqual config check --print`.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <yaml-cpp/yaml.h>
 

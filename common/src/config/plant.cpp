@@ -4,8 +4,8 @@
 // of the other files of this folder) and reports every problem at once.
 #include "node.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <date/date.h>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// The `simulator:` section of a machine config (ncqual/config/simulator.hpp).
+// The `simulator:` section of a machine config (ncqual/common/config/simulator.hpp).
 #include "node.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 
 #include <algorithm>
 #include <cmath>

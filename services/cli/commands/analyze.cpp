@@ -33,7 +33,7 @@
 //       a real control's touch log of a probing program written by `ncqual program` (or the
 //       control-files instrument), judged exactly as the solver service judges the check: the
 //       same metrics against the machine's tolerances, verdict, likely causes and correction.
-//       --json: the check record of `ncqual history --json` (ncqual/storage_json.hpp).
+//       --json: the check record of `ncqual history --json` (ncqual/storage/json.hpp).
 //
 //   ncqual analyze points EXPORT --nominals LIST --machine M [--plant F] [--json]
 //       a laser tracker's point export (a name and x, y, z per point, any declared unit) of a
@@ -91,19 +91,19 @@
 // analyze` on stderr).
 #include "commands.hpp"
 
-#include "ncqual/csv.hpp"
-#include "ncqual/json.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/csv.hpp"
+#include "ncqual/common/json.hpp"
+#include "ncqual/common/units.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/global_grid.hpp"
 #include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/solver/iso230_2.hpp"
 #include "ncqual/solver/part_inspection.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/clock.hpp"
-#include "ncqual/storage_json.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/storage/json.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <fmt/format.h>
 

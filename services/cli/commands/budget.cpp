@@ -39,12 +39,12 @@
 // config, unreadable historian), 2 on bad usage.
 #include "commands.hpp"
 
-#include "ncqual/config.hpp"
-#include "ncqual/json.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/json.hpp"
 #include "ncqual/report/budget_history.hpp"
 #include "ncqual/solver/error_budget.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <fmt/format.h>
 
@@ -88,7 +88,7 @@ std::optional<Tolerance> configured_tolerance(const MachineConfig& machine,
 // ---- JSON ---------------------------------------------------------------------------------------
 
 // The --json document (names: the file comment above). A non-finite tolerance bound, a
-// one-sided band, is null (ncqual/json.hpp).
+// one-sided band, is null (ncqual/common/json.hpp).
 struct ComponentsDocument {
   double y = 0, z = 0, s = 0;
 };

@@ -11,11 +11,11 @@
 
 #include "ncqual/dds/acknowledged_send.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/dds/dispatcher.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_json.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/json.hpp"
 
 #include <chrono>
 #include <iostream>

@@ -6,13 +6,13 @@
 
 #include "exit_codes.hpp"
 
-#include "ncqual/calendar.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/identity.hpp"
 #include "ncqual/dds/participant.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/solver/instrument_files.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -6,7 +6,7 @@
 // files were refused. --json prints ConfigCheckDocument (below).
 #include "commands.hpp"
 
-#include "ncqual/json.hpp"
+#include "ncqual/common/json.hpp"
 
 #include <iostream>
 

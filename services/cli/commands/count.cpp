@@ -4,7 +4,7 @@
 // a plant with nothing stored (`ncqual wait --count N` waits for a database still to come).
 #include "commands.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <iostream>
 

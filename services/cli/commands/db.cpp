@@ -35,9 +35,9 @@
 // piped into a second sqlite3 that writes TO: the CLI links SQLite only through ncqual_storage.
 #include "commands.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <fmt/format.h>
 

@@ -22,11 +22,11 @@
 //     anything else.
 #include "commands.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/json.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_export.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/json.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/export.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <fmt/format.h>
 

@@ -8,19 +8,19 @@
 // plant config), machine, kind, verdict, who ordered it and at most six metrics; --writers adds
 // under each check the DataWriters its request, set and result came from, and on a secured plant
 // (the plant's security.dir, or --secure) the identity each GUID names (ncqual/dds/identity.hpp).
-// --json prints every stored record (ncqual/storage_json.hpp; times as ns since the epoch, UTC),
+// --json prints every stored record (ncqual/storage/json.hpp; times as ns since the epoch, UTC),
 // its writers with their identities when known. A check whose raw points retention deleted (`ncqual
 // db thin`, docs/export.md) says "points thinned on <date>" with the counts measured (--json:
 // measurement.points_thinned_ns); its result is as it was judged. Exit codes: 0, 6 when there is no
 // historian database at the path; 2 when the security material cannot be read.
 #include "commands.hpp"
 
-#include "ncqual/calendar.hpp"
-#include "ncqual/clock.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/identity.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_json.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/json.hpp"
 
 #include <fmt/format.h>
 

@@ -29,9 +29,9 @@
 
 #include "ncqual/dds/acknowledged_send.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/config.hpp"
-#include "ncqual/csv.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/csv.hpp"
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/participant.hpp"
 #include "ncqual/dds/topics.hpp"

@@ -12,7 +12,7 @@
 
 #include "ncqual/dds/acknowledged_send.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/participant.hpp"
 #include "ncqual/dds/topics.hpp"

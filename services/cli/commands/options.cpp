@@ -5,9 +5,9 @@
 
 #include "ncqual/recording/recording.hpp"
 
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/check_kinds.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/instrument_files.hpp"
 

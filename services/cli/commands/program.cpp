@@ -19,12 +19,12 @@
 #include "ncqual/probing/program.hpp"
 #include "ncqual/probing/tracker_nominals.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/csv.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/csv.hpp"
 #include "ncqual/solver/instrument_files.hpp"
-#include "ncqual/clock.hpp"
-#include "ncqual/text.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/text.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <fstream>
 #include <iostream>

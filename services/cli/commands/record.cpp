@@ -20,11 +20,11 @@
 // 2 bad usage.
 #include "commands.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/dds/dispatcher.hpp"
 #include "ncqual/recording/recorder.hpp"
 #include "ncqual/recording/recording.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <filesystem>
 #include <iomanip>

@@ -21,17 +21,17 @@
 // ncqual topic in it, samples not written), 2 bad usage, 3 resolved with changes.
 #include "commands.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/dds/convert.hpp"
 #include "ncqual/dds/dispatcher.hpp"
 #include "ncqual/dds/serialized.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/json.hpp"
+#include "ncqual/common/json.hpp"
 #include "ncqual/recording/recording.hpp"
 #include "ncqual/recording/replayer.hpp"
 #include "ncqual/solver/compare.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/version.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -19,8 +19,8 @@
 // does not know; 1 anything else (FILE cannot be written: the message names it).
 #include "commands.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/plant_status.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/status/plant_status.hpp"
 #include "ncqual/report/machine_report.hpp"
 
 #include <filesystem>

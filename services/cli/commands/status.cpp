@@ -24,20 +24,20 @@
 //       "expected_crossing_ns", "earliest_crossing_ns", "text"}]}], "wall_now_ns",
 //       "heartbeat_period_ms", "services": [{"service", "instance", "machine_id", "state",
 //       "health", "health_detail", "outbox_depth", "oldest_unacknowledged_ns",
-//       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent"}]} (ncqual/plant_status.hpp,
-//       shared with the dashboard's /api/v1/plant);
-//       times are ns since the Unix epoch UTC or null; the text form prints them in the plant's
-//       time zone. oldest_unacknowledged_age_ns is as of the heartbeat (null: nothing waits).
+//       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent"}]}
+//       (ncqual/status/plant_status.hpp, shared with the dashboard's /api/v1/plant); times are ns
+//       since the Unix epoch UTC or null; the text form prints them in the plant's time zone.
+//       oldest_unacknowledged_age_ns is as of the heartbeat (null: nothing waits).
 //
 // Exit codes: 0, 2 bad usage (and a machine the plant does not configure), 6 no historian
 // database at the path.
 #include "commands.hpp"
 
-#include "ncqual/calendar.hpp"
-#include "ncqual/clock.hpp"
-#include "ncqual/json.hpp"
-#include "ncqual/plant_status.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/json.hpp"
+#include "ncqual/status/plant_status.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <fmt/format.h>
 
@@ -48,7 +48,8 @@
 namespace ncqual::cli {
 namespace {
 
-// The --json document and its computation: ncqual/plant_status.hpp (the dashboard shows the same).
+// The --json document and its computation: ncqual/status/plant_status.hpp (the dashboard shows the
+// same).
 using plant_status::StatusDocument;
 
 std::string upper(std::string text) {

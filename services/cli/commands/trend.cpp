@@ -24,12 +24,12 @@
 // report), 6 no historian database at the path.
 #include "commands.hpp"
 
-#include "ncqual/calendar.hpp"
+#include "ncqual/common/calendar.hpp"
 #include "ncqual/report/machine_report.hpp"
 #include "ncqual/report/metric_trend.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <fmt/format.h>
 

@@ -6,10 +6,10 @@
 //                      [--json]
 //
 // Reads the machine's `global_check:` section from the plant config (--plant or NCQUAL_PLANT)
-// and its `uncertainty:` mapping (ncqual/global_check.hpp: the planned tracker, the uncertainty
-// sources, trials, seed, the search region), builds the grid design of the GlobalGrid program
-// (solver::grid_verification_design) and runs solver::evaluate_verification_uncertainty on it
-// with the machine's systematic errors zero: the machine verified as it is nominally, so what is
+// and its `uncertainty:` mapping (ncqual/common/global_check.hpp: the planned tracker, the
+// uncertainty sources, trials, seed, the search region), builds the grid design of the GlobalGrid
+// program (solver::grid_verification_design) and runs solver::evaluate_verification_uncertainty on
+// it with the machine's systematic errors zero: the machine verified as it is nominally, so what is
 // left after the identification is what the tracker's noise and placement, the repeatability and
 // the thermal correction leave (the figures do not depend on the errors as long as the model
 // represents them). --trials and --seed override the config; --threads (default: the hardware's
@@ -54,10 +54,10 @@
 // design or setup the solver refuses), 2 on bad usage (the message and the usage on stderr).
 #include "commands.hpp"
 
-#include "ncqual/config.hpp"
-#include "ncqual/json.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/json.hpp"
 #include "ncqual/solver/verification_uncertainty.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <fmt/format.h>
 
@@ -426,7 +426,7 @@ int run(const Options& o) {
   if (!in.global->uncertainty) {
     std::cerr << "ncqual uncertainty: machine '" << machine_id << "' (" << in.machine->source_path
               << ") has no global_check.uncertainty: mapping (the planned tracker and the "
-                 "uncertainty sources; see ncqual/global_check.hpp)\n";
+                 "uncertainty sources; see ncqual/common/global_check.hpp)\n";
     return kExitError;
   }
   in.config = &*in.global->uncertainty;

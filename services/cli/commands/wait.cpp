@@ -10,7 +10,7 @@
 // verdict (--request) or the machine's state (--settled). Exit codes: 0, 5 timed out.
 #include "commands.hpp"
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <chrono>
 #include <filesystem>

@@ -13,7 +13,7 @@
 #include "ncqual/acquisition/control_files.hpp"
 #include "ncqual/acquisition/station.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,14 +3,14 @@
 // refusals, the truth at a time (errors_at and friends: nothing before `since`, then linear), the
 // touch probe, fixture and tracker measuring the truth of their measurement time, bit-identical
 // measurements without drift, and the drift scenario's failure day.
-#include "ncqual/clock.hpp"
-#include "ncqual/fixture.hpp"
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/fixture.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/sim/fixture_simulator.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 #include "ncqual/sim/tracker_simulator.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 #include "test_fixtures.hpp"
 #include "test_machines.hpp"
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/sim/fixture_simulator.hpp"
 
-#include "ncqual/kinematics.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/units.hpp"
 #include "test_fixtures.hpp"
 #include "test_machines.hpp"
 

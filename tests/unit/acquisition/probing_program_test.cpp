@@ -17,9 +17,9 @@
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/solver/instrument_files.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/csv.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/csv.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 
@@ -310,7 +310,7 @@ TEST(ProbingProgram, ARequestWithoutATouchPlanIsRefused) {
 
 // The tracker checks' nominal lists: one row per measurement of the program; at home head angles
 // the reflector of tool length L and offset (ox, oy) sits at pivot + (ox, oy, -L) (worked by
-// hand from the kinematics' definition, ncqual/kinematics.hpp), and the list reads back as a
+// hand from the kinematics' definition, ncqual/common/kinematics.hpp), and the list reads back as a
 // tracker point export that pairs with the program point for point, at zero deviation.
 TEST(TrackerNominals, OneRowPerMeasurementThatReadsBackAsAnExportOfTheProgram) {
   const MachineConfig m = pm1();

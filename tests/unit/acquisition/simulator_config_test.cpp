@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/sim/simulator_config.hpp"
 
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 

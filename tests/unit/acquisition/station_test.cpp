@@ -5,7 +5,7 @@
 // not published.
 #include "ncqual/acquisition/station.hpp"
 
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/check_kinds.hpp"
 
 #include <gtest/gtest.h>
 

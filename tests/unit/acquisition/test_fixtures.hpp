@@ -2,10 +2,10 @@
 // Holding fixtures and fixture requests for the fixture simulator and fixture check tests.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/fixture.hpp"
-#include "ncqual/model.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/fixture.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/common/units.hpp"
 #include "test_machines.hpp"
 
 #include <random>

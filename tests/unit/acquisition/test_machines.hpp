@@ -2,8 +2,8 @@
 // Machine configs, simulator configs and requests for the solver and simulator unit tests.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 
 #include <random>

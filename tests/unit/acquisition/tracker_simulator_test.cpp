@@ -4,8 +4,8 @@
 // thermal expansion, rigid-body and wrist errors.
 #include "ncqual/sim/tracker_simulator.hpp"
 
-#include "ncqual/kinematics.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 

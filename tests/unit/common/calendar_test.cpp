@@ -4,9 +4,9 @@
 // the zones' offsets (Europe/Berlin: CET = UTC+1, CEST = UTC+2 from the last Sunday of March
 // 01:00 UTC to the last Sunday of October 01:00 UTC; America/Chicago: CST = UTC-6, CDT = UTC-5
 // from the second Sunday of March 08:00 UTC to the first Sunday of November 07:00 UTC).
-#include "ncqual/calendar.hpp"
-#include "ncqual/clock.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/config.hpp"
 
 #include <gtest/gtest.h>
 

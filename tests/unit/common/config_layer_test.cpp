@@ -2,8 +2,8 @@
 // The configuration layer as a whole: every problem of a plant at once, unknown keys refused at
 // every level, the resolved values with their units; and the table of check kinds against the
 // wire contract.
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/config.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The CSV reader of instrument exports: header and rows, comments, CRLF, quotes, and the
 // file:line:column of every refusal.
-#include "ncqual/csv.hpp"
+#include "ncqual/common/csv.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

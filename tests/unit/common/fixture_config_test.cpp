@@ -3,9 +3,9 @@
 // acquisition and the solver share (pogo labels, touch features, zero offsets).
 #include "machine_text.hpp"
 
-#include "ncqual/config.hpp"
-#include "ncqual/fixture.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/fixture.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 

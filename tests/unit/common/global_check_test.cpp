@@ -2,9 +2,9 @@
 // The `global_check:` section of a machine config and the programs of the monthly tracker checks.
 #include "machine_text.hpp"
 
-#include "ncqual/config.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 

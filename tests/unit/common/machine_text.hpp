@@ -3,7 +3,7 @@
 // and a section's YAML text with one piece replaced.
 #pragma once
 
-#include "ncqual/config.hpp"
+#include "ncqual/common/config.hpp"
 
 #include <stdexcept>
 #include <string>

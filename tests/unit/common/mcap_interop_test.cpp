@@ -6,7 +6,7 @@
 // times) must match what was written. Skipped, saying why, without node or the npm packages.
 #include "cli_runner.hpp"
 #include "harness.hpp"
-#include "ncqual/mcap.hpp"
+#include "ncqual/mcap/mcap.hpp"
 #include "process.hpp"
 
 #include <gtest/gtest.h>

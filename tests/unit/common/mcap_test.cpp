@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// ncqual_mcap (common/mcap): round trips through every compression, a whole file's layout worked
+// ncqual_mcap (mcap/): round trips through every compression, a whole file's layout worked
 // out by hand from the specification (not from the writer), the CRC32 check value, and bad files:
 // cut at every byte, wrong magic, corrupt chunks, lengths past the end, unknown channels.
-#include "ncqual/mcap.hpp"
+#include "ncqual/mcap/mcap.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/convert.hpp"
-#include "ncqual/kinematics.hpp"
-#include "ncqual/model.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 
@@ -225,7 +225,7 @@ TEST(PlantMachines, AListNamesMachinesInOrderAndRefusesBadEntriesByName) {
   }
 }
 
-// The command line every executable shares (ncqual/command_line.hpp): unknown flags, missing
+// The command line every executable shares (ncqual/common/command_line.hpp): unknown flags, missing
 // and bad values are usage errors (exit 2) that name the flag; --flag=value works.
 TEST(CommandLine, UnknownFlagsMissingAndBadValuesAreUsageErrorsNamingTheFlag) {
   const auto parse = [](std::vector<std::string> words, std::string* reported = nullptr) {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The rigid-body error model of the three linear axes: Legendre series, names, and the exact
 // chain of actual_position checked error by error against hand-worked geometry.
-#include "ncqual/volumetric.hpp"
+#include "ncqual/common/volumetric.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// The historian's ingest (services/historian/ingest.hpp) through real database faults on real
-// SQLite files: a write lock held by another connection, writes failing beyond a file size limit
-// (RLIMIT_FSIZE: what a full disk does to the writes, without root), the file removed or
-// replaced while open, and a file damaged before it is opened. In each, nothing is acknowledged
-// that is not committed, health says what is wrong, and once the fault clears every sample that
-// arrived is stored, in arrival order.
-#include "ingest.hpp"
+// The historian's ingest (services/historian/core/include/ncqual/historian/ingest.hpp) through real
+// database faults on real SQLite files: a write lock held by another connection, writes failing
+// beyond a file size limit (RLIMIT_FSIZE: what a full disk does to the writes, without root), the
+// file removed or replaced while open, and a file damaged before it is opened. In each, nothing is
+// acknowledged that is not committed, health says what is wrong, and once the fault clears every
+// sample that arrived is stored, in arrival order.
+#include "ncqual/historian/ingest.hpp"
 
 #include "storage_test_support.hpp"
 

@@ -5,12 +5,12 @@
 // reaches it at day 9.06, its upper 95 % prediction bound at day 5.34), raised once, ended by an
 // intervention and not by a compensation of another check; a late result does not raise it
 // again.
-#include "trend_watch.hpp"
-#include "watch_worker.hpp"
+#include "ncqual/historian/trend_watch.hpp"
+#include "ncqual/historian/watch_worker.hpp"
 
 #include "storage_test_support.hpp"
 
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <gtest/gtest.h>
 

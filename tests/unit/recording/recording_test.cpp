@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// The recording library (services/recorder/include/ncqual/recording/recording.hpp), without DDS:
+// The recording library (recording/include/ncqual/recording/recording.hpp), without DDS:
 // samples are the generated types' CDR bytes (ncqual/dds/serialized.hpp), files are written with
 // RecordingWriter (or, for another system's recordings, straight with mcap::Writer) and read back
 // with mcap::read_file. Times, offsets and file splits are worked out by hand.
 #include "ncqual/recording/recording.hpp"
 
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/dds/convert.hpp"
 #include "ncqual/dds/serialized.hpp"
 #include "ncqual/dds/topics.hpp"

@@ -9,12 +9,12 @@
 // Times are days after kT0 (2026-03-02 00:00 UTC).
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <Eigen/Core>
 

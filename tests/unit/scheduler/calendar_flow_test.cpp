@@ -5,8 +5,8 @@
 // retries; and restarts at random points that end with exactly the checks of an uninterrupted
 // run. The driver below answers requests the way the acquisition and solver do (a result some
 // simulated minutes after the request); the clock moves by ncqual-scheduler's own run_simulated.
-#include "driver.hpp"
-#include "scheduler.hpp"
+#include "ncqual/scheduler/driver.hpp"
+#include "ncqual/scheduler/scheduler.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The scheduler's durable sending and its command-line choices, without DDS (through a real
 // state file).
-#include "driver.hpp"
+#include "ncqual/scheduler/driver.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // The scheduler's state documents (scheduler.hpp to_json / machine_run_from_json): a document as
 // the previous version wrote it still loads, every field survives a round trip, and what cannot
 // be read is refused by name.
-#include "scheduler.hpp"
+#include "ncqual/scheduler/scheduler.hpp"
 
 #include <gtest/gtest.h>
 

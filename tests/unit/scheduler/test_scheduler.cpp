@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "scheduler.hpp"
+#include "ncqual/scheduler/scheduler.hpp"
 
 #include <gtest/gtest.h>
 

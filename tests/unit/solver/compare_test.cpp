@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// compare_results (services/solver/lib/include/ncqual/solver/compare.hpp): two judgements of one
+// compare_results (solver/include/ncqual/solver/compare.hpp): two judgements of one
 // measurement set, built by hand. The allowances are worked out by hand from CompareOptions'
 // defaults: 1% of the band's width (of the finite limit for a one-sided band), at least 1e-9,
 // and 1e-4 for a correction's offsets.

@@ -5,8 +5,8 @@
 // consumption, and the config's error messages.
 #include "ncqual/solver/error_budget.hpp"
 
-#include "ncqual/config.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/fixture_checks.hpp"
 
-#include "ncqual/fixture.hpp"
+#include "ncqual/common/fixture.hpp"
 #include "ncqual/sim/fixture_simulator.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "test_fixtures.hpp"

@@ -7,7 +7,7 @@
 #include "ncqual/solver/solve.hpp"
 
 #include "ncqual/sim/tracker_simulator.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 #include "test_machines.hpp"
 
 #include <gtest/gtest.h>

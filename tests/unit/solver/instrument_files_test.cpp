@@ -4,7 +4,7 @@
 // refusal.
 #include "ncqual/solver/instrument_files.hpp"
 
-#include "ncqual/config.hpp"
+#include "ncqual/common/config.hpp"
 
 #include <gtest/gtest.h>
 

@@ -5,10 +5,10 @@
 // intends.
 #include "ncqual/solver/monument_probe_checks.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 #include "test_machines.hpp"
 
 #include <gtest/gtest.h>

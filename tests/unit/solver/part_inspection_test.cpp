@@ -8,7 +8,7 @@
 //  - the offset fit against a hand-worked weighted mean and a constructed rigid displacement.
 #include "ncqual/solver/part_inspection.hpp"
 
-#include "ncqual/csv.hpp"
+#include "ncqual/common/csv.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,10 +3,10 @@
 // fixturing devices, parts seated off their locators, and the machine's own errors.
 #include "ncqual/solver/part_setpoints.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/solver/solve.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 #include "test_machines.hpp"
 
 #include <gtest/gtest.h>

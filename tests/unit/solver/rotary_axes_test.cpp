@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/solver/rotary_axes.hpp"
 
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/kinematics.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>

@@ -6,8 +6,8 @@
 // against full identifications on the same draws, reproducibility and the refusals.
 #include "ncqual/solver/verification_uncertainty.hpp"
 
-#include "ncqual/config.hpp"
-#include "ncqual/units.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,11 +9,11 @@
 #include "history_gen.hpp"
 #include "storage_test_support.hpp"
 
-#include "ncqual/plant_status.hpp"
+#include "ncqual/status/plant_status.hpp"
 #include "ncqual/report/metric_trend.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
-#include "ncqual/storage_web.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
+#include "ncqual/storage/web.hpp"
 #if NCQUAL_TEST_HAS_REPORT
 #include "ncqual/report/machine_report.hpp"
 #endif

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // history(), find_check() and the JSON the command-line tool prints.
-#include "ncqual/storage_json.hpp"
+#include "ncqual/storage/json.hpp"
 #include "storage_test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -4,7 +4,7 @@
 // distinguishable.
 #pragma once
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // A metric's history, its restarts and the trend warnings the historian keeps
-// (ncqual/storage_trend.hpp), on real SQLite files; and the query plans of those reads: every
+// (ncqual/storage/trend.hpp), on real SQLite files; and the query plans of those reads: every
 // one walks an index, none scans a table.
 #include "storage_test_support.hpp"
 
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <gtest/gtest.h>
 

@@ -23,7 +23,7 @@
 //              overdue, so a machine stays QUALIFIED overnight.
 #pragma once
 
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <array>
 #include <cstdint>

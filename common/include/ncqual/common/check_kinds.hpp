@@ -8,7 +8,7 @@
 // calendar runs the kinds of a cadence in row order.
 #pragma once
 
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <array>
 #include <optional>

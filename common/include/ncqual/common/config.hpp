@@ -11,13 +11,13 @@
 // mm and rad. Every problem names the file, the key and the value; a load reports all of them.
 #pragma once
 
-#include "ncqual/calendar.hpp"
-#include "ncqual/error.hpp"
-#include "ncqual/config/budget.hpp"
-#include "ncqual/config/simulator.hpp"
-#include "ncqual/fixture.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/kinematics.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/error.hpp"
+#include "ncqual/common/config/budget.hpp"
+#include "ncqual/common/config/simulator.hpp"
+#include "ncqual/common/fixture.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/kinematics.hpp"
 
 #include <Eigen/Core>
 
@@ -136,10 +136,11 @@ struct MachineConfig {
   std::map<std::string, Tolerance> tolerances;  // by metric name
   sim::SimulatorConfig simulator;  // the `simulator:` section (ground truth; acquisition only)
   std::optional<solver::ErrorBudgetConfig> budget;  // the `budget:` section, if any
-  std::optional<FixtureConfig> fixture;  // the `fixture:` section (ncqual/fixture.hpp), if any
-  PartSetPointsConfig setpoints;         // the `setpoints:` section
-  ProbingConfig probing;                 // the `probing:` section
-  InstrumentConfig instrument;           // the `instrument:` section
+  std::optional<FixtureConfig>
+      fixture;                    // the `fixture:` section (ncqual/common/fixture.hpp), if any
+  PartSetPointsConfig setpoints;  // the `setpoints:` section
+  ProbingConfig probing;          // the `probing:` section
+  InstrumentConfig instrument;    // the `instrument:` section
   std::optional<GlobalCheckConfig> global_check;  // the `global_check:` section (monthly, tracker)
 
   // Tolerance of a metric; throws ConfigError naming the machine and metric when absent.

@@ -24,7 +24,7 @@
 // line is 0 and left out too: "<file>: <message>".
 #pragma once
 
-#include "ncqual/error.hpp"
+#include "ncqual/common/error.hpp"
 
 #include <cstddef>
 #include <optional>

@@ -26,9 +26,9 @@
 // Units: mm and rad inside; the YAML may write inches and degrees (keys ending _in, _deg).
 #pragma once
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/kinematics.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <Eigen/Core>
 

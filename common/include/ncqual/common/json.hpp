@@ -12,7 +12,7 @@
 // Object keys come out sorted (nlohmann::json keeps them in a std::map).
 #pragma once
 
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>

@@ -13,7 +13,7 @@
 // nominal ones; the difference is what the checks measure.
 #pragma once
 
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 // The domain model shared by every part of ncqual: plain C++ values, no DDS.
 //
-// The wire types in idl/ mirror these one to one; common/dds converts between them, so
+// The wire types in idl/ mirror these one to one; dds/ converts between them, so
 // that the solver, the storage and the simulator never see a generated type.
 // Units: millimetres, radians and nanoseconds since the Unix epoch (UTC).
 #pragma once
 
 #include <Eigen/Core>
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -194,6 +195,11 @@ struct CheckCommand {
   std::int64_t time_ns = 0;
   std::vector<NamedValue> parameters;  // passed on to the CheckRequest
 };
+
+// How often every service publishes its Heartbeat; the plant's status calls a service silent after
+// a few periods without one. Here, not in the DDS library, so that what reads the historian
+// (status, ncqual-web) needs no DDS.
+inline constexpr std::chrono::milliseconds kHeartbeatPeriod{2000};
 
 struct Heartbeat {
   std::string service;     // "scheduler", "acquisition", "solver", "historian"

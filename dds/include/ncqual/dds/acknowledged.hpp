@@ -18,7 +18,7 @@
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/service.hpp"
 #include "ncqual/dds/topics.hpp"
-#include "ncqual/state_file.hpp"
+#include "ncqual/storage/state_file.hpp"
 
 #include <chrono>
 #include <functional>

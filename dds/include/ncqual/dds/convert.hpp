@@ -6,7 +6,7 @@
 #pragma once
 
 #include "ncqual.h"
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <string>
 

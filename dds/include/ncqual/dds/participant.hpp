@@ -16,8 +16,8 @@
 #include <optional>
 #include <set>
 #include <stdexcept>
-#include "ncqual/config.hpp"
-#include "ncqual/error.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/error.hpp"
 
 #include <string>
 #include <vector>

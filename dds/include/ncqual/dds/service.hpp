@@ -4,9 +4,9 @@
 // arguments, wire their readers and writers to a library, and call run().
 #pragma once
 
-#include "ncqual/clock.hpp"
-#include "ncqual/command_line.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/command_line.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/dds/dispatcher.hpp"
 #include "ncqual/dds/raw.hpp"
 #include "ncqual/dds/topics.hpp"
@@ -23,7 +23,7 @@ struct ServiceOptions {
   std::string
       machine_id;  // for an acquisition service: its machine, or its machines joined by commas
   ParticipantOptions participant;  // its domain, QoS profiles and network (named ncqual-<service>)
-  std::chrono::milliseconds heartbeat_period{2000};
+  std::chrono::milliseconds heartbeat_period{kHeartbeatPeriod};
   // The heartbeat goes out through a RawWriter (raw.hpp): for a service whose participant reads
   // every topic raw (the recorder), as a participant registers one type per type name.
   bool raw_heartbeat = false;

@@ -5,7 +5,7 @@
 #include "ncqual.h"
 #include "ncqualPubSubTypes.h"
 #include "ncqual/dds/participant.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 namespace ncqual::dds {
 

@@ -10,9 +10,9 @@
 // section (ProbingConfig; defaults kDefaultProbingClearanceMm, kDefaultProbingOvertravelMm).
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/fixture.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/fixture.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <Eigen/Core>
 
@@ -92,7 +92,7 @@ struct FixturePlan {
 //   side face with outward normal n: from q + (h + r + g) n - d e_z along -n;
 // travel g + o. Both sides in X and in Y, so the pogo's centre, the mean of the two side
 // contacts, does not depend on the ball radius. Features "pogo:<label>:cfg<index>:<face>"
-// (ncqual/fixture.hpp). Pre-calibration probes configuration k of the request's parameter
+// (ncqual/common/fixture.hpp). Pre-calibration probes configuration k of the request's parameter
 // "fixture_configuration" (required, an integer in 0 .. 2n-1); post-calibration every
 // post-calibration configuration j in order, with the rows of pre-calibration configuration k
 // when the parameter is given, else every row.

@@ -28,9 +28,9 @@
 //                comment "# request <id>" names the program's request.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/error.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/error.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <Eigen/Core>
 
@@ -41,7 +41,7 @@
 
 namespace ncqual::probing {
 
-// The dialects, their names and the one list of them are ncqual/config.hpp's (a machine's
+// The dialects, their names and the one list of them are ncqual/common/config.hpp's (a machine's
 // `instrument:` section names one).
 using Dialect = ControlDialect;
 inline std::optional<Dialect> dialect_from(std::string_view name) {

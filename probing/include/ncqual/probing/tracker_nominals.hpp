@@ -3,8 +3,8 @@
 // Analyzer, PolyWorks, Metrolog and the like import a list of named nominals to measure against)
 // and for whoever writes the machine's moves (docs/connecting-a-machine.md).
 //
-// One row per measurement of the check's program (ncqual/global_check.hpp: global_check_program),
-// in the order the machine runs them:
+// One row per measurement of the check's program (ncqual/common/global_check.hpp:
+// global_check_program), in the order the machine runs them:
 //   Point,X (mm),Y (mm),Z (mm),Reflector,Machine X (mm),Machine Y (mm),Machine Z (mm),A (deg),
 //   C (deg),W (mm)
 // Point is the program's label ("x_run:3", "grid:17:t0"); X, Y, Z the reflector's nominal
@@ -16,8 +16,8 @@
 // an export that keeps the point names pairs with the program point for point.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <cstddef>
 #include <string>

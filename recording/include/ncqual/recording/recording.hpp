@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Recordings of a plant's DDS traffic as MCAP files (ncqual/mcap.hpp), what is in them, and
+// Recordings of a plant's DDS traffic as MCAP files (ncqual/mcap/mcap.hpp), what is in them, and
 // which of their samples a replay sends. No DDS here: the recorder (recorder.hpp) and the replay
 // (replayer.hpp) wire these to readers and writers.
 //
@@ -13,7 +13,7 @@
 #pragma once
 
 #include "ncqual/dds/raw.hpp"
-#include "ncqual/mcap.hpp"
+#include "ncqual/mcap/mcap.hpp"
 
 #include <cstdint>
 #include <map>

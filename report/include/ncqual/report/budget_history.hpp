@@ -5,7 +5,7 @@
 #pragma once
 
 #include "ncqual/solver/error_budget.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <cstdint>
 #include <limits>

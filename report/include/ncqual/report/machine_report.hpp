@@ -8,13 +8,13 @@
 // radians (the evaluations' and the historian's); µm and degrees only in what people read.
 #pragma once
 
-#include "ncqual/config.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/report/metric_trend.hpp"
 #include "ncqual/solver/error_budget.hpp"
 #include "ncqual/solver/global_checks.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
-#include "ncqual/storage_web.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
+#include "ncqual/storage/web.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -7,9 +7,9 @@
 // public interface (append, never rename).
 #pragma once
 
-#include "ncqual/model.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
 #include "ncqual/trend/assess.hpp"
 
 #include <nlohmann/json.hpp>

@@ -4,8 +4,8 @@
 // TrendWarning sample of a change. Pure functions.
 #pragma once
 
-#include "ncqual/model.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/trend.hpp"
 #include "ncqual/trend/assess.hpp"
 
 #include <cstdint>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/acquisition/control_files.hpp"
 
-#include "ncqual/text.hpp"
+#include "ncqual/common/text.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -3,7 +3,7 @@
 
 #include "ncqual/acquisition/control_files.hpp"
 
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/check_kinds.hpp"
 
 #include <stdexcept>
 

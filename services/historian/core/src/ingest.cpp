@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "ingest.hpp"
+#include "ncqual/historian/ingest.hpp"
 
 #include <algorithm>
 #include <utility>

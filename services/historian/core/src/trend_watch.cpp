@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "trend_watch.hpp"
+#include "ncqual/historian/trend_watch.hpp"
 
-#include "ncqual/check_kinds.hpp"
+#include "ncqual/common/check_kinds.hpp"
 #include "ncqual/report/warnings.hpp"
 
 #include <algorithm>

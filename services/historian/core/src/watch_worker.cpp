@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "watch_worker.hpp"
+#include "ncqual/historian/watch_worker.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "driver.hpp"
+#include "ncqual/scheduler/driver.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "scheduler.hpp"
+#include "ncqual/scheduler/scheduler.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/json.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/json.hpp"
 
 #include <spdlog/spdlog.h>
 

@@ -5,10 +5,10 @@
 
 #include "pages.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/plant_status.hpp"
-#include "ncqual/storage_json.hpp"
-#include "ncqual/storage_web.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/status/plant_status.hpp"
+#include "ncqual/storage/json.hpp"
+#include "ncqual/storage/web.hpp"
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>

@@ -2,8 +2,8 @@
 // The dashboard's pages (pages.hpp): HTML written here, every stored text escaped.
 #include "pages.hpp"
 
-#include "ncqual/check_kinds.hpp"
-#include "ncqual/version.hpp"
+#include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/version.hpp"
 
 #include "ncqual/report/machine_report.hpp"
 

@@ -6,8 +6,8 @@
 
 #include "ncqual/web/dashboard.hpp"
 
-#include "ncqual/plant_status.hpp"
-#include "ncqual/storage_web.hpp"
+#include "ncqual/status/plant_status.hpp"
+#include "ncqual/storage/web.hpp"
 
 #include <cstdint>
 #include <string>

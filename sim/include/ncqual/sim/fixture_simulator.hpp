@@ -30,7 +30,7 @@
 //   (h = block half size, d = probe depth, r = nominal ball radius, 5 mm clearance, 5 mm over-
 //   travel). Both sides in X and in Y, so the pogo's centre, the mean of the two side contacts,
 //   does not depend on the ball radius. Features: "pogo:<label>:cfg<index>:<face>"
-//   (ncqual/fixture.hpp).
+//   (ncqual/common/fixture.hpp).
 // Configurations: pre-calibration (kind FixturePreCalibration) probes configuration k of the
 // request's parameter "fixture_configuration" (required, an integer in 0 .. 2n-1); post-calibration
 // (FixturePostCalibration) probes every post-calibration configuration j in order, with the rows of
@@ -38,9 +38,9 @@
 // zero offsets the post-calibration verifies), else every row.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/fixture.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/fixture.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 

@@ -5,9 +5,9 @@
 // would, never the answer. Its errors are exposed as ground truth for tests.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/kinematics.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/contact.hpp"
 #include "ncqual/probing/plan.hpp"
 #include "ncqual/sim/simulator_config.hpp"

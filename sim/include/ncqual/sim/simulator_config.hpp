@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // The instrument simulator's configuration and its ground truth at a time. The section itself
 // (what every key means) is documented and read in the configuration layer:
-// ncqual/config/simulator.hpp; a machine config holds it as MachineConfig::simulator.
+// ncqual/common/config/simulator.hpp; a machine config holds it as MachineConfig::simulator.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/config/simulator.hpp"
-#include "ncqual/volumetric.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/config/simulator.hpp"
+#include "ncqual/common/volumetric.hpp"
 
 #include <Eigen/Core>
 

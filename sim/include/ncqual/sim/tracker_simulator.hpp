@@ -1,15 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // The laser tracker simulator of the monthly global check: the machine runs the program of a
-// tracker check (ncqual/global_check.hpp) and a tracker standing beside it measures the reflector
-// in the spindle. The machine is the true one of SimulatorConfig (21 rigid-body errors, thermal
-// expansion, reversal, repeatability, wrist errors), the tracker has its own frame and noise in
-// its spherical coordinates. Readings come out in the tracker frame, never corrected; the truth is
-// exposed for tests.
+// tracker check (ncqual/common/global_check.hpp) and a tracker standing beside it measures the
+// reflector in the spindle. The machine is the true one of SimulatorConfig (21 rigid-body errors,
+// thermal expansion, reversal, repeatability, wrist errors), the tracker has its own frame and
+// noise in its spherical coordinates. Readings come out in the tracker frame, never corrected; the
+// truth is exposed for tests.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/simulator_config.hpp"
 
 #include <cstdint>

@@ -81,7 +81,7 @@
 // iso230_4_conformance says so.
 #pragma once
 
-#include "ncqual/units.hpp"
+#include "ncqual/common/units.hpp"
 
 #include <Eigen/Core>
 

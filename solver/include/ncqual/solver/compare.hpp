@@ -3,7 +3,7 @@
 // solver version against its recorded checks (`ncqual replay --resolve`, docs/recordings.md).
 #pragma once
 
-#include "ncqual/model.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <string>
 #include <vector>

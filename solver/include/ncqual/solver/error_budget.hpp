@@ -22,7 +22,7 @@
 // mm and rad inside; the config may write inches, degrees and arc-seconds.
 #pragma once
 
-#include "ncqual/config/budget.hpp"
+#include "ncqual/common/config/budget.hpp"
 
 #include <cstdint>
 #include <map>
@@ -35,7 +35,7 @@
 namespace ncqual::solver {
 
 // The configuration (BudgetAxis, BudgetSource, ErrorBudgetConfig, ...) is in
-// ncqual/config/budget.hpp: a machine config holds it as MachineConfig::budget.
+// ncqual/common/config/budget.hpp: a machine config holds it as MachineConfig::budget.
 
 // ---- Geometry -----------------------------------------------------------------------------------
 

@@ -15,9 +15,9 @@
 // nonlinearity in the behavior of the fixture, misalignment of the fixture axes relative to the
 // machine axes, wear of fixture components, and other potential causes."
 //
-// Input: touches named "pogo:<label>:cfg<index>:<face>" (ncqual/fixture.hpp), five faces per pogo
-// (top, x-, x+, y-, y+), head at home (A = C = 0); the machine config's `fixture:` section gives
-// the commanded positions of each configuration.
+// Input: touches named "pogo:<label>:cfg<index>:<face>" (ncqual/common/fixture.hpp), five faces per
+// pogo (top, x-, x+, y-, y+), head at home (A = C = 0); the machine config's `fixture:` section
+// gives the commanded positions of each configuration.
 //
 // Tolerances (machine config `tolerances:`): per axis "fixture_dx_mm", "fixture_dy_mm",
 // "fixture_dz_mm", each falling back to "fixture_delta_mm" when absent. Every delta of that axis
@@ -42,8 +42,8 @@
 // commanded; the fixture's control unit subtracts it from what it commands that pogo.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <Eigen/Core>
 

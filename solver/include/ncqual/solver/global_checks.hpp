@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The monthly global check with a laser tracker, as checks: a tracker MeasurementSet in, a
-// CheckResult out. The point labels and the programs are those of ncqual/global_check.hpp; the
-// evaluations are the pure functions of master_frame.hpp, global_grid.hpp, rotary_axes.hpp,
+// CheckResult out. The point labels and the programs are those of ncqual/common/global_check.hpp;
+// the evaluations are the pure functions of master_frame.hpp, global_grid.hpp, rotary_axes.hpp,
 // circular_test.hpp, iso230_2.hpp and volumetric_identification.hpp. Every set but the master
 // frame's own carries the master-frame runs of its session, so each check is judged on its own.
 //
@@ -23,8 +23,8 @@
 // refuse; the reason names the field and value.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/global_grid.hpp"
 #include "ncqual/solver/iso230_2.hpp"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Readers of instrument exports (CSV, see ncqual/csv.hpp for the common format): text (or a
+// Readers of instrument exports (CSV, see ncqual/common/csv.hpp for the common format): text (or a
 // parsed CsvTable) in, typed data out, no file I/O here (the caller reads the file, e.g. with
 // ncqual::read_csv_file, and passes the table); every problem a CsvError "<file>:<line>:<column>:
 // <message>" (column left out when a whole row is wrong, line too when the whole file is). Columns
@@ -16,7 +16,7 @@
 //   ("deviation"), e.g. "Error (µm)". A length column without a unit, or in another unit, is
 //   refused at the header, never guessed. cycle (or "run") an integer; direction (or "dir") up,
 //   +, fwd, forward, pos, positive (approach in +) or down, -, bwd, back, backward, rev, reverse,
-//   neg, negative (in -), any case. Separators and the decimal comma: ncqual/csv.hpp.
+//   neg, negative (in -), any case. Separators and the decimal comma: ncqual/common/csv.hpp.
 //   A length column without a unit takes the unit a comment before the header declares
 //   ("# Units: um", "# unit = in"; mm, um, in and their long names).
 // ISO 230-2 run, wide form (one row per target, one column per run and direction):
@@ -64,10 +64,10 @@
 //   commanded position (naming both lines), a file with no points.
 #pragma once
 
-#include "ncqual/csv.hpp"
-#include "ncqual/global_check.hpp"
-#include "ncqual/kinematics.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/csv.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/iso230_2.hpp"
 
@@ -208,7 +208,7 @@ struct CmmReport {
 CmmReport read_cmm_results(std::string_view text, const std::string& file);
 
 // ---- Imports: instrument exports as the tracker points of a MeasurementSet ---------------------
-// Labelled as the monthly programs label them (ncqual/global_check.hpp), so an export goes
+// Labelled as the monthly programs label them (ncqual/common/global_check.hpp), so an export goes
 // through the same solver check as a simulated measurement (`ncqual import`). Commanded axes are
 // the pivot positions that put `target` (the reflector's geometry, usually the machine's
 // global_check.targets[0]) at the file's commanded position, A = C = W = 0.
@@ -235,7 +235,7 @@ std::vector<TrackerPoint> tracker_points_for_circle(const CircleFile& circle,
 // millimetres, a broken export. `ncqual import` refuses those before anything is published.
 
 // The box the machine's monthly programs move the spindle's pivot in (the commanded positions of
-// every tracker check kind `config` plans, ncqual/global_check.hpp).
+// every tracker check kind `config` plans, ncqual/common/global_check.hpp).
 struct Envelope {
   Eigen::Vector3d lo_mm = Eigen::Vector3d::Zero(), hi_mm = Eigen::Vector3d::Zero();
   // Its largest side, at least 100 mm (a program over a single point still has a machine round it).

@@ -10,8 +10,8 @@
 // ring gauge's face is compared to a previously taught Z position for the face."
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <string_view>
 

@@ -6,12 +6,12 @@
 // Patent US 6,909,517, "Probe Check Number 1: C-Axis Alignment", "Number 2: Composite Tool
 // Length", "Number 4: C-Axis Rotational Accuracy". All three read touches taken with the head
 // in defined orientations and turn the latched axis readouts into stylus ball centres with the
-// NOMINAL kinematics (ncqual/kinematics.hpp); the error the check looks for is what makes
+// NOMINAL kinematics (ncqual/common/kinematics.hpp); the error the check looks for is what makes
 // touches of one surface disagree between two head orientations.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <string_view>
 

@@ -10,8 +10,8 @@
 // workpiece": its measured position becomes the zero reference of the part program.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <string>
 #include <string_view>

@@ -9,10 +9,10 @@
 // the intended positions of the target are graphically displayed".
 //
 // The target (tracker reflector) sits in the spindle; its nominal position is
-// stylus_ball_centre(commanded, geometry) (ncqual/kinematics.hpp) with geometry.tool_length_mm =
-// the pivot-to-target distance at W = 0 and geometry.stylus_offset_mm = the target's offset off
-// the tool axis in the body frame (ball_radius_mm is not used). Measured positions are in the
-// master frame (master_frame.hpp), which stands for the machine frame.
+// stylus_ball_centre(commanded, geometry) (ncqual/common/kinematics.hpp) with
+// geometry.tool_length_mm = the pivot-to-target distance at W = 0 and geometry.stylus_offset_mm =
+// the target's offset off the tool axis in the body frame (ball_radius_mm is not used). Measured
+// positions are in the master frame (master_frame.hpp), which stands for the machine frame.
 //
 // A and C: the target sweeps a circle about the axis. Nominal axis through the pivot
 // P = (x, y, z): C along machine +Z, A along Rz(c) +X (the head's own axis). The fit is the
@@ -52,8 +52,8 @@
 //   W: (Rz(c) X, Rz(c) Rx(a) Y)      - the body's X and Y (machine X and Y at A = C = 0)
 #pragma once
 
-#include "ncqual/kinematics.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <Eigen/Core>
 

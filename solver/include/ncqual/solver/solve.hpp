@@ -2,8 +2,8 @@
 // The solver's entry point: a measurement set in, a check result out.
 #pragma once
 
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <cstdint>
 

@@ -76,8 +76,8 @@
 // range r, azimuth about its z from its x, elevation from its x-y plane.
 #pragma once
 
-#include "ncqual/global_check.hpp"
-#include "ncqual/volumetric.hpp"
+#include "ncqual/common/global_check.hpp"
+#include "ncqual/common/volumetric.hpp"
 
 #include <Eigen/Core>
 
@@ -88,7 +88,7 @@
 namespace ncqual::solver {
 
 // The laser tracker as the uncertainty model sees it: the tracker as planned in the plant config
-// (ncqual/global_check.hpp: its pose, its noise, its placement sigmas, rotation()).
+// (ncqual/common/global_check.hpp: its pose, its noise, its placement sigmas, rotation()).
 using TrackerUncertaintyModel = PlannedTrackerConfig;
 
 // One verification point: the commanded X, Y, Z of the pivot and the target's offset from it
@@ -119,9 +119,10 @@ VerificationDesign grid_verification_design(const GlobalCheckConfig& config);
 // Refuses (std::invalid_argument) a non-finite alpha.
 double expansion_uncertainty_per_K(double alpha_per_K);
 
-// The sources as configured (UncertaintySourcesConfig, ncqual/global_check.hpp: repeatability,
-// expansion and its u(alpha), temperature deviation and its sigma, per axis X, Y, Z; the default
-// u(alpha) is expansion_uncertainty_per_K(11.5e-6) = 5.77e-7 1/K) and the machine verified.
+// The sources as configured (UncertaintySourcesConfig, ncqual/common/global_check.hpp:
+// repeatability, expansion and its u(alpha), temperature deviation and its sigma, per axis X, Y, Z;
+// the default u(alpha) is expansion_uncertainty_per_K(11.5e-6) = 5.77e-7 1/K) and the machine
+// verified.
 struct UncertaintySources : UncertaintySourcesConfig {
   volumetric::RigidBodyErrors errors;  // the machine verified (fixed)
 };
@@ -203,8 +204,8 @@ VerificationUncertainty evaluate_verification_uncertainty(const VerificationDesi
                                                           const UncertaintySources& sources,
                                                           const MonteCarloOptions& options = {});
 
-// Where the tracker may stand (ncqual/global_check.hpp): a grid of candidate positions over the
-// box [lo, hi] (steps per axis; one step = the box's middle on that axis), minus every position
+// Where the tracker may stand (ncqual/common/global_check.hpp): a grid of candidate positions over
+// the box [lo, hi] (steps per axis; one step = the box's middle on that axis), minus every position
 // inside the working envelope (the bounding box of the design's nominal targets, commanded + tool
 // offset) grown by envelope_clearance_mm, minus every position that sees a design point closer
 // than min_range_mm or farther than max_range_mm (the tracker's range, paper: 0.5 m to 15 m).

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Identification of the 21 rigid-body errors of the linear axes X, Y, Z (model and names in
-// ncqual/volumetric.hpp) from
+// ncqual/common/volumetric.hpp) from
 //   A. a laser-tracker grid (Aguado et al.): the tool point measured in the tracker's own frame
 //      at commanded positions, possibly with several tool offsets;
 //   B. sequential-diagonal ("laser vector") data (Wang & Chung section 2.2): a laser along each
@@ -57,7 +57,7 @@
 // instrument's: measured = R * p + T.
 #pragma once
 
-#include "ncqual/volumetric.hpp"
+#include "ncqual/common/volumetric.hpp"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -15,11 +15,11 @@
 // and the dashboard's /api/v1/plant.
 #pragma once
 
-#include "ncqual/calendar.hpp"
-#include "ncqual/config.hpp"
-#include "ncqual/json.hpp"
-#include "ncqual/model.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/json.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <chrono>
 #include <cstdint>

@@ -9,8 +9,8 @@
 // second row.
 #pragma once
 
-#include "ncqual/error.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/error.hpp"
+#include "ncqual/common/model.hpp"
 
 #include <cstdint>
 #include <limits>

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 // The JSON of one check, for `ncqual history --json`, `ncqual check --json` and reports. The
 // names are a public interface: append, never rename. Declared with nlohmann's macros over
-// ncqual/json.hpp (enumerations by name, an absent part as null, a non-finite tolerance bound,
-// i.e. a one-sided band, as null).
+// ncqual/common/json.hpp (enumerations by name, an absent part as null, a non-finite tolerance
+// bound, i.e. a one-sided band, as null).
 #pragma once
 
-#include "ncqual/json.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/json.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <cstdint>
 #include <map>

@@ -13,7 +13,7 @@
 // samples mean.
 #pragma once
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <map>
 #include <cstdint>

@@ -7,8 +7,8 @@
 // (StorageQueryPlans.* checks the plans).
 #pragma once
 
-#include "ncqual/model.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <cstdint>
 #include <limits>

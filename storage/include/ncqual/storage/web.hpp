@@ -5,8 +5,8 @@
 // statement is prepared once per connection.
 #pragma once
 
-#include "ncqual/model.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <cstdint>
 #include <string>

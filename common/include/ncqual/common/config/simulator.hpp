@@ -53,8 +53,9 @@
 //       temperature_C: [20, 20, 20]
 //       range_mm: {x: [200, 4200], y: [200, 1700], z: [600, 1200]}  # Legendre ranges
 //       EXX_um: [0, 12, -4]              # Legendre coefficients c0, c1, ... of each of the 18
-//       EAX_urad: [0, 5]                 #   error functions (ncqual/volumetric.hpp): _um for
-//       EC(0X)Y_urad: 20                 #   E{X,Y,Z}K, _urad for E{A,B,C}K; squareness EC(0X)Y,
+//       EAX_urad: [0, 5]                 #   error functions (ncqual/common/volumetric.hpp): _um
+//       for EC(0X)Y_urad: 20                 #   E{X,Y,Z}K, _urad for E{A,B,C}K; squareness
+//       EC(0X)Y,
 //                                        #   EB(0X)Z, EA(0Y)Z in urad
 //       c_axis_tilt_urad: [0, 0]         # C axis tilted about machine X, Y
 //       c_periodic_arcsec: 0             # once-per-turn angular error of C (amplitude, phase)
@@ -77,8 +78,8 @@
 //   A length rate may carry its own unit ("0.7 um" is 0.7 um per day), an angle rate likewise.
 #pragma once
 
-#include "ncqual/kinematics.hpp"
-#include "ncqual/volumetric.hpp"
+#include "ncqual/common/kinematics.hpp"
+#include "ncqual/common/volumetric.hpp"
 
 #include <Eigen/Core>
 

@@ -22,7 +22,7 @@
 #pragma once
 
 #include "ncqual/acquisition/instruments.hpp"
-#include "ncqual/clock.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/probing/program.hpp"
 
 #include <cstdint>

@@ -10,9 +10,9 @@
 // machine the process serves waits while it does.
 #pragma once
 
-#include "ncqual/clock.hpp"
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
 #include "ncqual/sim/fixture_simulator.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/sim/tracker_simulator.hpp"

@@ -22,8 +22,8 @@
 #pragma once
 
 #include "ncqual/acquisition/instruments.hpp"
-#include "ncqual/model.hpp"
-#include "ncqual/state_file.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/state_file.hpp"
 
 #include <cstdint>
 #include <deque>

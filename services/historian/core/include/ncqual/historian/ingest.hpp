@@ -16,7 +16,7 @@
 // counted.
 #pragma once
 
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <chrono>
 #include <cstdint>

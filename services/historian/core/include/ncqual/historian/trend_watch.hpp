@@ -17,9 +17,9 @@
 // changes are by that newest event; assessing twice changes nothing.
 #pragma once
 
-#include "ncqual/model.hpp"
-#include "ncqual/storage.hpp"
-#include "ncqual/storage_trend.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
 #include "ncqual/trend/assess.hpp"
 
 #include <cstdint>

@@ -12,10 +12,10 @@
 // reason.
 #pragma once
 
-#include "trend_watch.hpp"
+#include "ncqual/historian/trend_watch.hpp"
 
-#include "ncqual/model.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <chrono>
 #include <condition_variable>

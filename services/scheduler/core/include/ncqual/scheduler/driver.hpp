@@ -3,10 +3,10 @@
 // the simulated clock's run. The executable wires DDS to these; the tests drive them directly.
 #pragma once
 
-#include "scheduler.hpp"
+#include "ncqual/scheduler/scheduler.hpp"
 
-#include "ncqual/clock.hpp"
-#include "ncqual/state_file.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/storage/state_file.hpp"
 
 #include <chrono>
 #include <cstdint>

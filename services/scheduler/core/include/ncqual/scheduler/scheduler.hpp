@@ -45,11 +45,11 @@
 // next_event_ns() whenever idle().
 #pragma once
 
-#include "ncqual/calendar.hpp"
-#include "ncqual/clock.hpp"
-#include "ncqual/config.hpp"
-#include "ncqual/model.hpp"
-#include "ncqual/state_file.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/clock.hpp"
+#include "ncqual/common/config.hpp"
+#include "ncqual/common/model.hpp"
+#include "ncqual/storage/state_file.hpp"
 
 #include <deque>
 #include <functional>

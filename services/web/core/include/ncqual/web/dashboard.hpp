@@ -20,10 +20,10 @@
 // historian database cannot be read. Every list is bounded (Limits).
 #pragma once
 
-#include "ncqual/calendar.hpp"
-#include "ncqual/config.hpp"
+#include "ncqual/common/calendar.hpp"
+#include "ncqual/common/config.hpp"
 #include "ncqual/report/machine_report.hpp"
-#include "ncqual/storage.hpp"
+#include "ncqual/storage/database.hpp"
 
 #include <cstddef>
 #include <cstdint>
