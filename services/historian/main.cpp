@@ -255,7 +255,7 @@ int run(int argc, char** argv) {
     std::vector<ncqual::dds::PlantIdentity> identities;
     if (!open_plant) {
       try {
-        identities = ncqual::dds::plant_identities(plant.security.dir);
+        identities = ncqual::dds::plant_identities(p.security().dir);
       } catch (const std::exception& e) {
         spdlog::warn("the plant's identities are not read ({}): conflicts name writers by GUID",
                      e.what());

@@ -108,6 +108,8 @@ class Participant {
   int domain_id() const { return domain_id_; }
   // Runs with DDS Security (the plant's security: section).
   bool secured() const { return !security_.dir.empty(); }
+  // Its security: the plant's material (dir; from the plant file or --secure) and its identity.
+  const SecurityConfig& security() const { return security_; }
   // For a writer or reader whose profile is not loaded: throws the DdsError naming the remedies,
   // unless the plant allows Fast DDS's defaults (then the caller uses them).
   void require_default_qos_allowed(const std::string& profile, const std::string& topic) const;
