@@ -31,6 +31,7 @@
 #include <functional>
 #include <csignal>
 #include <iostream>
+#include <type_traits>
 
 namespace {
 
@@ -54,23 +55,31 @@ using Raise = std::function<void(const std::string&, const std::string&, const s
 // plant), else the GUID.
 using NameWriter = std::function<std::string(const std::string&)>;
 
-// The text of a conflict, its log line and its Alarm. For a check's measurement set or result it
-// opens with what the scheduler holds the machine for (scheduler.hpp: Scheduler::conflict):
+// What two different samples of `Topic` for one check are, in a conflict's text: "measurements",
+// "results"; nullptr for a topic that is not a part of a check the scheduler judges.
+template <typename Topic>
+constexpr const char* check_part() {
+  if constexpr (std::is_same_v<Topic, ncqual::dds::MeasurementSetTopic>) return "measurements";
+  if constexpr (std::is_same_v<Topic, ncqual::dds::CheckResultTopic>) return "results";
+  return nullptr;
+}
+
+// The text of a conflict, its log line and its Alarm. For a check's measurement set or result
+// (`part`) it opens with what the scheduler holds the machine for (Scheduler::conflict):
 // "conflicting measurements of REQUEST from WRITER A and WRITER B".
-std::string conflict_text(const char* what, const std::string& id, const std::string& machine_id,
-                          const ncqual::storage::StoreResult& stored, const std::string& writer,
-                          const std::string& content_hash, const NameWriter& name) {
+std::string conflict_text(const char* what, const char* part, const std::string& id,
+                          const std::string& machine_id, const ncqual::storage::StoreResult& stored,
+                          const std::string& writer, const std::string& content_hash,
+                          const NameWriter& name) {
   const std::string first = stored.stored_writer.empty() ? std::string("an unrecorded writer")
                                                          : name(stored.stored_writer);
   const std::string second = name(writer);
   const std::string both = fmt::format(
       "(content {} stored first, {} kept beside it); both kept, the stored one unchanged",
       stored.stored_hash.substr(0, 12), content_hash.substr(0, 12));
-  const std::string w(what);
-  if (w == "measurement set" || w == "result") {
-    return fmt::format("conflicting {} of {} of machine '{}' from {} and {} {}",
-                       w == "result" ? "results" : "measurements", id, machine_id, first, second,
-                       both);
+  if (part != nullptr) {
+    return fmt::format("conflicting {} of {} of machine '{}' from {} and {} {}", part, id,
+                       machine_id, first, second, both);
   }
   return fmt::format("{} {} of machine '{}' from {} differs from the one stored from {} {}", what,
                      id, machine_id, second, first, both);
@@ -107,7 +116,9 @@ void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const
     return;
   }
   // A per-machine topic's sample says where it came from (Received::partition): on an open plant
-  // at info, so that a writer outside the machines' partitions (the default one) is on record.
+  // at info when it is stored, so that a writer outside the machines' partitions (the default
+  // one) is on record. A resend is said at debug, as before: after a restart the durable
+  // histories send every stored sample again.
   const std::string where = ncqual::dds::where_received(in);
   const auto level = in.partition && open_plant ? spdlog::level::info : spdlog::level::debug;
   switch (stored.outcome) {
@@ -116,12 +127,12 @@ void store(ncqual::storage::Database& db, ncqual::dds::Acknowledger& acks, const
                   where.empty() ? "" : "written " + where + " by " + in.writer);
       break;
     case StoreOutcome::Duplicate:
-      spdlog::log(level, "{} {} of {} already stored{}", what, id, machine_id,
-                  where.empty() ? "" : " (sent again " + where + ")");
+      spdlog::debug("{} {} of {} already stored{}", what, id, machine_id,
+                    where.empty() ? "" : " (sent again " + where + ")");
       break;
     case StoreOutcome::Conflict: {
-      const std::string text =
-          conflict_text(what, id, machine_id, stored, in.writer, in.content_hash, name);
+      const std::string text = conflict_text(what, check_part<Topic>(), id, machine_id, stored,
+                                             in.writer, in.content_hash, name);
       // Raised once: a resend of the same content is answered CONFLICT again, not re-raised.
       if (!stored.new_conflict) {
         spdlog::debug("CONFLICT: {} (sent again; already kept)", text);
