@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/dds/identity.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <openssl/bio.h>
 #include <openssl/evp.h>
 #include <openssl/pem.h>
@@ -102,6 +104,23 @@ std::optional<PlantIdentity> identity_of_guid(const std::string& guid_text,
     if (identity.bits == *bits) return identity;
   }
   return std::nullopt;
+}
+
+std::vector<PlantIdentity> plant_identities_to_name(const std::string& dir, const char* what) {
+  if (dir.empty()) return {};
+  try {
+    return plant_identities(dir);
+  } catch (const std::exception& e) {
+    spdlog::warn("the plant's identities are not read ({}): {} name writers by GUID", e.what(),
+                 what);
+    return {};
+  }
+}
+
+std::string writer_name(const std::string& guid_text,
+                        const std::vector<PlantIdentity>& identities) {
+  const auto id = identity_of_guid(guid_text, identities);
+  return id ? id->name + " (writer " + guid_text + ")" : "writer " + guid_text;
 }
 
 std::optional<std::string> describe_refused_endpoint(const std::string& fast_dds_message,

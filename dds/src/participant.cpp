@@ -316,12 +316,7 @@ class RefusedEndpointLog : public eprosima::fastdds::dds::LogConsumer {
     if (entry.message.find("Error checking create remote") == std::string::npos) return;
     if (!loaded_) {  // on the logging thread, the first time one is refused
       loaded_ = true;
-      try {
-        identities_ = plant_identities(dir_);
-      } catch (const std::exception& e) {
-        spdlog::warn("the plant's identities could not be read to name a refused endpoint: {}",
-                     e.what());
-      }
+      identities_ = plant_identities_to_name(dir_, "refused endpoints");
     }
     if (const auto said = describe_refused_endpoint(entry.message, identities_)) {
       spdlog::error("{}", *said);

@@ -45,6 +45,14 @@ std::vector<PlantIdentity> plant_identities(const std::string& dir);
 std::optional<PlantIdentity> identity_of_guid(const std::string& guid_text,
                                               const std::vector<PlantIdentity>& identities);
 
+// As plant_identities, for naming writers in messages: none when `dir` is "" (an open plant) or
+// cannot be read (warned, saying that `what` then names them by GUID).
+std::vector<PlantIdentity> plant_identities_to_name(const std::string& dir, const char* what);
+
+// A writer's GUID as a conflict names it: "solver (writer GUID)" when the GUID carries a plant
+// identity's subject bits, else "writer GUID".
+std::string writer_name(const std::string& guid_text, const std::vector<PlantIdentity>& identities);
+
 // What Fast DDS 2.9.1 logs when DDS Security refuses a remote endpoint (SecurityManager:
 // "Error checking create remote writer <GUID> (<why>)", the same for a reader), said for people:
 // "refused a remote writer of identity 'acquisition-pm1' (CN=...; writer <GUID>): <why>; nothing

@@ -88,4 +88,11 @@ std::int64_t Ingest::oldest_received_ns() const {
   return waiting_.empty() ? 0 : waiting_.front().received_ns;
 }
 
+void Ingest::describe(Heartbeat& beat) const {
+  beat.health = std::string(storage::to_string(health_));
+  beat.health_detail = detail();
+  beat.outbox_depth = static_cast<std::int64_t>(waiting_.size());
+  beat.oldest_unacknowledged_ns = oldest_received_ns();
+}
+
 }  // namespace ncqual::historian

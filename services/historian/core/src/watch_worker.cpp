@@ -90,6 +90,14 @@ void WatchWorker::run() {
     const auto started = std::chrono::steady_clock::now();
     try {
       const std::vector<TrendWarning> changes = job(db_, watch_);
+      for (const TrendWarning& w : changes) {
+        if (w.active) {
+          spdlog::warn("trend warning raised: {}", w.text);
+        } else {
+          spdlog::info("trend warning of {} {} ({}) ended by {}", w.machine_id, w.metric, w.kind,
+                       w.ended_by);
+        }
+      }
       if (!changes.empty()) publish_(changes);
     } catch (const std::exception& e) {
       spdlog::error("trend watch after {}: {}; its metrics are assessed again at their next result",

@@ -59,6 +59,8 @@ class Ingest {
   std::size_t backlog() const { return waiting_.size(); }
   // Receive time of the oldest waiting sample; 0 when none waits.
   std::int64_t oldest_received_ns() const;
+  // The heartbeat's storage fields: health, its detail, the backlog and the oldest waiting.
+  void describe(Heartbeat& beat) const;
   // Samples not kept because the backlog was full (never acknowledged).
   std::size_t dropped() const { return dropped_; }
 

@@ -31,7 +31,8 @@ namespace ncqual::historian {
 
 class WatchWorker {
  public:
-  // Called on the worker's thread with the warnings raised or ended by one job (never empty).
+  // Called on the worker's thread with the warnings raised or ended by one job (never empty),
+  // once the worker has logged each.
   using Publish = std::function<void(const std::vector<TrendWarning>&)>;
 
   // How long the destructor lets the waiting jobs finish: a stop right after a burst (a
@@ -47,6 +48,12 @@ class WatchWorker {
   void after_result(const CheckResult& result);
   void after_intervention(const Intervention& intervention);
   void after_compensation(const Compensation& compensation);
+  // What follows any sample newly stored: the three above; nothing for the other kinds.
+  void after_stored(const CheckResult& result) { after_result(result); }
+  void after_stored(const Intervention& intervention) { after_intervention(intervention); }
+  void after_stored(const Compensation& compensation) { after_compensation(compensation); }
+  template <typename Other>
+  void after_stored(const Other& /*not watched*/) {}
 
   // Jobs handed over and not finished yet (the one in hand included).
   std::size_t pending() const;
