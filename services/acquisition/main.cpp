@@ -3,16 +3,13 @@
 // instruments each machine config's `instrument:` section names (the simulator, or the machine's
 // own control through program and results files) and publishing the raw MeasurementSet; it never
 // judges one.
-// It also stands for the holding fixture's control unit: it applies the zero offsets the solver
-// publishes as Compensations (kept in its state file, so a restart restores them), and a
-// post-calibration waits until the correction it verifies is applied. It acknowledges requests
-// and compensations once settled, so their senders keep them until it has. What a machine does with
-// its requests is ncqual/acquisition/station.hpp; this file wires one station per machine served
-// (--machine a,b,c or --all) to its readers and its MeasurementSet writer, in the machine's own
-// partition (docs/deploy.md, "Roles").
-// Every set is kept in the outbox of the state file, saved with the record that its request was
-// performed, until the historian stored it and the solver saved its result
-// (docs/architecture.md, "Acknowledged storage"): a restart sends it again, never measures again.
+// It also stands for the fixture's control unit: it applies the zero offsets the solver publishes
+// as Compensations. What a machine does with its requests and compensations is its station's
+// (ncqual/acquisition/station.hpp); which machines one process serves, selection.hpp. This file
+// wires one station per machine to its readers and its MeasurementSet writer in the machine's own
+// partition (docs/deploy.md, "Roles"), through the outbox (docs/architecture.md, "Acknowledged
+// storage").
+#include "ncqual/acquisition/selection.hpp"
 #include "ncqual/acquisition/station.hpp"
 #include "ncqual/common/command_line.hpp"
 #include "ncqual/common/config.hpp"
@@ -23,9 +20,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <filesystem>
-#include <iostream>
 #include <memory>
 #include <optional>
 
@@ -73,32 +67,6 @@ class Served {
   ncqual::dds::Reader<ncqual::dds::CompensationTopic> compensations_;
 };
 
-// What names the machines to serve: --machine (comma-separated ids), --all, or --machine-config.
-struct MachineSelection {
-  std::optional<std::string> machine, machine_config;
-  bool all = false;
-};
-
-// The machines named by --machine (comma-separated ids), --all, or --machine-config.
-std::vector<MachineConfig> served_machines(const MachineSelection& args, const PlantConfig& plant) {
-  std::vector<MachineConfig> out;
-  const int ways = (args.all ? 1 : 0) + (args.machine ? 1 : 0) + (args.machine_config ? 1 : 0);
-  if (ways != 1) {
-    throw ConfigError(
-        "name the machines to serve with exactly one of --machine ID[,ID...], --all "
-        "or --machine-config FILE");
-  }
-  if (args.machine_config) {
-    out.push_back(load_machine_config(*args.machine_config));
-  } else if (args.all) {
-    out = plant.machines;
-    if (out.empty()) throw ConfigError("--all: " + plant.source_path + " configures no machine");
-  } else {
-    out = plant.machines_named(*args.machine, "--machine");
-  }
-  return out;
-}
-
 int run(int argc, char** argv) {
   using namespace ncqual;
   ncqual::dds::ServiceMain service_main(
@@ -109,7 +77,7 @@ int run(int argc, char** argv) {
       "(control-files; docs/connecting-a-machine.md).\n"
       "One process serves every machine named; each keeps its own state.");
   CLI::App& app = service_main.app();
-  MachineSelection selection;
+  acquisition::MachineSelection selection;
   double max_age_s = 600;
   std::optional<std::string> state_flag;
   app.add_option("--machine", selection.machine, "serve these machines of the plant")
@@ -128,25 +96,18 @@ int run(int argc, char** argv) {
       ->capture_default_str();
   return service_main.run(argc, argv, [&](PlantConfig loaded) {
     const PlantConfig plant = std::move(loaded);
-    const std::vector<MachineConfig> machines = served_machines(selection, plant);
+    const std::vector<MachineConfig> machines = acquisition::served_machines(selection, plant);
     const std::int64_t max_age_ns = static_cast<std::int64_t>(max_age_s * 1e9);
 
     // The heartbeat names the machines served: one id, or the ids joined by commas.
-    std::string served;
-    for (const auto& m : machines) served += (served.empty() ? "" : ",") + m.machine_id;
+    const std::string served = acquisition::served_ids(machines);
     ncqual::dds::Service service(service_main.service_options(plant, served));
     // One writer per machine, in its partition: on a secured plant the permissions of this
     // acquisition's identity allow those partitions only.
-    std::vector<std::string> ids;
-    ids.reserve(machines.size());
-    for (const auto& m : machines) ids.push_back(m.machine_id);
-    ncqual::dds::MachineWriters<ncqual::dds::MeasurementSetTopic> sets(service.participant(), ids);
-    std::string file_ids = selection.all ? "all" : served;
-    std::replace(file_ids.begin(), file_ids.end(), ',', '+');
+    ncqual::dds::MachineWriters<ncqual::dds::MeasurementSetTopic> sets(
+        service.participant(), acquisition::ids_of(machines));
     storage::StateFile state = storage::StateFile::open(
-        state_flag.value_or((std::filesystem::path(plant.historian_database).parent_path() /
-                             ("acquisition-" + file_ids + ".db"))
-                                .string()));
+        state_flag.value_or(acquisition::default_state_file(selection, machines, plant)));
     const auto documents = state.load();
     ncqual::dds::Outbox outbox(service, state);
     outbox.route(sets);
@@ -167,13 +128,6 @@ int run(int argc, char** argv) {
     const acquisition::StationOptions station_options{plant.simulated_clock, max_age_ns};
     std::vector<std::unique_ptr<Served>> stations;
     for (const auto& m : machines) {
-      if (m.instrument.driver == InstrumentDriver::ControlFiles) {
-        spdlog::info(
-            "{}: measured by its control ({}): programs to {}, results from {}, archived "
-            "in {}, timeout {} s",
-            m.machine_id, to_string(m.instrument.dialect), m.instrument.outbox, m.instrument.inbox,
-            m.instrument.archive, m.instrument.timeout_s);
-      }
       acquisition::PerformedRequests performed(state, m.machine_id);
       performed.load(documents);
       stations.push_back(std::make_unique<Served>(

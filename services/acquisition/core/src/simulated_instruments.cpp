@@ -5,6 +5,8 @@
 
 #include "ncqual/common/check_kinds.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <stdexcept>
 
 namespace ncqual::acquisition {
@@ -20,6 +22,11 @@ std::unique_ptr<Instruments> make_instruments(const MachineConfig& machine, cons
                                               const std::string& version) {
   switch (machine.instrument.driver) {
     case InstrumentDriver::ControlFiles:
+      spdlog::info(
+          "{}: measured by its control ({}): programs to {}, results from {}, archived in {}, "
+          "timeout {} s",
+          machine.machine_id, to_string(machine.instrument.dialect), machine.instrument.outbox,
+          machine.instrument.inbox, machine.instrument.archive, machine.instrument.timeout_s);
       return std::make_unique<ControlFilesInstruments>(machine, clock, version);
     case InstrumentDriver::Simulator: break;
   }
