@@ -2,8 +2,8 @@
 // Twenty machines of three kinds against one scheduler, one solver and one historian, for three
 // simulated weeks that cross the change to summer time (29 March 2026 in Europe/Berlin) and a
 // month end (1 April). Two acquisition processes serve ten machines each (the "cell computer"
-// deployment; see README). Every check the calendar makes due must be stored exactly once, at the
-// time the process defines, and nothing else:
+// deployment; docs/running.md, "Many machines"). Every check the calendar makes due must be stored
+// exactly once, at the time the process defines, and nothing else:
 //   - m01..m04 extend pm1 (monument, fixture, laser tracker): the monthly global check on the
 //     first shift of the run and again on Wednesday 1 April, before that day's daily checks;
 //   - m05..m12 have no global_check: section: the weekly fixture pre-calibration on each Monday;
