@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/scheduler/driver.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -25,6 +27,52 @@ ServedPlant serve_only(PlantConfig plant, const std::optional<std::string>& mach
             .string();
   }
   out.plant = std::move(plant);
+  return out;
+}
+
+void add_flags(CLI::App& app, Flags& flags) {
+  app.add_option("--machine", flags.machine_list,
+                 "serve only these machines (one scheduler per machine or group; default: all)")
+      ->type_name("ID[,ID...]");
+  app.add_option("--cycle", flags.cycle,
+                 "checks to run once at start, in order (default without a calendar: the "
+                 "plant's scheduler.startup_checks; '' for none)")
+      ->type_name("KIND,KIND,...");
+  app.add_option("--state", flags.state,
+                 "the durable state file (default: the plant's scheduler.state_database; with "
+                 "--machine, scheduler-<ids>.db beside it)")
+      ->type_name("FILE");
+  app.add_option("--days", flags.days,
+                 "simulated clock only: stop once nothing is due before that time")
+      ->type_name("N");
+  app.add_option("--until", flags.until, "simulated clock only: as --days, to an ISO 8601 UTC time")
+      ->type_name("ISO-TIME");
+  app.add_option("--stall-s", flags.stall_s,
+                 "simulated clock: wall seconds without an answer before the clock runs on to "
+                 "the check's timeout")
+      ->type_name("S")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--speed", flags.speed,
+                 "simulated clock: at most X simulated seconds per wall second (default: as fast "
+                 "as the checks come back)")
+      ->type_name("X")
+      ->check(CLI::PositiveNumber);
+}
+
+Settings settle(PlantConfig plant, const Flags& flags) {
+  Settings out;
+  out.served = serve_only(std::move(plant), flags.machine_list);
+  const PlantConfig& served = out.served.plant;
+  out.cycle = flags.cycle ? check_kind_list(*flags.cycle)
+                          : (served.calendar ? std::vector<CheckKind>{} : served.startup_checks);
+  out.run.until_ns = simulated_run_end(served, flags.days, flags.until);
+  if (flags.speed && !served.simulated_clock) {
+    throw std::invalid_argument("--speed needs the plant's clock.mode: simulated");
+  }
+  out.run.speed = flags.speed;
+  out.run.stall = std::chrono::milliseconds(static_cast<std::int64_t>(flags.stall_s * 1000));
+  out.state_file = flags.state.value_or(served.scheduler_state_database);
   return out;
 }
 

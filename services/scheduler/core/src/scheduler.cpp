@@ -617,6 +617,7 @@ void Scheduler::commit(Machine& m) {
       spdlog::error("{}: scheduler state not saved to {}: {}", m.config->machine_id,
                     state_file_->path(), e.what());
       saved_ = false;
+      restore(m);
       return;
     }
   }
@@ -626,6 +627,24 @@ void Scheduler::commit(Machine& m) {
   }
   if (out_.status) {
     for (const auto& s : statuses) out_.status(s);
+  }
+}
+
+void Scheduler::restore(Machine& m) {
+  const std::string key = "machine/" + m.config->machine_id;
+  try {
+    const auto docs = state_file_->load();
+    const auto it = docs.find(key);
+    m.run = it == docs.end() ? MachineRun{} : machine_run_from_json(it->second);
+    for (auto& [fixture, next] : rotation_) {
+      const auto doc = docs.find("fixture/" + fixture);
+      if (doc != docs.end()) next = parsed<FixtureDocument>(doc->second).next_configuration;
+    }
+  } catch (const std::exception& e) {
+    spdlog::error(
+        "{}: the state before the unsaved decision could not be read back from {} ({}); "
+        "the decision stays in memory until a restart",
+        m.config->machine_id, state_file_->path(), e.what());
   }
 }
 

@@ -16,6 +16,10 @@
 #include <string>
 #include <vector>
 
+namespace CLI {
+class App;
+}  // namespace CLI
+
 namespace ncqual::scheduler {
 
 // ---- The command line's choices ---------------------------------------------------------------
@@ -73,6 +77,32 @@ struct SimulatedRunOptions {
     return std::chrono::steady_clock::now();
   };
 };
+
+// The command line's flags as given (ncqual-scheduler --help says each).
+struct Flags {
+  std::optional<std::string> machine_list;  // --machine ID[,ID...]
+  std::optional<std::string> cycle;         // --cycle KIND,KIND,...
+  std::optional<std::string> state;         // --state FILE
+  std::optional<double> days;               // --days N
+  std::optional<std::string> until;         // --until ISO-TIME
+  double stall_s = 30;                      // --stall-s S
+  std::optional<double> speed;              // --speed X
+};
+
+// Adds the flags (their help texts) to the service's command line.
+void add_flags(CLI::App& app, Flags& flags);
+
+// What the flags settle for a plant: the machines served, the checks to run once at start (the
+// --cycle; else none with a calendar, the plant's scheduler.startup_checks without one), the state
+// file (--state, else the served plant's), and the simulated run's end, stall and speed. Throws
+// ConfigError or std::invalid_argument naming the flag (--speed or --days on the wall clock).
+struct Settings {
+  ServedPlant served;
+  std::vector<CheckKind> cycle;
+  std::string state_file;
+  SimulatedRunOptions run;
+};
+Settings settle(PlantConfig plant, const Flags& flags);
 
 // The plant calendar on a simulated clock, as fast as the checks come back: whenever no check is
 // waiting for a result the clock jumps to the next thing due (a shift start, a part, a timeout);

@@ -213,6 +213,10 @@ class Scheduler {
   std::string refusal_while_held(const Machine& m, CheckKind kind) const;
   // Writes the state, then sends what the decision produced.
   void commit(Machine& m);
+  // After a decision that could not be saved: the machine's run and the fixture rotation go back
+  // to what the state file holds, so that the sample behind the decision, sent again because it
+  // was not acknowledged, is decided again rather than taken for one already handled.
+  void restore(Machine& m);
 
   const PlantConfig& plant_;
   const Clock& clock_;
