@@ -2,6 +2,7 @@
 #include "ncqual/dds/service.hpp"
 
 #include "ncqual/common/log.hpp"
+#include "ncqual/common/service_manager.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -11,21 +12,9 @@
 
 #include <spdlog/spdlog.h>
 
-#include <systemd/sd-daemon.h>
 #include <unistd.h>
 
 namespace ncqual::dds {
-
-namespace {
-
-// Tells the service manager (systemd, Type=notify) `state`; nothing without a NOTIFY_SOCKET.
-void notify(const std::string& state) {
-  if (const int r = sd_notify(0, state.c_str()); r < 0) {
-    spdlog::warn("could not notify the service manager ({}): {}", state, std::strerror(-r));
-  }
-}
-
-}  // namespace
 
 std::string plant_file_from(const std::string& flag_value) {
   std::string path = plant_config_path(flag_value);
@@ -91,10 +80,9 @@ Service::Service(const ServiceOptions& options) : options_(options) {
   dispatcher_.every(options.heartbeat_period, [this] { beat("running"); });
   // Under a unit with WatchdogSec=: pinged from the receive loop, so a loop that hangs is
   // restarted by systemd; twice per period, as sd_watchdog_enabled(3) advises.
-  std::uint64_t watchdog_usec = 0;
-  if (sd_watchdog_enabled(0, &watchdog_usec) > 0 && watchdog_usec > 0) {
-    dispatcher_.every(std::chrono::milliseconds(std::max<std::uint64_t>(watchdog_usec / 2000, 1)),
-                      [] { notify("WATCHDOG=1"); });
+  if (const auto period = service_manager::watchdog_ping_period()) {
+    dispatcher_.every(std::chrono::duration_cast<std::chrono::milliseconds>(*period),
+                      [] { service_manager::notify("WATCHDOG=1"); });
   }
 }
 
@@ -125,9 +113,10 @@ int Service::run() {
                                     : "secured as '" + security.identity + "' of " + security.dir);
   // Ready: the participant, every reader and writer, the database or state file are made
   // (Type=notify units start what is ordered after this one only now).
-  notify("READY=1\nSTATUS=running on domain " + std::to_string(options_.participant.domain_id));
+  service_manager::notify("READY=1\nSTATUS=running on domain " +
+                          std::to_string(options_.participant.domain_id));
   dispatcher_.run();
-  notify("STOPPING=1\nSTATUS=stopping");
+  service_manager::notify("STOPPING=1\nSTATUS=stopping");
   beat("stopping");
   for (const auto& work : before_stop_) work();
   spdlog::info("{} stopped", options_.service);
