@@ -1,4 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
+// The identification of the 21 rigid-body errors from tracker points (A) or sequential-diagonal
+// readings (B), and predictions with its result. One file on purpose: it is one estimator, whose
+// parts (the parameter layout, the chain and its Jacobian, the observations, the common
+// pipeline) serve both entries and predict_position alike and are of no use on their own.
 #include "ncqual/solver/volumetric_identification.hpp"
 
 #include "result_building.hpp"
