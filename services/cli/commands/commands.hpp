@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The commands of `ncqual`. Each file in this folder adds one command to the CLI11 app (its
-// options, its help) and registers what runs it; main.cpp only builds the app from them, parses
-// and dispatches. Exit codes: exit_codes.hpp.
+// options, its help) and registers what runs it; a command with subcommands has one file per
+// subcommand beside it (analyze_*.cpp, db_*.cpp, sharing analyze.hpp, db.hpp). main.cpp only
+// builds the app from them, parses and dispatches. Exit codes: exit_codes.hpp.
 #pragma once
 
 #include "exit_codes.hpp"
