@@ -1,404 +1,297 @@
 // SPDX-License-Identifier: Apache-2.0
+// The wire types generated from idl/ncqual.idl and the model, converted field by field from the
+// field lists of ncqual/common/model.hpp (NCQUAL_FIELDS_*): each X field by its type below, each S
+// field by hand beside its struct's conversion.
 #include "ncqual/dds/convert.hpp"
 
 #include <algorithm>
 #include <climits>
+#include <type_traits>
 
 namespace ncqual::dds {
 namespace {
-
-// The IDL enums and the model enums share their numbering (see idl/ncqual.idl).
-msg::CheckKind wire_kind(CheckKind k) { return static_cast<msg::CheckKind>(static_cast<int>(k)); }
-msg::Verdict wire_verdict(Verdict v) { return static_cast<msg::Verdict>(static_cast<int>(v)); }
 
 void note(std::string& error, const std::string& what) {
   if (error.empty()) error = what;
 }
 
-// A wire enum as the model's, whose values run from 0 to `last` with the same numbers: an
-// unknown one is noted ("<field> = 7 is not a known <what>") and becomes `fallback`.
-template <typename Model, typename Wire>
-Model model_enum(Wire w, Model last, Model fallback, const std::string& field, const char* what,
-                 std::string& error) {
-  const auto raw = static_cast<std::uint32_t>(w);
-  if (raw > static_cast<std::uint32_t>(last)) {
-    note(error, field + " = " + std::to_string(raw) + " is not a known " + what);
-    return fallback;
-  }
-  return static_cast<Model>(raw);
-}
+// ---- Enumerations: the model's and the IDL's share their numbering (idl/ncqual.idl). From the
+// wire one out of range is noted ("<Struct.field> = 7 is not a known <what>") and read as
+// `fallback`.
+template <typename Model>
+struct OnWire;
+template <>
+struct OnWire<CheckKind> {
+  using Wire = msg::CheckKind;
+  static constexpr auto kLast = static_cast<CheckKind>(kCheckKindCount - 1);
+  static constexpr auto kFallback = CheckKind::MonumentPositioning;
+  static constexpr const char* kWhat = "check kind";
+};
+template <>
+struct OnWire<Verdict> {
+  using Wire = msg::Verdict;
+  static constexpr auto kLast = Verdict::Invalid;
+  static constexpr auto kFallback = Verdict::Invalid;
+  static constexpr const char* kWhat = "verdict";
+};
+template <>
+struct OnWire<MachineState> {
+  using Wire = msg::MachineState;
+  static constexpr auto kLast = MachineState::Offline;
+  static constexpr auto kFallback = MachineState::Unknown;
+  static constexpr const char* kWhat = "state";
+};
+template <>
+struct OnWire<AckOutcome> {
+  using Wire = msg::AckOutcome;
+  static constexpr auto kLast = AckOutcome::Accepted;
+  static constexpr auto kFallback = AckOutcome::Refused;
+  static constexpr const char* kWhat = "acknowledgement outcome";
+};
+template <>
+struct OnWire<AlarmKind> {
+  using Wire = msg::AlarmKind;
+  static constexpr auto kLast = AlarmKind::Storage;
+  static constexpr auto kFallback = AlarmKind::Conflict;
+  static constexpr const char* kWhat = "alarm kind";
+};
 
-CheckKind model_kind(msg::CheckKind k, const char* field, std::string& error) {
-  return model_enum(k, static_cast<CheckKind>(kCheckKindCount - 1), CheckKind::MonumentPositioning,
-                    field, "check kind", error);
-}
+// Where a field is, for a note: "CheckResult.verdict".
+struct Field {
+  const char* type;
+  const char* name;
+  std::string text() const { return std::string(type) + "." + name; }
+};
 
-Verdict model_verdict(msg::Verdict v, const char* field, std::string& error) {
-  return model_enum(v, Verdict::Invalid, Verdict::Invalid, field, "verdict", error);
+// ---- To the wire, by type -------------------------------------------------------------------
+template <typename T, std::enable_if_t<std::is_arithmetic_v<T>, int> = 0>
+T wire_value(T v) {
+  return v;
 }
-
-msg::AxisPosition wire_axes(const AxisPosition& a) {
-  msg::AxisPosition w;
-  w.x_mm(a.x_mm);
-  w.y_mm(a.y_mm);
-  w.z_mm(a.z_mm);
-  w.w_mm(a.w_mm);
-  w.a_rad(a.a_rad);
-  w.c_rad(a.c_rad);
-  return w;
+const std::string& wire_value(const std::string& v) { return v; }
+template <typename E, std::enable_if_t<std::is_enum_v<E>, int> = 0>
+typename OnWire<E>::Wire wire_value(E v) {
+  return static_cast<typename OnWire<E>::Wire>(static_cast<int>(v));
 }
-AxisPosition model_axes(const msg::AxisPosition& w) {
-  return AxisPosition{w.x_mm(), w.y_mm(), w.z_mm(), w.w_mm(), w.a_rad(), w.c_rad()};
-}
-msg::Vector3 wire_vec(const Eigen::Vector3d& v) {
+msg::Vector3 wire_value(const Eigen::Vector3d& v) {
   msg::Vector3 w;
   w.x(v.x());
   w.y(v.y());
   w.z(v.z());
   return w;
 }
-Eigen::Vector3d model_vec(const msg::Vector3& w) { return {w.x(), w.y(), w.z()}; }
+msg::AxisPosition wire_value(const AxisPosition& v);
+msg::NamedValue wire_value(const NamedValue& v);
+msg::Touch wire_value(const Touch& v);
+msg::TrackerPoint wire_value(const TrackerPoint& v);
+msg::Metric wire_value(const Metric& v);
+msg::SoftwareCorrection wire_value(const Correction& v);
+template <typename T>
+auto wire_value(const std::vector<T>& v) {
+  std::vector<std::decay_t<decltype(wire_value(std::declval<const T&>()))>> w;
+  w.reserve(v.size());
+  for (const auto& x : v) w.push_back(wire_value(x));
+  return w;
+}
 
-std::vector<msg::NamedValue> wire_values(const std::vector<NamedValue>& values) {
-  std::vector<msg::NamedValue> w;
-  w.reserve(values.size());
-  for (const auto& o : values) {
-    msg::NamedValue nv;
-    nv.name(o.name);
-    nv.value(o.value);
-    nv.unit(o.unit);
-    w.push_back(nv);
+// ---- From the wire, by type ---------------------------------------------------------------------
+template <typename T, std::enable_if_t<std::is_arithmetic_v<T>, int> = 0>
+void model_value(T w, T& v, const Field& /*field*/, std::string& /*error*/) {
+  v = w;
+}
+void model_value(const std::string& w, std::string& v, const Field& /*field*/,
+                 std::string& /*error*/) {
+  v = w;
+}
+template <typename E, std::enable_if_t<std::is_enum_v<E>, int> = 0>
+void model_value(typename OnWire<E>::Wire w, E& v, const Field& field, std::string& error) {
+  const auto raw = static_cast<std::uint32_t>(w);
+  if (raw > static_cast<std::uint32_t>(OnWire<E>::kLast)) {
+    note(error, field.text() + " = " + std::to_string(raw) + " is not a known " + OnWire<E>::kWhat);
+    v = OnWire<E>::kFallback;
+    return;
   }
-  return w;
+  v = static_cast<E>(raw);
 }
-std::vector<NamedValue> model_values(const std::vector<msg::NamedValue>& w) {
-  std::vector<NamedValue> values;
-  values.reserve(w.size());
-  for (const auto& o : w) values.push_back({o.name(), o.value(), o.unit()});
-  return values;
+void model_value(const msg::Vector3& w, Eigen::Vector3d& v, const Field& /*field*/,
+                 std::string& /*error*/) {
+  v = {w.x(), w.y(), w.z()};
+}
+void model_value(const msg::AxisPosition& w, AxisPosition& v, const Field& field,
+                 std::string& error);
+void model_value(const msg::NamedValue& w, NamedValue& v, const Field& field, std::string& error);
+void model_value(const msg::Touch& w, Touch& v, const Field& field, std::string& error);
+void model_value(const msg::TrackerPoint& w, TrackerPoint& v, const Field& field,
+                 std::string& error);
+void model_value(const msg::Metric& w, Metric& v, const Field& field, std::string& error);
+void model_value(const msg::SoftwareCorrection& w, Correction& v, const Field& field,
+                 std::string& error);
+template <typename W, typename M>
+void model_value(const std::vector<W>& w, std::vector<M>& v, const Field& field,
+                 std::string& error) {
+  v.resize(w.size());
+  for (std::size_t i = 0; i < w.size(); ++i) model_value(w[i], v[i], field, error);
 }
 
-msg::SoftwareCorrection wire_correction(const Correction& c) {
-  msg::SoftwareCorrection w;
-  w.target(c.target);
-  w.offsets(wire_values(c.offsets));
+// ---- Structs, from their field lists ------------------------------------------------------------
+#define NCQUAL_TO_WIRE(f) w.f(wire_value(v.f));
+#define NCQUAL_FROM_WIRE(f) model_value(w.f(), v.f, Field{type, #f}, error);
+#define NCQUAL_BY_HAND(f)
+// The X fields of `Model`, both ways: wire_fields(model, wire) and model_fields(wire, model).
+#define NCQUAL_CONVERT_FIELDS(Model, Wire, FIELDS)                                  \
+  [[maybe_unused]] void wire_fields(const Model& v, Wire& w) {                      \
+    FIELDS(NCQUAL_TO_WIRE, NCQUAL_BY_HAND)                                          \
+  }                                                                                 \
+  [[maybe_unused]] void model_fields(const Wire& w, Model& v, std::string& error) { \
+    [[maybe_unused]] constexpr const char* type = #Model;                           \
+    FIELDS(NCQUAL_FROM_WIRE, NCQUAL_BY_HAND)                                        \
+  }
+// A part of a sample (no S fields): wire_value and model_value of its own.
+#define NCQUAL_CONVERT_PART(Model, Wire, FIELDS)                                          \
+  NCQUAL_CONVERT_FIELDS(Model, Wire, FIELDS)                                              \
+  Wire wire_value(const Model& v) {                                                       \
+    Wire w;                                                                               \
+    wire_fields(v, w);                                                                    \
+    return w;                                                                             \
+  }                                                                                       \
+  void model_value(const Wire& w, Model& v, const Field& /*field*/, std::string& error) { \
+    model_fields(w, v, error);                                                            \
+  }
+
+NCQUAL_CONVERT_PART(AxisPosition, msg::AxisPosition, NCQUAL_FIELDS_AXIS_POSITION)
+NCQUAL_CONVERT_PART(NamedValue, msg::NamedValue, NCQUAL_FIELDS_NAMED_VALUE)
+NCQUAL_CONVERT_PART(Touch, msg::Touch, NCQUAL_FIELDS_TOUCH)
+NCQUAL_CONVERT_PART(TrackerPoint, msg::TrackerPoint, NCQUAL_FIELDS_TRACKER_POINT)
+NCQUAL_CONVERT_PART(Metric, msg::Metric, NCQUAL_FIELDS_METRIC)
+NCQUAL_CONVERT_PART(Correction, msg::SoftwareCorrection, NCQUAL_FIELDS_CORRECTION)
+NCQUAL_CONVERT_FIELDS(CheckRequest, msg::CheckRequest, NCQUAL_FIELDS_CHECK_REQUEST)
+NCQUAL_CONVERT_FIELDS(CheckCommand, msg::CheckCommand, NCQUAL_FIELDS_CHECK_COMMAND)
+NCQUAL_CONVERT_FIELDS(MeasurementSet, msg::MeasurementSet, NCQUAL_FIELDS_MEASUREMENT_SET)
+NCQUAL_CONVERT_FIELDS(CheckResult, msg::CheckResult, NCQUAL_FIELDS_CHECK_RESULT)
+NCQUAL_CONVERT_FIELDS(MachineStatus, msg::MachineStatus, NCQUAL_FIELDS_MACHINE_STATUS)
+NCQUAL_CONVERT_FIELDS(Intervention, msg::Intervention, NCQUAL_FIELDS_INTERVENTION)
+NCQUAL_CONVERT_FIELDS(Compensation, msg::Compensation, NCQUAL_FIELDS_COMPENSATION)
+NCQUAL_CONVERT_FIELDS(Heartbeat, msg::Heartbeat, NCQUAL_FIELDS_HEARTBEAT)
+NCQUAL_CONVERT_FIELDS(Acknowledgement, msg::Acknowledgement, NCQUAL_FIELDS_ACKNOWLEDGEMENT)
+NCQUAL_CONVERT_FIELDS(Alarm, msg::Alarm, NCQUAL_FIELDS_ALARM)
+NCQUAL_CONVERT_FIELDS(TrendWarning, msg::TrendWarning, NCQUAL_FIELDS_TREND_WARNING)
+
+#undef NCQUAL_CONVERT_PART
+#undef NCQUAL_CONVERT_FIELDS
+#undef NCQUAL_BY_HAND
+#undef NCQUAL_FROM_WIRE
+#undef NCQUAL_TO_WIRE
+
+// A sample with no S field, both ways.
+template <typename Wire, typename Model>
+Wire plain_to_wire(const Model& v) {
+  Wire w;
+  wire_fields(v, w);
   return w;
 }
-Correction model_correction(const msg::SoftwareCorrection& w) {
-  Correction c;
-  c.target = w.target();
-  c.offsets = model_values(w.offsets());
-  return c;
+template <typename Model, typename Wire>
+Model plain_from_wire(const Wire& w, std::string& error) {
+  Model v;
+  model_fields(w, v, error);
+  return v;
 }
 
 }  // namespace
 
-msg::CheckRequest to_wire(const CheckRequest& v) {
-  msg::CheckRequest w;
-  w.machine_id(v.machine_id);
-  w.request_id(v.request_id);
-  w.kind(wire_kind(v.kind));
-  w.requested_by(v.requested_by);
-  w.time_ns(v.time_ns);
-  w.attempt(v.attempt);
-  w.parameters(wire_values(v.parameters));
-  w.verifies_correction_of(v.verifies_correction_of);
-  return w;
-}
+msg::CheckRequest to_wire(const CheckRequest& v) { return plain_to_wire<msg::CheckRequest>(v); }
 CheckRequest from_wire(const msg::CheckRequest& w, std::string& error) {
-  CheckRequest v;
-  v.machine_id = w.machine_id();
-  v.request_id = w.request_id();
-  v.kind = model_kind(w.kind(), "CheckRequest.kind", error);
-  v.requested_by = w.requested_by();
-  v.time_ns = w.time_ns();
-  v.attempt = w.attempt();
-  v.parameters = model_values(w.parameters());
-  v.verifies_correction_of = w.verifies_correction_of();
-  return v;
+  return plain_from_wire<CheckRequest>(w, error);
 }
-
-msg::CheckCommand to_wire(const CheckCommand& v) {
-  msg::CheckCommand w;
-  w.machine_id(v.machine_id);
-  w.request_id(v.request_id);
-  w.kind(wire_kind(v.kind));
-  w.requested_by(v.requested_by);
-  w.time_ns(v.time_ns);
-  w.parameters(wire_values(v.parameters));
-  return w;
-}
+msg::CheckCommand to_wire(const CheckCommand& v) { return plain_to_wire<msg::CheckCommand>(v); }
 CheckCommand from_wire(const msg::CheckCommand& w, std::string& error) {
-  CheckCommand v;
-  v.machine_id = w.machine_id();
-  v.request_id = w.request_id();
-  v.kind = model_kind(w.kind(), "CheckCommand.kind", error);
-  v.requested_by = w.requested_by();
-  v.time_ns = w.time_ns();
-  v.parameters = model_values(w.parameters());
-  return v;
+  return plain_from_wire<CheckCommand>(w, error);
 }
-
 msg::MeasurementSet to_wire(const MeasurementSet& v) {
-  msg::MeasurementSet w;
-  w.machine_id(v.machine_id);
-  w.request_id(v.request_id);
-  w.kind(wire_kind(v.kind));
-  w.instrument(v.instrument);
-  w.frame(v.frame);
-  w.time_ns(v.time_ns);
-  w.error(v.error);
-  w.parameters(wire_values(v.parameters));
-  w.touches().reserve(v.touches.size());
-  for (const auto& t : v.touches) {
-    msg::Touch wt;
-    wt.feature(t.feature);
-    wt.axes(wire_axes(t.axes));
-    wt.approach(wire_vec(t.approach));
-    w.touches().push_back(wt);
-  }
-  w.tracker_points().reserve(v.tracker_points.size());
-  for (const auto& p : v.tracker_points) {
-    msg::TrackerPoint wp;
-    wp.label(p.label);
-    wp.commanded(wire_axes(p.commanded));
-    wp.measured_mm(wire_vec(p.measured_mm));
-    w.tracker_points().push_back(wp);
-  }
-  return w;
+  return plain_to_wire<msg::MeasurementSet>(v);
 }
 MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error) {
-  MeasurementSet v;
-  v.machine_id = w.machine_id();
-  v.request_id = w.request_id();
-  v.kind = model_kind(w.kind(), "MeasurementSet.kind", error);
-  v.instrument = w.instrument();
-  v.frame = w.frame();
-  v.time_ns = w.time_ns();
-  v.error = w.error();
-  v.parameters = model_values(w.parameters());
-  v.touches.reserve(w.touches().size());
-  for (const auto& t : w.touches()) {
-    v.touches.push_back(Touch{t.feature(), model_axes(t.axes()), model_vec(t.approach())});
-  }
-  v.tracker_points.reserve(w.tracker_points().size());
-  for (const auto& p : w.tracker_points()) {
-    v.tracker_points.push_back(
-        TrackerPoint{p.label(), model_axes(p.commanded()), model_vec(p.measured_mm())});
-  }
-  return v;
+  return plain_from_wire<MeasurementSet>(w, error);
+}
+msg::Intervention to_wire(const Intervention& v) { return plain_to_wire<msg::Intervention>(v); }
+Intervention from_wire(const msg::Intervention& w, std::string& error) {
+  return plain_from_wire<Intervention>(w, error);
+}
+msg::Compensation to_wire(const Compensation& v) { return plain_to_wire<msg::Compensation>(v); }
+Compensation from_wire(const msg::Compensation& w, std::string& error) {
+  return plain_from_wire<Compensation>(w, error);
+}
+msg::Acknowledgement to_wire(const Acknowledgement& v) {
+  return plain_to_wire<msg::Acknowledgement>(v);
+}
+Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error) {
+  return plain_from_wire<Acknowledgement>(w, error);
+}
+msg::Alarm to_wire(const Alarm& v) { return plain_to_wire<msg::Alarm>(v); }
+Alarm from_wire(const msg::Alarm& w, std::string& error) {
+  return plain_from_wire<Alarm>(w, error);
 }
 
+// S: correction travels with has_correction.
 msg::CheckResult to_wire(const CheckResult& v) {
-  msg::CheckResult w;
-  w.machine_id(v.machine_id);
-  w.request_id(v.request_id);
-  w.kind(wire_kind(v.kind));
-  w.verdict(wire_verdict(v.verdict));
-  w.reason(v.reason);
-  w.time_ns(v.time_ns);
-  w.produced_by(v.produced_by);
-  for (const auto& m : v.metrics) {
-    msg::Metric wm;
-    wm.name(m.name);
-    wm.value(m.value);
-    wm.unit(m.unit);
-    wm.lower(m.lower);
-    wm.upper(m.upper);
-    wm.pass(m.pass);
-    w.metrics().push_back(wm);
-  }
-  for (const auto& c : v.likely_causes) w.likely_causes().push_back(c);
+  msg::CheckResult w = plain_to_wire<msg::CheckResult>(v);
   w.has_correction(v.correction.has_value());
-  if (v.correction) w.correction(wire_correction(*v.correction));
+  if (v.correction) w.correction(wire_value(*v.correction));
   return w;
 }
 CheckResult from_wire(const msg::CheckResult& w, std::string& error) {
-  CheckResult v;
-  v.machine_id = w.machine_id();
-  v.request_id = w.request_id();
-  v.kind = model_kind(w.kind(), "CheckResult.kind", error);
-  v.verdict = model_verdict(w.verdict(), "CheckResult.verdict", error);
-  v.reason = w.reason();
-  v.time_ns = w.time_ns();
-  v.produced_by = w.produced_by();
-  for (const auto& m : w.metrics()) {
-    v.metrics.push_back(Metric{m.name(), m.value(), m.unit(), m.lower(), m.upper(), m.pass()});
+  CheckResult v = plain_from_wire<CheckResult>(w, error);
+  if (w.has_correction()) {
+    model_value(w.correction(), v.correction.emplace(), Field{"CheckResult", "correction"}, error);
   }
-  for (const auto& c : w.likely_causes()) v.likely_causes.push_back(c);
-  if (w.has_correction()) v.correction = model_correction(w.correction());
   return v;
 }
 
+// S: last_kind and last_verdict travel with has_last_check (the verdict INVALID when none).
 msg::MachineStatus to_wire(const MachineStatus& v) {
-  msg::MachineStatus w;
-  w.machine_id(v.machine_id);
-  w.request_id(v.request_id);
-  w.state(static_cast<msg::MachineState>(static_cast<int>(v.state)));
+  msg::MachineStatus w = plain_to_wire<msg::MachineStatus>(v);
   w.has_last_check(v.last_kind.has_value());
-  if (v.last_kind) w.last_kind(wire_kind(*v.last_kind));
-  w.last_verdict(wire_verdict(v.last_verdict.value_or(Verdict::Invalid)));
-  w.detail(v.detail);
-  w.time_ns(v.time_ns);
+  if (v.last_kind) w.last_kind(wire_value(*v.last_kind));
+  w.last_verdict(wire_value(v.last_verdict.value_or(Verdict::Invalid)));
   return w;
 }
 MachineStatus from_wire(const msg::MachineStatus& w, std::string& error) {
-  MachineStatus v;
-  v.machine_id = w.machine_id();
-  v.request_id = w.request_id();
-  v.state =
-      model_enum(w.state(), MachineState::Offline, v.state, "MachineStatus.state", "state", error);
+  MachineStatus v = plain_from_wire<MachineStatus>(w, error);
   if (w.has_last_check()) {
-    v.last_kind = model_kind(w.last_kind(), "MachineStatus.last_kind", error);
-    v.last_verdict = model_verdict(w.last_verdict(), "MachineStatus.last_verdict", error);
+    model_value(w.last_kind(), v.last_kind.emplace(), Field{"MachineStatus", "last_kind"}, error);
+    model_value(w.last_verdict(), v.last_verdict.emplace(), Field{"MachineStatus", "last_verdict"},
+                error);
   }
-  v.detail = w.detail();
-  v.time_ns = w.time_ns();
   return v;
 }
 
-msg::Intervention to_wire(const Intervention& v) {
-  msg::Intervention w;
-  w.machine_id(v.machine_id);
-  w.intervention_id(v.intervention_id);
-  w.kind(wire_kind(v.kind));
-  w.note(v.note);
-  w.operator_name(v.operator_name);
-  w.time_ns(v.time_ns);
-  return w;
-}
-Intervention from_wire(const msg::Intervention& w, std::string& error) {
-  Intervention v;
-  v.machine_id = w.machine_id();
-  v.intervention_id = w.intervention_id();
-  v.kind = model_kind(w.kind(), "Intervention.kind", error);
-  v.note = w.note();
-  v.operator_name = w.operator_name();
-  v.time_ns = w.time_ns();
-  return v;
-}
-
-msg::Compensation to_wire(const Compensation& v) {
-  msg::Compensation w;
-  w.machine_id(v.machine_id);
-  w.request_id(v.request_id);
-  w.correction(wire_correction(v.correction));
-  w.time_ns(v.time_ns);
-  return w;
-}
-Compensation from_wire(const msg::Compensation& w, std::string& /*error*/) {
-  Compensation v;
-  v.machine_id = w.machine_id();
-  v.request_id = w.request_id();
-  v.correction = model_correction(w.correction());
-  v.time_ns = w.time_ns();
-  return v;
-}
-
+// S: outbox_depth is 32-bit on the wire, clamped.
 msg::Heartbeat to_wire(const Heartbeat& v) {
-  msg::Heartbeat w;
-  w.machine_id(v.machine_id);
-  w.service(v.service);
-  w.instance(v.instance);
-  w.state(v.state);
-  w.time_ns(v.time_ns);
-  w.health(v.health);
-  w.health_detail(v.health_detail);
+  msg::Heartbeat w = plain_to_wire<msg::Heartbeat>(v);
   w.outbox_depth(static_cast<std::int32_t>(std::min<std::int64_t>(v.outbox_depth, INT32_MAX)));
-  w.oldest_unacknowledged_ns(v.oldest_unacknowledged_ns);
   return w;
 }
-Heartbeat from_wire(const msg::Heartbeat& w, std::string& /*error*/) {
-  return Heartbeat{w.service(),       w.instance(),     w.machine_id(),
-                   w.state(),         w.time_ns(),      w.health(),
-                   w.health_detail(), w.outbox_depth(), w.oldest_unacknowledged_ns()};
+Heartbeat from_wire(const msg::Heartbeat& w, std::string& error) {
+  Heartbeat v = plain_from_wire<Heartbeat>(w, error);
+  v.outbox_depth = w.outbox_depth();
+  return v;
 }
 
-msg::Acknowledgement to_wire(const Acknowledgement& v) {
-  msg::Acknowledgement w;
-  w.machine_id(v.machine_id);
-  w.topic(v.topic);
-  w.sample_id(v.sample_id);
-  w.content_hash(v.content_hash);
-  w.outcome(static_cast<msg::AckOutcome>(static_cast<int>(v.outcome)));
-  w.by(v.by);
-  w.instance(v.instance);
-  w.detail(v.detail);
-  w.time_ns(v.time_ns);
-  return w;
-}
-Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error) {
-  return Acknowledgement{w.machine_id(),
-                         w.topic(),
-                         w.sample_id(),
-                         w.content_hash(),
-                         model_enum(w.outcome(), AckOutcome::Accepted, AckOutcome::Refused,
-                                    "outcome", "acknowledgement outcome", error),
-                         w.by(),
-                         w.instance(),
-                         w.detail(),
-                         w.time_ns()};
-}
-
-msg::Alarm to_wire(const Alarm& v) {
-  msg::Alarm w;
-  w.machine_id(v.machine_id);
-  w.alarm_id(v.alarm_id);
-  w.kind(static_cast<msg::AlarmKind>(static_cast<int>(v.kind)));
-  w.active(v.active);
-  w.source(v.source);
-  w.instance(v.instance);
-  w.text(v.text);
-  w.time_ns(v.time_ns);
-  return w;
-}
-Alarm from_wire(const msg::Alarm& w, std::string& error) {
-  return Alarm{
-      w.machine_id(),
-      w.alarm_id(),
-      model_enum(w.kind(), AlarmKind::Storage, AlarmKind::Conflict, "kind", "alarm kind", error),
-      w.active(),
-      w.source(),
-      w.instance(),
-      w.text(),
-      w.time_ns()};
-}
-
+// S: metric is metric_name on the wire; the crossing dates are 0 there when none.
 msg::TrendWarning to_wire(const TrendWarning& v) {
-  msg::TrendWarning w;
-  w.machine_id(v.machine_id);
+  msg::TrendWarning w = plain_to_wire<msg::TrendWarning>(v);
   w.metric_name(v.metric);
-  w.check_kind(wire_kind(v.check_kind));
-  w.kind(v.kind);
-  w.side(v.side);
-  w.active(v.active);
-  w.started_ns(v.started_ns);
-  w.raised_by(v.raised_by);
-  w.ended_by(v.ended_by);
   w.expected_crossing_ns(v.expected_crossing_ns.value_or(0));
   w.earliest_crossing_ns(v.earliest_crossing_ns.value_or(0));
-  w.text(v.text);
-  w.time_ns(v.time_ns);
   return w;
 }
 TrendWarning from_wire(const msg::TrendWarning& w, std::string& error) {
   const auto date = [](std::int64_t ns) {
     return ns == 0 ? std::nullopt : std::optional<std::int64_t>(ns);
   };
-  TrendWarning v;
-  v.machine_id = w.machine_id();
+  TrendWarning v = plain_from_wire<TrendWarning>(w, error);
   v.metric = w.metric_name();
-  v.check_kind = model_kind(w.check_kind(), "TrendWarning.check_kind", error);
-  v.kind = w.kind();
-  v.side = w.side();
-  v.active = w.active();
-  v.started_ns = w.started_ns();
-  v.raised_by = w.raised_by();
-  v.ended_by = w.ended_by();
   v.expected_crossing_ns = date(w.expected_crossing_ns());
   v.earliest_crossing_ns = date(w.earliest_crossing_ns());
-  v.text = w.text();
-  v.time_ns = w.time_ns();
   return v;
 }
 

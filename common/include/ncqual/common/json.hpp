@@ -99,26 +99,38 @@ inline void from_json(const nlohmann::json& j, MachineState& v) {
   detail::enum_from_json(j, v, parse_machine_state, "MachineState");
 }
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(NamedValue, name, value, unit)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Metric, name, value, unit, lower, upper, pass)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Correction, target, offsets)
-// Missing fields read as their defaults: documents written before a field existed still load.
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE_WITH_DEFAULT(CheckRequest, machine_id, request_id, kind,
-                                                requested_by, time_ns, attempt, parameters,
-                                                verifies_correction_of)
+// The model's structs from their field lists (ncqual/common/model.hpp): every field under its name.
+// A document missing a field is refused, naming the field (nlohmann's json::at), except a
+// CheckRequest's: its missing fields read as their defaults, so state documents written before a
+// field existed still load.
+#define NCQUAL_JSON_PUT(f) j[#f] = v.f;
+#define NCQUAL_JSON_GET(f) j.at(#f).get_to(v.f);
+#define NCQUAL_JSON_GET_OR_DEFAULT(f) \
+  if (const auto it = j.find(#f); it != j.end()) it->get_to(v.f);
+#define NCQUAL_JSON(Type, FIELDS, GET)                    \
+  inline void to_json(nlohmann::json& j, const Type& v) { \
+    j = nlohmann::json::object();                         \
+    FIELDS(NCQUAL_JSON_PUT, NCQUAL_JSON_PUT)              \
+  }                                                       \
+  inline void from_json(const nlohmann::json& j, Type& v) { FIELDS(GET, GET) }
 
+NCQUAL_JSON(NamedValue, NCQUAL_FIELDS_NAMED_VALUE, NCQUAL_JSON_GET)
+NCQUAL_JSON(Metric, NCQUAL_FIELDS_METRIC, NCQUAL_JSON_GET)
+NCQUAL_JSON(Correction, NCQUAL_FIELDS_CORRECTION, NCQUAL_JSON_GET)
+NCQUAL_JSON(CheckRequest, NCQUAL_FIELDS_CHECK_REQUEST, NCQUAL_JSON_GET_OR_DEFAULT)
 // The other samples, as the historian keeps a conflicting one (storage: conflicts.document).
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(AxisPosition, x_mm, y_mm, z_mm, w_mm, a_rad, c_rad)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Touch, feature, axes, approach)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrackerPoint, label, commanded, measured_mm)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementSet, machine_id, request_id, kind, instrument, frame,
-                                   time_ns, touches, tracker_points, parameters, error)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckResult, machine_id, request_id, kind, verdict, metrics,
-                                   likely_causes, reason, correction, time_ns, produced_by)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineStatus, machine_id, request_id, state, last_kind,
-                                   last_verdict, detail, time_ns)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Intervention, machine_id, intervention_id, kind, note,
-                                   operator_name, time_ns)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(Compensation, machine_id, request_id, correction, time_ns)
+NCQUAL_JSON(AxisPosition, NCQUAL_FIELDS_AXIS_POSITION, NCQUAL_JSON_GET)
+NCQUAL_JSON(Touch, NCQUAL_FIELDS_TOUCH, NCQUAL_JSON_GET)
+NCQUAL_JSON(TrackerPoint, NCQUAL_FIELDS_TRACKER_POINT, NCQUAL_JSON_GET)
+NCQUAL_JSON(MeasurementSet, NCQUAL_FIELDS_MEASUREMENT_SET, NCQUAL_JSON_GET)
+NCQUAL_JSON(CheckResult, NCQUAL_FIELDS_CHECK_RESULT, NCQUAL_JSON_GET)
+NCQUAL_JSON(MachineStatus, NCQUAL_FIELDS_MACHINE_STATUS, NCQUAL_JSON_GET)
+NCQUAL_JSON(Intervention, NCQUAL_FIELDS_INTERVENTION, NCQUAL_JSON_GET)
+NCQUAL_JSON(Compensation, NCQUAL_FIELDS_COMPENSATION, NCQUAL_JSON_GET)
+
+#undef NCQUAL_JSON
+#undef NCQUAL_JSON_GET_OR_DEFAULT
+#undef NCQUAL_JSON_GET
+#undef NCQUAL_JSON_PUT
 
 }  // namespace ncqual

@@ -60,11 +60,20 @@ enum class MachineState : int {
 std::string_view to_string(MachineState state);
 std::optional<MachineState> parse_machine_state(std::string_view name);
 
+// The fields of each struct below are listed once, in the NCQUAL_FIELDS_<STRUCT>(X, S) macro that
+// follows it: the wire conversion (dds/src/convert.cpp) and the JSON (ncqual/common/json.hpp) are
+// generated from these lists, so a new field touches the IDL, the struct and its list. X(f): a
+// field the wire carries under the same name, converted by its type; S(f): one the wire carries
+// differently (the comment above the list says how), converted by hand in convert.cpp and plain in
+// JSON. The storage (storage/src) binds its columns by hand: a stored field also needs a migration.
 // Readouts of the machine's six axes: X, Y, Z position of the wrist pivot (intersection of the
 // A and C axes) in the machine frame, W spindle travel along the tool axis, A and C wrist angles.
 struct AxisPosition {
   double x_mm = 0, y_mm = 0, z_mm = 0, w_mm = 0, a_rad = 0, c_rad = 0;
 };
+// clang-format off
+#define NCQUAL_FIELDS_AXIS_POSITION(X, S) X(x_mm) X(y_mm) X(z_mm) X(w_mm) X(a_rad) X(c_rad)
+// clang-format on
 
 // A named number with its unit: request parameters, correction offsets.
 struct NamedValue {
@@ -72,6 +81,9 @@ struct NamedValue {
   double value = 0;
   std::string unit;
 };
+// clang-format off
+#define NCQUAL_FIELDS_NAMED_VALUE(X, S) X(name) X(value) X(unit)
+// clang-format on
 
 // Looks up a named value; nullptr when absent.
 const NamedValue* find_value(const std::vector<NamedValue>& values, std::string_view name);
@@ -84,6 +96,9 @@ struct Touch {
   AxisPosition axes;
   Eigen::Vector3d approach = Eigen::Vector3d::Zero();
 };
+// clang-format off
+#define NCQUAL_FIELDS_TOUCH(X, S) X(feature) X(axes) X(approach)
+// clang-format on
 
 // One point measured by a laser tracker (or other 3-D instrument): the commanded axes and the
 // target position in the instrument's frame (mm).
@@ -92,6 +107,9 @@ struct TrackerPoint {
   AxisPosition commanded;
   Eigen::Vector3d measured_mm = Eigen::Vector3d::Zero();
 };
+// clang-format off
+#define NCQUAL_FIELDS_TRACKER_POINT(X, S) X(label) X(commanded) X(measured_mm)
+// clang-format on
 
 // MeasurementSet::instrument of a set published by `ncqual import` from an instrument's file:
 // no CheckRequest precedes it.
@@ -112,6 +130,11 @@ struct MeasurementSet {
   std::vector<NamedValue> parameters;
   std::string error;  // non-empty when the instrument could not perform the request
 };
+// clang-format off
+#define NCQUAL_FIELDS_MEASUREMENT_SET(X, S) \
+  X(machine_id) X(request_id) X(kind) X(instrument) X(frame) X(time_ns) X(touches) \
+  X(tracker_points) X(parameters) X(error)
+// clang-format on
 
 struct Metric {
   std::string name;  // public interface, e.g. "center_dx_mm"
@@ -121,12 +144,18 @@ struct Metric {
   double upper = 0;
   bool pass = false;
 };
+// clang-format off
+#define NCQUAL_FIELDS_METRIC(X, S) X(name) X(value) X(unit) X(lower) X(upper) X(pass)
+// clang-format on
 
 // A software correction: offsets to apply to `target` (e.g. "fixture:F1", "machine:work_offset").
 struct Correction {
   std::string target;
   std::vector<NamedValue> offsets;
 };
+// clang-format off
+#define NCQUAL_FIELDS_CORRECTION(X, S) X(target) X(offsets)
+// clang-format on
 
 struct CheckRequest {
   std::string machine_id;
@@ -143,6 +172,11 @@ struct CheckRequest {
   // measures. Empty otherwise.
   std::string verifies_correction_of;
 };
+// clang-format off
+#define NCQUAL_FIELDS_CHECK_REQUEST(X, S) \
+  X(machine_id) X(request_id) X(kind) X(requested_by) X(time_ns) X(attempt) X(parameters) \
+  X(verifies_correction_of)
+// clang-format on
 
 struct CheckResult {
   std::string machine_id;
@@ -158,6 +192,12 @@ struct CheckResult {
   // names the version that made it; empty for results stored before it was recorded.
   std::string produced_by;
 };
+// S: correction travels with has_correction on the wire.
+// clang-format off
+#define NCQUAL_FIELDS_CHECK_RESULT(X, S) \
+  X(machine_id) X(request_id) X(kind) X(verdict) X(metrics) X(likely_causes) X(reason) \
+  S(correction) X(time_ns) X(produced_by)
+// clang-format on
 
 struct MachineStatus {
   std::string machine_id;
@@ -168,6 +208,11 @@ struct MachineStatus {
   std::string detail;
   std::int64_t time_ns = 0;
 };
+// S: last_kind and last_verdict travel with has_last_check on the wire (INVALID when none).
+// clang-format off
+#define NCQUAL_FIELDS_MACHINE_STATUS(X, S) \
+  X(machine_id) X(request_id) X(state) S(last_kind) S(last_verdict) X(detail) X(time_ns)
+// clang-format on
 
 struct Intervention {
   std::string machine_id;
@@ -177,6 +222,10 @@ struct Intervention {
   std::string operator_name;
   std::int64_t time_ns = 0;
 };
+// clang-format off
+#define NCQUAL_FIELDS_INTERVENTION(X, S) \
+  X(machine_id) X(intervention_id) X(kind) X(note) X(operator_name) X(time_ns)
+// clang-format on
 
 struct Compensation {
   std::string machine_id;
@@ -184,6 +233,9 @@ struct Compensation {
   Correction correction;
   std::int64_t time_ns = 0;
 };
+// clang-format off
+#define NCQUAL_FIELDS_COMPENSATION(X, S) X(machine_id) X(request_id) X(correction) X(time_ns)
+// clang-format on
 
 // An operator's order to the scheduler (`ncqual check`). The scheduler turns it into a
 // CheckRequest with the same request id.
@@ -195,6 +247,10 @@ struct CheckCommand {
   std::int64_t time_ns = 0;
   std::vector<NamedValue> parameters;  // passed on to the CheckRequest
 };
+// clang-format off
+#define NCQUAL_FIELDS_CHECK_COMMAND(X, S) \
+  X(machine_id) X(request_id) X(kind) X(requested_by) X(time_ns) X(parameters)
+// clang-format on
 
 // How often every service publishes its Heartbeat; the plant's status calls a service silent after
 // a few periods without one. Here, not in the DDS library, so that what reads the historian
@@ -212,6 +268,12 @@ struct Heartbeat {
   std::int64_t outbox_depth = 0;  // samples sent and not yet acknowledged by all they await
   std::int64_t oldest_unacknowledged_ns = 0;  // queued time of the oldest of them; 0: none
 };
+// S: outbox_depth is 32-bit on the wire (clamped).
+// clang-format off
+#define NCQUAL_FIELDS_HEARTBEAT(X, S) \
+  X(service) X(instance) X(machine_id) X(state) X(time_ns) X(health) X(health_detail) \
+  S(outbox_depth) X(oldest_unacknowledged_ns)
+// clang-format on
 
 // What a service says about a sample it received (docs/architecture.md, "Acknowledged storage").
 enum class AckOutcome : std::int32_t {
@@ -244,6 +306,11 @@ struct Acknowledgement {
   std::string detail;
   std::int64_t time_ns = 0;
 };
+// clang-format off
+#define NCQUAL_FIELDS_ACKNOWLEDGEMENT(X, S) \
+  X(machine_id) X(topic) X(sample_id) X(content_hash) X(outcome) X(by) X(instance) X(detail) \
+  X(time_ns)
+// clang-format on
 
 // What people must look at now (docs/architecture.md, "Acknowledged storage").
 enum class AlarmKind : std::int32_t {
@@ -263,6 +330,10 @@ struct Alarm {
   std::string text;
   std::int64_t time_ns = 0;
 };
+// clang-format off
+#define NCQUAL_FIELDS_ALARM(X, S) \
+  X(machine_id) X(alarm_id) X(kind) X(active) X(source) X(instance) X(text) X(time_ns)
+// clang-format on
 
 // A trend warning's change (idl/ncqual.idl; docs/trends.md, "Warnings"): raised, updated or
 // ended by the historian.
@@ -281,6 +352,12 @@ struct TrendWarning {
   std::string text;
   std::int64_t time_ns = 0;
 };
+// S: metric is metric_name on the wire; the crossing dates are 0 there when none.
+// clang-format off
+#define NCQUAL_FIELDS_TREND_WARNING(X, S) \
+  X(machine_id) S(metric) X(check_kind) X(kind) X(side) X(active) X(started_ns) X(raised_by) \
+  X(ended_by) S(expected_crossing_ns) S(earliest_crossing_ns) X(text) X(time_ns)
+// clang-format on
 
 // The id a sample is acknowledged and stored under: its request id; an intervention's id; a
 // status change's machine, time, state and request (the historian's identity of a status).
