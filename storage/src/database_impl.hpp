@@ -119,7 +119,7 @@ struct Database::Impl {
 };
 
 // A Database's Impl, for the library's query files beside database_*.cpp (trend_store.cpp,
-// web_queries.cpp): its statement cache and its read and write transactions.
+// changes.cpp): its statement cache and its read and write transactions.
 struct DatabaseAccess {
   static Database::Impl& impl(Database& db) { return *db.impl_; }
 };

@@ -13,7 +13,7 @@
 #include "ncqual/report/metric_trend.hpp"
 #include "ncqual/storage/database.hpp"
 #include "ncqual/storage/trend.hpp"
-#include "ncqual/storage/web.hpp"
+#include "ncqual/storage/changes.hpp"
 #if NCQUAL_TEST_HAS_REPORT
 #include "ncqual/report/machine_report.hpp"
 #endif

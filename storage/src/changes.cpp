@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The dashboard's queries (ncqual/storage/web.hpp).
-#include "ncqual/storage/web.hpp"
+// What has changed in the historian: the queries of ncqual/storage/changes.hpp.
+#include "ncqual/storage/changes.hpp"
 
 #include "database_impl.hpp"
 #include "sqlite.hpp"
