@@ -19,7 +19,7 @@ packages=(
   libeigen3-dev libceres-dev libsqlite3-dev sqlite3 libspdlog-dev libfmt-dev
   libyaml-cpp-dev nlohmann-json3-dev libgtest-dev
   libhowardhinnant-date-dev tzdata libcli11-dev libssl-dev libsystemd-dev
-  libzstd-dev liblz4-dev libboost-math-dev libcpp-httplib-dev
+  libzstd-dev liblz4-dev zlib1g-dev libboost-math-dev libcpp-httplib-dev
 )
 if [ "${1:-}" = "--test" ]; then
   packages+=(clang-format-14 clang-tidy-14 iproute2 nftables linuxcnc-uspace

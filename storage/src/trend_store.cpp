@@ -2,7 +2,7 @@
 // A metric's history, restarts and trend warnings (ncqual/storage/trend.hpp).
 #include "ncqual/storage/trend.hpp"
 
-#include "access.hpp"
+#include "database_impl.hpp"
 #include "sqlite.hpp"
 
 #include "ncqual/common/check_kinds.hpp"
@@ -158,8 +158,9 @@ bool same_identity(const TrendWarningRecord& a, const TrendWarningRecord& b) {
 
 std::vector<MetricValue> metric_series(Database& db, const MetricQuery& query) {
   std::vector<MetricValue> out;
-  DatabaseAccess::read(db, [&] {
-    auto& statements = DatabaseAccess::statements(db);
+  auto& impl = DatabaseAccess::impl(db);
+  impl.read([&] {
+    auto& statements = impl.statements;
     for (CheckKind kind : kinds_reporting(statements, query.machine_id, query.metric)) {
       const bool newest = query.last > 0;
       Query q(statements, newest ? kSelectSeriesNewest : kSelectSeriesAscending);
@@ -180,8 +181,9 @@ std::vector<MetricValue> metric_series(Database& db, const MetricQuery& query) {
 
 std::vector<MetricInfo> machine_metrics(Database& db, const std::string& machine_id) {
   std::vector<MetricInfo> out;
-  DatabaseAccess::read(db, [&] {
-    auto& statements = DatabaseAccess::statements(db);
+  auto& impl = DatabaseAccess::impl(db);
+  impl.read([&] {
+    auto& statements = impl.statements;
     for (CheckKind kind : result_kinds(statements, machine_id)) {
       std::vector<std::pair<std::int64_t, MetricInfo>> of_kind;  // with the place in its check
       Query q(statements, kSelectKindMetrics);
@@ -209,8 +211,9 @@ std::vector<MetricInfo> machine_metrics(Database& db, const std::string& machine
 std::vector<std::int64_t> restart_times(Database& db, const std::string& machine_id,
                                         CheckKind series) {
   std::vector<std::int64_t> out;
-  DatabaseAccess::read(db, [&] {
-    Query q(DatabaseAccess::statements(db), kSelectRestarts);
+  auto& impl = DatabaseAccess::impl(db);
+  impl.read([&] {
+    Query q(impl.statements, kSelectRestarts);
     q.bind(machine_id);
     while (q.step()) {
       const bool intervention = q.is_null(1);
@@ -228,10 +231,11 @@ std::vector<std::int64_t> restart_times(Database& db, const std::string& machine
 
 std::vector<TrendWarningRecord> trend_warnings(Database& db, const TrendWarningQuery& query) {
   std::vector<TrendWarningRecord> out;
-  DatabaseAccess::read(db, [&] {
+  auto& impl = DatabaseAccess::impl(db);
+  impl.read([&] {
     // "?1 IS NULL OR machine_id = ?1" would keep SQLite from the machine index: two statements.
     const bool one_machine = query.machine_id.has_value();
-    Query q(DatabaseAccess::statements(db), one_machine ? kSelectMachineWarnings : kSelectWarnings);
+    Query q(impl.statements, one_machine ? kSelectMachineWarnings : kSelectWarnings);
     if (one_machine) {
       q.bind(*query.machine_id);
     } else {
@@ -251,8 +255,9 @@ TrendWarningChanges apply_trend_warnings(Database& db, const std::string& machin
                                          const std::vector<TrendWarningRecord>& active,
                                          const std::string& by, std::int64_t at_ns) {
   TrendWarningChanges changes;
-  DatabaseAccess::write(db, "trend warnings of " + machine_id + " " + metric, [&] {
-    auto& statements = DatabaseAccess::statements(db);
+  auto& impl = DatabaseAccess::impl(db);
+  impl.write("trend warnings of " + machine_id + " " + metric, [&] {
+    auto& statements = impl.statements;
     std::vector<TrendWarningRecord> stored;
     {
       Query q(statements, kSelectActiveWarnings);

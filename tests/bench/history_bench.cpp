@@ -21,7 +21,7 @@
 #include "ncqual/status/plant_status.hpp"
 #include "ncqual/storage/database.hpp"
 #include "ncqual/storage/trend.hpp"
-#include "ncqual/storage/web.hpp"
+#include "ncqual/storage/changes.hpp"
 #include "ncqual/trend/assess.hpp"
 #if NCQUAL_BENCH_HAS_REPORT
 #include "ncqual/report/machine_report.hpp"

@@ -5,7 +5,7 @@
 // EXPLAIN QUERY PLAN must not scan one of the big tables (SCAN <table> without an index): a page
 // stays fast as the historian grows (docs/history-bench.md has the figures on a year of 50
 // machines).
-#include "access.hpp"
+#include "database_impl.hpp"
 #include "history_gen.hpp"
 #include "storage_test_support.hpp"
 
@@ -13,7 +13,7 @@
 #include "ncqual/report/metric_trend.hpp"
 #include "ncqual/storage/database.hpp"
 #include "ncqual/storage/trend.hpp"
-#include "ncqual/storage/web.hpp"
+#include "ncqual/storage/changes.hpp"
 #if NCQUAL_TEST_HAS_REPORT
 #include "ncqual/report/machine_report.hpp"
 #endif
@@ -106,7 +106,7 @@ TEST(StorageQueryPlans, ThePagesReadsWalkIndexesOnAGeneratedPlant) {
   ASSERT_GT(generated.interventions, 0);
 
   Database db = Database::open_readonly(path);
-  sqlite3* handle = DatabaseAccess::statements(db).db();
+  sqlite3* handle = DatabaseAccess::impl(db).db.get();
   std::set<std::string> statements;
   ASSERT_EQ(sqlite3_trace_v2(handle, SQLITE_TRACE_STMT, collect, &statements), SQLITE_OK);
   const PlantConfig plant = history::generated_plant(options, generated.machine_ids);

@@ -43,8 +43,6 @@ class Error : public std::runtime_error {
 // The CRC32 of MCAP (and zlib: reflected polynomial 0xEDB88320), chainable as zlib's:
 // crc32(b, crc32(a)) == crc32(a + b). crc32("123456789") == 0xCBF43926.
 std::uint32_t crc32(std::string_view bytes, std::uint32_t previous = 0);
-// The same from tables only, as on a CPU without carry-less multiplication (for the tests).
-std::uint32_t crc32_portable(std::string_view bytes, std::uint32_t previous = 0);
 // The CRC32 of a + b from crc32(a), crc32(b) and b's length, without reading either again.
 std::uint32_t crc32_combine(std::uint32_t crc_a, std::uint32_t crc_b, std::uint64_t length_b);
 

@@ -14,7 +14,7 @@
 #include "ncqual/solver/global_checks.hpp"
 #include "ncqual/storage/database.hpp"
 #include "ncqual/storage/trend.hpp"
-#include "ncqual/storage/web.hpp"
+#include "ncqual/storage/changes.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -8,7 +8,7 @@
 #include "ncqual/common/clock.hpp"
 #include "ncqual/status/plant_status.hpp"
 #include "ncqual/storage/json.hpp"
-#include "ncqual/storage/web.hpp"
+#include "ncqual/storage/changes.hpp"
 
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>

@@ -7,7 +7,7 @@
 #include "ncqual/web/dashboard.hpp"
 
 #include "ncqual/status/plant_status.hpp"
-#include "ncqual/storage/web.hpp"
+#include "ncqual/storage/changes.hpp"
 
 #include <cstdint>
 #include <string>

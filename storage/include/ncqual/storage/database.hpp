@@ -266,7 +266,7 @@ class Database {
 
  private:
   struct Impl;
-  friend struct DatabaseAccess;  // the library's other query files (storage/src/access.hpp)
+  friend struct DatabaseAccess;  // the library's other query files (storage/src/database_impl.hpp)
   explicit Database(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

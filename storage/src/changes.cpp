@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// The dashboard's queries (ncqual/storage/web.hpp).
-#include "ncqual/storage/web.hpp"
+// What has changed in the historian: the queries of ncqual/storage/changes.hpp.
+#include "ncqual/storage/changes.hpp"
 
-#include "access.hpp"
+#include "database_impl.hpp"
 #include "sqlite.hpp"
 
 #include <stdexcept>
@@ -40,14 +40,16 @@ constexpr Sql kResultsUpTo{"results up to",
 }  // namespace
 
 std::int64_t data_version(Database& db) {
-  Query q(DatabaseAccess::statements(db), kDataVersion);
+  auto& impl = DatabaseAccess::impl(db);
+  Query q(impl.statements, kDataVersion);
   return q.step() ? q.int64(0) : 0;
 }
 
 std::string change_token(Database& db) {
   std::string token;
-  DatabaseAccess::read(db, [&] {
-    Query q(DatabaseAccess::statements(db), kChangeToken);
+  auto& impl = DatabaseAccess::impl(db);
+  impl.read([&] {
+    Query q(impl.statements, kChangeToken);
     if (!q.step()) return;
     for (int column = 0; column < 9; ++column) {
       token += (column ? "." : "") + std::to_string(q.int64(column));
@@ -58,8 +60,9 @@ std::string change_token(Database& db) {
 
 ResultsUpTo results_up_to(Database& db, const std::string& machine_id, std::int64_t until_ns) {
   ResultsUpTo out;
-  DatabaseAccess::read(db, [&] {
-    Query q(DatabaseAccess::statements(db), kResultsUpTo);
+  auto& impl = DatabaseAccess::impl(db);
+  impl.read([&] {
+    Query q(impl.statements, kResultsUpTo);
     q.bind(machine_id, until_ns);
     if (q.step()) out = {q.int64(0), q.int64(1)};
   });
@@ -72,8 +75,9 @@ std::vector<FailureRecord> recent_failures(Database& db, const std::string& mach
                                 " is not within 1..1000");
   }
   std::vector<FailureRecord> out;
-  DatabaseAccess::read(db, [&] {
-    Query q(DatabaseAccess::statements(db), kSelectFailures);
+  auto& impl = DatabaseAccess::impl(db);
+  impl.read([&] {
+    Query q(impl.statements, kSelectFailures);
     q.bind(machine_id, limit);
     while (q.step()) {
       FailureRecord f;

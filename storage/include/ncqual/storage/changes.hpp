@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// What the dashboard (ncqual-web, docs/dashboard.md) reads beyond the query API of storage.hpp:
-// a cheap token that moves whenever something a page shows was stored, and a machine's newest
-// failed checks. Free functions over a Database connection (read-only is enough); every
-// statement is prepared once per connection.
+// What has changed in the historian, beyond the query API of database.hpp: SQLite's
+// data_version and a cheap token that moves whenever something a page shows was stored (for a
+// watcher, e.g. the dashboard, docs/dashboard.md), how many results a machine has up to a time
+// (for a cache), and a machine's newest failed checks. Free functions over a Database
+// connection (read-only is enough); every statement is prepared once per connection.
 #pragma once
 
 #include "ncqual/common/model.hpp"
