@@ -58,8 +58,8 @@ struct Allowed {
   const char* why;
 };
 const Allowed kAllowed[] = {
-    // storage_web.hpp: the change token reads the trend warnings whole (their count, how many
-    // ended, a fingerprint of their dates and texts): one row per warning episode, a few
+    // ncqual/storage/changes.hpp: the change token reads the trend warnings whole (their count,
+    // how many ended, a fingerprint of their dates and texts): one row per warning episode, a few
     // thousand a year for a plant of 50 machines.
     {"w.fingerprint", "trend_warnings", "change token: the warnings read whole, by design"},
 };
