@@ -71,11 +71,7 @@ std::string budget_chart(const BudgetChart& c) {
     if (has_total) desc += over(bars.back().bar->value) ? " (exceeded)" : " (within)";
   }
   desc += ".";
-  if (skipped > 0) {
-    desc +=
-        " " + detail::count_phrase(skipped, "non-finite value", "non-finite values") + " skipped.";
-  }
-  if (!c.description.empty()) desc += " " + c.description;
+  detail::end_description(desc, skipped, "non-finite value", "non-finite values", c.description);
 
   svg::Writer w;
   double top = detail::open_chart(w, {kind::kBudget,

@@ -104,6 +104,12 @@ std::string count_phrase(std::size_t n, std::string_view one, std::string_view m
   return std::to_string(n) + " " + std::string(n == 1 ? one : many);
 }
 
+void end_description(std::string& desc, std::size_t skipped, std::string_view one,
+                     std::string_view many, const std::string& description) {
+  if (skipped > 0) desc += " " + count_phrase(skipped, one, many) + " skipped.";
+  if (!description.empty()) desc += " " + description;
+}
+
 void marker(svg::Writer& w, const MarkerStyle& style, double x, double y,
             const std::vector<svg::Attr>& extra, std::string_view tooltip) {
   if (style.shape == Shape::None) return;

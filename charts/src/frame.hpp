@@ -53,6 +53,11 @@ void close_chart(svg::Writer& w);
 // The numbers of a series for its <desc>: "12 points", "1 non-finite value skipped".
 std::string count_phrase(std::size_t n, std::string_view one, std::string_view many);
 
+// The end of every chart's <desc>: " N <what> skipped." when some were, then the caller's own
+// description.
+void end_description(std::string& desc, std::size_t skipped, std::string_view one,
+                     std::string_view many, const std::string& description);
+
 enum class Shape { None, Circle, Diamond, Square, TriangleUp, TriangleDown, Cross };
 
 // A marker centred on (x, y), `size` px across. `extra` goes onto the element (class, data-*),

@@ -66,11 +66,7 @@ std::string point_deviation_chart(const PointDeviationChart& c) {
     if (has_upper) desc += " upper " + dv(c.tolerance.upper);
     desc += ".";
   }
-  if (skipped > 0) {
-    desc +=
-        " " + detail::count_phrase(skipped, "non-finite value", "non-finite values") + " skipped.";
-  }
-  if (!c.description.empty()) desc += " " + c.description;
+  detail::end_description(desc, skipped, "non-finite value", "non-finite values", c.description);
 
   svg::Writer w;
   double top = detail::open_chart(w, {kind::kPointDeviation,

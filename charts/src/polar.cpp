@@ -126,11 +126,7 @@ std::string polar_chart(const PolarChart& c) {
   desc += ". Deviations drawn magnified around the reference circle, " +
           detail::display_value(g.ring_step, ring_tick.decimals(), c.unit.unit) +
           " per ring; angles counter-clockwise from +" + c.u_name + ".";
-  if (skipped > 0) {
-    desc += " " + detail::count_phrase(skipped, "non-finite sample", "non-finite samples") +
-            " skipped.";
-  }
-  if (!c.description.empty()) desc += " " + c.description;
+  detail::end_description(desc, skipped, "non-finite sample", "non-finite samples", c.description);
 
   svg::Writer w;
   double top = detail::open_chart(w, {kind::kPolar,

@@ -72,11 +72,8 @@ std::string positioning_chart(const PositioningChart& c) {
   desc += "; mean deviation and mean ± 2s per direction";
   if (!c.unit.unit.empty()) desc += " in " + c.unit.unit;
   desc += ".";
-  if (skipped > 0) {
-    desc += " " + detail::count_phrase(skipped, "non-finite direction", "non-finite directions") +
-            " skipped.";
-  }
-  if (!c.description.empty()) desc += " " + c.description;
+  detail::end_description(desc, skipped, "non-finite direction", "non-finite directions",
+                          c.description);
 
   svg::Writer w;
   double top = detail::open_chart(w, {kind::kPositioning,

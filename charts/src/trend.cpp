@@ -176,11 +176,7 @@ std::string trend_chart(const TrendChart& c) {
                                  "interventions and compensations") +
             " marked.";
   }
-  if (skipped > 0) {
-    desc +=
-        " " + detail::count_phrase(skipped, "non-finite value", "non-finite values") + " skipped.";
-  }
-  if (!c.description.empty()) desc += " " + c.description;
+  detail::end_description(desc, skipped, "non-finite value", "non-finite values", c.description);
 
   svg::Writer w;
   double top = detail::open_chart(w, {kind::kTrend,

@@ -106,13 +106,8 @@ std::string deviation_vector_plot(const DeviationVectorPlot& c) {
             c.position_unit + ")";
   }
   desc += "; vectors drawn ×" + svg::exact(mag) + ".";
-  if (skipped > 0) {
-    desc += " " +
-            detail::count_phrase(skipped, "point with non-finite values",
-                                 "points with non-finite values") +
-            " skipped.";
-  }
-  if (!c.description.empty()) desc += " " + c.description;
+  detail::end_description(desc, skipped, "point with non-finite values",
+                          "points with non-finite values", c.description);
 
   svg::Writer w;
   double top = detail::open_chart(w, {kind::kDeviationVectors,

@@ -134,6 +134,8 @@ void model_value(const std::vector<W>& w, std::vector<M>& v, const Field& field,
 }
 
 // ---- Structs, from their field lists ------------------------------------------------------------
+// Their arguments are types and field names, which cannot be parenthesised.
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define NCQUAL_TO_WIRE(f) w.f(wire_value(v.f));
 #define NCQUAL_FROM_WIRE(f) model_value(w.f(), v.f, Field{type, #f}, error);
 #define NCQUAL_BY_HAND(f)
@@ -157,6 +159,8 @@ void model_value(const std::vector<W>& w, std::vector<M>& v, const Field& field,
   void model_value(const Wire& w, Model& v, const Field& /*field*/, std::string& error) { \
     model_fields(w, v, error);                                                            \
   }
+
+// NOLINTEND(bugprone-macro-parentheses)
 
 NCQUAL_CONVERT_PART(AxisPosition, msg::AxisPosition, NCQUAL_FIELDS_AXIS_POSITION)
 NCQUAL_CONVERT_PART(NamedValue, msg::NamedValue, NCQUAL_FIELDS_NAMED_VALUE)

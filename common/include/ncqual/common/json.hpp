@@ -103,6 +103,8 @@ inline void from_json(const nlohmann::json& j, MachineState& v) {
 // A document missing a field is refused, naming the field (nlohmann's json::at), except a
 // CheckRequest's: its missing fields read as their defaults, so state documents written before a
 // field existed still load.
+// Their arguments are a type and field names, which cannot be parenthesised.
+// NOLINTBEGIN(bugprone-macro-parentheses)
 #define NCQUAL_JSON_PUT(f) j[#f] = v.f;
 #define NCQUAL_JSON_GET(f) j.at(#f).get_to(v.f);
 #define NCQUAL_JSON_GET_OR_DEFAULT(f) \
@@ -113,6 +115,7 @@ inline void from_json(const nlohmann::json& j, MachineState& v) {
     FIELDS(NCQUAL_JSON_PUT, NCQUAL_JSON_PUT)              \
   }                                                       \
   inline void from_json(const nlohmann::json& j, Type& v) { FIELDS(GET, GET) }
+// NOLINTEND(bugprone-macro-parentheses)
 
 NCQUAL_JSON(NamedValue, NCQUAL_FIELDS_NAMED_VALUE, NCQUAL_JSON_GET)
 NCQUAL_JSON(Metric, NCQUAL_FIELDS_METRIC, NCQUAL_JSON_GET)
