@@ -275,19 +275,20 @@ TEST(Conflict, AConflictingMeasurementHoldsTheMachineUntilAPersonDecides) {
   plant.start("solver");
   plant.start("scheduler");
   plant.start("acquisition", {"--machine", "pm1"});
+  // Qualified, and the set behind it stored: the set reaches the historian from the acquisition,
+  // the status from the scheduler, so either may be stored first.
   std::string request;
+  std::optional<MeasurementSet> stored;
   ASSERT_TRUE(plant.wait_for_db([&](storage::Database& db) {
     const auto st = db.latest_status("pm1");
     if (!st || st->state != MachineState::Qualified) return false;
     request = st->request_id;
-    return true;
+    stored = db.load_measurement_set(request);
+    return stored.has_value();
   })) << plant.log("scheduler");
 
   // Another writer's set for the same request: the same check, other touches.
-  MeasurementSet other = [&] {
-    auto db = storage::Database::open_readonly(plant.db_path());
-    return *db.load_measurement_set(request);
-  }();
+  MeasurementSet other = *stored;
   ASSERT_FALSE(other.touches.empty());
   other.touches[0].axes.x_mm += 0.040;
   ncqual::dds::Participant participant(test_participant(plant));
