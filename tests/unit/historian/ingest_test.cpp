@@ -92,27 +92,23 @@ TEST(Ingest, ALockedDatabaseKeepsSamplesInOrderAndAcknowledgesOnlyWhatIsCommitte
   EXPECT_EQ(h.changes[1].first, StorageHealth::Ok);
 }
 
-// Writes beyond RLIMIT_FSIZE fail with EFBIG, as they fail with ENOSPC on a full disk: SQLite
-// reports an I/O error or "disk full". SIGXFSZ is ignored (as the historian does), or the kernel
-// would end the process instead.
+// A full disk (storage::testing::FullDisk: writes past a file size limit fail).
 TEST(Ingest, WritesThatFailStopAcknowledgingAndResumeWhenTheyWorkAgain) {
   TempDir dir;
   Historian h(dir.file("h.db"));
   Steady t{};
   h.receive("before", t);
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit saved{};
-  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
-  rlimit tiny = saved;
-  tiny.rlim_cur = 1024;  // below every file's size: every write past it fails
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &tiny), 0);
-  for (const auto& id : ids("r", 3)) h.receive(id, t);
-  h.ingest.retry(t + 1s);
-  const StorageHealth during = h.ingest.health();
-  const std::string detail = h.ingest.detail();
-  const std::size_t waiting = h.ingest.backlog();
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &saved), 0);
-  std::signal(SIGXFSZ, old_handler);
+  StorageHealth during{};
+  std::string detail;
+  std::size_t waiting = 0;
+  {
+    const storage::testing::FullDisk full;
+    for (const auto& id : ids("r", 3)) h.receive(id, t);
+    h.ingest.retry(t + 1s);
+    during = h.ingest.health();
+    detail = h.ingest.detail();
+    waiting = h.ingest.backlog();
+  }
 
   EXPECT_EQ(during, StorageHealth::Failed) << detail;
   EXPECT_TRUE(detail.find("I/O error") != std::string::npos ||

@@ -7,23 +7,18 @@
 #include "ncqual/scheduler/answer.hpp"
 #include "ncqual/scheduler/driver.hpp"
 
-#include <gtest/gtest.h>
-#include <sys/resource.h>
+#include "scheduler_test_support.hpp"
+#include "storage_test_support.hpp"
 
-#include <csignal>
+#include <gtest/gtest.h>
+
 #include <filesystem>
 
 namespace ncqual::scheduler {
 namespace {
 
-PlantConfig one_machine() {
-  PlantConfig p;
-  p.plant = "t";
-  p.machines.resize(1);
-  p.machines[0].machine_id = "m1";
-  p.scheduler_state_database = "/var/lib/ncqual/scheduler.db";
-  return p;
-}
+using test_support::one_machine;
+using test_support::with_state_database;
 
 struct Rig {
   Rig() : state(open_state()), scheduler(plant, clock, outputs(), &state) {
@@ -50,7 +45,7 @@ struct Rig {
     return r;
   }
 
-  PlantConfig plant = one_machine();
+  PlantConfig plant = with_state_database(one_machine());
   SimulatedClock clock{1'000'000'000};
   std::vector<CheckRequest> requests;
   storage::StateFile state;
@@ -98,17 +93,14 @@ TEST(SchedulerAnswer, AnInterventionThatChangesNothingIsAcceptedSayingSo) {
 
 TEST(SchedulerAnswer, NothingIsAcknowledgedWhenTheDecisionCouldNotBeSaved) {
   Rig rig;
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit saved{};
-  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
-  rlimit tiny = saved;
-  tiny.rlim_cur = 1024;
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &tiny), 0);
-  const auto a = answer_result(rig.scheduler, rig.pass_of_first(), "");
-  const auto c = answer_command(
-      rig.scheduler, {"m1", "r3", CheckKind::MonumentPositioning, "operator:ann", 0, {}}, "");
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &saved), 0);
-  std::signal(SIGXFSZ, old_handler);
+  Answer a;
+  Answer c;
+  {
+    const storage::testing::FullDisk full;  // writes past a file size limit fail
+    a = answer_result(rig.scheduler, rig.pass_of_first(), "");
+    c = answer_command(rig.scheduler,
+                       {"m1", "r3", CheckKind::MonumentPositioning, "operator:ann", 0, {}}, "");
+  }
   EXPECT_FALSE(a.ack.has_value()) << "the solver sends the result again";
   EXPECT_FALSE(c.ack.has_value()) << "the operator's tool sends the order again";
 
@@ -136,22 +128,22 @@ TEST(SchedulerAnswer, OnlyAReadableConflictAlarmReachesTheScheduler) {
 
 TEST(SchedulerFlags, TheFlagsSettleTheServedMachinesCycleStateAndRun) {
   Flags flags;
-  Settings s = settle(one_machine(), flags);
+  Settings s = settle(with_state_database(one_machine()), flags);
   EXPECT_EQ(s.state_file, "/var/lib/ncqual/scheduler.db");
   EXPECT_EQ(s.run.stall, std::chrono::seconds(30));
   EXPECT_FALSE(s.run.until_ns.has_value());
   flags.machine_list = "m1";
   flags.cycle = "monument_c_alignment";
   flags.stall_s = 2.5;
-  s = settle(one_machine(), flags);
+  s = settle(with_state_database(one_machine()), flags);
   EXPECT_EQ(s.state_file, "/var/lib/ncqual/scheduler-m1.db");
   EXPECT_EQ(s.cycle, (std::vector<CheckKind>{CheckKind::MonumentCAlignment}));
   EXPECT_EQ(s.run.stall, std::chrono::milliseconds(2500));
   flags.state = "/tmp/mine.db";
-  EXPECT_EQ(settle(one_machine(), flags).state_file, "/tmp/mine.db");
+  EXPECT_EQ(settle(with_state_database(one_machine()), flags).state_file, "/tmp/mine.db");
   flags.speed = 10;
   try {
-    settle(one_machine(), flags);
+    settle(with_state_database(one_machine()), flags);
     ADD_FAILURE() << "--speed on the wall clock was accepted";
   } catch (const std::invalid_argument& e) {
     EXPECT_STREQ(e.what(), "--speed needs the plant's clock.mode: simulated");

@@ -3,6 +3,8 @@
 // state file).
 #include "ncqual/scheduler/driver.hpp"
 
+#include "scheduler_test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,13 +13,7 @@
 namespace ncqual::scheduler {
 namespace {
 
-PlantConfig one_machine() {
-  PlantConfig p;
-  p.plant = "t";
-  p.machines.resize(1);
-  p.machines[0].machine_id = "m1";
-  return p;
-}
+using test_support::one_machine;
 
 // What a decision sends is in the state file's outbox before it leaves, in the transaction of
 // the decision: when the request reaches the writer, the file already holds it (and the state

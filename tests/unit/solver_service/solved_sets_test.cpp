@@ -9,9 +9,6 @@
 #include "storage_test_support.hpp"
 
 #include <gtest/gtest.h>
-#include <sys/resource.h>
-
-#include <csignal>
 
 namespace ncqual::solver_service {
 namespace {
@@ -110,27 +107,21 @@ TEST(SolvedSets, ASetWrittenForAnotherMachineIsRefusedWithItsReasonEvenIfSolved)
   EXPECT_EQ(decision.detail, "names machine 'M1' but came in partition of 'M2'");
 }
 
-// Writes beyond RLIMIT_FSIZE fail with EFBIG as they fail on a full disk. SIGXFSZ is ignored (as
-// the services do), or the kernel would end the process.
+// A full disk (storage::testing::FullDisk: writes past a file size limit fail).
 TEST(SolvedSets, ASaveThatFailsLeavesTheSetUnsolvedAndItsAnswerUnqueued) {
   TempDir dir;
   auto file = storage::StateFile::open(dir.file("solver.db"));
   SolvedSets solved(file);
   const MeasurementSet set = make_measurement_set("R9");
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit saved{};
-  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &saved), 0);
-  rlimit tiny = saved;
-  tiny.rlim_cur = 1024;
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &tiny), 0);
   bool threw = false;
-  try {
-    solved.save(set, "hash-9", "guid", {answer_entry("R9", "res-9")});
-  } catch (const storage::StorageError&) {
-    threw = true;
+  {
+    const storage::testing::FullDisk full;
+    try {
+      solved.save(set, "hash-9", "guid", {answer_entry("R9", "res-9")});
+    } catch (const storage::StorageError&) {
+      threw = true;
+    }
   }
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &saved), 0);
-  std::signal(SIGXFSZ, old_handler);
 
   EXPECT_TRUE(threw);
   EXPECT_EQ(solved.find("R9"), nullptr);

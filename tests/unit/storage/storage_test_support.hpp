@@ -8,10 +8,12 @@
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
@@ -44,6 +46,29 @@ class TempDir {
 
  private:
   std::filesystem::path path_;
+};
+
+// While it lives, writes that grow a file past 1 KiB fail with EFBIG, as they fail with ENOSPC on a
+// full disk (RLIMIT_FSIZE: no root needed): SQLite reports an I/O error or "disk full". SIGXFSZ is
+// ignored meanwhile, as the services ignore it, or the kernel would end the process.
+class FullDisk {
+ public:
+  FullDisk() : old_handler_(std::signal(SIGXFSZ, SIG_IGN)) {
+    if (getrlimit(RLIMIT_FSIZE, &saved_) != 0) throw std::runtime_error("getrlimit failed");
+    rlimit tiny = saved_;
+    tiny.rlim_cur = 1024;  // below every file's size: every write past it fails
+    if (setrlimit(RLIMIT_FSIZE, &tiny) != 0) throw std::runtime_error("setrlimit failed");
+  }
+  ~FullDisk() {
+    setrlimit(RLIMIT_FSIZE, &saved_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+  FullDisk(const FullDisk&) = delete;
+  FullDisk& operator=(const FullDisk&) = delete;
+
+ private:
+  void (*old_handler_)(int);
+  rlimit saved_{};
 };
 
 // A plain SQLite connection for looking at what the library wrote.

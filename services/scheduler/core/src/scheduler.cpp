@@ -1,4 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
+// The qualification process of scheduler.hpp. One file on purpose, though over 700 lines: it is
+// one state machine per machine (what is due, pending, held, retried; the fixture loop; conflicts),
+// and each decision ends in the same commit(); its parts do not stand alone.
 #include "ncqual/scheduler/scheduler.hpp"
 
 #include "ncqual/common/check_kinds.hpp"
