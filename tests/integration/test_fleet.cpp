@@ -156,6 +156,17 @@ TEST(Fleet, TwentyMachinesThreeWeeksEveryDueCheckStoredExactlyOnce) {
   plant.start("acquisition", {"--machine", first_ten});
   plant.start("acquisition", {"--machine", last_ten});
   Process& scheduler = plant.start("scheduler", {"--days", std::to_string(kDays)});
+  // The run takes 15-30 s; one that has not ended in 200 s hangs: say where each service was
+  // (the end of its log) rather than leave it to ctest's timeout, which shows nothing.
+  if (!scheduler.wait_for(std::chrono::seconds(200))) {
+    const auto tail = [&](const std::string& service) {
+      const std::string log = plant.log(service);
+      return "\n--- end of " + service + ".log ---\n" +
+             log.substr(log.size() > 6000 ? log.size() - 6000 : 0);
+    };
+    FAIL() << "the scheduler's three weeks did not end within 200 s" << tail("scheduler")
+           << tail("solver") << tail("historian") << tail("acquisition");
+  }
   ASSERT_EQ(scheduler.wait(), 0) << plant.log("scheduler");
 
   std::size_t expected_total = 0;
