@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // `ncqual analyze`: the evaluations of instrument exports, run by a metrologist on a file, with
-// no service, plant config or historian. Each subcommand is its file, analyze_<subcommand>.cpp;
-// what they share is here (analyze.hpp).
+// no service, plant config or historian. Each subcommand is its file, analyze_<subcommand>.cpp
+// (touches and points, both judged as the solver judges: analyze_judged.cpp); what they share
+// and the table of the subcommands are here (analyze.hpp).
 //
 //   ncqual analyze iso230-2 FILE [--json]
 //       a linear-axis positioning run (laser interferometer), evaluated per ISO 230-2:2014
@@ -120,52 +121,6 @@ int refusing(const std::string& file, int (*run)(const Options&), const Options&
   }
 }
 
-int judge_files(const Options& o, SetFromFiles from_files, const char* what, const char* answers) {
-  const PlantConfig plant = plant_from(o.plant);
-  const MachineConfig& machine = configured_machine(plant, o.machine);
-  const std::int64_t now = WallClock().now_ns();
-  const MeasurementSet set = from_files(o.file, o.program, machine, now);
-  CheckResult r = solver::solve(set, machine, now);
-  r.produced_by = version_line("ncqual analyze");
-  if (o.json) {
-    storage::CheckRecord rec;
-    rec.machine_id = r.machine_id;
-    rec.request_id = r.request_id;
-    rec.kind = r.kind;
-    rec.result = r;
-    storage::MeasurementSummary measured;
-    measured.instrument = set.instrument;
-    measured.frame = set.frame;
-    measured.time_ns = set.time_ns;
-    measured.touches = static_cast<std::int64_t>(set.touches.size());
-    measured.tracker_points = static_cast<std::int64_t>(set.tracker_points.size());
-    rec.measurement = measured;
-    std::cout << storage::to_json(rec).dump(2) << "\n";
-  } else {
-    fmt::print("{} on {}: {} {} of {} ({} {}, request {}): {}\n", to_string(r.kind), r.machine_id,
-               set.touches.size() + set.tracker_points.size(), what, o.file, answers, o.program,
-               r.request_id, to_string(r.verdict));
-    for (const Metric& m : r.metrics) {
-      fmt::print("  {:<28} {:>12} {:<6} [{}, {}]{}\n", m.name, format_metric_value(m), m.unit,
-                 format_metric_value(Metric{m.name, m.lower, m.unit, m.lower, m.upper, true}),
-                 format_metric_value(Metric{m.name, m.upper, m.unit, m.lower, m.upper, true}),
-                 m.pass ? "" : "  (!) out of tolerance");
-    }
-    if (!r.reason.empty()) fmt::print("reason: {}\n", r.reason);
-    for (std::size_t i = 0; i < r.likely_causes.size(); ++i) {
-      fmt::print("likely cause {}: {}\n", i + 1, r.likely_causes[i]);
-    }
-    if (r.correction) {
-      for (const auto& c : r.correction->offsets) {
-        fmt::print("correction {}: {} = {} {}\n", r.correction->target, c.name, c.value, c.unit);
-      }
-    }
-  }
-  return r.verdict == Verdict::Pass   ? kExitOk
-         : r.verdict == Verdict::Fail ? kExitFail
-                                      : kExitInvalid;
-}
-
 }  // namespace analysis
 
 void add_analyze(CLI::App& app, Commands& commands) {
@@ -176,12 +131,55 @@ void add_analyze(CLI::App& app, Commands& commands) {
       "tracker grid, a CMM report, a control's touch log, a tracker's point export) on its\n"
       "own, without services");
   analyze->require_subcommand(1);
-  analysis::add_iso230_2(analyze, o, commands);
-  analysis::add_circle(analyze, o, commands);
-  analysis::add_grid(analyze, o, commands);
-  analysis::add_cmm(analyze, o, commands);
-  analysis::add_touches(analyze, o, commands);
-  analysis::add_points(analyze, o, commands);
+  // Each subcommand: its name and help, the positional file it reads into o->file (none for
+  // grid), what runs it (an evaluation refused is reported by `refusing`) and its own options.
+  struct Analysis {
+    const char* name;
+    const char* help;
+    int (*run)(const analysis::Options&);
+    const char* file;
+    const char* file_help;
+    void (*options)(CLI::App*, analysis::Options&);
+  };
+  const Analysis analyses[] = {
+      {"iso230-2",
+       "evaluate a linear-axis positioning run (target_mm,cycle,direction,measured_mm; or\n"
+       "error_um, inches, ';' with the decimal comma, +/-) per ISO 230-2:2014: A, E, M, R, B",
+       analysis::run_iso230_2, "FILE", "the run's CSV file", nullptr},
+      {"circle",
+       "evaluate a circular test (angle_deg,radius_mm or x_mm,y_mm | y_mm,z_mm | x_mm,z_mm |\n"
+       "u_mm,v_mm, optional direction ccw/cw) per ISO 230-4: G, G(b), H, F, scale mismatch\n"
+       "and squareness of the two axes",
+       analysis::run_circle, "FILE", "the test's CSV file", analysis::circle_options},
+      {"grid",
+       "the monthly tracker grid (point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas; commanded in\n"
+       "machine axes, measured in the tracker frame; or the tracker's point exports, name and\n"
+       "x, y, z, with --machine): master frame from the X and Y runs, per-point deviations,\n"
+       "squareness and scale of the axes",
+       analysis::run_grid, nullptr, nullptr, analysis::grid_options},
+      {"cmm",
+       "judge a CMM report of a part (PC-DMIS text report, or a table of feature, axis,\n"
+       "nominal, actual and tolerances) and fit the work offset that would centre it",
+       analysis::run_cmm, "FILE", "the CMM report", nullptr},
+      {"touches",
+       "judge a real control's touch log of a program written by `ncqual program`, exactly as\n"
+       "the solver service judges the check (exit code: its verdict)",
+       analysis::run_touches, "LOG", "the control's touch log", analysis::touches_options},
+      {"points",
+       "judge a laser tracker's point export of a tracker check (a name and x, y, z per point)\n"
+       "against the nominal list `ncqual program` wrote for it, exactly as the solver service\n"
+       "judges the check (exit code: its verdict)",
+       analysis::run_points, "EXPORT", "the tracker software's point export",
+       analysis::points_options},
+  };
+  for (const Analysis& a : analyses) {
+    CLI::App* command = analyze->add_subcommand(a.name, a.help);
+    if (a.file != nullptr) command->add_option(a.file, o->file, a.file_help)->required();
+    if (a.options != nullptr) a.options(command, *o);
+    add_json_flag(command, o->json);
+    commands.push_back(
+        {command, [o, run = a.run] { return analysis::refusing(o->file, run, *o); }});
+  }
 }
 
 }  // namespace ncqual::cli

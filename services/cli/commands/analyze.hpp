@@ -41,13 +41,18 @@ using SetFromFiles = MeasurementSet (*)(const std::string&, const std::string&,
                                         const MachineConfig&, std::int64_t);
 int judge_files(const Options& o, SetFromFiles from_files, const char* what, const char* answers);
 
-// Each adds its subcommand to `analyze` (analyze_<subcommand>.cpp), with its options in `o` and
-// what runs it in `commands`; add_analyze adds them in this order, the order of the help.
-void add_iso230_2(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands);
-void add_circle(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands);
-void add_grid(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands);
-void add_cmm(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands);
-void add_touches(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands);
-void add_points(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands);
+// What runs each subcommand (analyze_<subcommand>.cpp); add_analyze (analyze.cpp) lists them with
+// their help, their file and a --json flag, in the order of the help.
+int run_iso230_2(const Options& o);
+int run_circle(const Options& o);
+int run_grid(const Options& o);
+int run_cmm(const Options& o);
+int run_touches(const Options& o);
+int run_points(const Options& o);
+// The options of their own beside the file and --json.
+void circle_options(CLI::App* circle, Options& o);
+void grid_options(CLI::App* grid, Options& o);
+void touches_options(CLI::App* touches, Options& o);
+void points_options(CLI::App* points, Options& o);
 
 }  // namespace ncqual::cli::analysis

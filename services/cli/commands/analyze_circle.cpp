@@ -226,6 +226,8 @@ void print_circle(const solver::CircularTestResult& r, const solver::CircleFile&
   for (const auto& w : warnings) fmt::print("  warning: {}\n", w);
 }
 
+}  // namespace
+
 int run_circle(const Options& o) {
   const std::string& file = o.file;
   const std::optional<solver::Plane> plane = plane_option(o.plane);
@@ -251,30 +253,20 @@ int run_circle(const Options& o) {
   return kExitOk;
 }
 
-}  // namespace
-
-void add_circle(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands) {
-  CLI::App* circle = analyze->add_subcommand(
-      "circle",
-      "evaluate a circular test (angle_deg,radius_mm or x_mm,y_mm | y_mm,z_mm | x_mm,z_mm |\n"
-      "u_mm,v_mm, optional direction ccw/cw) per ISO 230-4: G, G(b), H, F, scale mismatch\n"
-      "and squareness of the two axes");
-  circle->add_option("FILE", o->file, "the test's CSV file")->required();
+void circle_options(CLI::App* circle, Options& o) {
   circle
-      ->add_option("--plane", o->plane,
+      ->add_option("--plane", o.plane,
                    "the plane (needed for angle_deg,radius_mm and u_mm,v_mm files)")
       ->type_name("XY|YZ|XZ");
   circle
       ->add_option(
-          "--nominal-radius-mm", o->nominal_radius_mm,
+          "--nominal-radius-mm", o.nominal_radius_mm,
           "F about this radius (default: the file's '# Radius:', else the least-squares circle's)")
       ->type_name("R");
   circle
-      ->add_option("--centre-mm", o->centre_mm,
+      ->add_option("--centre-mm", o.centre_mm,
                    "F about this centre in the plane's u, v (default: the least-squares one)")
       ->type_name("U,V");
-  add_json_flag(circle, o->json);
-  commands.push_back({circle, [o] { return refusing(o->file, run_circle, *o); }});
 }
 
 }  // namespace ncqual::cli::analysis

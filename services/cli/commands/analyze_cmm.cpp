@@ -154,6 +154,8 @@ void print_cmm(const solver::PartInspection& p, const solver::CmmReport& report,
             << " mm\n";
 }
 
+}  // namespace
+
 int run_cmm(const Options& o) {
   std::string why;
   const std::optional<std::string> text = read_text_file(o.file, &why);
@@ -166,18 +168,6 @@ int run_cmm(const Options& o) {
     print_cmm(p, report, o.file);
   }
   return p.pass && !*p.pass ? kExitFail : kExitOk;
-}
-
-}  // namespace
-
-void add_cmm(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands) {
-  CLI::App* cmm = analyze->add_subcommand(
-      "cmm",
-      "judge a CMM report of a part (PC-DMIS text report, or a table of feature, axis,\n"
-      "nominal, actual and tolerances) and fit the work offset that would centre it");
-  cmm->add_option("FILE", o->file, "the CMM report")->required();
-  add_json_flag(cmm, o->json);
-  commands.push_back({cmm, [o] { return refusing(o->file, run_cmm, *o); }});
 }
 
 }  // namespace ncqual::cli::analysis

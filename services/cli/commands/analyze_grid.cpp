@@ -129,6 +129,8 @@ GridDocument document_of(const solver::GridAnalysis& r, const solver::MasterFram
   return d;
 }
 
+}  // namespace
+
 int run_grid(const Options& o) {
   const std::string &x_file = o.x_run, &y_file = o.y_run, &g_file = o.grid;
   // The fewest points each part can take: a line needs 3 to show straightness, the affine fit
@@ -176,28 +178,14 @@ int run_grid(const Options& o) {
   return kExitOk;
 }
 
-}  // namespace
-
-void add_grid(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands) {
-  CLI::App* grid = analyze->add_subcommand(
-      "grid",
-      "the monthly tracker grid (point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas; commanded in\n"
-      "machine axes, measured in the tracker frame; or the tracker's point exports, name and\n"
-      "x, y, z, with --machine): master frame from the X and Y runs, per-point deviations,\n"
-      "squareness and scale of the axes");
-  grid->add_option("--x-run", o->x_run, "the X run of the master frame")
-      ->type_name("F")
-      ->required();
-  grid->add_option("--y-run", o->y_run, "the Y run of the master frame")
-      ->type_name("F")
-      ->required();
-  grid->add_option("--grid", o->grid, "the grid's points")->type_name("F")->required();
-  add_machine_option(grid, o->grid_machine,
+void grid_options(CLI::App* grid, Options& o) {
+  grid->add_option("--x-run", o.x_run, "the X run of the master frame")->type_name("F")->required();
+  grid->add_option("--y-run", o.y_run, "the Y run of the master frame")->type_name("F")->required();
+  grid->add_option("--grid", o.grid, "the grid's points")->type_name("F")->required();
+  add_machine_option(grid, o.grid_machine,
                      "the machine whose monthly program gives the commanded positions of "
                      "point exports");
-  add_plant_option(grid, o->plant);
-  add_json_flag(grid, o->json);
-  commands.push_back({grid, [o] { return refusing("", run_grid, *o); }});
+  add_plant_option(grid, o.plant);
 }
 
 }  // namespace ncqual::cli::analysis

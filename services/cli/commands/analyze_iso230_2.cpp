@@ -120,6 +120,8 @@ void print_iso230_2(const solver::Iso230_2Result& r, const std::string& file) {
   for (const auto& w : warnings) fmt::print("  warning: {}\n", w);
 }
 
+}  // namespace
+
 int run_iso230_2(const Options& o) {
   const std::string& file = o.file;
   const solver::Iso230_2File data = solver::read_iso230_2_csv(read_csv_file(file));
@@ -130,18 +132,6 @@ int run_iso230_2(const Options& o) {
     print_iso230_2(r, file);
   }
   return kExitOk;
-}
-
-}  // namespace
-
-void add_iso230_2(CLI::App* analyze, const std::shared_ptr<Options>& o, Commands& commands) {
-  CLI::App* iso = analyze->add_subcommand(
-      "iso230-2",
-      "evaluate a linear-axis positioning run (target_mm,cycle,direction,measured_mm; or\n"
-      "error_um, inches, ';' with the decimal comma, +/-) per ISO 230-2:2014: A, E, M, R, B");
-  iso->add_option("FILE", o->file, "the run's CSV file")->required();
-  add_json_flag(iso, o->json);
-  commands.push_back({iso, [o] { return refusing(o->file, run_iso230_2, *o); }});
 }
 
 }  // namespace ncqual::cli::analysis
