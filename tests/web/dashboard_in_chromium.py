@@ -43,6 +43,7 @@ import urllib.error
 import urllib.parse
 import urllib.request
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
 from chromium import FLAGS as CHROMIUM_FLAGS, find_chromium, run_chromium  # noqa: E402
 

@@ -19,6 +19,7 @@ import struct
 import sys
 import zlib
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
 from chromium import find_chromium, run_chromium  # noqa: E402 (tests/support/chromium.py)
 from well_formed import finish, run_gallery  # noqa: E402 (this folder's well_formed.py)
