@@ -9,11 +9,6 @@
 namespace ncqual::charts {
 namespace {
 
-using detail::Box;
-using detail::LegendItem;
-using detail::LineStyle;
-using detail::Shape;
-
 constexpr std::string_view kContributionFill = "#9a9a9a";
 constexpr std::string_view kTotalFill = palette::kInk;
 constexpr LineStyle kAllowanceLine{palette::kRed, 2, "6 3"};
@@ -22,7 +17,7 @@ constexpr LineStyle kAllowanceLine{palette::kRed, 2, "6 3"};
 
 std::string budget_chart(const BudgetChart& c) {
   const Size size = detail::resolve_size(c.size, kBudgetSize);
-  const double scale = std::isfinite(c.unit.scale) && c.unit.scale != 0 ? c.unit.scale : 1;
+  const double scale = detail::display_scale(c.unit);
   const bool has_allowance = std::isfinite(c.allowance);
 
   struct Bar {
@@ -71,24 +66,17 @@ std::string budget_chart(const BudgetChart& c) {
     if (has_total) desc += over(bars.back().bar->value) ? " (exceeded)" : " (within)";
   }
   desc += ".";
-  detail::end_description(desc, skipped, "non-finite value", "non-finite values", c.description);
 
-  svg::Writer w;
-  double top = detail::open_chart(w, {kind::kBudget,
-                                      c.title,
-                                      desc,
-                                      size,
-                                      {{"data-points", std::to_string(bars.size())},
-                                       {"data-skipped", std::to_string(skipped)}}});
   std::vector<LegendItem> legend;
   if (!bars.empty()) {
-    legend.push_back({"contribution", false, {}, {Shape::None}, kContributionFill});
-    if (has_total) legend.push_back({"total", false, {}, {Shape::None}, kTotalFill});
-    if (any_over) legend.push_back({"over the allowance", false, {}, {Shape::None}, palette::kRed});
-    if (has_allowance)
-      legend.push_back({c.allowance_label, true, kAllowanceLine, {Shape::None}, {}});
+    legend.push_back(detail::area_item("contribution", kContributionFill));
+    if (has_total) legend.push_back(detail::area_item("total", kTotalFill));
+    if (any_over) legend.push_back(detail::area_item("over the allowance", palette::kRed));
+    if (has_allowance) legend.push_back(detail::line_item(c.allowance_label, kAllowanceLine));
   }
-  top = detail::draw_legend(w, legend, 8, top, size.width - 16) + 6;
+  svg::Writer w;
+  const double top = detail::open_chart(
+      w, {kind::kBudget, c.title, desc, c.description, size, {bars.size(), skipped}, {}}, legend);
 
   Box box;
   box.top = top + (has_allowance ? 16 : 0);
@@ -113,12 +101,7 @@ std::string budget_chart(const BudgetChart& c) {
   const NiceAxis x_axis = detail::fitting_x_axis(lo, hi, box.width(), 10);
   const LinearScale x(x_axis.lo, x_axis.hi, box.left, box.right);
 
-  if (bars.empty()) {
-    detail::plot_frame(w, box);
-    detail::no_data(w, box);
-    detail::close_chart(w);
-    return w.take();
-  }
+  if (bars.empty()) return detail::close_empty_chart(w, box);
   detail::x_axis(w, box, x, x_axis.ticks, detail::tick_labels(x_axis.ticks, x_axis.step),
                  detail::axis_title(c.quantity, c.unit.unit));
 
@@ -200,8 +183,7 @@ std::string budget_chart(const BudgetChart& c) {
             {"fill", std::string(palette::kRed)}},
            text);
   }
-  detail::close_chart(w);
-  return w.take();
+  return detail::close_chart(w);
 }
 
 }  // namespace ncqual::charts

@@ -62,7 +62,11 @@ Size resolve_size(const Size& asked, Size fallback) {
   return {side(asked.width, fallback.width), side(asked.height, fallback.height)};
 }
 
-double open_chart(svg::Writer& w, const Head& head) {
+namespace {
+
+// The root, its <title> and <desc>, the background and the visible title; returns the y below the
+// title.
+double open_root(svg::Writer& w, const Head& head) {
   const std::string width = svg::fixed(head.size.width, 0);
   const std::string height = svg::fixed(head.size.height, 0);
   std::vector<svg::Attr> attrs = {
@@ -76,10 +80,18 @@ double open_chart(svg::Writer& w, const Head& head) {
       {"font-family", std::string(kFontFamily)},
       {"font-size", svg::fixed(kFontPx, 0)},
   };
+  attrs.emplace_back("data-points", std::to_string(head.tally.points));
+  attrs.emplace_back("data-skipped", std::to_string(head.tally.skipped));
+  if (head.tally.failed) attrs.emplace_back("data-failed", std::to_string(*head.tally.failed));
   attrs.insert(attrs.end(), head.extra.begin(), head.extra.end());
   w.open("svg", attrs);
   w.text("title", {}, head.title);
-  w.text("desc", {}, head.desc);
+  std::string desc = head.desc;
+  if (head.tally.skipped > 0) {
+    desc += " " + count_phrase(head.tally.skipped, head.tally.one, head.tally.many) + " skipped.";
+  }
+  if (!head.description.empty()) desc += " " + std::string(head.description);
+  w.text("desc", {}, desc);
   w.leaf("rect", {{"x", "0"},
                   {"y", "0"},
                   {"width", width},
@@ -98,16 +110,39 @@ double open_chart(svg::Writer& w, const Head& head) {
   return 28;
 }
 
-void close_chart(svg::Writer& w) { w.close("svg"); }
+}  // namespace
+
+double open_chart(svg::Writer& w, const Head& head, const std::vector<LegendItem>& legend) {
+  const double top = open_root(w, head);
+  return draw_legend(w, legend, 8, top, head.size.width - 16) + 6;
+}
+
+std::string close_chart(svg::Writer& w) {
+  w.close("svg");
+  return w.take();
+}
 
 std::string count_phrase(std::size_t n, std::string_view one, std::string_view many) {
   return std::to_string(n) + " " + std::string(n == 1 ? one : many);
 }
 
-void end_description(std::string& desc, std::size_t skipped, std::string_view one,
-                     std::string_view many, const std::string& description) {
-  if (skipped > 0) desc += " " + count_phrase(skipped, one, many) + " skipped.";
-  if (!description.empty()) desc += " " + description;
+std::string exact_display(double display, std::string_view unit) {
+  return svg::exact(display) + (unit.empty() ? "" : " " + std::string(unit));
+}
+
+std::string tolerance_sentence(double lower, double upper, double scale, std::string_view unit) {
+  const bool has_lower = std::isfinite(lower);
+  const bool has_upper = std::isfinite(upper);
+  if (!has_lower && !has_upper) return "";
+  std::string s = " Tolerance:";
+  if (has_lower) s += " lower " + exact_display(lower * scale, unit);
+  if (has_lower && has_upper) s += ",";
+  if (has_upper) s += " upper " + exact_display(upper * scale, unit);
+  return s + ".";
+}
+
+double display_scale(const DisplayUnit& unit) {
+  return std::isfinite(unit.scale) && unit.scale != 0 ? unit.scale : 1;
 }
 
 void marker(svg::Writer& w, const MarkerStyle& style, double x, double y,
@@ -165,6 +200,18 @@ std::vector<svg::Attr> line_attrs(const LineStyle& s) {
           {"stroke", std::string(s.stroke)},
           {"stroke-width", svg::fixed(s.width, 2)},
           {"stroke-dasharray", std::string(s.dash)}};
+}
+
+LegendItem line_item(std::string label, const LineStyle& style) {
+  return {std::move(label), true, style, {Shape::None}, {}};
+}
+
+LegendItem marker_item(std::string label, const MarkerStyle& style) {
+  return {std::move(label), false, {}, style, {}};
+}
+
+LegendItem area_item(std::string label, std::string_view fill) {
+  return {std::move(label), false, {}, {Shape::None}, fill};
 }
 
 namespace {
@@ -343,6 +390,32 @@ void no_data(svg::Writer& w, const Box& box) {
           {"font-size", "14"},
           {"fill", std::string(palette::kGrey)}},
          "no data");
+}
+
+std::string close_empty_chart(svg::Writer& w, const Box& box,
+                              const std::vector<svg::Attr>& frame_extra) {
+  plot_frame(w, box, frame_extra);
+  no_data(w, box);
+  return close_chart(w);
+}
+
+void styled_path(svg::Writer& w, std::string_view cls, const svg::Path& path,
+                 const LineStyle& style) {
+  auto attrs = line_attrs(style);
+  attrs.insert(attrs.begin(), {{"class", std::string(cls)}, {"d", path.str()}});
+  w.leaf("path", attrs);
+}
+
+void horizontal_line(svg::Writer& w, const Box& box, double y, const LineStyle& style,
+                     std::string_view cls, double value) {
+  auto attrs = line_attrs(style);
+  attrs.insert(attrs.begin(), {{"class", std::string(cls)},
+                               {"x1", svg::coord(box.left)},
+                               {"y1", svg::coord(y)},
+                               {"x2", svg::coord(box.right)},
+                               {"y2", svg::coord(y)},
+                               {"data-value", svg::exact(value)}});
+  w.leaf("line", attrs);
 }
 
 double edge_labels_width(const std::vector<EdgeLabel>& labels) {

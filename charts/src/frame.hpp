@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,25 +39,34 @@ struct Box {
   double centre_y() const { return (top + bottom) / 2; }
 };
 
-// The root <svg> with its <title> and <desc>, a white background, and the visible title at the
-// top left. Returns the y below the title (where a legend or the plot may start).
-struct Head {
-  std::string_view kind;  // data-chart
-  std::string title;
-  std::string desc;
-  Size size;
-  std::vector<svg::Attr> extra;  // more attributes of the root (data-points, ...)
-};
-double open_chart(svg::Writer& w, const Head& head);
-void close_chart(svg::Writer& w);
-
 // The numbers of a series for its <desc>: "12 points", "1 non-finite value skipped".
 std::string count_phrase(std::size_t n, std::string_view one, std::string_view many);
 
-// The end of every chart's <desc>: " N <what> skipped." when some were, then the caller's own
-// description.
-void end_description(std::string& desc, std::size_t skipped, std::string_view one,
-                     std::string_view many, const std::string& description);
+// A value in display units as exactly as it was given, for the <desc>: "0.0125 mm".
+std::string exact_display(double display, std::string_view unit);
+
+// " Tolerance: lower …, upper …." for the <desc> of a chart with a tolerance band (only its finite
+// limits; "" without any), the limits in display units.
+std::string tolerance_sentence(double lower, double upper, double scale, std::string_view unit);
+
+// The factor from the caller's unit to the display unit: `unit.scale`, 1 when it is 0 or not
+// finite.
+double display_scale(const DisplayUnit& unit);
+
+// Pointers to the items that are `usable`, in their order; the others are counted in `skipped`.
+template <typename T, typename Usable>
+std::vector<const T*> usable_items(const std::vector<T>& items, Usable usable,
+                                   std::size_t& skipped) {
+  std::vector<const T*> out;
+  for (const T& item : items) {
+    if (usable(item)) {
+      out.push_back(&item);
+    } else {
+      ++skipped;
+    }
+  }
+  return out;
+}
 
 enum class Shape { None, Circle, Diamond, Square, TriangleUp, TriangleDown, Cross };
 
@@ -89,12 +99,44 @@ struct LegendItem {
   MarkerStyle marker_style{Shape::None};
   std::string_view area;  // fill colour of a box swatch
 };
+LegendItem line_item(std::string label, const LineStyle& style);
+LegendItem marker_item(std::string label, const MarkerStyle& style);
+LegendItem area_item(std::string label, std::string_view fill);
 // Rows the legend needs within `width` px.
 int legend_rows(const std::vector<LegendItem>& items, double width);
 inline constexpr double kLegendRowPx = 18;
 // Draws the legend in rows from (left, top) within `width`; returns the y below it.
 double draw_legend(svg::Writer& w, const std::vector<LegendItem>& items, double left, double top,
                    double width);
+
+// What a chart counts, for the root's data-points, data-skipped and data-failed (when counted),
+// and for the end of its <desc> (" 2 non-finite values skipped.").
+struct Tally {
+  Tally(std::size_t points_, std::size_t skipped_, std::optional<std::size_t> failed_ = {},
+        std::string_view one_ = "non-finite value", std::string_view many_ = "non-finite values")
+      : points(points_), skipped(skipped_), failed(failed_), one(one_), many(many_) {}
+  std::size_t points;
+  std::size_t skipped;
+  std::optional<std::size_t> failed;
+  std::string_view one;  // what is skipped, one and more
+  std::string_view many;
+};
+
+// The opening every chart shares: the root <svg> with its <title> and <desc>, a white background,
+// the visible title at the top left and the legend below it.
+struct Head {
+  std::string_view kind;  // data-chart
+  std::string title;
+  std::string desc;              // the chart's own sentences; the tally's and `description` follow
+  std::string_view description;  // the caller's, the end of the <desc>
+  Size size;
+  Tally tally;
+  std::vector<svg::Attr> extra;  // more attributes of the root (data-magnification, ...)
+};
+// Returns the y 6 px below the legend (or the title), where the plot may start.
+double open_chart(svg::Writer& w, const Head& head, const std::vector<LegendItem>& legend);
+// Closes the root; returns the chart.
+std::string close_chart(svg::Writer& w);
 
 // The plot frame (a rectangle with class "plot-area" and the data range it shows as data-*).
 void plot_frame(svg::Writer& w, const Box& box, const std::vector<svg::Attr>& extra = {});
@@ -112,6 +154,16 @@ double x_axis(svg::Writer& w, const Box& box, const LinearScale& scale,
 
 // "no data" in the middle of `box`.
 void no_data(svg::Writer& w, const Box& box);
+// The end of a chart without data: the frame, "no data" in it; returns the chart.
+std::string close_empty_chart(svg::Writer& w, const Box& box,
+                              const std::vector<svg::Attr>& frame_extra = {});
+
+// A <path class="`cls`"> of `style` along `path`.
+void styled_path(svg::Writer& w, std::string_view cls, const svg::Path& path,
+                 const LineStyle& style);
+// A horizontal <line class="`cls`"> across `box` at `y` px with data-value `value`.
+void horizontal_line(svg::Writer& w, const Box& box, double y, const LineStyle& style,
+                     std::string_view cls, double value);
 
 // Labels in the margin right of the plot, each at its y if it can, pushed apart so that none
 // overlaps (at least one line apart) and kept within [top, bottom].
@@ -140,6 +192,17 @@ std::string axis_title(std::string_view name, std::string_view unit);
 std::string display_value(double display, int decimals, std::string_view unit);
 
 }  // namespace ncqual::charts::detail
+
+namespace ncqual::charts {
+// The drawing vocabulary, without detail:: in the charts' .cpp files (the only ones that include
+// this header).
+using detail::Box;
+using detail::EdgeLabel;
+using detail::LegendItem;
+using detail::LineStyle;
+using detail::MarkerStyle;
+using detail::Shape;
+}  // namespace ncqual::charts
 
 namespace ncqual::charts::detail {
 

@@ -9,12 +9,6 @@
 namespace ncqual::charts {
 namespace {
 
-using detail::Box;
-using detail::LegendItem;
-using detail::LineStyle;
-using detail::MarkerStyle;
-using detail::Shape;
-
 constexpr LineStyle kToleranceLine{palette::kDark, 1.5, "7 4"};
 constexpr LineStyle kDataLine{palette::kLightGrey, 1, ""};
 constexpr LineStyle kZeroLine{palette::kGrey, 1, ""};
@@ -25,19 +19,13 @@ constexpr MarkerStyle kFailMarker{Shape::Square, 9, palette::kRed, palette::kInk
 
 std::string point_deviation_chart(const PointDeviationChart& c) {
   const Size size = detail::resolve_size(c.size, kPointDeviationSize);
-  const double scale = std::isfinite(c.unit.scale) && c.unit.scale != 0 ? c.unit.scale : 1;
+  const double scale = detail::display_scale(c.unit);
   const bool has_lower = std::isfinite(c.tolerance.lower);
   const bool has_upper = std::isfinite(c.tolerance.upper);
 
-  std::vector<const NumberedDeviation*> points;
   std::size_t skipped = 0;
-  for (const NumberedDeviation& p : c.points) {
-    if (std::isfinite(p.value)) {
-      points.push_back(&p);
-    } else {
-      ++skipped;
-    }
-  }
+  std::vector<const NumberedDeviation*> points = detail::usable_items(
+      c.points, [](const NumberedDeviation& p) { return std::isfinite(p.value); }, skipped);
   std::stable_sort(
       points.begin(), points.end(),
       [](const NumberedDeviation* a, const NumberedDeviation* b) { return a->number < b->number; });
@@ -48,9 +36,6 @@ std::string point_deviation_chart(const PointDeviationChart& c) {
       std::count_if(points.begin(), points.end(),
                     [&](const NumberedDeviation* p) { return out_of_tolerance(p->value); }));
 
-  auto dv = [&](double v) {
-    return svg::exact(v * scale) + (c.unit.unit.empty() ? "" : " " + c.unit.unit);
-  };
   std::string desc = (c.quantity.empty() ? std::string("Deviation") : c.quantity) +
                      " by point number: " + detail::count_phrase(points.size(), "point", "points");
   if (!points.empty()) {
@@ -59,35 +44,27 @@ std::string point_deviation_chart(const PointDeviationChart& c) {
             " out of tolerance";
   }
   desc += ".";
-  if (has_lower || has_upper) {
-    desc += " Tolerance:";
-    if (has_lower) desc += " lower " + dv(c.tolerance.lower);
-    if (has_lower && has_upper) desc += ",";
-    if (has_upper) desc += " upper " + dv(c.tolerance.upper);
-    desc += ".";
-  }
-  detail::end_description(desc, skipped, "non-finite value", "non-finite values", c.description);
+  desc += detail::tolerance_sentence(c.tolerance.lower, c.tolerance.upper, scale, c.unit.unit);
 
-  svg::Writer w;
-  double top = detail::open_chart(w, {kind::kPointDeviation,
-                                      c.title,
-                                      desc,
-                                      size,
-                                      {{"data-points", std::to_string(points.size())},
-                                       {"data-skipped", std::to_string(skipped)},
-                                       {"data-failed", std::to_string(failed)}}});
   std::vector<LegendItem> legend;
   if (!points.empty()) {
-    legend.push_back({"within tolerance", false, {}, kPassMarker, {}});
-    if (failed > 0) legend.push_back({"out of tolerance", false, {}, kFailMarker, {}});
+    legend.push_back(detail::marker_item("within tolerance", kPassMarker));
+    if (failed > 0) legend.push_back(detail::marker_item("out of tolerance", kFailMarker));
     if (has_lower || has_upper) {
-      legend.push_back({"tolerance limit", true, kToleranceLine, {Shape::None}, {}});
+      legend.push_back(detail::line_item("tolerance limit", kToleranceLine));
     }
   }
-  top = detail::draw_legend(w, legend, 8, top, size.width - 16) + 6;
-
+  svg::Writer w;
   Box box;
-  box.top = top;
+  box.top = detail::open_chart(w,
+                               {kind::kPointDeviation,
+                                c.title,
+                                desc,
+                                c.description,
+                                size,
+                                {points.size(), skipped, failed},
+                                {}},
+                               legend);
   box.bottom = detail::plot_bottom(size.height, !c.number_title.empty());
   std::vector<double> ys = {0};
   for (const NumberedDeviation* p : points) ys.push_back(p->value * scale);
@@ -109,12 +86,7 @@ std::string point_deviation_chart(const PointDeviationChart& c) {
   }
   box.right = size.width - std::max(14.0, detail::edge_labels_width(edge) + 4);
 
-  if (points.empty()) {
-    detail::plot_frame(w, box);
-    detail::no_data(w, box);
-    detail::close_chart(w);
-    return w.take();
-  }
+  if (points.empty()) return detail::close_empty_chart(w, box);
 
   // Point numbers: whole numbers, half a step of room at each end.
   const double nmin = points.front()->number - 0.5;
@@ -128,36 +100,17 @@ std::string point_deviation_chart(const PointDeviationChart& c) {
                  left.title_x);
   detail::x_axis(w, box, x, n_ticks, detail::tick_labels(n_ticks, n_axis.step), c.number_title);
 
-  auto hline = [&](double display, const LineStyle& style, std::string_view cls, double value) {
-    auto attrs = detail::line_attrs(style);
-    attrs.insert(attrs.begin(), {{"class", std::string(cls)},
-                                 {"x1", svg::coord(box.left)},
-                                 {"y1", svg::coord(y(display))},
-                                 {"x2", svg::coord(box.right)},
-                                 {"y2", svg::coord(y(display))},
-                                 {"data-value", svg::exact(value)}});
-    w.leaf("line", attrs);
+  auto hline = [&](double value, const LineStyle& style, std::string_view cls) {
+    detail::horizontal_line(w, box, y(value * scale), style, cls, value);
   };
-  hline(0, kZeroLine, "zero", 0);
-  if (has_lower)
-    hline(c.tolerance.lower * scale, kToleranceLine, "tolerance lower", c.tolerance.lower);
-  if (has_upper)
-    hline(c.tolerance.upper * scale, kToleranceLine, "tolerance upper", c.tolerance.upper);
+  hline(0, kZeroLine, "zero");
+  if (has_lower) hline(c.tolerance.lower, kToleranceLine, "tolerance lower");
+  if (has_upper) hline(c.tolerance.upper, kToleranceLine, "tolerance upper");
 
   if (points.size() > 1) {
     svg::Path line;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const double px = x(points[i]->number);
-      const double py = y(points[i]->value * scale);
-      if (i == 0) {
-        line.move_to(px, py);
-      } else {
-        line.line_to(px, py);
-      }
-    }
-    auto attrs = detail::line_attrs(kDataLine);
-    attrs.insert(attrs.begin(), {{"class", "data-line"}, {"d", line.str()}});
-    w.leaf("path", attrs);
+    for (const NumberedDeviation* p : points) line.vertex(x(p->number), y(p->value * scale));
+    detail::styled_path(w, "data-line", line, kDataLine);
   }
   const int decimals = nice_step(y_axis.step.value() / 10).decimals();
   w.open("g", {{"class", "points"}});
@@ -176,8 +129,7 @@ std::string point_deviation_chart(const PointDeviationChart& c) {
   detail::plot_frame(
       w, box, {{"data-y-min", svg::exact(y_axis.lo)}, {"data-y-max", svg::exact(y_axis.hi)}});
   detail::edge_labels(w, edge, box.right + 5, box.top, box.bottom);
-  detail::close_chart(w);
-  return w.take();
+  return detail::close_chart(w);
 }
 
 }  // namespace ncqual::charts

@@ -10,10 +10,6 @@
 namespace ncqual::charts {
 namespace {
 
-using detail::LegendItem;
-using detail::LineStyle;
-using detail::Shape;
-
 constexpr double kPi = 3.14159265358979323846;
 constexpr std::array<LineStyle, 3> kTraceStyles = {
     {{palette::kAccent, 1.8, ""}, {palette::kInk, 1.6, "7 3"}, {palette::kGrey, 1.4, "1.5 2.5"}}};
@@ -24,21 +20,14 @@ const LineStyle& trace_style(std::size_t i) {
   return kTraceStyles[std::min(i, kTraceStyles.size() - 1)];
 }
 
-double display_scale(const PolarChart& c) {
-  return std::isfinite(c.unit.scale) && c.unit.scale != 0 ? c.unit.scale : 1;
-}
-
 std::vector<LegendItem> legend_of(const PolarChart& c) {
   std::vector<LegendItem> legend;
   for (std::size_t i = 0; i < c.traces.size(); ++i) {
-    legend.push_back(
-        {c.traces[i].label.empty() ? "trace " + std::to_string(i + 1) : c.traces[i].label,
-         true,
-         trace_style(i),
-         {Shape::None},
-         {}});
+    legend.push_back(detail::line_item(
+        c.traces[i].label.empty() ? "trace " + std::to_string(i + 1) : c.traces[i].label,
+        trace_style(i)));
   }
-  legend.push_back({"reference circle", true, {palette::kGrey, 1.6, ""}, {Shape::None}, {}});
+  legend.push_back(detail::line_item("reference circle", {palette::kGrey, 1.6, ""}));
   return legend;
 }
 
@@ -66,7 +55,7 @@ double largest_deviation(const PolarChart& c) {
   for (const PolarTrace& t : c.traces) {
     for (const PolarSample& s : usable_samples(t, &ignored)) m = std::max(m, std::abs(s.deviation));
   }
-  return m * std::abs(display_scale(c));
+  return m * std::abs(detail::display_scale(c.unit));
 }
 
 }  // namespace
@@ -96,7 +85,7 @@ PolarGeometry polar_geometry(const PolarChart& c) {
 
 std::string polar_chart(const PolarChart& c) {
   const Size size = detail::resolve_size(c.size, kPolarSize);
-  const double scale = display_scale(c);
+  const double scale = detail::display_scale(c.unit);
   const PolarGeometry g = polar_geometry(c);
 
   std::size_t skipped = 0;
@@ -126,17 +115,19 @@ std::string polar_chart(const PolarChart& c) {
   desc += ". Deviations drawn magnified around the reference circle, " +
           detail::display_value(g.ring_step, ring_tick.decimals(), c.unit.unit) +
           " per ring; angles counter-clockwise from +" + c.u_name + ".";
-  detail::end_description(desc, skipped, "non-finite sample", "non-finite samples", c.description);
 
+  const detail::Tally tally{points, skipped, std::nullopt, "non-finite sample",
+                            "non-finite samples"};
   svg::Writer w;
-  double top = detail::open_chart(w, {kind::kPolar,
-                                      c.title,
-                                      desc,
-                                      size,
-                                      {{"data-points", std::to_string(points)},
-                                       {"data-skipped", std::to_string(skipped)},
-                                       {"data-ring-step", svg::exact(g.ring_step)}}});
-  detail::draw_legend(w, legend_of(c), 8, top, size.width - 16);
+  detail::open_chart(w,
+                     {kind::kPolar,
+                      c.title,
+                      desc,
+                      c.description,
+                      size,
+                      tally,
+                      {{"data-ring-step", svg::exact(g.ring_step)}}},
+                     legend_of(c));
 
   auto at = [&](double angle, double r) {
     return std::pair<double, double>{g.cx + r * std::cos(angle), g.cy - r * std::sin(angle)};
@@ -214,11 +205,7 @@ std::string polar_chart(const PolarChart& c) {
     for (std::size_t k = 0; k < s.size(); ++k) {
       const PolarSample& q = s[(start + k) % s.size()];
       const auto [px, py] = at(q.angle_rad, g.reference_px + q.deviation * scale * g.px_per_unit);
-      if (k == 0) {
-        p.move_to(px, py);
-      } else {
-        p.line_to(px, py);
-      }
+      p.vertex(px, py);
     }
     if (gap <= kPi / 3 && s.size() > 2) p.close();
     auto attrs = detail::line_attrs(trace_style(i));
@@ -257,8 +244,7 @@ std::string polar_chart(const PolarChart& c) {
             {"fill", std::string(palette::kGrey)}},
            "no data");
   }
-  detail::close_chart(w);
-  return w.take();
+  return detail::close_chart(w);
 }
 
 }  // namespace ncqual::charts

@@ -9,12 +9,6 @@
 namespace ncqual::charts {
 namespace {
 
-using detail::Box;
-using detail::LegendItem;
-using detail::LineStyle;
-using detail::MarkerStyle;
-using detail::Shape;
-
 constexpr LineStyle kUpMean{palette::kAccent, 1.8, ""};
 constexpr LineStyle kUpBand{palette::kAccent, 1, "5 3"};
 constexpr LineStyle kDownMean{palette::kInk, 1.8, "9 3"};
@@ -37,7 +31,7 @@ bool usable(const std::optional<DirectionStats>& d) {
 
 std::string positioning_chart(const PositioningChart& c) {
   const Size size = detail::resolve_size(c.size, kPositioningSize);
-  const double scale = std::isfinite(c.unit.scale) && c.unit.scale != 0 ? c.unit.scale : 1;
+  const double scale = detail::display_scale(c.unit);
 
   std::vector<Row> rows;
   std::size_t skipped = 0;
@@ -72,31 +66,23 @@ std::string positioning_chart(const PositioningChart& c) {
   desc += "; mean deviation and mean ± 2s per direction";
   if (!c.unit.unit.empty()) desc += " in " + c.unit.unit;
   desc += ".";
-  detail::end_description(desc, skipped, "non-finite direction", "non-finite directions",
-                          c.description);
 
-  svg::Writer w;
-  double top = detail::open_chart(w, {kind::kPositioning,
-                                      c.title,
-                                      desc,
-                                      size,
-                                      {{"data-points", std::to_string(rows.size())},
-                                       {"data-skipped", std::to_string(skipped)}}});
   std::vector<LegendItem> legend;
   if (any_up) {
     legend.push_back({"mean ↑", true, kUpMean, kUpMarker, {}});
-    legend.push_back({"mean ↑ ± 2s", true, kUpBand, {Shape::None}, {}});
+    legend.push_back(detail::line_item("mean ↑ ± 2s", kUpBand));
   }
   if (any_down) {
     legend.push_back({"mean ↓", true, kDownMean, kDownMarker, {}});
-    legend.push_back({"mean ↓ ± 2s", true, kDownBand, {Shape::None}, {}});
+    legend.push_back(detail::line_item("mean ↓ ± 2s", kDownBand));
   }
-  if (bidirectional)
-    legend.push_back({"mean bidirectional", true, kBidirectional, {Shape::None}, {}});
-  top = detail::draw_legend(w, legend, 8, top, size.width - 16) + 6;
-
+  if (bidirectional) legend.push_back(detail::line_item("mean bidirectional", kBidirectional));
+  const detail::Tally tally{rows.size(), skipped, std::nullopt, "non-finite direction",
+                            "non-finite directions"};
+  svg::Writer w;
   Box box;
-  box.top = top;
+  box.top = detail::open_chart(
+      w, {kind::kPositioning, c.title, desc, c.description, size, tally, {}}, legend);
   box.bottom = detail::plot_bottom(size.height, true);
   std::vector<double> ys = {0};
   for (const Row& r : rows) {
@@ -116,12 +102,7 @@ std::string positioning_chart(const PositioningChart& c) {
   box.right = size.width - 16;
   const std::string x_title = detail::axis_title("target position " + c.axis_name, c.position_unit);
 
-  if (rows.empty()) {
-    detail::plot_frame(w, box);
-    detail::no_data(w, box);
-    detail::close_chart(w);
-    return w.take();
-  }
+  if (rows.empty()) return detail::close_empty_chart(w, box);
   const double span = rows.back().position - rows.front().position;
   const double pad = span > 0 ? span * 0.03 : 1;
   const double xlo = rows.front().position - pad;
@@ -145,23 +126,11 @@ std::string positioning_chart(const PositioningChart& c) {
   // A polyline through the rows that have the direction, `k` standard deviations off the mean.
   auto series = [&](bool up, double k, const LineStyle& style, std::string_view cls) {
     svg::Path p;
-    bool first = true;
     for (const Row& r : rows) {
       const auto& d = up ? r.up : r.down;
-      if (!d) continue;
-      const double px = x(r.position);
-      const double py = y((d->mean + k * d->s) * scale);
-      if (first) {
-        p.move_to(px, py);
-      } else {
-        p.line_to(px, py);
-      }
-      first = false;
+      if (d) p.vertex(x(r.position), y((d->mean + k * d->s) * scale));
     }
-    if (p.empty()) return;
-    auto attrs = detail::line_attrs(style);
-    attrs.insert(attrs.begin(), {{"class", std::string(cls)}, {"d", p.str()}});
-    w.leaf("path", attrs);
+    if (!p.empty()) detail::styled_path(w, cls, p, style);
   };
   if (any_up) {
     series(true, 2, kUpBand, "band up plus");
@@ -173,21 +142,10 @@ std::string positioning_chart(const PositioningChart& c) {
   }
   if (bidirectional) {
     svg::Path p;
-    bool first = true;
     for (const Row& r : rows) {
-      if (!r.up || !r.down) continue;
-      const double px = x(r.position);
-      const double py = y((r.up->mean + r.down->mean) / 2 * scale);
-      if (first) {
-        p.move_to(px, py);
-      } else {
-        p.line_to(px, py);
-      }
-      first = false;
+      if (r.up && r.down) p.vertex(x(r.position), y((r.up->mean + r.down->mean) / 2 * scale));
     }
-    auto attrs = detail::line_attrs(kBidirectional);
-    attrs.insert(attrs.begin(), {{"class", "mean bidirectional"}, {"d", p.str()}});
-    w.leaf("path", attrs);
+    detail::styled_path(w, "mean bidirectional", p, kBidirectional);
   }
   if (any_down) series(false, 0, kDownMean, "line down");
   if (any_up) series(true, 0, kUpMean, "line up");
@@ -213,8 +171,7 @@ std::string positioning_chart(const PositioningChart& c) {
   w.close("g");
   detail::plot_frame(
       w, box, {{"data-y-min", svg::exact(y_axis.lo)}, {"data-y-max", svg::exact(y_axis.hi)}});
-  detail::close_chart(w);
-  return w.take();
+  return detail::close_chart(w);
 }
 
 }  // namespace ncqual::charts

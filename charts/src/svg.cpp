@@ -170,8 +170,7 @@ Path& Path::close() {
   return *this;
 }
 
-template <typename Attrs>
-void Writer::start(std::string_view tag, const Attrs& attrs) {
+void Writer::start(std::string_view tag, Attrs attrs) {
   out_ += '<';
   out_ += tag;
   for (const auto& [name, value] : attrs) {
@@ -184,12 +183,7 @@ void Writer::start(std::string_view tag, const Attrs& attrs) {
   }
 }
 
-void Writer::open(std::string_view tag, std::initializer_list<Attr> attrs) {
-  start(tag, attrs);
-  out_ += ">\n";
-}
-
-void Writer::open(std::string_view tag, const std::vector<Attr>& attrs) {
+void Writer::open(std::string_view tag, Attrs attrs) {
   start(tag, attrs);
   out_ += ">\n";
 }
@@ -200,32 +194,16 @@ void Writer::close(std::string_view tag) {
   out_ += ">\n";
 }
 
-void Writer::leaf(std::string_view tag, std::initializer_list<Attr> attrs) {
+void Writer::leaf(std::string_view tag, Attrs attrs) {
   start(tag, attrs);
   out_ += "/>\n";
 }
 
-void Writer::leaf(std::string_view tag, const std::vector<Attr>& attrs) {
-  start(tag, attrs);
-  out_ += "/>\n";
-}
-
-void Writer::text(std::string_view tag, std::initializer_list<Attr> attrs, std::string_view text) {
+void Writer::text(std::string_view tag, Attrs attrs, std::string_view text) {
   start(tag, attrs);
   out_ += '>';
   out_ += escape(text);
-  out_ += "</";
-  out_ += tag;
-  out_ += ">\n";
-}
-
-void Writer::text(std::string_view tag, const std::vector<Attr>& attrs, std::string_view text) {
-  start(tag, attrs);
-  out_ += '>';
-  out_ += escape(text);
-  out_ += "</";
-  out_ += tag;
-  out_ += ">\n";
+  close(tag);
 }
 
 }  // namespace ncqual::charts::svg

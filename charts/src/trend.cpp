@@ -9,13 +9,6 @@
 namespace ncqual::charts {
 namespace {
 
-using detail::Box;
-using detail::EdgeLabel;
-using detail::LegendItem;
-using detail::LineStyle;
-using detail::MarkerStyle;
-using detail::Shape;
-
 constexpr std::int64_t kNsPerDay = 86'400'000'000'000;
 
 constexpr LineStyle kToleranceLine{palette::kDark, 1.5, ""};
@@ -105,22 +98,16 @@ void vertical_label(svg::Writer& w, const Box& box, double x, std::string_view t
 
 std::string trend_chart(const TrendChart& c) {
   const Size size = detail::resolve_size(c.size, kTrendSize);
-  const double scale = finite(c.unit.scale) && c.unit.scale != 0 ? c.unit.scale : 1;
+  const double scale = detail::display_scale(c.unit);
   const double lower_tol = c.tolerance.lower;
   const double upper_tol = c.tolerance.upper;
   const bool has_lower = finite(lower_tol);
   const bool has_upper = finite(upper_tol);
 
   // The points that can be drawn, in time order.
-  std::vector<const TrendPoint*> points;
   std::size_t skipped = 0;
-  for (const TrendPoint& p : c.points) {
-    if (finite(p.value)) {
-      points.push_back(&p);
-    } else {
-      ++skipped;
-    }
-  }
+  std::vector<const TrendPoint*> points = detail::usable_items(
+      c.points, [](const TrendPoint& p) { return finite(p.value); }, skipped);
   std::stable_sort(points.begin(), points.end(), [](const TrendPoint* a, const TrendPoint* b) {
     return a->time_ns < b->time_ns;
   });
@@ -150,16 +137,8 @@ std::string trend_chart(const TrendChart& c) {
             time_text(c, points.back()->time_ns) + ", " + std::to_string(failed) + " failed";
   }
   desc += ".";
-  auto dv = [&](double v) {
-    return svg::exact(v * scale) + (c.unit.unit.empty() ? "" : " " + c.unit.unit);
-  };
-  if (has_lower || has_upper) {
-    desc += " Tolerance:";
-    if (has_lower) desc += " lower " + dv(lower_tol);
-    if (has_lower && has_upper) desc += ",";
-    if (has_upper) desc += " upper " + dv(upper_tol);
-    desc += ".";
-  }
+  auto dv = [&](double v) { return detail::exact_display(v * scale, c.unit.unit); };
+  desc += detail::tolerance_sentence(lower_tol, upper_tol, scale, c.unit.unit);
   if (c.control) {
     desc += " Control limits: centre " + dv(c.control->centre) + ", LCL " + dv(c.control->lower) +
             ", UCL " + dv(c.control->upper) + ".";
@@ -176,30 +155,19 @@ std::string trend_chart(const TrendChart& c) {
                                  "interventions and compensations") +
             " marked.";
   }
-  detail::end_description(desc, skipped, "non-finite value", "non-finite values", c.description);
-
-  svg::Writer w;
-  double top = detail::open_chart(w, {kind::kTrend,
-                                      c.title,
-                                      desc,
-                                      size,
-                                      {{"data-points", std::to_string(points.size())},
-                                       {"data-skipped", std::to_string(skipped)},
-                                       {"data-failed", std::to_string(failed)}}});
 
   // The legend: only what the chart shows.
   std::vector<LegendItem> legend;
   if (!points.empty()) {
-    legend.push_back({"check", false, {}, kPassMarker, {}});
-    if (failed > 0) legend.push_back({"failed check", false, {}, kFailMarker, {}});
+    legend.push_back(detail::marker_item("check", kPassMarker));
+    if (failed > 0) legend.push_back(detail::marker_item("failed check", kFailMarker));
   }
-  if (has_lower || has_upper)
-    legend.push_back({"tolerance", true, kToleranceLine, {Shape::None}, {}});
-  if (c.control) legend.push_back({"control limits", true, kControlLine, {Shape::None}, {}});
+  if (has_lower || has_upper) legend.push_back(detail::line_item("tolerance", kToleranceLine));
+  if (c.control) legend.push_back(detail::line_item("control limits", kControlLine));
   if (!forecast.empty()) {
-    legend.push_back({"forecast", true, kFittedLine, {Shape::None}, {}});
-    legend.push_back({c.forecast->band_label, false, {}, {Shape::None}, palette::kAccentLight});
-    if (crossing) legend.push_back({"expected crossing", true, kCrossingLine, {Shape::None}, {}});
+    legend.push_back(detail::line_item("forecast", kFittedLine));
+    legend.push_back(detail::area_item(c.forecast->band_label, palette::kAccentLight));
+    if (crossing) legend.push_back(detail::line_item("expected crossing", kCrossingLine));
   }
   const bool any_intervention =
       std::any_of(c.markers.begin(), c.markers.end(),
@@ -207,14 +175,13 @@ std::string trend_chart(const TrendChart& c) {
   const bool any_compensation =
       std::any_of(c.markers.begin(), c.markers.end(),
                   [](const TimeMarker& m) { return m.kind == MarkerKind::Compensation; });
-  if (any_intervention)
-    legend.push_back({"intervention", true, kInterventionLine, {Shape::None}, {}});
-  if (any_compensation)
-    legend.push_back({"compensation", true, kCompensationLine, {Shape::None}, {}});
-  top = detail::draw_legend(w, legend, 8, top, size.width - 16) + 6;
-
+  if (any_intervention) legend.push_back(detail::line_item("intervention", kInterventionLine));
+  if (any_compensation) legend.push_back(detail::line_item("compensation", kCompensationLine));
+  svg::Writer w;
   Box box;
-  box.top = top;
+  box.top = detail::open_chart(
+      w, {kind::kTrend, c.title, desc, c.description, size, {points.size(), skipped, failed}, {}},
+      legend);
   box.bottom = detail::plot_bottom(size.height, !c.time_title.empty());
 
   // The y axis (display units) over everything drawn.
@@ -262,11 +229,8 @@ std::string trend_chart(const TrendChart& c) {
   box.right = size.width - std::max(14.0, detail::edge_labels_width(edge) + 4);
 
   if (points.empty()) {
-    detail::plot_frame(
+    return detail::close_empty_chart(
         w, box, {{"data-y-min", svg::exact(y_axis.lo)}, {"data-y-max", svg::exact(y_axis.hi)}});
-    detail::no_data(w, box);
-    detail::close_chart(w);
-    return w.take();
   }
 
   // The time axis over the points, the forecast and the markers.
@@ -308,15 +272,7 @@ std::string trend_chart(const TrendChart& c) {
   // The forecast's band under the data.
   if (!forecast.empty()) {
     svg::Path band;
-    for (std::size_t i = 0; i < forecast.size(); ++i) {
-      const double px = tx(forecast[i].time_ns);
-      const double py = y(forecast[i].upper * scale);
-      if (i == 0) {
-        band.move_to(px, py);
-      } else {
-        band.line_to(px, py);
-      }
-    }
+    for (const ForecastSample& s : forecast) band.vertex(tx(s.time_ns), y(s.upper * scale));
     for (std::size_t i = forecast.size(); i-- > 0;) {
       band.line_to(tx(forecast[i].time_ns), y(forecast[i].lower * scale));
     }
@@ -330,14 +286,7 @@ std::string trend_chart(const TrendChart& c) {
 
   // Horizontal lines: control limits, then the tolerance limits over them.
   auto hline = [&](double v, const LineStyle& style, std::string_view cls) {
-    auto attrs = detail::line_attrs(style);
-    attrs.insert(attrs.begin(), {{"class", std::string(cls)},
-                                 {"x1", svg::coord(box.left)},
-                                 {"y1", svg::coord(y(v * scale))},
-                                 {"x2", svg::coord(box.right)},
-                                 {"y2", svg::coord(y(v * scale))},
-                                 {"data-value", svg::exact(v)}});
-    w.leaf("line", attrs);
+    detail::horizontal_line(w, box, y(v * scale), style, cls, v);
   };
   if (c.control) {
     if (finite(c.control->centre)) hline(c.control->centre, kCentreLine, "control centre");
@@ -372,35 +321,15 @@ std::string trend_chart(const TrendChart& c) {
   // The data: a thin line in time order, then a marker per check.
   if (points.size() > 1) {
     svg::Path line;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const double px = tx(points[i]->time_ns);
-      const double py = y(points[i]->value * scale);
-      if (i == 0) {
-        line.move_to(px, py);
-      } else {
-        line.line_to(px, py);
-      }
-    }
-    auto attrs = detail::line_attrs(kDataLine);
-    attrs.insert(attrs.begin(), {{"class", "data-line"}, {"d", line.str()}});
-    w.leaf("path", attrs);
+    for (const TrendPoint* p : points) line.vertex(tx(p->time_ns), y(p->value * scale));
+    detail::styled_path(w, "data-line", line, kDataLine);
   }
 
   // The fitted line over the data, dashed.
   if (!forecast.empty()) {
     svg::Path fit;
-    for (std::size_t i = 0; i < forecast.size(); ++i) {
-      const double px = tx(forecast[i].time_ns);
-      const double py = y(forecast[i].fitted * scale);
-      if (i == 0) {
-        fit.move_to(px, py);
-      } else {
-        fit.line_to(px, py);
-      }
-    }
-    auto attrs = detail::line_attrs(kFittedLine);
-    attrs.insert(attrs.begin(), {{"class", "forecast"}, {"d", fit.str()}});
-    w.leaf("path", attrs);
+    for (const ForecastSample& s : forecast) fit.vertex(tx(s.time_ns), y(s.fitted * scale));
+    detail::styled_path(w, "forecast", fit, kFittedLine);
   }
 
   w.open("g", {{"class", "points"}});
@@ -444,8 +373,7 @@ std::string trend_chart(const TrendChart& c) {
                       {"data-time-max", std::to_string(tmax)}});
   for (const auto& [mx, text] : marker_labels) vertical_label(w, box, mx, text);
   detail::edge_labels(w, edge, box.right + 5, box.top, box.bottom);
-  detail::close_chart(w);
-  return w.take();
+  return detail::close_chart(w);
 }
 
 }  // namespace ncqual::charts

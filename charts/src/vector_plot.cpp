@@ -10,12 +10,6 @@
 namespace ncqual::charts {
 namespace {
 
-using detail::Box;
-using detail::LegendItem;
-using detail::LineStyle;
-using detail::MarkerStyle;
-using detail::Shape;
-
 constexpr MarkerStyle kNominal{Shape::Circle, 5, palette::kInk, "#ffffff", 0.5};
 constexpr MarkerStyle kNominalFail{Shape::Circle, 6, palette::kRed, "#ffffff", 0.5};
 constexpr LineStyle kArrow{palette::kAccent, 1.8, ""};
@@ -68,19 +62,12 @@ double vector_magnification(const DeviationVectorPlot& c) {
 
 std::string deviation_vector_plot(const DeviationVectorPlot& c) {
   const Size size = detail::resolve_size(c.size, kVectorPlotSize);
-  const double scale = std::isfinite(c.unit.scale) && c.unit.scale != 0 ? c.unit.scale : 1;
+  const double scale = detail::display_scale(c.unit);
   const double mag = vector_magnification(c);
   const bool tol = has_tolerance(c);
 
-  std::vector<const PlaneDeviation*> pts;
   std::size_t skipped = 0;
-  for (const PlaneDeviation& p : c.points) {
-    if (usable(p)) {
-      pts.push_back(&p);
-    } else {
-      ++skipped;
-    }
-  }
+  std::vector<const PlaneDeviation*> pts = detail::usable_items(c.points, usable, skipped);
   auto fails = [&](const PlaneDeviation& p) {
     if (p.out_of_tolerance) return *p.out_of_tolerance;
     return tol && std::hypot(p.dx, p.dy) > c.tolerance;
@@ -106,37 +93,32 @@ std::string deviation_vector_plot(const DeviationVectorPlot& c) {
             c.position_unit + ")";
   }
   desc += "; vectors drawn ×" + svg::exact(mag) + ".";
-  detail::end_description(desc, skipped, "point with non-finite values",
-                          "points with non-finite values", c.description);
 
-  svg::Writer w;
-  double top = detail::open_chart(w, {kind::kDeviationVectors,
-                                      c.title,
-                                      desc,
-                                      size,
-                                      {{"data-points", std::to_string(pts.size())},
-                                       {"data-skipped", std::to_string(skipped)},
-                                       {"data-failed", std::to_string(failed)},
-                                       {"data-magnification", svg::exact(mag)}}});
   std::vector<LegendItem> legend;
   if (!pts.empty()) {
-    legend.push_back({"nominal point", false, {}, kNominal, {}});
-    legend.push_back({"deviation ×" + svg::exact(mag), true, kArrow, {Shape::None}, {}});
+    legend.push_back(detail::marker_item("nominal point", kNominal));
+    legend.push_back(detail::line_item("deviation ×" + svg::exact(mag), kArrow));
     if (tol) {
-      legend.push_back({"tolerance " + dv(c.tolerance),
-                        false,
-                        {},
-                        {Shape::Circle, 12, "none", palette::kGrey, 1},
-                        {}});
+      legend.push_back(detail::marker_item("tolerance " + dv(c.tolerance),
+                                           {Shape::Circle, 12, "none", palette::kGrey, 1}));
     }
-    if (failed > 0) legend.push_back({"out of tolerance", true, kArrowFail, {Shape::None}, {}});
+    if (failed > 0) legend.push_back(detail::line_item("out of tolerance", kArrowFail));
   }
-  top = detail::draw_legend(w, legend, 8, top, size.width - 16) + 6;
-
+  const detail::Tally tally{pts.size(), skipped, failed, "point with non-finite values",
+                            "points with non-finite values"};
+  svg::Writer w;
   // The plot: what remains above the x axis and the scale bar row.
   constexpr double kScaleRowPx = 22;
   Box box;
-  box.top = top;
+  box.top = detail::open_chart(w,
+                               {kind::kDeviationVectors,
+                                c.title,
+                                desc,
+                                c.description,
+                                size,
+                                tally,
+                                {{"data-magnification", svg::exact(mag)}}},
+                               legend);
   box.bottom = detail::plot_bottom(size.height, true, kScaleRowPx);
   box.right = size.width - 16;
 
@@ -200,12 +182,7 @@ std::string deviation_vector_plot(const DeviationVectorPlot& c) {
   }
   const double ppu = x.pixels_per_unit();
 
-  if (pts.empty()) {
-    detail::plot_frame(w, box);
-    detail::no_data(w, box);
-    detail::close_chart(w);
-    return w.take();
-  }
+  if (pts.empty()) return detail::close_empty_chart(w, box);
 
   detail::y_axis(w, box, y, y_ticks, y_labels, detail::axis_title(c.y_name, c.position_unit),
                  left.title_x);
@@ -305,8 +282,7 @@ std::string deviation_vector_plot(const DeviationVectorPlot& c) {
           {"fill", std::string(palette::kInk)}},
          detail::fit_text(scale_text, size.width - (sx + bar_px + 16), detail::kFontPx));
   w.close("g");
-  detail::close_chart(w);
-  return w.take();
+  return detail::close_chart(w);
 }
 
 }  // namespace ncqual::charts

@@ -43,6 +43,10 @@ import urllib.error
 import urllib.parse
 import urllib.request
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from chromium import FLAGS as CHROMIUM_FLAGS, find_chromium, run_chromium  # noqa: E402
+
 FAILURES = []
 
 
@@ -51,25 +55,6 @@ def check(condition, message):
         FAILURES.append(message)
         print("FAIL", message, flush=True)
     return condition
-
-
-def find_chromium():
-    for candidate in ("chromium", "chromium-browser"):
-        path = shutil.which(candidate)
-        if path:
-            return path
-    return None
-
-
-CHROMIUM_FLAGS = ["--headless", "--disable-gpu", "--no-sandbox", "--no-first-run",
-                  "--disable-extensions", "--hide-scrollbars", "--mute-audio"]
-
-
-def run_chromium(chromium, args, timeout=90):
-    with tempfile.TemporaryDirectory(prefix="ncqual-chromium-") as profile:
-        cmd = [chromium] + CHROMIUM_FLAGS + ["--user-data-dir=" + profile] + args
-        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              timeout=timeout, check=False)
 
 
 def wait_for(what, predicate, deadline_s=30.0, every_s=0.1):

@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ncqual/charts/charts.hpp"
@@ -391,63 +392,76 @@ struct Drawn {
   std::function<std::string(const std::string& label, charts::Size size, bool empty)> draw;
 };
 
+// A chart of `kind` drawn by `draw` from `labelled(label)` at `size`, emptied by `clear` first
+// when `empty`.
+template <typename Chart, typename Labelled, typename Clear>
+Drawn drawn(std::string kind, std::string (*draw)(const Chart&), Labelled labelled, Clear clear) {
+  return {std::move(kind), [=](const std::string& label, charts::Size size, bool empty) {
+            Chart c = labelled(label);
+            c.size = size;
+            if (empty) clear(c);
+            return draw(c);
+          }};
+}
+
 std::vector<Drawn> every_chart() {
+  using Label = const std::string&;
   return {
-      {"trend",
-       [](const std::string& label, charts::Size size, bool empty) {
-         charts::TrendChart c = three_checks();
-         c.title = c.quantity = c.description = label;
-         c.points[0].label = label;
-         c.markers = {{kT0, label, charts::MarkerKind::Intervention}};
-         c.size = size;
-         if (empty) c.points.clear();
-         return charts::trend_chart(c);
-       }},
-      {"deviation-vectors",
-       [](const std::string& label, charts::Size size, bool empty) {
-         charts::DeviationVectorPlot c = two_points();
-         c.title = c.x_name = c.points[0].label = label;
-         c.size = size;
-         if (empty) c.points.clear();
-         return charts::deviation_vector_plot(c);
-       }},
-      {"point-deviation",
-       [](const std::string& label, charts::Size size, bool empty) {
-         charts::PointDeviationChart c;
-         c.title = c.quantity = label;
-         c.points = {{1, 0.001, label}, {2, 0.002, ""}};
-         c.size = size;
-         if (empty) c.points.clear();
-         return charts::point_deviation_chart(c);
-       }},
-      {"positioning",
-       [](const std::string& label, charts::Size size, bool empty) {
-         charts::PositioningChart c;
-         c.title = c.axis_name = label;
-         c.targets = {{0, charts::DirectionStats{0.001, 0.0001}, std::nullopt},
-                      {10, charts::DirectionStats{0.002, 0.0001}, std::nullopt}};
-         c.size = size;
-         if (empty) c.targets.clear();
-         return charts::positioning_chart(c);
-       }},
-      {"polar",
-       [](const std::string& label, charts::Size size, bool empty) {
-         charts::PolarChart c = four_points();
-         c.title = c.traces[0].label = label;
-         c.size = size;
-         if (empty) c.traces[0].samples.clear();
-         return charts::polar_chart(c);
-       }},
-      {"budget",
-       [](const std::string& label, charts::Size size, bool empty) {
-         charts::BudgetChart c;
-         c.title = c.allowance_label = label;
-         c.contributions = {{label, 0.004}, {"b", 0.002}};
-         c.allowance = 0.005;
-         c.size = size;
-         if (empty) c.contributions.clear();
-         return charts::budget_chart(c);
-       }},
+      drawn(
+          "trend", charts::trend_chart,
+          [](Label label) {
+            charts::TrendChart c = three_checks();
+            c.title = c.quantity = c.description = label;
+            c.points[0].label = label;
+            c.markers = {{kT0, label, charts::MarkerKind::Intervention}};
+            return c;
+          },
+          [](charts::TrendChart& c) { c.points.clear(); }),
+      drawn(
+          "deviation-vectors", charts::deviation_vector_plot,
+          [](Label label) {
+            charts::DeviationVectorPlot c = two_points();
+            c.title = c.x_name = c.points[0].label = label;
+            return c;
+          },
+          [](charts::DeviationVectorPlot& c) { c.points.clear(); }),
+      drawn(
+          "point-deviation", charts::point_deviation_chart,
+          [](Label label) {
+            charts::PointDeviationChart c;
+            c.title = c.quantity = label;
+            c.points = {{1, 0.001, label}, {2, 0.002, ""}};
+            return c;
+          },
+          [](charts::PointDeviationChart& c) { c.points.clear(); }),
+      drawn(
+          "positioning", charts::positioning_chart,
+          [](Label label) {
+            charts::PositioningChart c;
+            c.title = c.axis_name = label;
+            c.targets = {{0, charts::DirectionStats{0.001, 0.0001}, std::nullopt},
+                         {10, charts::DirectionStats{0.002, 0.0001}, std::nullopt}};
+            return c;
+          },
+          [](charts::PositioningChart& c) { c.targets.clear(); }),
+      drawn(
+          "polar", charts::polar_chart,
+          [](Label label) {
+            charts::PolarChart c = four_points();
+            c.title = c.traces[0].label = label;
+            return c;
+          },
+          [](charts::PolarChart& c) { c.traces[0].samples.clear(); }),
+      drawn(
+          "budget", charts::budget_chart,
+          [](Label label) {
+            charts::BudgetChart c;
+            c.title = c.allowance_label = label;
+            c.contributions = {{label, 0.004}, {"b", 0.002}};
+            c.allowance = 0.005;
+            return c;
+          },
+          [](charts::BudgetChart& c) { c.contributions.clear(); }),
   };
 }
 

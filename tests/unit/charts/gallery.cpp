@@ -14,6 +14,7 @@
 #include <iostream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "ncqual/charts/charts.hpp"
@@ -40,12 +41,20 @@ struct Sample {
   std::string svg;
 };
 
-charts::TrendChart drifting_trend() {
+// A trend without points yet: what every trend sample sets first.
+charts::TrendChart trend(std::string title, std::string quantity, charts::DisplayUnit unit,
+                         charts::ToleranceBand tolerance) {
   charts::TrendChart c;
-  c.title = "Monument check 3: centre dx, machine PM1";
-  c.quantity = "centre dx";
-  c.unit = kMicrons;
-  c.tolerance = {-0.010, 0.010};
+  c.title = std::move(title);
+  c.quantity = std::move(quantity);
+  c.unit = std::move(unit);
+  c.tolerance = tolerance;
+  return c;
+}
+
+charts::TrendChart drifting_trend() {
+  charts::TrendChart c =
+      trend("Monument check 3: centre dx, machine PM1", "centre dx", kMicrons, {-0.010, 0.010});
   for (int i = 0; i < 40; ++i) {
     const double drift = i < 22 ? 0.00018 * i : 0.00018 * (i - 22) - 0.001;
     const double noise = 0.0012 * std::sin(i * 2.3) + 0.0006 * std::cos(i * 5.1);
@@ -77,11 +86,8 @@ charts::TrendChart drifting_trend() {
 }
 
 charts::TrendChart one_sided_upper() {
-  charts::TrendChart c;
-  c.title = "Fixture flatness (upper limit only)";
-  c.quantity = "flatness";
-  c.unit = kMicrons;
-  c.tolerance = {-charts::kNoLimit, 0.015};
+  charts::TrendChart c = trend("Fixture flatness (upper limit only)", "flatness", kMicrons,
+                               {-charts::kNoLimit, 0.015});
   for (int i = 0; i < 12; ++i) {
     c.points.push_back({kStart + i * 7 * kDay, 0.004 + 0.0007 * i + 0.001 * std::sin(i), false,
                         "weekly-" + std::to_string(i)});
@@ -91,11 +97,9 @@ charts::TrendChart one_sided_upper() {
 }
 
 charts::TrendChart one_sided_lower() {
-  charts::TrendChart c;
-  c.title = "Probe trigger margin (lower limit only), one day";
-  c.quantity = "margin";
-  c.unit = {1, "mm"};
-  c.tolerance = {0.2, kNaN};  // NaN: no upper limit
+  // NaN: no upper limit.
+  charts::TrendChart c =
+      trend("Probe trigger margin (lower limit only), one day", "margin", {1, "mm"}, {0.2, kNaN});
   for (int i = 0; i < 16; ++i) {
     c.points.push_back(
         {kStart + i * kHour + 6 * kHour, 0.6 - 0.02 * i + 0.03 * std::cos(i), false, ""});
@@ -104,20 +108,12 @@ charts::TrendChart one_sided_lower() {
 }
 
 charts::TrendChart empty_trend() {
-  charts::TrendChart c;
-  c.title = "Trend without checks yet";
-  c.quantity = "centre dy";
-  c.unit = kMicrons;
-  c.tolerance = {-0.01, 0.01};
-  return c;
+  return trend("Trend without checks yet", "centre dy", kMicrons, {-0.01, 0.01});
 }
 
 charts::TrendChart nan_trend() {
-  charts::TrendChart c;
-  c.title = "Trend with non-finite values (skipped)";
-  c.quantity = "centre dz";
-  c.unit = kMicrons;
-  c.tolerance = {-0.008, 0.008};
+  charts::TrendChart c =
+      trend("Trend with non-finite values (skipped)", "centre dz", kMicrons, {-0.008, 0.008});
   const double values[] = {0.001,  kNaN,   0.002, std::numeric_limits<double>::infinity(),
                            -0.003, 0.0015, -kNaN};
   int i = 0;
@@ -175,10 +171,10 @@ charts::DeviationVectorPlot grid_auto_nan() {
 }
 
 charts::DeviationVectorPlot grid_empty() {
-  charts::DeviationVectorPlot c;
+  charts::DeviationVectorPlot c = grid_plane();
   c.title = "Grid plane without points";
-  c.unit = kMicrons;
-  c.tolerance = 0.01;
+  c.magnification.reset();
+  c.points.clear();
   return c;
 }
 

@@ -15,12 +15,14 @@ import html
 import json
 import os
 import re
-import shutil
 import struct
-import subprocess
 import sys
-import tempfile
 import zlib
+
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from chromium import find_chromium, run_chromium  # noqa: E402 (tests/support/chromium.py)
+from well_formed import finish, run_gallery  # noqa: E402 (this folder's well_formed.py)
 
 LAYOUT_SCRIPT = r"""
 <script>
@@ -71,23 +73,6 @@ LAYOUT_SCRIPT = r"""
 })();
 </script>
 """
-
-
-def find_chromium():
-    for candidate in ("chromium", "chromium-browser"):
-        path = shutil.which(candidate)
-        if path:
-            return path
-    return None
-
-
-def run_chromium(chromium, args, timeout=90):
-    with tempfile.TemporaryDirectory(prefix="ncqual-chromium-") as profile:
-        cmd = [chromium, "--headless", "--disable-gpu", "--no-sandbox", "--no-first-run",
-               "--disable-extensions", "--hide-scrollbars", "--mute-audio",
-               "--user-data-dir=" + profile] + args
-        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              timeout=timeout, check=False)
 
 
 def read_png(path):
@@ -161,11 +146,7 @@ def main():
     if chromium is None:
         print("SKIPPED: chromium is not installed (deploy/install-deps.sh --test installs it)")
         return 77
-    shutil.rmtree(outdir, ignore_errors=True)
-    os.makedirs(outdir)
-    subprocess.run([exe, outdir], check=True, stdout=subprocess.DEVNULL)
-    with open(os.path.join(outdir, "manifest.tsv"), encoding="utf-8") as f:
-        manifest = [line.rstrip("\n").split("\t") for line in f if line.strip()]
+    manifest = run_gallery(exe, outdir)
     failures = []
 
     # 1. The page as it is: every chart in the DOM Chromium built.
@@ -245,10 +226,8 @@ def main():
         if name == "trend" and blue < 20:
             failures.append(f"{name}.png: hardly any accent blue ({blue})")
 
-    for f in failures:
-        print("FAIL", f)
-    print(f"{len(manifest)} charts; {len(failures)} problems; screenshot kept at {shot}")
-    return 1 if failures else 0
+    return finish(failures,
+                  f"{len(manifest)} charts; {len(failures)} problems; screenshot kept at {shot}")
 
 
 if __name__ == "__main__":

@@ -31,7 +31,16 @@ def fail(where, what):
     failures.append(f"{where}: {what}")
 
 
+def finish(problems, summary):
+    """Prints every problem and the summary; the exit code (1 with problems)."""
+    for p in problems:
+        print("FAIL", p)
+    print(summary)
+    return 1 if problems else 0
+
+
 def run_gallery(exe, outdir):
+    """The gallery drawn afresh into `outdir`; its manifest's rows (name, kind, expect, note)."""
     shutil.rmtree(outdir, ignore_errors=True)
     subprocess.run([exe, outdir], check=True, stdout=subprocess.DEVNULL)
     with open(os.path.join(outdir, "manifest.tsv"), encoding="utf-8") as f:
@@ -120,10 +129,7 @@ def main():
     missing = KINDS - seen
     if missing:
         fail("gallery", f"no well-formed chart of kind {sorted(missing)}")
-    for f in failures:
-        print("FAIL", f)
-    print(f"{len(first)} charts checked; {len(failures)} problems")
-    return 1 if failures else 0
+    return finish(failures, f"{len(first)} charts checked; {len(failures)} problems")
 
 
 if __name__ == "__main__":

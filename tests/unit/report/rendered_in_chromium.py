@@ -7,32 +7,26 @@
 # Usage: rendered_in_chromium.py SAMPLE_EXE OUTDIR. Skipped (77) without Chromium.
 import os
 import re
-import shutil
 import subprocess
 import sys
-import tempfile
+
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "support"))
+from chromium import find_chromium, run_chromium  # noqa: E402 (tests/support/chromium.py)
 
 SECTIONS = ["state", "grid", "linear", "circles", "trends", "checks", "budget"]
 
 
-def run_chromium(chromium, args, timeout=120):
-    with tempfile.TemporaryDirectory(prefix="ncqual-chromium-") as profile:
-        cmd = [chromium, "--headless", "--disable-gpu", "--no-sandbox", "--no-first-run",
-               "--disable-extensions", "--hide-scrollbars", "--mute-audio",
-               "--user-data-dir=" + profile] + args
-        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              timeout=timeout, check=False)
-
-
 def main(exe, outdir):
-    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    chromium = find_chromium()
     if chromium is None:
         print("SKIPPED: chromium is not installed")
         return 77
     subprocess.run([exe, outdir], check=True)
     page = "file://" + os.path.abspath(os.path.join(outdir, "report.html"))
     failures = []
-    dom = run_chromium(chromium, ["--dump-dom", page]).stdout.decode("utf-8", "replace")
+    dom = run_chromium(chromium, ["--dump-dom", page], timeout=120)
+    dom = dom.stdout.decode("utf-8", "replace")
     for s in SECTIONS:
         if f'class="ncqual-report-{s}"' not in dom:
             failures.append(f"section {s} is not in the DOM")
@@ -44,7 +38,7 @@ def main(exe, outdir):
     if "<script" in dom:
         failures.append("a script in the DOM")
     pdf = os.path.join(outdir, "report.pdf")
-    run_chromium(chromium, ["--print-to-pdf=" + pdf, "--no-pdf-header-footer", page])
+    run_chromium(chromium, ["--print-to-pdf=" + pdf, "--no-pdf-header-footer", page], timeout=120)
     if not os.path.exists(pdf):
         failures.append("no PDF printed")
     else:
@@ -52,7 +46,7 @@ def main(exe, outdir):
         if pages < len(SECTIONS):
             failures.append(f"the PDF has {pages} pages, fewer than the {len(SECTIONS)} sections")
     shot = os.path.join(outdir, "report.png")
-    run_chromium(chromium, ["--screenshot=" + shot, "--window-size=1200,16000", page])
+    run_chromium(chromium, ["--screenshot=" + shot, "--window-size=1200,16000", page], timeout=120)
     if not os.path.exists(shot):
         failures.append("no screenshot")
     for f in failures:

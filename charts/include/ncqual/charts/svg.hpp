@@ -41,6 +41,8 @@ class Path {
   // `sweep` is false.
   Path& arc_to(double r, bool large_arc, bool sweep, double x, double y);
   Path& close();
+  // The next vertex of a polyline: move_to for the first point of the path, line_to after it.
+  Path& vertex(double x, double y) { return empty() ? move_to(x, y) : line_to(x, y); }
   bool empty() const { return d_.empty(); }
   const std::string& str() const { return d_; }
 
@@ -51,29 +53,44 @@ class Path {
 // An attribute: name and its value as plain text (the writer escapes it).
 using Attr = std::pair<std::string_view, std::string>;
 
+// The attributes of one element, as a braced list at the call ({{"class", "a"}, {"x", "1"}}) or
+// a vector built beforehand. A view: it holds neither, so it is only ever a parameter of the
+// writer's calls (the list or vector outlives the call).
+class Attrs {
+ public:
+  Attrs() = default;
+  Attrs(std::initializer_list<Attr> list) {
+    begin_ = list.begin();
+    end_ = list.end();
+  }
+  Attrs(const std::vector<Attr>& list) : begin_(list.data()), end_(list.data() + list.size()) {}
+  const Attr* begin() const { return begin_; }
+  const Attr* end() const { return end_; }
+
+ private:
+  const Attr* begin_ = nullptr;
+  const Attr* end_ = nullptr;
+};
+
 // Writes elements into one string. Attributes whose value is empty are left out, so optional
 // attributes can be passed as "" .
 class Writer {
  public:
   // <tag a="v" ...>
-  void open(std::string_view tag, std::initializer_list<Attr> attrs = {});
-  void open(std::string_view tag, const std::vector<Attr>& attrs);
+  void open(std::string_view tag, Attrs attrs = {});
   // </tag>
   void close(std::string_view tag);
   // <tag a="v" .../>
-  void leaf(std::string_view tag, std::initializer_list<Attr> attrs);
-  void leaf(std::string_view tag, const std::vector<Attr>& attrs);
+  void leaf(std::string_view tag, Attrs attrs);
   // <tag a="v" ...>text</tag>, text escaped
-  void text(std::string_view tag, std::initializer_list<Attr> attrs, std::string_view text);
-  void text(std::string_view tag, const std::vector<Attr>& attrs, std::string_view text);
+  void text(std::string_view tag, Attrs attrs, std::string_view text);
   // Raw markup (already escaped), e.g. another writer's output.
   void raw(std::string_view markup) { out_ += markup; }
   const std::string& str() const { return out_; }
   std::string take() { return std::move(out_); }
 
  private:
-  template <typename Attrs>
-  void start(std::string_view tag, const Attrs& attrs);
+  void start(std::string_view tag, Attrs attrs);
   std::string out_;
 };
 
