@@ -15,7 +15,7 @@
 //   ncqual_history_bench [--machines N] [--days D] [--seed S] [--watch] [--monthly] [--runs R]
 //                        [--db FILE] [--keep FILE]
 #include "history_gen.hpp"
-#include "quantile.hpp"
+#include "bench_support.hpp"
 
 #include "ncqual/common/clock.hpp"
 #include "ncqual/status/plant_status.hpp"
