@@ -21,11 +21,10 @@
 // Prints figures with targets and PASS/MISS beside them; exits 0 once measured (whatever the
 // figures), 1 when the historian did not store or acknowledge everything in time, 2 for bad usage.
 #include "harness.hpp"
-#include "quantile.hpp"
+#include "bench_support.hpp"
 #include "test_participant.hpp"
 
 #include "ncqual/common/clock.hpp"
-#include "ncqual/common/command_line.hpp"
 #include "ncqual/common/config.hpp"
 #include "ncqual/dds/acknowledged.hpp"
 #include "ncqual/dds/service.hpp"
@@ -80,6 +79,23 @@ struct Options {
   int machines = 10;
   int timeout_s = 60;
 };
+
+// The bench's command line: what it does and Options.
+void add_options(CLI::App& app, Options& options) {
+  app.description(
+      "The cost of acknowledged storage: checks per second and latency with the outbox and the "
+      "historian's acknowledgement, and with plain writes, against a real ncqual-historian.");
+  // The durable topics keep the last 500 samples per machine: a plain burst of more per machine
+  // than the historian takes meanwhile loses the oldest (what the outbox is there for).
+  bench::add_bounded(app, "--samples", options.samples,
+                     "results in the throughput burst (keep it under 500 per machine)", 1, 100000);
+  bench::add_bounded(app, "--latency-samples", options.latency_samples,
+                     "results sent one at a time for the latencies", 1, 100000);
+  bench::add_bounded(app, "--machines", options.machines,
+                     "machines the results are spread over (at most 200, the QoS's instances)", 1,
+                     200);
+  bench::add_timeout_option(app, options.timeout_s);
+}
 
 // What a phase measured: checks per second (a burst) or latencies (one at a time).
 struct Figures {
@@ -352,31 +368,5 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return command_line::guarded_main("ncqual_ack_bench", [&] {
-    CLI::App app(
-        "The cost of acknowledged storage: checks per second and latency with the outbox and the "
-        "historian's acknowledgement, and with plain writes, against a real ncqual-historian.",
-        "ncqual_ack_bench");
-    command_line::configure(app);
-    Options options;
-    // The durable topics keep the last 500 samples per machine: a plain burst of more per machine
-    // than the historian takes meanwhile loses the oldest (what the outbox is there for).
-    app.add_option("--samples", options.samples,
-                   "results in the throughput burst (keep it under 500 per machine)")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    app.add_option("--latency-samples", options.latency_samples,
-                   "results sent one at a time for the latencies")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    app.add_option("--machines", options.machines,
-                   "machines the results are spread over (at most 200, the QoS's instances)")
-        ->check(CLI::Range(1, 200))
-        ->capture_default_str();
-    app.add_option("--timeout-s", options.timeout_s, "patience of each wait")
-        ->check(CLI::Range(1, 3600))
-        ->capture_default_str();
-    if (const auto code = command_line::parse(app, argc, argv)) return *code;
-    return run(options);
-  });
+  return bench::bench_main(argc, argv, "ncqual_ack_bench", add_options, run);
 }

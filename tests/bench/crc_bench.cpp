@@ -7,7 +7,8 @@
 // 0.08-0.13 x; the figures are in crc32.cpp). Each figure is the best of --runs runs of about
 // --mib MiB. Prints the figures and whether the folding still wins clearly; exits 0 once
 // measured (whatever the figures), 1 when the two disagree on a CRC, 2 for bad usage.
-#include "ncqual/common/command_line.hpp"
+#include "bench_support.hpp"
+
 #include "ncqual/mcap/mcap.hpp"
 
 #include <zlib.h>
@@ -33,6 +34,14 @@ struct Options {
   int mib = 256;
   int runs = 5;
 };
+
+// The bench's command line: what it does and Options.
+void add_options(CLI::App& app, Options& options) {
+  app.description("The MCAP library's CRC32 beside zlib's crc32_z alone.");
+  bench::add_bounded(app, "--mib", options.mib, "MiB checksummed in each run of each buffer size",
+                     1, 4096);
+  bench::add_bounded(app, "--runs", options.runs, "runs whose best is shown", 1, 100);
+}
 
 // Bytes that are not all alike (a multiplicative hash of the index), the same on every run.
 std::string pattern(std::size_t size) {
@@ -119,17 +128,5 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return command_line::guarded_main("ncqual_crc_bench", [&] {
-    CLI::App app("The MCAP library's CRC32 beside zlib's crc32_z alone.", "ncqual_crc_bench");
-    command_line::configure(app);
-    Options options;
-    app.add_option("--mib", options.mib, "MiB checksummed in each run of each buffer size")
-        ->check(CLI::Range(1, 4096))
-        ->capture_default_str();
-    app.add_option("--runs", options.runs, "runs whose best is shown")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    if (const auto code = command_line::parse(app, argc, argv)) return *code;
-    return run(options);
-  });
+  return bench::bench_main(argc, argv, "ncqual_crc_bench", add_options, run);
 }

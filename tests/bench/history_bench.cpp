@@ -15,7 +15,7 @@
 //   ncqual_history_bench [--machines N] [--days D] [--seed S] [--watch] [--monthly] [--runs R]
 //                        [--db FILE] [--keep FILE]
 #include "history_gen.hpp"
-#include "quantile.hpp"
+#include "bench_support.hpp"
 
 #include "ncqual/common/clock.hpp"
 #include "ncqual/status/plant_status.hpp"
@@ -259,27 +259,14 @@ int main(int argc, char** argv) {
   o.generate.machine_file = std::string(NCQUAL_SOURCE_DIR) + "/deploy/machines/pm1.yaml";
   try {
     for (int i = 1; i < argc; ++i) {
+      if (ncqual::history::read_generate_option(argc, argv, i, o.generate)) continue;
       const std::string arg = argv[i];
-      const auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-        return argv[++i];
-      };
-      if (arg == "--machines") {
-        o.generate.machines = std::stoi(value());
-      } else if (arg == "--days") {
-        o.generate.days = std::stoi(value());
-      } else if (arg == "--seed") {
-        o.generate.seed = std::stoull(value());
-      } else if (arg == "--watch") {
-        o.generate.watch = true;
-      } else if (arg == "--monthly") {
-        o.generate.monthly = true;
-      } else if (arg == "--runs") {
-        o.runs = std::max(1, std::stoi(value()));
+      if (arg == "--runs") {
+        o.runs = std::max(1, std::stoi(ncqual::history::option_value(argc, argv, i)));
       } else if (arg == "--db") {
-        o.db = value();
+        o.db = ncqual::history::option_value(argc, argv, i);
       } else if (arg == "--keep") {
-        o.keep = value();
+        o.keep = ncqual::history::option_value(argc, argv, i);
       } else {
         throw std::invalid_argument("unknown argument '" + arg + "'");
       }

@@ -9,9 +9,8 @@
 //   peak memory   of the historian and the solver (VmHWM: the most each held at once)
 // The file is written first and not timed. Exits 0 once measured (whatever the figures), 1 when
 // the import failed (its output and the services' logs are printed), 2 for bad usage.
+#include "bench_support.hpp"
 #include "harness.hpp"
-
-#include "ncqual/common/command_line.hpp"
 
 #include <sys/types.h>
 
@@ -35,6 +34,15 @@ constexpr double kTargetPeakMb = 2048;
 struct Options {
   int points = 1000000;
 };
+
+// The bench's command line: what it does and Options.
+void add_options(CLI::App& app, Options& options) {
+  app.description(
+      "The time and memory of a large import: `ncqual import circle` of a generated file into "
+      "a real ncqual-historian and ncqual-solver.");
+  bench::add_bounded(app, "--points", options.points, "points in the circle file (both directions)",
+                     2, 5000000);
+}
 
 // The largest resident size `pid` has had, in MB, from /proc (0 when it cannot be read).
 double peak_mb(pid_t pid) {
@@ -113,17 +121,5 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return command_line::guarded_main("ncqual_import_bench", [&] {
-    CLI::App app(
-        "The time and memory of a large import: `ncqual import circle` of a generated file into "
-        "a real ncqual-historian and ncqual-solver.",
-        "ncqual_import_bench");
-    command_line::configure(app);
-    Options options;
-    app.add_option("--points", options.points, "points in the circle file (both directions)")
-        ->check(CLI::Range(2, 5000000))
-        ->capture_default_str();
-    if (const auto code = command_line::parse(app, argc, argv)) return *code;
-    return run(options);
-  });
+  return bench::bench_main(argc, argv, "ncqual_import_bench", add_options, run);
 }

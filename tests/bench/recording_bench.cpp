@@ -22,10 +22,9 @@
 // Prints figures with targets and PASS/MISS beside them; exits 0 once measured (whatever the
 // figures), 1 when the recorder did not get every set, 2 for bad usage.
 #include "harness.hpp"
-#include "quantile.hpp"
+#include "bench_support.hpp"
 #include "test_participant.hpp"
 
-#include "ncqual/common/command_line.hpp"
 #include "ncqual/common/config.hpp"
 #include "ncqual/dds/convert.hpp"
 #include "ncqual/dds/raw.hpp"
@@ -70,6 +69,21 @@ struct Options {
   int machines = 10;
   int repeat = 3;
 };
+
+// The bench's command line: what it does and Options.
+void add_options(CLI::App& app, Options& options) {
+  app.description(
+      "The cost of recordings: the MCAP recording beside a raw fwrite of the same bytes, the "
+      "replay beside a raw Fast DDS publish of the same payloads.");
+  bench::add_bounded(app, "--sets", options.sets, "MeasurementSets of 216 points in each run", 1,
+                     100000);
+  // The durable topics keep the last 500 samples per machine; the writers wait for their
+  // readers every 100 samples, so any number of sets per machine is fine.
+  bench::add_bounded(app, "--machines", options.machines,
+                     "machines the sets are spread over (at most 200, the QoS's instances)", 1,
+                     200);
+  bench::add_bounded(app, "--repeat", options.repeat, "runs of (a) whose median is shown", 1, 100);
+}
 
 struct Payload {
   std::string machine_id;
@@ -344,26 +358,5 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return command_line::guarded_main("ncqual_recording_bench", [&] {
-    CLI::App app(
-        "The cost of recordings: the MCAP recording beside a raw fwrite of the same bytes, the "
-        "replay beside a raw Fast DDS publish of the same payloads.",
-        "ncqual_recording_bench");
-    command_line::configure(app);
-    Options options;
-    app.add_option("--sets", options.sets, "MeasurementSets of 216 points in each run")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    // The durable topics keep the last 500 samples per machine; the writers wait for their
-    // readers every 100 samples, so any number of sets per machine is fine.
-    app.add_option("--machines", options.machines,
-                   "machines the sets are spread over (at most 200, the QoS's instances)")
-        ->check(CLI::Range(1, 200))
-        ->capture_default_str();
-    app.add_option("--repeat", options.repeat, "runs of (a) whose median is shown")
-        ->check(CLI::Range(1, 100))
-        ->capture_default_str();
-    if (const auto code = command_line::parse(app, argc, argv)) return *code;
-    return run(options);
-  });
+  return bench::bench_main(argc, argv, "ncqual_recording_bench", add_options, run);
 }

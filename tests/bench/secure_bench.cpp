@@ -14,11 +14,10 @@
 // median and p99 within 1.5 times the open plant's); exits 0 once measured, 1 when a plant did
 // not store a result in time, 2 for bad usage.
 #include "harness.hpp"
-#include "quantile.hpp"
+#include "bench_support.hpp"
 #include "test_participant.hpp"
 
 #include "ncqual/common/clock.hpp"
-#include "ncqual/common/command_line.hpp"
 #include "ncqual/common/config.hpp"
 #include "ncqual/dds/endpoint.hpp"
 #include "ncqual/dds/topics.hpp"
@@ -54,6 +53,15 @@ struct Options {
   int checks = 200;
   int timeout_s = 60;
 };
+
+// The bench's command line: what it does and Options.
+void add_options(CLI::App& app, Options& options) {
+  app.description(
+      "The cost of DDS Security: a check's latency from MeasurementSet to stored CheckResult on "
+      "a secured plant beside an open one, both real ncqual services.");
+  bench::add_bounded(app, "--checks", options.checks, "checks per plant", 1, 100000);
+  bench::add_timeout_option(app, options.timeout_s);
+}
 
 class Failed : public std::runtime_error {
  public:
@@ -179,20 +187,5 @@ int run(const Options& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return command_line::guarded_main("ncqual_secure_bench", [&] {
-    CLI::App app(
-        "The cost of DDS Security: a check's latency from MeasurementSet to stored CheckResult on "
-        "a secured plant beside an open one, both real ncqual services.",
-        "ncqual_secure_bench");
-    command_line::configure(app);
-    Options options;
-    app.add_option("--checks", options.checks, "checks per plant")
-        ->check(CLI::Range(1, 100000))
-        ->capture_default_str();
-    app.add_option("--timeout-s", options.timeout_s, "patience of each wait")
-        ->check(CLI::Range(1, 3600))
-        ->capture_default_str();
-    if (const auto code = command_line::parse(app, argc, argv)) return *code;
-    return run(options);
-  });
+  return bench::bench_main(argc, argv, "ncqual_secure_bench", add_options, run);
 }

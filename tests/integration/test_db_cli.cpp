@@ -30,10 +30,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using testing_cli::Capture;
-using testing_cli::CliRun;
-using testing_cli::run_cli;
-using testing_cli::run_command;
+using namespace testing_cli;  // cli_runner.hpp
 
 constexpr int kChecks = 300;
 constexpr std::int64_t kT0 = 1'800'000'000'000'000'000;

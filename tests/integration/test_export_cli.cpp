@@ -29,10 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using testing_cli::Capture;
-using testing_cli::CliRun;
-using testing_cli::run_cli;
-using testing_cli::run_command;
+using namespace testing_cli;  // cli_runner.hpp
 
 constexpr std::int64_t kSecond = 1'000'000'000;
 constexpr std::int64_t kDay = 86'400 * kSecond;

@@ -386,4 +386,27 @@ GenerateReport generate_history(storage::Database& db, const GenerateOptions& op
   return generator.run();
 }
 
+std::string option_value(int argc, char** argv, int& i) {
+  if (i + 1 >= argc) throw std::invalid_argument(std::string(argv[i]) + " needs a value");
+  return argv[++i];
+}
+
+bool read_generate_option(int argc, char** argv, int& i, GenerateOptions& options) {
+  const std::string arg = argv[i];
+  if (arg == "--machines") {
+    options.machines = std::stoi(option_value(argc, argv, i));
+  } else if (arg == "--days") {
+    options.days = std::stoi(option_value(argc, argv, i));
+  } else if (arg == "--seed") {
+    options.seed = std::stoull(option_value(argc, argv, i));
+  } else if (arg == "--watch") {
+    options.watch = true;
+  } else if (arg == "--monthly") {
+    options.monthly = true;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 }  // namespace ncqual::history

@@ -75,4 +75,15 @@ PlantConfig generated_plant(const GenerateOptions& options,
 // simulator throws.
 GenerateReport generate_history(storage::Database& db, const GenerateOptions& options);
 
+// The command lines of ncqual-generate-history and the history bench, read one argument at a
+// time (for (int i = 1; i < argc; ++i)):
+//
+// The value of the option argv[i]: the next argument (i moves onto it). Throws
+// std::invalid_argument when there is none.
+std::string option_value(int argc, char** argv, int& i);
+// When argv[i] is one of the options both take (--machines N, --days D, --seed S, --watch,
+// --monthly), reads it into `options` (i moves past its value) and returns true; else false.
+// Throws std::invalid_argument for a missing or unreadable value.
+bool read_generate_option(int argc, char** argv, int& i, GenerateOptions& options);
+
 }  // namespace ncqual::history

@@ -32,27 +32,14 @@ int main(int argc, char** argv) {
   std::string out;
   try {
     for (int i = 1; i < argc; ++i) {
+      if (ncqual::history::read_generate_option(argc, argv, i, options)) continue;
       const std::string arg = argv[i];
-      const auto value = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::invalid_argument(arg + " needs a value");
-        return argv[++i];
-      };
-      if (arg == "--machines") {
-        options.machines = std::stoi(value());
-      } else if (arg == "--days") {
-        options.days = std::stoi(value());
-      } else if (arg == "--seed") {
-        options.seed = std::stoull(value());
-      } else if (arg == "--out") {
-        out = value();
-      } else if (arg == "--watch") {
-        options.watch = true;
-      } else if (arg == "--monthly") {
-        options.monthly = true;
+      if (arg == "--out") {
+        out = ncqual::history::option_value(argc, argv, i);
       } else if (arg == "--machine-file") {
-        options.machine_file = value();
+        options.machine_file = ncqual::history::option_value(argc, argv, i);
       } else if (arg == "--start") {
-        const std::string text = value();
+        const std::string text = ncqual::history::option_value(argc, argv, i);
         const auto t = ncqual::parse_iso8601(text);
         if (!t) throw std::invalid_argument("--start '" + text + "' is not an ISO 8601 UTC time");
         options.start_ns = *t;

@@ -20,13 +20,7 @@
 namespace ncqual::sim {
 namespace {
 
-using testing::fixture_request;
-using testing::pm1_fixture;
-using testing::pm1_with_fixture;
-using testing::random_fixture;
-using testing::random_machine;
-using testing::simulator_config;
-using testing::uniform;
+using namespace testing;  // test_machines.hpp, test_fixtures.hpp
 
 constexpr CheckKind kPre = CheckKind::FixturePreCalibration;
 constexpr CheckKind kPost = CheckKind::FixturePostCalibration;

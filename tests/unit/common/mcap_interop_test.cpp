@@ -182,6 +182,19 @@ void expect_messages(const json& r, const std::vector<mcap::Message>& expected, 
   }
 }
 
+// A file ncqual read (`ours`) as the independent reader read it (`theirs`, indexed): the same
+// schemas, channels, header profile and library, and messages (matched by sequence).
+void expect_read_as_ours(const json& theirs, const mcap::Recording& ours) {
+  Written w;
+  for (const auto& [id, s] : ours.schemas) w.schemas.push_back(s);
+  for (const auto& [id, c] : ours.channels) w.channels.push_back(c);
+  mcap::Options options;
+  options.profile = ours.header.profile;
+  options.library = ours.header.library;
+  expect_definitions(theirs, w, options);
+  expect_messages(theirs, ours.messages, false);
+}
+
 class McapInterop : public ::testing::TestWithParam<std::string> {
  protected:
   void SetUp() override {
@@ -281,14 +294,7 @@ TEST(McapInteropRecordings, FoxgloveReadsEveryCommittedRecording) {
     ASSERT_TRUE(ours.indexed) << entry.path();
     const json theirs = independent_read(entry.path(), false);
     ASSERT_FALSE(theirs.empty()) << entry.path();
-    Written w;
-    for (const auto& [id, s] : ours.schemas) w.schemas.push_back(s);
-    for (const auto& [id, c] : ours.channels) w.channels.push_back(c);
-    mcap::Options options;
-    options.profile = ours.header.profile;
-    options.library = ours.header.library;
-    expect_definitions(theirs, w, options);
-    expect_messages(theirs, ours.messages, false);
+    expect_read_as_ours(theirs, ours);
   }
   EXPECT_GT(files, 0U) << "no recording in " << dir;
 }
@@ -343,12 +349,5 @@ TEST(McapInteropRecordings, FoxgloveReadsWhatTheLiveRecorderWrote) {
       << recorded.size() << " recorded, " << replayed.size() << " replayed";
   const json theirs = independent_read(out, false);
   ASSERT_FALSE(theirs.empty());
-  Written w;
-  for (const auto& [id, s] : ours.schemas) w.schemas.push_back(s);
-  for (const auto& [id, c] : ours.channels) w.channels.push_back(c);
-  mcap::Options options;
-  options.profile = ours.header.profile;
-  options.library = ours.header.library;
-  expect_definitions(theirs, w, options);
-  expect_messages(theirs, ours.messages, false);
+  expect_read_as_ours(theirs, ours);
 }

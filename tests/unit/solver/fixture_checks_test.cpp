@@ -4,6 +4,7 @@
 #include "ncqual/common/fixture.hpp"
 #include "ncqual/sim/fixture_simulator.hpp"
 #include "ncqual/sim/machine_simulator.hpp"
+#include "solver_test_support.hpp"
 #include "test_fixtures.hpp"
 #include "test_machines.hpp"
 
@@ -20,14 +21,7 @@
 namespace ncqual::solver {
 namespace {
 
-using testing::fixture_request;
-using testing::metric;
-using testing::pm1_fixture;
-using testing::pm1_with_fixture;
-using testing::random_fixture;
-using testing::random_machine;
-using testing::simulator_config;
-using testing::uniform;
+using namespace testing;  // test_machines.hpp, test_fixtures.hpp, solver_test_support.hpp
 
 constexpr CheckKind kPre = CheckKind::FixturePreCalibration;
 constexpr CheckKind kPost = CheckKind::FixturePostCalibration;
@@ -166,16 +160,10 @@ TEST(FixturePreCalibration, RecoversInjectedOffsetsWithinTheTriggerNoise) {
   }
   EXPECT_GT(passes, 10);
   EXPECT_GT(fails, 30);
-  double sum_sq = 0;
-  int beyond_3 = 0;
-  for (double z : standardised) {
-    sum_sq += z * z;
-    beyond_3 += std::abs(z) > 3 ? 1 : 0;
-  }
-  const double n = static_cast<double>(standardised.size());
+  const NoiseSpread spread = noise_spread(standardised);
   // Thousands of standard normals: the rms has a standard error below 0.02.
-  EXPECT_NEAR(std::sqrt(sum_sq / n), 1.0, 0.08);
-  EXPECT_LE(beyond_3, 0.0027 * n + 4 * std::sqrt(0.0027 * n) + 2);
+  EXPECT_NEAR(spread.rms, 1.0, 0.08);
+  EXPECT_LE(spread.beyond_3, 0.0027 * spread.n + 4 * std::sqrt(0.0027 * spread.n) + 2);
 }
 
 TEST(FixturePreCalibration, WorstCaseSummariesAreTheSignedLargestDeltas) {
@@ -683,12 +671,7 @@ TEST(FixtureChecks, RandomGarbageIsNeverPass) {
   const double poison[] = {kNaN, INFINITY, -INFINITY};
   for (int i = 0; i < 300; ++i) {
     MeasurementSet set = clean;
-    Touch& t =
-        set.touches[std::uniform_int_distribution<std::size_t>(0, set.touches.size() - 1)(rng)];
-    double* fields[] = {&t.axes.x_mm,    &t.axes.y_mm,    &t.axes.z_mm,
-                        &t.axes.w_mm,    &t.axes.a_rad,   &t.axes.c_rad,
-                        &t.approach.x(), &t.approach.y(), &t.approach.z()};
-    *fields[std::uniform_int_distribution<int>(0, 8)(rng)] = poison[i % 3];
+    spoil_random_field(set, rng, poison[i % 3]);
     CheckResult r;
     ASSERT_NO_THROW(r = check_fixture_precalibration(set, m));
     EXPECT_EQ(r.verdict, Verdict::Invalid) << r.reason;

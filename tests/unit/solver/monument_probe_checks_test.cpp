@@ -9,11 +9,13 @@
 #include "ncqual/sim/machine_simulator.hpp"
 #include "ncqual/solver/solve.hpp"
 #include "ncqual/common/units.hpp"
+#include "solver_test_support.hpp"
 #include "test_machines.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <random>
@@ -23,6 +25,7 @@
 namespace ncqual::solver {
 namespace {
 
+using testing::GroundTruthTally;
 using testing::metric;
 using testing::pm1_like_machine;
 using testing::random_machine;
@@ -56,74 +59,35 @@ sim::SimulatorConfig random_errors(std::mt19937_64& rng) {
   return c;
 }
 
-struct Expectation {
-  std::string_view name;
-  double truth;
-  double sigma;
+// Case i of a seeded end-to-end test: the simulated machine (its config: m) and what it measured.
+struct Case {
+  const sim::MachineSimulator& simulator;
+  const MachineConfig& m;
+  const MeasurementSet& set;
+  GroundTruthTally& tally;
+  int i;
 };
 
-// Shared bookkeeping of the seeded end-to-end tests: each metric within 5 sigma per case (with
-// hundreds of comparisons a 3 sigma bound would be exceeded by chance), the 3 sigma statistics
-// over the whole sample, verdicts where the truth is clearly in or out of the band, and the
-// first cause on failure.
-class GroundTruthTally {
- public:
-  explicit GroundTruthTally(std::string first_cause) : first_cause_(std::move(first_cause)) {}
-
-  void check(const CheckResult& result, const MachineConfig& m,
-             const std::vector<Expectation>& expectations, int i) {
-    ASSERT_NE(result.verdict, Verdict::Invalid) << "case " << i << ": " << result.reason;
-    constexpr double k = 5;
-    bool must_fail = false, must_pass = true;
-    for (const auto& e : expectations) {
-      const Metric& mt = metric(result, e.name);
-      EXPECT_NEAR(mt.value, e.truth, k * e.sigma) << e.name << " case " << i;
-      standardised_.push_back((mt.value - e.truth) / e.sigma);
-      const Tolerance& band = m.tolerances.at(std::string(e.name));
-      EXPECT_EQ(mt.pass, band.contains(mt.value)) << e.name;
-      const double margin = k * e.sigma;
-      if (e.truth > band.upper + margin || e.truth < band.lower - margin) must_fail = true;
-      if (e.truth > band.upper - margin || e.truth < band.lower + margin) must_pass = false;
-    }
-    if (must_fail) {
-      EXPECT_EQ(result.verdict, Verdict::Fail) << "case " << i;
-    }
-    if (must_pass) {
-      EXPECT_EQ(result.verdict, Verdict::Pass) << "case " << i << ": " << result.reason;
-    }
-    if (result.verdict == Verdict::Fail) {
-      ++fails_;
-      ASSERT_FALSE(result.likely_causes.empty());
-      EXPECT_EQ(result.likely_causes[0], first_cause_);
-      EXPECT_FALSE(result.reason.empty());
-    } else {
-      ++passes_;
-      EXPECT_TRUE(result.likely_causes.empty());
-    }
+// A seeded end-to-end test of the check `kind`: 200 cases, each a random machine with the probe
+// tolerances (ids m0 to m4) and every simulator error at once, measured (request ids
+// "<prefix>-<i>") with no error; measured(case) checks each. Then the tally's noise statistics.
+// Stops at the first fatal failure, as an ASSERT in the test would.
+void expect_ground_truth(std::uint64_t seed, CheckKind kind, const std::string& prefix,
+                         const std::string& first_cause,
+                         const std::function<void(const Case&)>& measured) {
+  std::mt19937_64 rng(seed);
+  GroundTruthTally tally(first_cause);
+  for (int i = 0; i < 200; ++i) {
+    const MachineConfig m = with_probe_tolerances(random_machine(rng, "m" + std::to_string(i % 5)));
+    const sim::MachineSimulator simulator(m, random_errors(rng));
+    const MeasurementSet set =
+        simulator.perform(request(m.machine_id, prefix + "-" + std::to_string(i), kind), 1000);
+    ASSERT_TRUE(set.error.empty()) << set.error;
+    measured(Case{simulator, m, set, tally, i});
+    if (::testing::Test::HasFatalFailure()) return;
   }
-
-  void expect_noise_statistics() const {
-    EXPECT_GT(passes_, 20);
-    EXPECT_GT(fails_, 20);
-    double sum_sq = 0;
-    int beyond_3 = 0;
-    for (double z : standardised_) {
-      sum_sq += z * z;
-      beyond_3 += std::abs(z) > 3 ? 1 : 0;
-    }
-    const double n = static_cast<double>(standardised_.size());
-    // The errors are the trigger noise and nothing else: standard normal after scaling. The rms
-    // of n standard normals has a standard error of about 1/sqrt(2n).
-    EXPECT_NEAR(std::sqrt(sum_sq / n), 1.0, 5 / std::sqrt(2 * n));
-    // P(|z| > 3) = 0.0027.
-    EXPECT_LE(beyond_3, 0.0027 * n + 5 * std::sqrt(0.0027 * n) + 1);
-  }
-
- private:
-  std::string first_cause_;
-  std::vector<double> standardised_;
-  int passes_ = 0, fails_ = 0;
-};
+  tally.expect_noise_statistics();
+}
 
 // ---- Check 1 ----------------------------------------------------------------------------------
 
@@ -144,27 +108,19 @@ Eigen::Vector2d true_c_alignment_offset(const sim::MachineSimulator& s) {
 TEST(CAxisAlignment, RecoversTheProbeOffsetWithAllErrorsInjected) {
   // Noise: each centre from N evenly spaced touches has sigma_t sqrt(2/N) per axis; the offset
   // is half the difference of two such centres: sigma_t sqrt(2/N) sqrt(2) / 2 = sigma_t/sqrt(N).
-  std::mt19937_64 rng(301);
-  GroundTruthTally tally("bent stylus");
-  for (int i = 0; i < 200; ++i) {
-    const MachineConfig m = with_probe_tolerances(random_machine(rng, "m" + std::to_string(i % 5)));
-    const sim::MachineSimulator simulator(m, random_errors(rng));
-    const MeasurementSet set = simulator.perform(
-        request(m.machine_id, "c1-" + std::to_string(i), CheckKind::MonumentCAlignment), 1000);
-    ASSERT_TRUE(set.error.empty()) << set.error;
-    ASSERT_EQ(set.touches.size(), 2u * m.monument.hole_touches);
-    const CheckResult result = check_c_axis_alignment(set, m);
-    const Eigen::Vector2d truth = true_c_alignment_offset(simulator);
+  expect_ground_truth(301, CheckKind::MonumentCAlignment, "c1", "bent stylus", [](const Case& c) {
+    ASSERT_EQ(c.set.touches.size(), 2u * c.m.monument.hole_touches);
+    const CheckResult result = check_c_axis_alignment(c.set, c.m);
+    const Eigen::Vector2d truth = true_c_alignment_offset(c.simulator);
     const double sigma =
-        simulator.config().trigger_noise_sigma_mm / std::sqrt(m.monument.hole_touches);
+        c.simulator.config().trigger_noise_sigma_mm / std::sqrt(c.m.monument.hole_touches);
     // |v| has the per-axis sigma along v (for |v| >> sigma).
-    tally.check(result, m,
-                {{c_alignment::kDx, truth.x(), sigma},
-                 {c_alignment::kDy, truth.y(), sigma},
-                 {c_alignment::kOffset, truth.norm(), sigma}},
-                i);
-  }
-  tally.expect_noise_statistics();
+    c.tally.check(result, c.m,
+                  {{c_alignment::kDx, truth.x(), sigma},
+                   {c_alignment::kDy, truth.y(), sigma},
+                   {c_alignment::kOffset, truth.norm(), sigma}},
+                  c.i);
+  });
 }
 
 TEST(CAxisAlignment, ABodyOffItsHomeLooksLikeAnOffsetAcrossTheAAxis) {
@@ -235,22 +191,16 @@ TEST(CompositeToolLength, RecoversTheLengthErrorWithAllErrorsInjected) {
   // Noise: the length error is half the difference of two single touches: sigma_t / sqrt(2).
   // Truth: the injected length error; the other errors enter only to second order (below
   // 1e-5 mm for the ranges drawn here).
-  std::mt19937_64 rng(302);
-  GroundTruthTally tally("body (spindle housing) shifted");
-  for (int i = 0; i < 200; ++i) {
-    const MachineConfig m = with_probe_tolerances(random_machine(rng, "m" + std::to_string(i % 5)));
-    const sim::MachineSimulator simulator(m, random_errors(rng));
-    const MeasurementSet set = simulator.perform(
-        request(m.machine_id, "c2-" + std::to_string(i), CheckKind::MonumentToolLength), 1000);
-    ASSERT_TRUE(set.error.empty()) << set.error;
-    const CheckResult result = check_composite_tool_length(set, m);
-    const double truth = simulator.ground_truth().tool_length_error_mm;
-    const double sigma = simulator.config().trigger_noise_sigma_mm / std::sqrt(2.0);
-    tally.check(result, m, {{tool_length::kError, truth, sigma}}, i);
-    EXPECT_NEAR(metric(result, tool_length::kLength).value - m.probe.tool_length_mm,
-                metric(result, tool_length::kError).value, 1e-9);
-  }
-  tally.expect_noise_statistics();
+  expect_ground_truth(
+      302, CheckKind::MonumentToolLength, "c2", "body (spindle housing) shifted",
+      [](const Case& c) {
+        const CheckResult result = check_composite_tool_length(c.set, c.m);
+        const double truth = c.simulator.ground_truth().tool_length_error_mm;
+        const double sigma = c.simulator.config().trigger_noise_sigma_mm / std::sqrt(2.0);
+        c.tally.check(result, c.m, {{tool_length::kError, truth, sigma}}, c.i);
+        EXPECT_NEAR(metric(result, tool_length::kLength).value - c.m.probe.tool_length_mm,
+                    metric(result, tool_length::kError).value, 1e-9);
+      });
 }
 
 TEST(CompositeToolLength, LengthBandFollowsTheErrorBandUnlessConfigured) {
@@ -280,26 +230,19 @@ TEST(CRotation, RecoversTheCAngleErrorWithAllErrorsInjected) {
   // Truth: the tips differ in Y by 2 L' cos(e_a) sin(e_c) with the true length L', which the
   // check divides by 2 L: e = asin(L'/L cos(e_a) sin(e_c)).
   // Noise: the difference of two single touches over 2 L: sigma_t sqrt(2) / (2 L) rad.
-  std::mt19937_64 rng(304);
-  GroundTruthTally tally("rotation about C more or less than commanded");
-  for (int i = 0; i < 200; ++i) {
-    const MachineConfig m = with_probe_tolerances(random_machine(rng, "m" + std::to_string(i % 5)));
-    const sim::MachineSimulator simulator(m, random_errors(rng));
-    const MeasurementSet set = simulator.perform(
-        request(m.machine_id, "c4-" + std::to_string(i), CheckKind::MonumentCRotation), 1000);
-    ASSERT_TRUE(set.error.empty()) << set.error;
-    const CheckResult result = check_c_rotation(set, m);
-    const sim::SimulatorErrors& e = simulator.ground_truth();
-    const double L = m.probe.tool_length_mm;
-    const double truth = units::rad_to_arcsec(
-        std::asin(simulator.true_probe().tool_length_mm / L * std::cos(e.a_home_error_rad) *
-                  std::sin(e.c_angle_error_rad)));
-    const double sigma =
-        units::rad_to_arcsec(simulator.config().trigger_noise_sigma_mm * std::sqrt(2.0) / (2 * L));
-    tally.check(result, m, {{c_rotation::kAngleError, truth, sigma}}, i);
-    EXPECT_EQ(metric(result, c_rotation::kAngleError).unit, "arcsec");
-  }
-  tally.expect_noise_statistics();
+  expect_ground_truth(304, CheckKind::MonumentCRotation, "c4",
+                      "rotation about C more or less than commanded", [](const Case& c) {
+                        const CheckResult result = check_c_rotation(c.set, c.m);
+                        const sim::SimulatorErrors& e = c.simulator.ground_truth();
+                        const double L = c.m.probe.tool_length_mm;
+                        const double truth = units::rad_to_arcsec(std::asin(
+                            c.simulator.true_probe().tool_length_mm / L *
+                            std::cos(e.a_home_error_rad) * std::sin(e.c_angle_error_rad)));
+                        const double sigma = units::rad_to_arcsec(
+                            c.simulator.config().trigger_noise_sigma_mm * std::sqrt(2.0) / (2 * L));
+                        c.tally.check(result, c.m, {{c_rotation::kAngleError, truth, sigma}}, c.i);
+                        EXPECT_EQ(metric(result, c_rotation::kAngleError).unit, "arcsec");
+                      });
 }
 
 // ---- Bad input: INVALID with a reason, never a wrong PASS --------------------------------------

@@ -36,6 +36,14 @@ ReceivedSet received(const MeasurementSet& set, const std::string& hash,
   return {set, hash, writer, false, ""};
 }
 
+// A solver's state file in a fresh directory and the solved sets kept in it, as the service opens
+// them.
+struct SolverState {
+  TempDir dir;
+  storage::StateFile file = storage::StateFile::open(dir.file("solver.db"));
+  SolvedSets solved{file};
+};
+
 bool queued(storage::StateFile& file, const std::string& sample_id) {
   for (const auto& e : file.outbox_index()) {
     if (e.sample_id == sample_id) return true;
@@ -70,19 +78,17 @@ TEST(SolvedSets, ASetIsSolvedOnceAndAResendIsAnsweredFromTheRecordAfterARestart)
 }
 
 TEST(SolvedSets, OtherContentUnderASolvedRequestIsAConflictNamingBothWritersAndContents) {
-  TempDir dir;
-  auto file = storage::StateFile::open(dir.file("solver.db"));
-  SolvedSets solved(file);
+  SolverState state;
   const MeasurementSet set = make_measurement_set("R7");
-  solved.save(set, "aaaaaaaaaaaaXXXX", "guid-first", {});
-  const auto decision = decide(solved, received(set, "bbbbbbbbbbbbYYYY", "guid-second"));
+  state.solved.save(set, "aaaaaaaaaaaaXXXX", "guid-first", {});
+  const auto decision = decide(state.solved, received(set, "bbbbbbbbbbbbYYYY", "guid-second"));
   EXPECT_EQ(decision.action, SetAction::Conflict);
   EXPECT_EQ(decision.detail,
             "conflicting measurements of R7: solved from writer guid-first's set (content "
             "aaaaaaaaaaaa), this one from writer guid-second (content bbbbbbbbbbbb) differs; not "
             "solved again");
   // Not solved again: the record still names the first.
-  EXPECT_EQ(solved.find("R7")->writer, "guid-first");
+  EXPECT_EQ(state.solved.find("R7")->writer, "guid-first");
 }
 
 TEST(SolvedSets, ASetSolvedByAVersionThatKeptNoHashIsNotSolvedAgain) {
@@ -96,42 +102,38 @@ TEST(SolvedSets, ASetSolvedByAVersionThatKeptNoHashIsNotSolvedAgain) {
 }
 
 TEST(SolvedSets, ASetWrittenForAnotherMachineIsRefusedWithItsReasonEvenIfSolved) {
-  TempDir dir;
-  auto file = storage::StateFile::open(dir.file("solver.db"));
-  SolvedSets solved(file);
+  SolverState state;
   const MeasurementSet set = make_measurement_set("R1");
-  solved.save(set, "h", "g", {});
-  const auto decision =
-      decide(solved, {set, "h", "g", true, "names machine 'M1' but came in partition of 'M2'"});
+  state.solved.save(set, "h", "g", {});
+  const auto decision = decide(
+      state.solved, {set, "h", "g", true, "names machine 'M1' but came in partition of 'M2'"});
   EXPECT_EQ(decision.action, SetAction::Refuse);
   EXPECT_EQ(decision.detail, "names machine 'M1' but came in partition of 'M2'");
 }
 
 // A full disk (storage::testing::FullDisk: writes past a file size limit fail).
 TEST(SolvedSets, ASaveThatFailsLeavesTheSetUnsolvedAndItsAnswerUnqueued) {
-  TempDir dir;
-  auto file = storage::StateFile::open(dir.file("solver.db"));
-  SolvedSets solved(file);
+  SolverState state;
   const MeasurementSet set = make_measurement_set("R9");
   bool threw = false;
   {
     const storage::testing::FullDisk full;
     try {
-      solved.save(set, "hash-9", "guid", {answer_entry("R9", "res-9")});
+      state.solved.save(set, "hash-9", "guid", {answer_entry("R9", "res-9")});
     } catch (const storage::StorageError&) {
       threw = true;
     }
   }
 
   EXPECT_TRUE(threw);
-  EXPECT_EQ(solved.find("R9"), nullptr);
-  EXPECT_EQ(decide(solved, received(set, "hash-9", "guid")).action, SetAction::Solve)
+  EXPECT_EQ(state.solved.find("R9"), nullptr);
+  EXPECT_EQ(decide(state.solved, received(set, "hash-9", "guid")).action, SetAction::Solve)
       << "the resend is solved";
-  EXPECT_FALSE(queued(file, "R9"));
+  EXPECT_FALSE(queued(state.file, "R9"));
   // Once the disk takes writes again, the resend is solved and saved.
-  solved.save(set, "hash-9", "guid", {answer_entry("R9", "res-9")});
-  EXPECT_TRUE(queued(file, "R9"));
-  auto reopened = storage::StateFile::open(dir.file("solver.db"));
+  state.solved.save(set, "hash-9", "guid", {answer_entry("R9", "res-9")});
+  EXPECT_TRUE(queued(state.file, "R9"));
+  auto reopened = storage::StateFile::open(state.dir.file("solver.db"));
   EXPECT_NE(SolvedSets(reopened).find("R9"), nullptr);
 }
 

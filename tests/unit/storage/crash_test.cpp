@@ -29,9 +29,7 @@
 namespace ncqual::storage {
 namespace {
 
-using testing::KillTarget;
-using testing::RawDb;
-using testing::TempDir;
+using namespace testing;  // storage_test_support.hpp, kill_vfs.hpp
 
 constexpr int kMetricsPerResult = 64;      // several pages per transaction: more places to die in
 constexpr int kMaxStoresPerChild = 5'000;  // a child that is never killed still ends

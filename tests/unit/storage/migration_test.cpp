@@ -20,10 +20,7 @@
 namespace ncqual::storage {
 namespace {
 
-using testing::expect_axes_eq;
-using testing::expect_result_eq;
-using testing::RawDb;
-using testing::TempDir;
+using namespace testing;  // storage_test_support.hpp
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 

@@ -8,10 +8,7 @@
 namespace ncqual::storage {
 namespace {
 
-using testing::make_measurement_set;
-using testing::make_request;
-using testing::make_result;
-using testing::TempDir;
+using namespace testing;  // storage_test_support.hpp
 
 std::vector<std::string> ids(const std::vector<CheckRecord>& records) {
   std::vector<std::string> out;

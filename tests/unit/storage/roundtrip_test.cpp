@@ -10,13 +10,7 @@
 namespace ncqual::storage {
 namespace {
 
-using testing::expect_axes_eq;
-using testing::expect_result_eq;
-using testing::make_measurement_set;
-using testing::make_request;
-using testing::make_result;
-using testing::RawDb;
-using testing::TempDir;
+using namespace testing;  // storage_test_support.hpp
 
 class StorageRoundTrip : public ::testing::Test {
  protected:

@@ -14,11 +14,7 @@
 namespace ncqual::storage {
 namespace {
 
-using testing::make_measurement_set;
-using testing::make_request;
-using testing::make_result;
-using testing::RawDb;
-using testing::TempDir;
+using namespace testing;  // storage_test_support.hpp
 
 std::string error_of(const std::function<void()>& action) {
   try {

@@ -13,9 +13,7 @@
 namespace ncqual::storage {
 namespace {
 
-using testing::make_result;
-using testing::RawDb;
-using testing::TempDir;
+using namespace testing;  // storage_test_support.hpp
 
 constexpr std::int64_t kDay = 86'400'000'000'000;
 

@@ -12,11 +12,7 @@
 namespace ncqual::storage {
 namespace {
 
-using testing::make_measurement_set;
-using testing::make_request;
-using testing::make_result;
-using testing::RawDb;
-using testing::TempDir;
+using namespace testing;  // storage_test_support.hpp
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();

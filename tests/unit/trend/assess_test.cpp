@@ -2,6 +2,7 @@
 // The assessment the historian publishes TrendWarnings from: which warnings are active now,
 // since when, and that restarts, NaN, "now" and too few points are handled.
 #include "ncqual/trend/assess.hpp"
+#include "trend_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,18 +14,9 @@
 namespace ncqual::trend {
 namespace {
 
-constexpr std::int64_t kDay = 86'400'000'000'000;
-constexpr std::int64_t kHour = 3'600'000'000'000;
-constexpr std::int64_t kT0 = 1'767'225'600'000'000'000;  // 2026-01-01T00:00:00Z
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
+using namespace testing;  // trend_test_support.hpp
 
-std::vector<Point> daily(const std::vector<double>& values) {
-  std::vector<Point> p;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    p.push_back({kT0 + static_cast<std::int64_t>(i) * kDay, values[i]});
-  }
-  return p;
-}
+constexpr std::int64_t kHour = 3'600'000'000'000;
 
 // The baseline of spc_test: 10 values alternating ±0.564, mean 0 and sigma_within exactly 1.
 std::vector<double> unit_baseline() {

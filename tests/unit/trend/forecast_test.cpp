@@ -3,27 +3,16 @@
 // interval, prediction interval, expected, earliest and latest dates; Theil-Sen; and every way
 // a forecast can have no date.
 #include "ncqual/trend/forecast.hpp"
+#include "trend_test_support.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 
 namespace ncqual::trend {
 namespace {
 
-constexpr std::int64_t kDay = 86'400'000'000'000;
-constexpr std::int64_t kT0 = 1'767'225'600'000'000'000;  // 2026-01-01T00:00:00Z
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-const double kInf = std::numeric_limits<double>::infinity();
-
-std::vector<Point> daily(const std::vector<double>& values) {
-  std::vector<Point> p;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    p.push_back({kT0 + static_cast<std::int64_t>(i) * kDay, values[i]});
-  }
-  return p;
-}
+using namespace testing;  // trend_test_support.hpp
 
 double days_of(const LimitDate& d) { return days_between(kT0, *d.time_ns); }
 

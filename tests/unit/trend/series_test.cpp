@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Selections of a metric's series: time order, NaN skipped and counted, windows, restarts.
 #include "ncqual/trend/series.hpp"
+#include "trend_test_support.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +11,7 @@
 namespace ncqual::trend {
 namespace {
 
-constexpr std::int64_t kDay = 86'400'000'000'000;
-constexpr std::int64_t kT0 = 1'767'225'600'000'000'000;  // 2026-01-01T00:00:00Z
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-const double kInf = std::numeric_limits<double>::infinity();
+using namespace testing;  // trend_test_support.hpp
 
 std::vector<std::int64_t> times_of(const Series& s) {
   std::vector<std::int64_t> t;

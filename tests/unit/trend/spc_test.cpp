@@ -2,18 +2,17 @@
 // SPC of one metric, on data sets worked by hand (in the comments) and on Montgomery's textbook
 // data set for the CUSUM and EWMA charts.
 #include "ncqual/trend/spc.hpp"
+#include "trend_test_support.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 namespace ncqual::trend {
 namespace {
 
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
-const double kInf = std::numeric_limits<double>::infinity();
+using namespace testing;  // trend_test_support.hpp
 
 // A baseline of 10 values alternating +0.564, -0.564: mean exactly 0, every moving range 1.128,
 // so sigma_within = 1.128 / d2 = 1 exactly and the rules' thresholds are 1, 2, 3.
