@@ -31,6 +31,12 @@ constexpr double kMmPerInch = 25.4;
 constexpr double kSafeZAboveHighestStartMm = 50.0;
 // A skip position this close to the probing move's end: the probe did not trip (Fanuc).
 constexpr double kNoTripMm = 0.001;
+// A guarded move shorter than this is a straight G1 (LinuxCNC refuses a G38 move shorter than
+// 0.254 mm).
+constexpr double kShortestGuardedMoveMm = 0.5;
+// A logged head this far from the program's: the touch was not taken where it declares.
+constexpr double kHeadToleranceDeg = 0.001;
+constexpr double kHeadToleranceMm = 0.001;
 
 std::string general(double v) {
   char buffer[64];
@@ -110,12 +116,22 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
   const std::vector<ProbingMove>& moves = plan.moves;
   const ProbingConfig& p = machine.probing;
   double highest = -INFINITY;
-  bool head = false;
   for (const ProbingMove& m : moves) {
     highest = std::max(highest, m.start.z_mm);
-    head |= m.start.a_rad != 0 || m.start.c_rad != 0 || m.start.w_mm != 0;
+    for (const auto& [axis, value] : {std::pair{'W', m.start.w_mm}, std::pair{'A', m.start.a_rad},
+                                      std::pair{'C', m.start.c_rad}}) {
+      if (value != 0 && !p.has_axis(axis)) {
+        throw std::invalid_argument(std::string(to_string(request.kind)) + " needs the " + axis +
+                                    " axis (" + machine.machine_id + "'s probing.axes: " + p.axes +
+                                    ")");
+      }
+    }
   }
   const double safe_z = p.safe_z_mm.value_or(highest + kSafeZAboveHighestStartMm);
+  // Where the head turns: high enough that the probe clears the plan's features in any
+  // orientation (the top of the Z travel where configured).
+  const double retract_z = p.retract_z_mm.value_or(
+      std::max(safe_z, highest + machine.probe.tool_length_mm + kSafeZAboveHighestStartMm));
   const std::string results = results_file_name(request.request_id, dialect);
 
   Writer w(machine);
@@ -138,7 +154,7 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
             general(p.work_offset_mm.z()) + "] mm; angles in degrees");
   w.comment("tool length compensation off; no offset is changed; probe feed " +
             w.feed(p.probe_feed_mm_per_min) + ", approach " + w.feed(p.approach_feed_mm_per_min) +
-            ", safe Z " + w.z(safe_z));
+            ", safe Z " + w.z(safe_z) + ", the head turns at machine Z " + w.length(retract_z));
   w.line(std::string(p.inch ? "G20" : "G21") + " G90 G94 G17 G40 G49" +
          (dialect == Dialect::Fanuc ? " G80" : ""));
   w.line(p.work_offset);
@@ -154,6 +170,48 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
   }
 
   const std::string fanuc_xyz = p.inch ? "[45]" : "[54]";
+  int guards = 0;
+  // A move that stops when the probe trips before its end: the program then stops, naming it
+  // (LinuxCNC G38.3 with #5070, Fanuc G31 with its skip position; generic-csv has no such move and
+  // moves straight). Announced by (NCQUAL GUARD to=x,y,z) because LinuxCNC's probe log has a line
+  // for it too.
+  const auto guarded = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+                           const std::string& what) {
+    if ((to - from).norm() < kShortestGuardedMoveMm || dialect == Dialect::GenericCsv) {
+      w.line("G1 " + w.xyz(to) + " F" + w.feed(p.approach_feed_mm_per_min));
+      return;
+    }
+    const Eigen::Vector3d t = w.program(to);
+    w.comment("NCQUAL GUARD to=" + w.length(t.x()) + "," + w.length(t.y()) + "," + w.length(t.z()));
+    ++guards;
+    if (dialect == Dialect::LinuxCnc) {
+      const std::string o = "o" + std::to_string(1000 + guards);
+      w.line("G38.3 " + w.xyz(to) + " F" + w.feed(p.approach_feed_mm_per_min));
+      w.line(o + " if [#5070 NE 0]");
+      w.line("  (ABORT, NCQUAL contact " + what + ": stopped)");
+      w.line(o + " endif");
+    } else {
+      w.line("G31 " + w.xyz(to) + " F" + w.feed(p.approach_feed_mm_per_min));
+      w.line("IF[[ABS[#5061-" + w.length(t.x()) + "]+ABS[#5062-" + w.length(t.y()) +
+             "]+ABS[#5063-" + w.length(t.z()) + "]]GE" + w.length(kNoTripMm) +
+             "]THEN#3000=2(NCQUAL CONTACT " + std::to_string(guards) + ")");
+    }
+  };
+  // W, A and C in machine coordinates, each axis the control has (the plan's head otherwise is
+  // at home: refused above when it is not).
+  const auto head = [&](const AxisPosition& a) {
+    if (p.has_axis('W')) w.line("G53 G0 W" + w.length(a.w_mm));
+    std::string turn;
+    if (p.has_axis('A')) turn += " A" + degrees(a.a_rad);
+    if (p.has_axis('C')) turn += " C" + degrees(a.c_rad);
+    if (!turn.empty()) w.line("G53 G0" + turn);
+  };
+  const auto at_safe_z = [&](const Eigen::Vector3d& v) {
+    return Eigen::Vector3d(v.x(), v.y(), safe_z);
+  };
+  w.comment("from any state: up to machine Z " + w.length(retract_z) +
+            ", then the spindle and the head, in machine coordinates");
+  w.line("G53 G0 Z" + w.length(retract_z));
   std::optional<ProbingMove> previous;
   for (std::size_t i = 0; i < moves.size(); ++i) {
     const ProbingMove& m = moves[i];
@@ -163,14 +221,21 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
                            previous->start.c_rad == m.start.c_rad &&
                            previous->start.w_mm == m.start.w_mm;
     if (!(same_head && (xyz_of(previous->start) - start).norm() < 1e-9)) {
-      w.line("G0 Z" + w.z(safe_z));
-      if (head && !same_head) {
-        w.line("G0 A" + degrees(m.start.a_rad) + " C" + degrees(m.start.c_rad) +
-               (m.start.w_mm != 0 || previous ? " W" + w.length(m.start.w_mm) : ""));
+      if (previous) {
+        const Eigen::Vector3d from = xyz_of(previous->start);
+        guarded(from, at_safe_z(from), "on the way up after touch " + std::to_string(n - 1));
       }
       const Eigen::Vector3d q = w.program(start);
-      w.line("G0 X" + w.length(q.x()) + " Y" + w.length(q.y()));
-      w.line("G1 Z" + w.z(start.z()) + " F" + w.feed(p.approach_feed_mm_per_min));
+      if (!same_head) {
+        // The head turns only up at the retract Z, then comes down over the start.
+        if (previous) w.line("G53 G0 Z" + w.length(retract_z));
+        head(m.start);
+        w.line("G0 X" + w.length(q.x()) + " Y" + w.length(q.y()));
+        w.line("G0 Z" + w.z(safe_z));
+      } else {
+        w.line("G0 X" + w.length(q.x()) + " Y" + w.length(q.y()));
+      }
+      guarded(at_safe_z(start), start, "on the way down to touch " + std::to_string(n));
     }
     w.comment("NCQUAL TOUCH " + std::to_string(n) + " feature=" + m.feature +
               " approach=" + general(m.direction.x()) + "," + general(m.direction.y()) + "," +
@@ -189,10 +254,15 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
     } else if (dialect == Dialect::GenericCsv) {
       w.comment("NCQUAL LOG " + std::to_string(n));
     }
+    // Back along the probing move's own path, free by construction.
     w.line("G1 " + w.xyz(start) + " F" + w.feed(p.approach_feed_mm_per_min));
     previous = m;
   }
-  w.line("G0 Z" + w.z(safe_z));
+  if (previous) {
+    const Eigen::Vector3d from = xyz_of(previous->start);
+    guarded(from, at_safe_z(from), "on the way up after touch " + std::to_string(moves.size()));
+  }
+  w.line("G53 G0 Z" + w.length(retract_z));
   switch (dialect) {
     case Dialect::LinuxCnc:
       w.line("(PROBECLOSE)");
@@ -293,6 +363,20 @@ ProgramDescription read_program(const std::string& text, const std::string& file
       t.a_rad = units::deg_to_rad(number_field(f, "a", c, file, ln));
       t.c_rad = units::deg_to_rad(number_field(f, "c", c, file, ln));
       d.touches.push_back(t);
+      d.probe_moves.push_back({t.number, Eigen::Vector3d::Zero()});
+    } else if (keyword == "GUARD") {
+      const auto f = fields_of(rest, file, ln);
+      std::string to = field(f, "to", "NCQUAL GUARD", file, ln);
+      std::replace(to.begin(), to.end(), ',', ' ');
+      std::istringstream in(to);
+      std::string part;
+      ProbeMove g;
+      for (int k = 0; k < 3; ++k) {
+        const auto v = in >> part ? parse_finite_number(part) : std::nullopt;
+        if (!v) throw ProgramError(file, ln, "NCQUAL GUARD: to = '" + to + "' is not x,y,z");
+        g.guard_to[k] = *v;
+      }
+      d.probe_moves.push_back(g);
     }
   }
   if (!header) {
@@ -371,6 +455,7 @@ TouchLog read_touch_log(const std::string& text, const std::string& file, Dialec
       LoggedTouch t;
       t.line = ln;
       t.position = Eigen::Vector3d(values[0], values[1], values[2]);
+      if (values.size() >= 9) t.head = Eigen::Vector3d(values[3], values[5], values[8]);
       log.touches.push_back(t);
     } else if (dialect == Dialect::Fanuc) {
       if (line == "%") continue;
@@ -458,12 +543,29 @@ MeasurementSet measurement_set_from_log(const ProgramDescription& program, const
                              "the program of request " + program.request_id);
     }
   }
+  // LinuxCNC logs every probing move: the guarded moves' lines are left out here.
+  std::vector<LoggedTouch> logged = log.touches;
+  if (program.dialect == Dialect::LinuxCnc && program.probe_moves.size() > program.touches.size()) {
+    const std::size_t moves = program.probe_moves.size();
+    if (logged.size() > moves) {
+      throw ProgramError(
+          log_file, logged[moves].line,
+          std::to_string(logged.size()) + " lines, the program has " + std::to_string(moves) +
+              " probing moves (" + std::to_string(program.touches.size()) + " touches and " +
+              std::to_string(moves - program.touches.size()) + " guarded moves)" + of_program);
+    }
+    std::vector<LoggedTouch> kept;
+    for (std::size_t i = 0; i < logged.size(); ++i) {
+      if (program.probe_moves[i].touch != 0) kept.push_back(logged[i]);
+    }
+    logged = std::move(kept);
+  }
   const std::size_t expected = program.touches.size();
-  const std::size_t found = log.touches.size();
+  const std::size_t found = logged.size();
   const std::string counts =
       "expected " + std::to_string(expected) + " touches, found " + std::to_string(found);
   for (std::size_t i = 0; i < found; ++i) {
-    const LoggedTouch& t = log.touches[i];
+    const LoggedTouch& t = logged[i];
     if (!t.number) continue;
     const int want = static_cast<int>(i) + 1;
     if (*t.number > want) {
@@ -486,7 +588,7 @@ MeasurementSet measurement_set_from_log(const ProgramDescription& program, const
   }
   if (found != expected) {
     std::string why = counts;
-    if (found < expected && !log.touches.empty() && log.touches.front().number) {
+    if (found < expected && !logged.empty() && logged.front().number) {
       why += "; the first missing is touch " + std::to_string(found + 1);
     }
     if (program.dialect == Dialect::LinuxCnc) {
@@ -507,7 +609,29 @@ MeasurementSet measurement_set_from_log(const ProgramDescription& program, const
   const double to_mm = program.inch ? kMmPerInch : 1;
   for (std::size_t i = 0; i < expected; ++i) {
     const ProgramTouch& p = program.touches[i];
-    const Eigen::Vector3d pivot = log.touches[i].position * to_mm + machine.probing.work_offset_mm;
+    const LoggedTouch& logged_touch = logged[i];
+    if (logged_touch.head) {
+      // Where the control's head was when the probe tripped: as the program declares it, or the
+      // touch was taken with another probe direction (a head not commanded, a rotary work offset).
+      const Eigen::Vector3d& h = *logged_touch.head;
+      const double da = std::remainder(h.x() - units::rad_to_deg(p.a_rad), 360.0);
+      const double dc = std::remainder(h.y() - units::rad_to_deg(p.c_rad), 360.0);
+      const double dw = h.z() * to_mm - p.w_mm;
+      if (std::abs(da) > kHeadToleranceDeg || std::abs(dc) > kHeadToleranceDeg ||
+          std::abs(dw) > kHeadToleranceMm) {
+        throw ProgramError(log_file, logged_touch.line,
+                           "touch " + std::to_string(i + 1) + " was taken at A " +
+                               format_fixed(h.x(), 4) + ", C " + format_fixed(h.y(), 4) + ", W " +
+                               format_fixed(h.z(), 4) + "; the program declares a " +
+                               format_fixed(units::rad_to_deg(p.a_rad), 4) + ", c " +
+                               format_fixed(units::rad_to_deg(p.c_rad), 4) + ", w " +
+                               format_fixed(p.w_mm / to_mm, 4) +
+                               " (a head the program did not command, or a work offset on A, C "
+                               "or W)" +
+                               of_program);
+      }
+    }
+    const Eigen::Vector3d pivot = logged_touch.position * to_mm + machine.probing.work_offset_mm;
     Touch t;
     t.feature = p.feature;
     t.axes.x_mm = pivot.x();

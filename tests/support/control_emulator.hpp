@@ -7,6 +7,7 @@
 
 #include "ncqual/common/config.hpp"
 #include "ncqual/common/model.hpp"
+#include "ncqual/probing/program.hpp"
 
 #include <cstdint>
 #include <string>
@@ -18,8 +19,12 @@ namespace ncqual::testing {
 // coordinates) of the program of `request_id` on machine `m`: in the work offset's coordinates
 // and the program's units, formatted as that control does (LinuxCNC: "%f" x 9; Fanuc: DPRNT's
 // "T<n> X.. Y.. Z.." with CRLF; generic-csv: "n,x,y,z").
+// LinuxCNC logs every probing move: with the program's `moves` (ProgramDescription::probe_moves)
+// the guarded moves' lines are written too, at their targets (they did not trip), with the head
+// of the touch before them when they follow one, else of the touch after them.
 std::string control_log(ControlDialect dialect, const std::string& request_id,
-                        const std::vector<Touch>& touches, const MachineConfig& m);
+                        const std::vector<Touch>& touches, const MachineConfig& m,
+                        const std::vector<probing::ProbeMove>& moves = {});
 
 // One look at `m`'s instrument outbox: every probing program there whose results file is not in
 // the inbox yet is run on the simulator (measured at `time_ns`) and its log written into the

@@ -143,7 +143,7 @@ ProbingConfig read_probing(const Node& node) {
   ProbingConfig c;
   if (!node.map_of({"clearance_mm", "overtravel_mm", "probe_feed_mm_per_min",
                     "approach_feed_mm_per_min", "safe_z_mm", "work_offset", "work_offset_mm",
-                    "units"})) {
+                    "units", "axes", "retract_z_mm"})) {
     return c;
   }
   c.clearance_mm = node["clearance_mm"].length(c.clearance_mm);
@@ -157,6 +157,7 @@ ProbingConfig read_probing(const Node& node) {
     node["approach_feed_mm_per_min"].problem("must be positive");
   }
   if (node["safe_z_mm"].present()) c.safe_z_mm = node["safe_z_mm"].length();
+  if (node["retract_z_mm"].present()) c.retract_z_mm = node["retract_z_mm"].length();
   c.work_offset = node["work_offset"].text(c.work_offset);
   if (c.work_offset.size() != 3 || c.work_offset.compare(0, 2, "G5") != 0 ||
       c.work_offset[2] < '4' || c.work_offset[2] > '9') {
@@ -166,6 +167,19 @@ ProbingConfig read_probing(const Node& node) {
   const std::string units = node["units"].text("mm");
   if (units != "mm" && units != "inch") node["units"].problem("expected mm or inch");
   c.inch = units == "inch";
+  const std::string axes = node["axes"].text(c.axes);
+  std::string known = "XYZWAC";
+  bool valid = axes.size() >= 3;
+  for (char a : axes) {
+    const auto at = known.find(a);
+    valid = valid && at != std::string::npos;
+    if (at != std::string::npos) known[at] = '.';  // each once
+  }
+  if (!valid || known.compare(0, 3, "...") != 0) {
+    node["axes"].problem("expected X, Y and Z and any of W, A and C, each once (e.g. XYZAC)");
+  } else {
+    c.axes = axes;
+  }
   return c;
 }
 

@@ -82,8 +82,13 @@ std::vector<ProbingLine> probing_lines(const std::string& program) {
   std::string line;
   const std::regex word(R"(([XYZ])(-?[0-9]*\.?[0-9]+))");
   while (std::getline(in, line)) {
-    if (line.rfind("(NCQUAL TOUCH", 0) == 0) last_comment = line;
-    if (line.empty() || line[0] == '(' || line.rfind("IF", 0) == 0 || line.rfind("DPRNT", 0) == 0) {
+    if (line.rfind("(NCQUAL TOUCH", 0) == 0 || line.rfind("(NCQUAL GUARD", 0) == 0) {
+      last_comment = line;
+    }
+    // Comments, macro lines, LinuxCNC's O-words and the head's moves in machine coordinates (G53:
+    // W, A, C and the first Z up) leave the program's X, Y, Z as they are.
+    if (line.empty() || line[0] == '(' || line[0] == ' ' || line[0] == 'o' ||
+        line.rfind("IF", 0) == 0 || line.rfind("DPRNT", 0) == 0 || line.rfind("G53", 0) == 0) {
       continue;
     }
     Eigen::Vector3d next = at;
@@ -91,9 +96,11 @@ std::vector<ProbingLine> probing_lines(const std::string& program) {
          it != std::sregex_iterator(); ++it) {
       next[(*it)[1].str()[0] - 'X'] = std::stod((*it)[2].str());
     }
-    if (line.rfind("G38.2", 0) == 0 || line.rfind("G31", 0) == 0) {
+    const bool guard = last_comment.rfind("(NCQUAL GUARD", 0) == 0;
+    if (line.rfind("G38.2", 0) == 0 || (line.rfind("G31", 0) == 0 && !guard)) {
       out.push_back({at, next, last_comment});
     }
+    if (line.rfind("G38.3", 0) == 0 || line.rfind("G31", 0) == 0) last_comment.clear();
     at = next;
   }
   return out;
@@ -154,10 +161,145 @@ TEST(ProbingProgram, EveryProgramRunsThePlanAndDescribesItself) {
   }
 }
 
+// The head a program has commanded at each of its lines: the last G53 W, A and C words (NaN where
+// none came yet).
+struct HeadState {
+  double w = NAN, a = NAN, c = NAN;
+};
+
+double word_value(const std::string& line, char letter) {
+  const std::regex word(std::string(1, letter) + R"((-?[0-9]*\.?[0-9]+))");
+  std::smatch m;
+  return std::regex_search(line, m, word) ? std::stod(m[1].str()) : NAN;
+}
+
+// From any state the machine is in, every program first goes up to the safe Z in machine
+// coordinates, then commands every head axis the control has (W, A, C) before it moves X or Y, and
+// each touch is taken with the head its comment declares; every way down to a touch's start and
+// up from it is a guarded move that stops the program on a contact (LinuxCNC: G38.3 and #5070
+// with ABORT; Fanuc: G31 and its skip position with #3000), announced by (NCQUAL GUARD).
+TEST(ProbingProgram, EveryProgramCommandsTheHeadFirstAndGuardsItsWaysDownAndUp) {
+  MachineConfig m = pm1();
+  std::vector<CheckRequest> requests;
+  for (CheckKind k :
+       {CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
+        CheckKind::MonumentPositioning, CheckKind::MonumentCRotation, CheckKind::PartSetPoints}) {
+    requests.push_back(request(m, k, "h-" + std::string(to_string(k))));
+  }
+  requests.push_back(
+      request(m, CheckKind::FixturePreCalibration, "h-pre", {{"fixture_configuration", 3, ""}}));
+  for (const CheckRequest& r : requests) {
+    for (Dialect d : {Dialect::LinuxCnc, Dialect::Fanuc}) {
+      SCOPED_TRACE(std::string(to_string(r.kind)) + " " + std::string(to_string(d)));
+      const std::string text = write_program(r, m, d, "t");
+      const ProgramDescription desc = read_program(text, "p.nc");
+      std::istringstream in(text);
+      std::string line, previous;
+      HeadState head;
+      bool moved_xy = false, first_motion = true;
+      std::size_t touches = 0, guards = 0;
+      while (std::getline(in, line)) {
+        const bool motion = line.rfind("G0 ", 0) == 0 || line.rfind("G1 ", 0) == 0 ||
+                            line.rfind("G53 ", 0) == 0 || line.rfind("G38", 0) == 0 ||
+                            line.rfind("G31 ", 0) == 0;
+        if (motion && first_motion) {
+          EXPECT_EQ(line.rfind("G53 G0 Z", 0), 0u) << "the first move is up, in machine "
+                                                      "coordinates: "
+                                                   << line;
+          first_motion = false;
+        }
+        if (line.rfind("G53", 0) == 0) {
+          for (auto [letter, value] :
+               {std::pair{'W', &head.w}, std::pair{'A', &head.a}, std::pair{'C', &head.c}}) {
+            if (const double v = word_value(line, letter); !std::isnan(v)) *value = v;
+          }
+        }
+        if (motion && line.rfind("G53", 0) != 0 &&
+            (!std::isnan(word_value(line, 'X')) || !std::isnan(word_value(line, 'Y')))) {
+          EXPECT_FALSE(std::isnan(head.w) || std::isnan(head.a) || std::isnan(head.c))
+              << "X or Y moved before W, A and C were commanded: " << line;
+          moved_xy = true;
+        }
+        if (line.rfind("(NCQUAL TOUCH", 0) == 0) {
+          const ProgramTouch& t = desc.touches.at(touches++);
+          EXPECT_NEAR(head.a, units::rad_to_deg(t.a_rad), 1e-4) << line;
+          EXPECT_NEAR(head.c, units::rad_to_deg(t.c_rad), 1e-4) << line;
+          EXPECT_NEAR(head.w, t.w_mm, 1e-4) << line;
+        }
+        if (line.rfind("(NCQUAL GUARD", 0) == 0) {
+          ++guards;
+          std::string move, check;
+          ASSERT_TRUE(std::getline(in, move));
+          ASSERT_TRUE(std::getline(in, check));
+          if (d == Dialect::LinuxCnc) {
+            EXPECT_EQ(move.rfind("G38.3 ", 0), 0u) << move;
+            EXPECT_NE(check.find("if [#5070 NE 0]"), std::string::npos) << check;
+            std::string abort;
+            ASSERT_TRUE(std::getline(in, abort));
+            EXPECT_NE(abort.find("(ABORT, NCQUAL contact"), std::string::npos) << abort;
+          } else {
+            EXPECT_EQ(move.rfind("G31 ", 0), 0u) << move;
+            EXPECT_NE(check.find("]GE"), std::string::npos) << check;
+            EXPECT_NE(check.find("#3000=2"), std::string::npos) << check;
+          }
+        }
+        // No straight move goes down to a start: only the retrace after a touch is a G1.
+        if (line.rfind("G1 ", 0) == 0) {
+          EXPECT_TRUE(previous.rfind("G38.2", 0) == 0 || previous.rfind("G31", 0) == 0)
+              << "unguarded: " << line << " after " << previous;
+        }
+        if (line.rfind("IF", 0) != 0 && line.rfind("DPRNT", 0) != 0) previous = line;
+      }
+      EXPECT_TRUE(moved_xy);
+      EXPECT_EQ(touches, desc.touches.size());
+      EXPECT_EQ(guards + desc.touches.size(), desc.probe_moves.size());
+      EXPECT_GE(guards, 2u);
+    }
+  }
+}
+
+// A control without some head axes gets no word for them, and a check that needs one is refused
+// naming it; the config refuses an axes list that is not one.
+TEST(ProbingProgram, AControlWithoutAnAxisGetsNoWordForItAndNoCheckThatNeedsIt) {
+  MachineConfig m = pm1();
+  m.probing.axes = "XYZAC";
+  const std::string text =
+      write_program(request(m, CheckKind::MonumentPositioning, "ax-1"), m, Dialect::LinuxCnc, "t");
+  EXPECT_EQ(text.find("G53 G0 W"), std::string::npos);
+  EXPECT_NE(text.find("G53 G0 A0.0000 C0.0000"), std::string::npos);
+  m.probing.axes = "XYZ";
+  EXPECT_EQ(
+      write_program(request(m, CheckKind::MonumentPositioning, "ax-2"), m, Dialect::Fanuc, "t")
+          .find("G53 G0 A"),
+      std::string::npos);
+  try {
+    write_program(request(m, CheckKind::MonumentToolLength, "ax-3"), m, Dialect::LinuxCnc, "t");
+    ADD_FAILURE() << "a check that turns the head was programmed for a control without A";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("monument_tool_length needs the A axis (pm1's "
+                                         "probing.axes: XYZ)"),
+              std::string::npos)
+        << e.what();
+  }
+  for (const char* bad : {"XYA", "XYZAA", "XYZB"}) {
+    const std::string yaml = "machine_id: ax\nprobing:\n  axes: " + std::string(bad) + "\n";
+    try {
+      parse_machine_config(yaml, "ax.yaml");
+      ADD_FAILURE() << bad << " was taken";
+    } catch (const ConfigError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("ax.yaml: probing.axes = '" + std::string(bad) +
+                          "': expected X, Y and Z and any of W, A and C, each once"),
+                std::string::npos)
+          << what;
+    }
+  }
+}
+
 // The log a control writes for the simulator's touches, formatted as the control does.
 std::string control_log(Dialect d, const ProgramDescription& program, const MeasurementSet& set,
                         const MachineConfig& m) {
-  return testing::control_log(d, program.request_id, set.touches, m);
+  return testing::control_log(d, program.request_id, set.touches, m, program.probe_moves);
 }
 
 TEST(ProbingProgram, LogsOfEachDialectGiveTheSimulatorsFiguresAndTheInjectedTruth) {
@@ -212,7 +354,7 @@ TEST(ProbingProgram, LogsOfEachDialectGiveTheSimulatorsFiguresAndTheInjectedTrut
 // LinuxCNC's own log format covered where LinuxCNC cannot run.
 TEST(ProbingProgram, RecordedLinuxCncLogsGiveTheInjectedShift) {
   const std::string dir = NCQUAL_SOURCE_DIR "/tests/data/linuxcnc/";
-  const std::string id = "lc1-monument_positioning-20261124T150933Z-1";
+  const std::string id = "lc1-monument_positioning-20261128T114441Z-1";
   const MachineConfig m = load_machine_config(dir + "lc1.yaml");
   const std::string program_file = dir + "ncqual-" + id + ".ngc";
   const std::string log_file = dir + "ncqual-" + id + ".txt";
@@ -228,8 +370,10 @@ TEST(ProbingProgram, RecordedLinuxCncLogsGiveTheInjectedShift) {
   EXPECT_EQ(without_version(again), without_version(read_text(program_file)));
 
   const TouchLog log = read_touch_log(read_text(log_file), log_file, Dialect::LinuxCnc);
-  ASSERT_EQ(log.touches.size(), 5u);
+  // A line per G38 move: the 5 touches and the 4 guarded moves down and up.
+  ASSERT_EQ(log.touches.size(), 9u);
   const MeasurementSet set = measurement_set_from_log(recorded, log, log_file, m, 1);
+  ASSERT_EQ(set.touches.size(), 5u);
   const CheckResult result = solver::solve(set, m, 2);
   EXPECT_EQ(result.verdict, Verdict::Fail) << result.reason;
   // Check 3 sees the monument relative to the machine; LinuxCNC's probe tripped at most one
@@ -283,11 +427,37 @@ TEST(ProbingProgram, ALogThatIsNotItsProgramsIsRefusedSayingWhy) {
   EXPECT_NE(why.find("named for request 'pm1-r8'"), std::string::npos) << why;
   // LinuxCNC logs carry no numbers: the counts and what LinuxCNC leaves out.
   const ProgramDescription lcnc = read_program(write_program(r, m, Dialect::LinuxCnc, "t"), "p.nc");
+  // (Cut at touch 5's line: the lines before it include the guarded moves'.)
   std::string short_log = control_log(Dialect::LinuxCnc, lcnc, truth, m);
-  short_log.erase(short_log.rfind('\n', short_log.size() - 2) + 1);
+  std::size_t cut = 0;
+  for (const ProbeMove& mv : lcnc.probe_moves) {
+    if (mv.touch == 5) break;
+    cut = short_log.find('\n', cut) + 1;
+  }
+  short_log.erase(cut);
   why = refusal(Dialect::LinuxCnc, short_log, "in/ncqual-pm1-r7.txt");
   EXPECT_NE(why.find("expected 5 touches, found 4"), std::string::npos) << why;
   EXPECT_NE(why.find("line equal to the one before"), std::string::npos) << why;
+  // A LinuxCNC log whose touch was taken with another head than the program declares (a program
+  // that did not command it): refused naming the touch, the logged and the declared head.
+  std::string turned = control_log(Dialect::LinuxCnc, lcnc, truth, m);
+  const std::size_t first_touch_line = [&] {
+    std::size_t at = 0;
+    for (const ProbeMove& mv : lcnc.probe_moves) {
+      if (mv.touch == 1) break;
+      at = turned.find('\n', at) + 1;
+    }
+    return at;
+  }();
+  // Its fourth field is A.
+  std::size_t field = first_touch_line;
+  for (int k = 0; k < 3; ++k) field = turned.find(' ', field) + 1;
+  turned.replace(field, turned.find(' ', field) - field, "-90.000000");
+  why = refusal(Dialect::LinuxCnc, turned, "in/ncqual-pm1-r7.txt");
+  EXPECT_NE(why.find("touch 1 was taken at A -90.0000, C 0.0000, W 0.0000; the program declares "
+                     "a 0.0000, c 0.0000, w 0.0000"),
+            std::string::npos)
+      << why;
   // A malformed line names file, line and field.
   why = refusal(Dialect::GenericCsv, "# request pm1-r7\n1,2,x3,4\n", file);
   EXPECT_NE(why.find(file + ":2: y = 'x3' is not a number"), std::string::npos) << why;

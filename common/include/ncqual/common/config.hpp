@@ -99,10 +99,18 @@ struct ProbingConfig {
   // Pivot Z of the moves between touches (head turns, moves over the next start); none: 50 mm
   // above the highest start of the plan.
   std::optional<double> safe_z_mm;
+  // Pivot Z (machine coordinates) where a program starts and where the head turns: the top of the
+  // Z travel, so that the first move goes up from any state and the probe clears everything in
+  // any orientation; none: the highest start + the tool length + 50 mm.
+  std::optional<double> retract_z_mm;
   std::string work_offset = "G54";  // G54 .. G59: the programs' and the logs' coordinates
   // That offset's value in machine coordinates: pivot = program coordinates + work_offset_mm.
   Eigen::Vector3d work_offset_mm = Eigen::Vector3d::Zero();
   bool inch = false;  // units: mm (G21) or inch (G20), of the programs and the logs
+  // The axes the control has, of X Y Z W A C (X, Y and Z always): a program commands each of W,
+  // A and C it has before its first move, and refuses a check whose plan needs one it lacks.
+  std::string axes = "XYZWAC";
+  bool has_axis(char axis) const { return axes.find(axis) != std::string::npos; }
 };
 
 // The language of a control's probing programs and touch logs (ncqual/probing/program.hpp).

@@ -8,18 +8,21 @@
 //     request parameter, then the conventions in words;
 //   - the set-up line: units (G21/G20), absolute, feed per minute, XY plane, no cutter or tool
 //     length compensation (G40 G49), the work offset; never G10, G92, G52 or G68;
+//   - from any state: up to probing.retract_z_mm in machine coordinates (G53), then every head axis
+//     the control has (probing.axes: W, A, C, G53) before X or Y move; the head turns only there;
 //   - per touch n (from 1): the structured comment (NCQUAL TOUCH n feature=.. approach=dx,dy,dz
 //     w=.. a=.. c=..) on the line before its probing move (approach: the move's unit direction;
-//     w in program units, a and c in degrees), then: up to the safe Z, the head turned and X, Y
-//     moved over the start there (rapids, only at the safe Z), a straight G1 down to the start,
-//     the probing move to start + travel * direction at the probing feed, a straight G1 back to
-//     the start. Touches that start where the previous one started (same head) skip the trip to
-//     the safe Z. X, Y, Z are the wrist pivot in the work offset's coordinates (pivot = program
-//     + work_offset_mm), in program units.
+//     w in program units, a and c in degrees); before it, over its start at the safe Z, a guarded
+//     move down to the start ((NCQUAL GUARD to=x,y,z), then LinuxCNC G38.3 + #5070 + ABORT, Fanuc
+//     G31 + #3000, generic-csv a plain G1); after it a straight G1 back to the start along its own
+//     path, and a guarded move up to the safe Z when the next touch starts elsewhere. Touches
+//     that start where the previous one started (same head) skip the trip. X, Y, Z are the wrist
+//     pivot in the work offset's coordinates (pivot = program + work_offset_mm), in program units.
 // Dialects:
 //   linuxcnc     G38.2 (alarms when it does not trip); the touches go to LinuxCNC's probe log,
-//                (PROBEOPEN ncqual-<request>.txt) .. (PROBECLOSE): one line per successful probe,
-//                "X Y Z A B C U V W" with %f, work coordinates, program units.
+//                (PROBEOPEN ncqual-<request>.txt) .. (PROBECLOSE): one line per G38 move
+//                (touches and guarded moves), "X Y Z A B C U V W" with %f, work coordinates,
+//                program units.
 //   fanuc        G31 with the skip positions #5061..#5063; a move that did not trip raises #3000;
 //                the program writes with POPEN/DPRNT/PCLOS: first line "NCQUAL <request>", then
 //                per touch "T<n> X<x> Y<y> Z<z>" (4 decimals in mm, 5 in inch).
@@ -78,6 +81,13 @@ struct ProgramTouch {
   double w_mm = 0, a_rad = 0, c_rad = 0;
 };
 
+// One probing move of a program in its order: a touch (its number) or a guarded move (0, and
+// where it goes, program coordinates and units), as LinuxCNC's probe log has a line for each.
+struct ProbeMove {
+  int touch = 0;
+  Eigen::Vector3d guard_to = Eigen::Vector3d::Zero();
+};
+
 // What a program says about itself, read back from its NCQUAL comments.
 struct ProgramDescription {
   std::string machine_id, request_id, version, results_file;
@@ -86,7 +96,8 @@ struct ProgramDescription {
   bool inch = false;
   std::string work_offset = "G54";
   std::vector<NamedValue> parameters;
-  std::vector<ProgramTouch> touches;  // in program order, numbered 1..N
+  std::vector<ProgramTouch> touches;   // in program order, numbered 1..N
+  std::vector<ProbeMove> probe_moves;  // the touches and the guarded moves, in program order
 };
 
 // Reads a program's NCQUAL comments; `file` names it in errors. Throws ProgramError naming the
@@ -99,6 +110,8 @@ ProgramDescription read_program(const std::string& text, const std::string& file
 struct LoggedTouch {
   std::optional<int> number;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  // LinuxCNC's log: A and C (degrees) and W (program units) where the probe tripped.
+  std::optional<Eigen::Vector3d> head;
   int line = 0;
 };
 
