@@ -103,7 +103,20 @@ Database Database::open(const std::string& path) {
   auto db = sqlite::open_connection(path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
   sqlite3_busy_timeout(db.get(), kBusyTimeoutMs);
 
-  refuse_foreign_file(db.get(), path);
+  // A damaged file, found by its first read or by the check: not opened, and the way out named.
+  const auto corrupt = [&](const std::string& found_by, const std::string& problem) {
+    return StorageError("'" + path + "' is corrupt (" + found_by + "): " + problem +
+                            "; it is not opened. `ncqual db recover " + path +
+                            " NEW_FILE` salvages what can be read into a new file",
+                        SQLITE_CORRUPT);
+  };
+  try {
+    refuse_foreign_file(db.get(), path);
+  } catch (const StorageError& e) {
+    const int primary = e.sqlite_code() & 0xff;
+    if (primary == SQLITE_CORRUPT) throw corrupt("reading its header", e.what());
+    throw;
+  }
   if (path != ":memory:") {
     // The first row: "ok", or the first problem (a page too damaged to check is one, too).
     std::string problem;
@@ -112,12 +125,7 @@ Database Database::open(const std::string& path) {
     } catch (const StorageError& e) {
       problem = e.what();
     }
-    if (problem != "ok") {
-      throw StorageError("'" + path + "' is corrupt (PRAGMA quick_check): " + problem +
-                             "; it is not opened. `ncqual db recover " + path +
-                             " NEW_FILE` salvages what can be read into a new file",
-                         SQLITE_CORRUPT);
-    }
+    if (problem != "ok") throw corrupt("PRAGMA quick_check", problem);
   }
 
   set_write_pragmas(db.get(), path);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -157,6 +158,24 @@ TEST(StorageSchema, RefusesAFileThatIsNotSqlite) {
   std::ofstream(path) << "this is not a database, just some text that is long enough to matter";
   const std::string message = error_of([&] { Database::open(path); });
   EXPECT_NE(message.find("not a database"), std::string::npos) << message;
+}
+
+// A historian cut short (a copy interrupted, a disk full while copying): refused naming the file
+// and the way out, as a damaged page is, not with SQLite's bare message.
+TEST(StorageSchema, AHistorianCutShortIsRefusedNamingTheFileAndTheWayOut) {
+  TempDir dir;
+  const std::string path = dir.file("historian.db");
+  {
+    auto db = Database::open(path);
+    for (int i = 0; i < 50; ++i) db.store(testing::make_result("r" + std::to_string(i)));
+  }
+  std::filesystem::remove(path + "-wal");
+  std::filesystem::remove(path + "-shm");
+  std::filesystem::resize_file(path, 100);  // the header's first 100 bytes only
+  const std::string message = error_of([&] { Database::open(path); });
+  EXPECT_NE(message.find("'" + path + "' is corrupt"), std::string::npos) << message;
+  EXPECT_NE(message.find("`ncqual db recover " + path + " NEW_FILE`"), std::string::npos)
+      << message;
 }
 
 TEST(StorageSchema, ReadOnlyRefusesMissingAndUninitialisedFiles) {
