@@ -544,7 +544,8 @@ std::string machine_report_document(const MachineReport& report) {
   h += "<main class=\"ncqual-report\">\n<h1>" + esc("Qualification report: " + report.machine_id) +
        "</h1>\n";
   h += machine_report_sections(report);
-  h += "<footer><p class=\"how\">Written by ncqual report as of " + esc(when(report.now_ns)) +
+  const std::string by = report.produced_by.empty() ? "ncqual report" : report.produced_by;
+  h += "<footer><p class=\"how\">Written by " + esc(by) + " as of " + esc(when(report.now_ns)) +
        ". Lengths in µm, angles in degrees.</p></footer>\n</main>\n</body>\n</html>\n";
   return h;
 }

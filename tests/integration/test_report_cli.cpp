@@ -63,6 +63,8 @@ TEST_F(ReportCli, WritesTheWholeReportAsOfTheSimulatedClock) {
   const std::string html = read(out_path());
   // "Now" on a simulated clock is the machine's newest status: day 14, 2026-03-16.
   EXPECT_NE(html.find("As of 2026-03-16 00:00 UTC; checks since 2026-03-01."), std::string::npos);
+  // The software that wrote it, as `ncqual --version` names it.
+  EXPECT_NE(html.find("Written by ncqual report 0.1.0 (git "), std::string::npos);
   const nlohmann::json doc = inspect(out_path());
   ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
   EXPECT_TRUE(doc["forbidden"].empty()) << doc["forbidden"].dump();

@@ -19,6 +19,8 @@
 // does not know; 1 anything else (FILE cannot be written: the message names it).
 #include "commands.hpp"
 
+#include "ncqual/common/version.hpp"
+
 #include "ncqual/common/clock.hpp"
 #include "ncqual/status/plant_status.hpp"
 #include "ncqual/report/machine_report.hpp"
@@ -109,6 +111,7 @@ int run(const Options& o) {
     std::cerr << "ncqual report: " << e.what() << " (" << db_path << ")\n";
     return kExitNotFound;
   }
+  gathered.produced_by = version_line("ncqual report");
   write_whole(o.out, report::machine_report_document(gathered));
   std::cout << "wrote " << o.out << "\n";
   return kExitOk;

@@ -131,6 +131,9 @@ struct MachineReport {
   std::vector<MetricUsage> other_metrics;
   std::vector<RestartMarker> markers;  // interventions and compensations, oldest first
   BudgetSection budget;
+  // The software that wrote the report (version_line: "ncqual report 0.1.0 (git ...)"), named in
+  // its footer; empty: "ncqual report".
+  std::string produced_by;
 };
 
 // The machine's error budget as of `until_ns`: the values of its results up to then
