@@ -2,12 +2,12 @@
 (NCQUAL VERSION ncqual test)
 (probing program of daily 3: repeatable X, Y, Z positioning against the monument)
 (X Y Z: the wrist pivot in G54 = machine coordinates - [0, 0, 0] mm; angles in degrees)
-(tool length compensation off; no offset is changed; probe feed 100.0, approach 1000.0, safe Z 558.0000, the head turns at machine Z 908.0000)
+(tool length compensation off; no offset is changed; probe feed 100.0, approach 1000.0, safe Z 558.0000, the head turns at machine Z 1250.0000)
 G21 G90 G94 G17 G40 G49
 G54
 (after each G31 the control writes n,x,y,z [pivot, program units] to ncqual-pm1-golden-1.csv)
-(from any state: up to machine Z 908.0000, then the spindle and the head, in machine coordinates)
-G53 G0 Z908.0000
+(from any state: up to machine Z 1250.0000, then the spindle and the head, in machine coordinates)
+G53 G0 Z1250.0000
 G53 G0 W0.0000
 G53 G0 A0.0000 C0.0000
 G0 X1200.0000 Y800.0000
@@ -37,5 +37,5 @@ G31 X1235.0000 Y800.0000 Z498.0000 F100.0
 (NCQUAL LOG 5)
 G1 X1235.0000 Y800.0000 Z508.0000 F1000.0
 G1 X1235.0000 Y800.0000 Z558.0000 F1000.0
-G53 G0 Z908.0000
+G53 G0 Z1250.0000
 M2

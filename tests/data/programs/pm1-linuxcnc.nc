@@ -2,12 +2,12 @@
 (NCQUAL VERSION ncqual test)
 (probing program of daily 3: repeatable X, Y, Z positioning against the monument)
 (X Y Z: the wrist pivot in G54 = machine coordinates - [0, 0, 0] mm; angles in degrees)
-(tool length compensation off; no offset is changed; probe feed 100.0, approach 1000.0, safe Z 558.0000, the head turns at machine Z 908.0000)
+(tool length compensation off; no offset is changed; probe feed 100.0, approach 1000.0, safe Z 558.0000, the head turns at machine Z 1250.0000)
 G21 G90 G94 G17 G40 G49
 G54
 (PROBEOPEN ncqual-pm1-golden-1.txt)
-(from any state: up to machine Z 908.0000, then the spindle and the head, in machine coordinates)
-G53 G0 Z908.0000
+(from any state: up to machine Z 1250.0000, then the spindle and the head, in machine coordinates)
+G53 G0 Z1250.0000
 G53 G0 W0.0000
 G53 G0 A0.0000 C0.0000
 G0 X1200.0000 Y800.0000
@@ -48,6 +48,6 @@ G38.3 X1235.0000 Y800.0000 Z558.0000 F1000.0
 o1004 if [#5070 NE 0]
   (ABORT, NCQUAL contact on the way up after touch 5: stopped)
 o1004 endif
-G53 G0 Z908.0000
+G53 G0 Z1250.0000
 (PROBECLOSE)
 M2
