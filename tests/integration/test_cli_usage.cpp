@@ -257,6 +257,13 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
       << ok.out;
   EXPECT_NE(ok.out.find("  monument.face_offset_mm = 35 mm  (default)"), std::string::npos)
       << ok.out;
+  // A plant file cut after its comments: one problem naming it, exit 4 (it died of SIGSEGV).
+  const std::string empty = tmp.write("empty.yaml", "# SPDX-License-Identifier: Apache-2.0\n");
+  const CliRun cut = run({"config", "check", "--plant", empty});
+  EXPECT_EQ(cut.exit_code, 4) << cut.out << cut.err;
+  EXPECT_NE(cut.out.find(empty + ": no settings in it (empty, or only comments)"),
+            std::string::npos)
+      << cut.out;
 }
 
 }  // namespace

@@ -325,7 +325,14 @@ Node load_file(const std::string& path, Diagnostics& diagnostics) {
     return Node(YAML::Node(), path, diagnostics);
   }
   try {
-    return Node(YAML::LoadFile(path), path, diagnostics);
+    YAML::Node document = YAML::LoadFile(path);
+    // An empty file, or one cut after its comments: nothing to read, said so (not a default
+    // plant or machine made of nothing).
+    if (!document.IsDefined() || document.IsNull()) {
+      diagnostics.file_problem(path, "no settings in it (empty, or only comments)");
+      return Node(YAML::Node(), path, diagnostics);
+    }
+    return Node(document, path, diagnostics);
   } catch (const YAML::Exception& e) {
     diagnostics.file_problem(path, std::string("not valid YAML: ") + e.what());
     return Node(YAML::Node(), path, diagnostics);

@@ -80,7 +80,7 @@ int run_check(const Options& o) {
     return report.problems.empty() ? kExitOk : kExitInvalid;
   }
   if (o.print) print_values(report.values);
-  if (!report.problems.empty()) {
+  if (!report.problems.empty() || !report.plant) {
     for (const auto& p : report.problems) std::cout << p << "\n";
     std::cout << path << ": " << report.problems.size() << " problem"
               << (report.problems.size() == 1 ? "" : "s") << "; nothing of this plant was used\n";

@@ -115,6 +115,21 @@ TEST_F(ConfigLayer, CheckReportsProblemsWithoutThrowingAndResolvedValuesWithUnit
   EXPECT_EQ(report.problems[1], (dir_ / "nowhere.yaml").string() + ": file not found");
 }
 
+// A plant or machine file cut after its comments (an empty YAML document) is a problem naming the
+// file, not a plant made of nothing (`config check` died of SIGSEGV on one).
+TEST_F(ConfigLayer, AFileWithOnlyCommentsIsAProblemNamingIt) {
+  const std::string empty = write("empty.yaml", "# SPDX-License-Identifier: Apache-2.0\n# cut\n");
+  const ConfigReport report = check_plant_config(empty);
+  EXPECT_FALSE(report.plant);
+  ASSERT_EQ(report.problems.size(), 1u);
+  EXPECT_EQ(report.problems[0], empty + ": no settings in it (empty, or only comments)");
+  const std::string machine = write("m.yaml", "");
+  const std::string plant = write("p.yaml", "plant: p\nmachines: [" + machine + "]\n");
+  const ConfigReport with_empty_machine = check_plant_config(plant);
+  EXPECT_FALSE(with_empty_machine.plant);
+  EXPECT_TRUE(names(with_empty_machine.problems, machine + ": no settings in it"));
+}
+
 // A bad value is reported once, not again by every check that uses it.
 TEST_F(ConfigLayer, ABadValueIsOneProblemNotACascade) {
   const std::string machine = write("m.yaml", "extends: " + kPm1 + R"(
