@@ -80,6 +80,15 @@ class Writer {
     return "X" + length(q.x()) + " Y" + length(q.y()) + " Z" + length(q.z());
   }
   std::string z(double pivot_z) const { return length(pivot_z - p_.work_offset_mm.z()); }
+  // Fanuc: the alarm `number` with `message` when the skip position (#5061..#5063) is `LT` (the
+  // move did not trip) or `GE` (it tripped) kNoTripMm from the move's end, a pivot position.
+  std::string skip_alarm(const Eigen::Vector3d& end, const char* comparison, int number,
+                         const std::string& message) const {
+    const Eigen::Vector3d t = program(end);
+    return "IF[[ABS[#5061-" + length(t.x()) + "]+ABS[#5062-" + length(t.y()) + "]+ABS[#5063-" +
+           length(t.z()) + "]]" + comparison + length(kNoTripMm) +
+           "]THEN#3000=" + std::to_string(number) + "(" + message + ")";
+  }
 
   std::string text() const { return out_.str(); }
 
@@ -192,9 +201,7 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
       w.line(o + " endif");
     } else {
       w.line("G31 " + w.xyz(to) + " F" + w.feed(p.approach_feed_mm_per_min));
-      w.line("IF[[ABS[#5061-" + w.length(t.x()) + "]+ABS[#5062-" + w.length(t.y()) +
-             "]+ABS[#5063-" + w.length(t.z()) + "]]GE" + w.length(kNoTripMm) +
-             "]THEN#3000=2(NCQUAL CONTACT " + std::to_string(guards) + ")");
+      w.line(w.skip_alarm(to, "GE", 2, "NCQUAL CONTACT " + std::to_string(guards)));
     }
   };
   // W, A and C in machine coordinates, each axis the control has (the plan's head otherwise is
@@ -245,10 +252,7 @@ std::string write_program(const CheckRequest& request, const MachineConfig& mach
     const std::string probe = dialect == Dialect::LinuxCnc ? "G38.2 " : "G31 ";
     w.line(probe + w.xyz(target) + " F" + w.feed(p.probe_feed_mm_per_min));
     if (dialect == Dialect::Fanuc) {
-      const Eigen::Vector3d t = w.program(target);
-      w.line("IF[[ABS[#5061-" + w.length(t.x()) + "]+ABS[#5062-" + w.length(t.y()) +
-             "]+ABS[#5063-" + w.length(t.z()) + "]]LT" + w.length(kNoTripMm) +
-             "]THEN#3000=1(NCQUAL NO TOUCH " + std::to_string(n) + ")");
+      w.line(w.skip_alarm(target, "LT", 1, "NCQUAL NO TOUCH " + std::to_string(n)));
       w.line("DPRNT[T" + std::to_string(n) + "*X#5061" + fanuc_xyz + "*Y#5062" + fanuc_xyz +
              "*Z#5063" + fanuc_xyz + "]");
     } else if (dialect == Dialect::GenericCsv) {

@@ -162,6 +162,23 @@ std::string linuxcnc_unavailable(const fs::path& dir) {
   return "";
 }
 
+// LinuxCNC with the configuration in `cell`/linuxcnc and its stand-in operator, which runs the
+// first `programs` programs of `cell`/programs, moves their logs to `cell`/results and ends
+// within `deadline_s`; its operator log is `cell`/operator.log, its output `cell`/linuxcnc.log.
+Launch linuxcnc_launch(const fs::path& cell, int programs, int deadline_s) {
+  const fs::path config = cell / "linuxcnc";
+  return with_rtapi_environment(
+      Launch({"linuxcnc", (config / "ncqual-sim.ini").string()})
+          .in(config.string())
+          .with_env("NCQUAL_OUTBOX", (cell / "programs").string())
+          .with_env("NCQUAL_INBOX", (cell / "results").string())
+          .with_env("NCQUAL_PROGRAMS", std::to_string(programs))
+          .with_env("NCQUAL_DEADLINE_S", std::to_string(deadline_s))
+          .with_env("NCQUAL_OPERATOR_LOG", (cell / "operator.log").string())
+          .log_to((cell / "linuxcnc.log").string()),
+      cell);
+}
+
 TEST(LinuxCnc, ADailyCheckRunsOnLinuxCncThroughTheControlFilesDriver) {
   Plant plant("linuxcnc", TestDomain::LinuxCnc);
   const fs::path cell = plant.dir() / "cell";
@@ -174,8 +191,7 @@ TEST(LinuxCnc, ADailyCheckRunsOnLinuxCncThroughTheControlFilesDriver) {
   const std::string machine_file = plant.add_machine("lc1", machine_text(cell));
   const MachineConfig machine = load_machine_config(machine_file);
 
-  const fs::path config = cell / "linuxcnc";
-  write_linuxcnc_config(config, machine);
+  write_linuxcnc_config(cell / "linuxcnc", machine);
 
   plant.write_plant();
   plant.start("historian");
@@ -184,16 +200,7 @@ TEST(LinuxCnc, ADailyCheckRunsOnLinuxCncThroughTheControlFilesDriver) {
   plant.start("scheduler");
 
   const fs::path operator_log = cell / "operator.log";
-  Process linuxcnc(
-      with_rtapi_environment(Launch({"linuxcnc", (config / "ncqual-sim.ini").string()})
-                                 .in(config.string())
-                                 .with_env("NCQUAL_OUTBOX", (cell / "programs").string())
-                                 .with_env("NCQUAL_INBOX", (cell / "results").string())
-                                 .with_env("NCQUAL_PROGRAMS", "1")
-                                 .with_env("NCQUAL_DEADLINE_S", "240")
-                                 .with_env("NCQUAL_OPERATOR_LOG", operator_log.string())
-                                 .log_to((cell / "linuxcnc.log").string()),
-                             cell));
+  Process linuxcnc(linuxcnc_launch(cell, 1, 240));
   const auto linuxcnc_said = [&] {
     return "operator:\n" + read_or_empty(operator_log) + "linuxcnc:\n" +
            read_or_empty(cell / "linuxcnc.log") + "LinuxCNC's debug file:\n" +
@@ -275,8 +282,7 @@ TEST(LinuxCnc, EveryDailyProgramLandsOnItsFeaturesFromAnyStartState) {
   }
   for (const char* folder : {"programs", "results"}) fs::create_directories(cell / folder);
   const MachineConfig machine = load_machine_config(plant.add_machine("lc2", daily_machine_text()));
-  const fs::path config = cell / "linuxcnc";
-  write_linuxcnc_config(config, machine);
+  write_linuxcnc_config(cell / "linuxcnc", machine);
 
   // The daily checks in the calendar's order, each run twice: first one after the other, then each
   // after a program that turns the head at random (the seed is printed on failure).
@@ -284,7 +290,7 @@ TEST(LinuxCnc, EveryDailyProgramLandsOnItsFeaturesFromAnyStartState) {
                              CheckKind::MonumentCRotation, CheckKind::MonumentPositioning};
   const unsigned seed = std::random_device{}();
   std::mt19937 random(seed);
-  std::vector<CheckRequest> requests;
+  std::vector<std::pair<CheckRequest, fs::path>> programs;  // each check's request and program
   int file = 0;
   const auto next_file = [&] {
     char name[32];
@@ -298,23 +304,15 @@ TEST(LinuxCnc, EveryDailyProgramLandsOnItsFeaturesFromAnyStartState) {
       r.machine_id = machine.machine_id;
       r.request_id = std::string(run) + "-" + std::string(to_string(kind));
       r.kind = kind;
-      std::ofstream(next_file()) << probing::write_program(r, machine, probing::Dialect::LinuxCnc,
-                                                           "ncqual test");
-      requests.push_back(r);
+      const fs::path path = next_file();
+      std::ofstream(path) << probing::write_program(r, machine, probing::Dialect::LinuxCnc,
+                                                    "ncqual test");
+      programs.emplace_back(r, path);
     }
   }
 
   const fs::path operator_log = cell / "operator.log";
-  Process linuxcnc(
-      with_rtapi_environment(Launch({"linuxcnc", (config / "ncqual-sim.ini").string()})
-                                 .in(config.string())
-                                 .with_env("NCQUAL_OUTBOX", (cell / "programs").string())
-                                 .with_env("NCQUAL_INBOX", (cell / "results").string())
-                                 .with_env("NCQUAL_PROGRAMS", std::to_string(file))
-                                 .with_env("NCQUAL_DEADLINE_S", "330")
-                                 .with_env("NCQUAL_OPERATOR_LOG", operator_log.string())
-                                 .log_to((cell / "linuxcnc.log").string()),
-                             cell));
+  Process linuxcnc(linuxcnc_launch(cell, file, 330));
   const auto linuxcnc_said = [&] {
     return "seed " + std::to_string(seed) + "\noperator:\n" + read_or_empty(operator_log) +
            "linuxcnc:\n" + read_or_empty(cell / "linuxcnc.log");
@@ -327,11 +325,10 @@ TEST(LinuxCnc, EveryDailyProgramLandsOnItsFeaturesFromAnyStartState) {
   const sim::MachineSimulator simulator(machine, machine.simulator);
   std::map<std::string, std::vector<Touch>> measured;
   double worst_against_truth = 0, worst_between_runs = 0;
-  for (const CheckRequest& r : requests) {
+  for (const auto& [r, path] : programs) {
     SCOPED_TRACE(r.request_id + ", seed " + std::to_string(seed));
-    const std::string program_text =
-        probing::write_program(r, machine, probing::Dialect::LinuxCnc, "ncqual test");
-    const probing::ProgramDescription program = probing::read_program(program_text, "p.ngc");
+    const probing::ProgramDescription program =
+        probing::read_program(read_or_empty(path), path.string());
     const fs::path log_file = cell / "results" / program.results_file;
     ASSERT_TRUE(fs::exists(log_file)) << linuxcnc_said();
     MeasurementSet set;

@@ -34,16 +34,18 @@ std::string control_log(ControlDialect dialect, const std::string& request_id,
   const double unit = m.probing.inch ? 25.4 : 1;
   if (dialect == ControlDialect::Fanuc) out = "NCQUAL " + request_id + "\r\n";
   if (dialect == ControlDialect::GenericCsv) out = "# request " + request_id + "\ntouch,x,y,z\n";
+  // A touch's X, Y, Z as the control logs them: work coordinates, program units.
+  const auto logged = [&](const Touch& t) -> Eigen::Vector3d {
+    return (Eigen::Vector3d(t.axes.x_mm, t.axes.y_mm, t.axes.z_mm) - m.probing.work_offset_mm) /
+           unit;
+  };
   if (dialect == ControlDialect::LinuxCnc && !moves.empty()) {
     for (std::size_t i = 0; i < moves.size(); ++i) {
       const probing::ProbeMove& move = moves[i];
       if (move.touch > 0 && static_cast<std::size_t>(move.touch) > touches.size()) break;
       if (move.touch > 0) {
         const Touch& t = touches[static_cast<std::size_t>(move.touch) - 1];
-        const Eigen::Vector3d q =
-            (Eigen::Vector3d(t.axes.x_mm, t.axes.y_mm, t.axes.z_mm) - m.probing.work_offset_mm) /
-            unit;
-        out += linuxcnc_line(q, t.axes, unit);
+        out += linuxcnc_line(logged(t), t.axes, unit);
         continue;
       }
       int beside = 0;  // the touch whose head the guarded move has
@@ -61,8 +63,7 @@ std::string control_log(ControlDialect dialect, const std::string& request_id,
   }
   int n = 0;
   for (const Touch& t : touches) {
-    const Eigen::Vector3d q =
-        (Eigen::Vector3d(t.axes.x_mm, t.axes.y_mm, t.axes.z_mm) - m.probing.work_offset_mm) / unit;
+    const Eigen::Vector3d q = logged(t);
     ++n;
     if (dialect == ControlDialect::LinuxCnc) {
       out += linuxcnc_line(q, t.axes, unit);

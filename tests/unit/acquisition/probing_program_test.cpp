@@ -106,17 +106,24 @@ std::vector<ProbingLine> probing_lines(const std::string& program) {
   return out;
 }
 
-TEST(ProbingProgram, EveryProgramRunsThePlanAndDescribesItself) {
-  MachineConfig m = pm1();
+// A request of every probe check of `m` (the four daily checks, the part set points and a
+// fixture pre-calibration of configuration 3), their ids starting with `prefix`.
+std::vector<CheckRequest> every_probe_check(const MachineConfig& m, const std::string& prefix) {
   std::vector<CheckRequest> requests;
   for (CheckKind k :
        {CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
         CheckKind::MonumentPositioning, CheckKind::MonumentCRotation, CheckKind::PartSetPoints}) {
-    requests.push_back(request(m, k, "r-" + std::string(to_string(k))));
+    requests.push_back(request(m, k, prefix + std::string(to_string(k))));
   }
+  requests.push_back(request(m, CheckKind::FixturePreCalibration, prefix + "pre",
+                             {{"fixture_configuration", 3, ""}}));
+  return requests;
+}
+
+TEST(ProbingProgram, EveryProgramRunsThePlanAndDescribesItself) {
+  MachineConfig m = pm1();
   ASSERT_TRUE(m.fixture);
-  requests.push_back(
-      request(m, CheckKind::FixturePreCalibration, "r-pre", {{"fixture_configuration", 3, ""}}));
+  const std::vector<CheckRequest> requests = every_probe_check(m, "r-");
   for (bool inch : {false, true}) {
     m.probing.inch = inch;
     m.probing.work_offset_mm = inch ? Eigen::Vector3d(100, -200, 50) : Eigen::Vector3d::Zero();
@@ -173,21 +180,14 @@ double word_value(const std::string& line, char letter) {
   return std::regex_search(line, m, word) ? std::stod(m[1].str()) : NAN;
 }
 
-// From any state the machine is in, every program first goes up to the safe Z in machine
+// From any state the machine is in, every program first goes up to the retract Z in machine
 // coordinates, then commands every head axis the control has (W, A, C) before it moves X or Y, and
 // each touch is taken with the head its comment declares; every way down to a touch's start and
 // up from it is a guarded move that stops the program on a contact (LinuxCNC: G38.3 and #5070
 // with ABORT; Fanuc: G31 and its skip position with #3000), announced by (NCQUAL GUARD).
 TEST(ProbingProgram, EveryProgramCommandsTheHeadFirstAndGuardsItsWaysDownAndUp) {
   MachineConfig m = pm1();
-  std::vector<CheckRequest> requests;
-  for (CheckKind k :
-       {CheckKind::MonumentCAlignment, CheckKind::MonumentToolLength,
-        CheckKind::MonumentPositioning, CheckKind::MonumentCRotation, CheckKind::PartSetPoints}) {
-    requests.push_back(request(m, k, "h-" + std::string(to_string(k))));
-  }
-  requests.push_back(
-      request(m, CheckKind::FixturePreCalibration, "h-pre", {{"fixture_configuration", 3, ""}}));
+  const std::vector<CheckRequest> requests = every_probe_check(m, "h-");
   for (const CheckRequest& r : requests) {
     for (Dialect d : {Dialect::LinuxCnc, Dialect::Fanuc}) {
       SCOPED_TRACE(std::string(to_string(r.kind)) + " " + std::string(to_string(d)));
