@@ -1,11 +1,49 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "ncqual/common/command_line.hpp"
 
+#include "ncqual/common/text.hpp"
 #include "ncqual/common/version.hpp"
 
 #include <iostream>
+#include <vector>
 
 namespace ncqual::command_line {
+namespace {
+
+// The innermost (sub)command the command line named.
+const CLI::App& innermost(const CLI::App& app) {
+  const CLI::App* at = &app;
+  for (auto parsed = at->get_subcommands(); !parsed.empty(); parsed = at->get_subcommands()) {
+    at = parsed.front();
+  }
+  return *at;
+}
+
+// For words CLI11 did not expect: "'--machin' is not an option of ncqual history; did you mean
+// '--machine'?" for the first one that looks like a flag, naming the nearest flag of the command
+// it was given to when it is a likely typo; empty when no word looks like a flag.
+std::string unknown_flag_message(const CLI::App& app) {
+  const CLI::App& command = innermost(app);
+  std::vector<std::string> flags;
+  for (const CLI::Option* option : command.get_options()) {
+    for (const auto& name : option->get_lnames()) flags.push_back("--" + name);
+    for (const auto& name : option->get_snames()) flags.push_back("-" + name);
+  }
+  for (std::string word : app.remaining(true)) {
+    if (word.size() < 2 || word[0] != '-') continue;
+    word = word.substr(0, word.find('='));
+    std::string path = command.get_name();
+    for (const CLI::App* p = command.get_parent(); p; p = p->get_parent()) {
+      path = p->get_name() + " " + path;
+    }
+    const auto best = closest_word(word, {flags.begin(), flags.end()});
+    return "'" + word + "' is not an option of " + path +
+           (best ? "; did you mean '" + std::string(*best) + "'?" : "");
+  }
+  return "";
+}
+
+}  // namespace
 
 void configure(CLI::App& app) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -29,10 +67,14 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv,
     std::cout << e.what() << "\n";
     return 0;
   } catch (const CLI::ParseError& e) {
+    std::string message = e.what();
+    if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+      if (std::string flag = unknown_flag_message(app); !flag.empty()) message = flag;
+    }
     if (on_usage_error) {
-      on_usage_error(app, e.what());
+      on_usage_error(app, message);
     } else {
-      std::cerr << app.get_name() << ": " << e.what() << "\n(" << app.get_name()
+      std::cerr << app.get_name() << ": " << message << "\n(" << app.get_name()
                 << " --help shows the usage)\n";
     }
     return kUsageExit;

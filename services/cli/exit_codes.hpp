@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// The exit codes of `ncqual`, every command's, in one place. Scripts and tests depend on the
-// numbers: append, never renumber. `ncqual --help` prints kExitCodesHelp.
+// The exit codes of `ncqual`, every command's, in one place: one mistake gives one code whatever
+// the command (docs/running.md, "Exit codes"). Scripts and tests depend on the numbers: append,
+// never renumber. `ncqual --help` prints kExitCodesHelp.
 #pragma once
 
 namespace ncqual::cli {
@@ -15,10 +16,16 @@ enum ExitCode : int {
   kExitNotFound = 6,  // what was asked for is not there (e.g. no historian database)
   kExitCorrupt = 7,   // `db check`: the database fails PRAGMA integrity_check or cannot be read;
                       // `db recover`: the recovered file fails it; `backup`: the copy fails it
+  // 8 is kept for the verdict INCONCLUSIVE (a value within its limits by less than its
+  // measurement uncertainty, under the plant's decision rule): not used yet.
+  kExitRefused = 9,  // a service refused the order or sample (`check`, `intervene`, `import`):
+                     // the reason it gave is printed; nothing was done
 };
 
 inline constexpr const char* kExitCodesHelp =
-    "Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed out, 6 not found. "
-    "7 corrupt database (db check, db recover, backup).";
+    "Exit codes: 0 ok/PASS, 1 error, 2 usage (an unknown flag, a bad value, a machine the plant "
+    "does not configure), 3 FAIL, 4 INVALID (a check's data refused by the solver; config check: "
+    "problems), 5 timed out, 6 not found, 7 corrupt database (db check, db recover, backup), "
+    "8 kept for INCONCLUSIVE, 9 refused by a service (check, intervene, import).";
 
 }  // namespace ncqual::cli

@@ -93,18 +93,12 @@ std::optional<Tolerance> read_tolerance(const Node& node, const std::string& met
 
 // "; did you mean 'center_dx_mm'?" for a key a few edits away from a known one, else "".
 std::string closest_tolerance_key(const std::string& key) {
-  std::string_view best;
-  std::size_t best_distance = 4;  // more edits than this is another word
+  std::vector<std::string_view> known;
   for (const auto& row : check_kinds()) {
-    for (std::string_view known : row.tolerances) {
-      const std::size_t d = edit_distance(key, known);
-      if (d < best_distance) {
-        best_distance = d;
-        best = known;
-      }
-    }
+    known.insert(known.end(), row.tolerances.begin(), row.tolerances.end());
   }
-  return best.empty() ? "" : "; did you mean '" + std::string(best) + "'?";
+  const auto best = closest_word(key, known);
+  return best ? "; did you mean '" + std::string(*best) + "'?" : "";
 }
 
 PartSetPointsConfig read_setpoints(const Node& node) {

@@ -35,8 +35,8 @@
 //            "configured_tolerance": {"lower", "upper"} | null (metric unit),
 //            "today_value" | null, "today_time_ns" | null, "today_within_derived_tolerance"}]}]}
 //
-// Returns 0 when it printed, 1 on an error it reported (unknown machine, no budget section, bad
-// config, unreadable historian), 2 on bad usage.
+// Returns 0 when it printed, 1 on an error it reported (no budget section, bad config, unreadable
+// historian), 2 on bad usage (and a machine the plant does not configure).
 #include "commands.hpp"
 
 #include "ncqual/common/config.hpp"
@@ -377,12 +377,7 @@ int run(const Options& o) {
   const int last = o.last;
 
   const PlantConfig plant = load_plant_config(plant_file);
-  const MachineConfig* machine = plant.find_machine(machine_id);
-  if (!machine) {
-    std::cerr << "ncqual budget: machine '" << machine_id << "' is not configured in "
-              << plant.source_path << "\n";
-    return kExitError;
-  }
+  const MachineConfig* machine = &configured_machine(plant, machine_id);
   if (!machine->budget) {
     std::cerr << "ncqual budget: machine '" << machine_id << "' (" << machine->source_path
               << ") has no budget: section\n";

@@ -5,8 +5,8 @@
 //
 // Publishes a CheckCommand and waits until the scheduler acknowledged it
 // (ncqual/dds/acknowledged_send.hpp); prints its request id. With --wait, prints the check's result
-// instead (a table row, or --json) and exits with its verdict: 0 PASS, 3 FAIL, 4 INVALID or refused
-// by the scheduler, 5 no result in time; 1 when no scheduler acknowledges the order.
+// instead (a table row, or --json) and exits with its verdict: 0 PASS, 3 FAIL, 4 INVALID, 5 no
+// result in time; 9 when the scheduler refused the order, 1 when no scheduler acknowledges it.
 #include "commands.hpp"
 
 #include "ncqual/dds/acknowledged_send.hpp"
@@ -68,7 +68,7 @@ int run(const Options& o) {
   if (const Acknowledgement* refused = order.refused()) {
     std::cerr << "ncqual check: the scheduler refused " << cmd.request_id << ": " << refused->detail
               << "\n";
-    return kExitInvalid;
+    return kExitRefused;
   }
   std::cerr << "requested " << kind_name << " on " << machine << " (" << cmd.request_id << ")\n";
   if (!results) {

@@ -122,8 +122,20 @@ CLI::Option* add_kind_option(CLI::App* command, const std::string& name,
 
 // The plant config of --plant or NCQUAL_PLANT; UsageError when neither names one.
 PlantConfig plant_from(const std::string& plant_flag);
-// The plant's machine `machine_id`; UsageError naming it when the plant has no such machine.
+// The plant's machine `machine_id`; UsageError naming it, the machines the plant configures and
+// the nearest of them when it is a likely typo, when the plant has no such machine.
 const MachineConfig& configured_machine(const PlantConfig& plant, const std::string& machine_id);
+// For the commands that read the historian (history, count, export), before they open it: each
+// of `machines` must be one the plant config (--plant or NCQUAL_PLANT) configures, else
+// UsageError (configured_machine). False when there is no plant config to check against: then
+// check_machines_held, once the historian is open. A configured machine without a stored check is
+// no error.
+bool check_machines_configured(const std::vector<std::string>& machines,
+                               const std::string& plant_flag);
+// Without a plant config: each of `machines` must be one the historian `db` (at `db_path`) holds
+// rows of; else UsageError naming it, the machines it holds and the nearest name.
+void check_machines_held(const std::vector<std::string>& machines, storage::Database& db,
+                         const std::string& db_path);
 
 // One part of a tracker grid ("x_run", "y_run" or "grid") from `table`: a grid file
 // (point,x_cmd,..,z_meas), or a tracker's point export (a name and x, y, z) whose commanded

@@ -11,7 +11,8 @@
 //     columns per file, when), written last: a folder without it is an export that did not end.
 //     DIR is created; an existing DIR must be empty, or --overwrite replaces the files of those
 //     names. Exit codes: 0, 2 bad usage (a date, DIR a file or not empty, a machine the
-//     historian does not know), 6 no file at the path, 1 anything else (the message says).
+//     plant does not configure, or without a plant config the historian does not hold), 6 no file
+//     at the path, 1 anything else (the message says).
 //
 //   ncqual backup --out FILE [--overwrite] [--quick] [--step-pages N] [--plant F | --db F]
 //     A consistent copy of the historian into FILE with SQLite's online backup API, the
@@ -137,18 +138,11 @@ int run_export(const ExportOptions& o) {
     }
   }
   const std::string path = database_path(o.db, o.plant);
+  const bool configured = check_machines_configured(o.machines, o.plant);
   {
     auto db = open_historian(path, "export");
     if (!db) return kExitNotFound;
-    const std::vector<std::string> known = db->machines();
-    for (const std::string& m : o.machines) {
-      if (std::find(known.begin(), known.end(), m) != known.end()) continue;
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      throw UsageError(
-          "--machine '" + m + "': the historian " + path + " holds no such machine" +
-          (list.empty() ? std::string(" (it holds none)") : " (it holds " + list + ")"));
-    }
+    if (!configured) check_machines_held(o.machines, *db, path);
   }
   filter.machines = o.machines;
   prepare_folder(o);

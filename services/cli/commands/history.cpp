@@ -12,7 +12,8 @@
 // its writers with their identities when known. A check whose raw points retention deleted (`ncqual
 // db thin`, docs/export.md) says "points thinned on <date>" with the counts measured (--json:
 // measurement.points_thinned_ns); its result is as it was judged. Exit codes: 0, 6 when there is no
-// historian database at the path; 2 when the security material cannot be read.
+// historian database at the path; 2 when the security material cannot be read, and for a machine
+// the plant does not configure (without a plant config: that the historian holds nothing of).
 #include "commands.hpp"
 
 #include "ncqual/common/calendar.hpp"
@@ -115,9 +116,11 @@ void add_identities(nlohmann::json& records, const std::vector<dds::PlantIdentit
 
 int run(const Options& o) {
   const std::string path = database_path(o.db, o.plant);
+  const bool configured = o.machine && check_machines_configured({*o.machine}, o.plant);
   auto opened = open_historian(path, "history");
   if (!opened) return kExitNotFound;
   storage::Database& db = *opened;
+  if (o.machine && !configured) check_machines_held({*o.machine}, db, path);
   storage::HistoryQuery q;
   q.machine_id = o.machine;
   q.kind = o.kind;

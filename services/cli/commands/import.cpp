@@ -23,7 +23,7 @@
 // historian stored it and the solver saved its result (ncqual/dds/acknowledged_send.hpp). Exit
 // codes: 0 imported, 1 refused file (file:line:column on stderr; values no instrument on the
 // machine can have read, solver::check_*_envelope, too) or no acknowledgement from the
-// solver or the historian within 60 s, 2 bad usage (and a machine the plant does not configure), 4
+// solver or the historian within 60 s, 2 bad usage (and a machine the plant does not configure), 9
 // refused by a service.
 #include "commands.hpp"
 
@@ -175,7 +175,7 @@ int publish(const PlantConfig& plant, const DdsOptions& dds, const MeasurementSe
   if (const Acknowledgement* refused = order.refused()) {
     std::cerr << "ncqual import: the " << refused->by << " refused " << set.request_id << ": "
               << refused->detail << "\n";
-    return kExitInvalid;
+    return kExitRefused;
   }
   std::cerr << "imported " << what << " as " << to_string(set.kind) << " of " << set.machine_id
             << "\n";

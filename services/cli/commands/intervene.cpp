@@ -7,7 +7,7 @@
 //     held check when KIND names it, and keeps the intervention in its outbox until the historian
 //     stored it). Prints its id, and what the scheduler said when it changed nothing.
 //
-// Exit codes: 0, 1 when no scheduler acknowledges it, 2 bad usage, 4 refused.
+// Exit codes: 0, 1 when no scheduler acknowledges it, 2 bad usage, 9 refused by the scheduler.
 #include "commands.hpp"
 
 #include "ncqual/dds/acknowledged_send.hpp"
@@ -56,7 +56,7 @@ int run(const Options& o) {
   if (const Acknowledgement* refused = order.refused()) {
     std::cerr << "ncqual intervene: the scheduler refused " << iv.intervention_id << ": "
               << refused->detail << "\n";
-    return kExitInvalid;
+    return kExitRefused;
   }
   std::cerr << "recorded intervention on " << machine << " for " << kind_name << " by " << who
             << "\n";

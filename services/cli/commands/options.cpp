@@ -8,6 +8,7 @@
 #include "ncqual/common/check_kinds.hpp"
 
 #include "ncqual/common/clock.hpp"
+#include "ncqual/common/text.hpp"
 #include "ncqual/solver/circular_test.hpp"
 #include "ncqual/solver/instrument_files.hpp"
 
@@ -112,12 +113,50 @@ PlantConfig plant_from(const std::string& plant_flag) {
   return load_plant_config(file);
 }
 
+namespace {
+
+// " (it configures pm1, pm2); did you mean 'pm1'?": what there is instead of `name`.
+std::string instead_of(const std::string& name, const std::vector<std::string>& known,
+                       const std::string& verb) {
+  if (known.empty()) return " (it " + verb + " none)";
+  std::string list;
+  for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+  const auto best = closest_word(name, {known.begin(), known.end()});
+  return " (it " + verb + " " + list + ")" +
+         (best ? "; did you mean '" + std::string(*best) + "'?" : "");
+}
+
+}  // namespace
+
 const MachineConfig& configured_machine(const PlantConfig& plant, const std::string& machine_id) {
   const MachineConfig* m = plant.find_machine(machine_id);
   if (!m) {
-    throw UsageError("--machine '" + machine_id + "' is not configured in " + plant.source_path);
+    std::vector<std::string> known;
+    for (const auto& machine : plant.machines) known.push_back(machine.machine_id);
+    throw UsageError("--machine '" + machine_id + "' is not configured in " + plant.source_path +
+                     instead_of(machine_id, known, "configures"));
   }
   return *m;
+}
+
+bool check_machines_configured(const std::vector<std::string>& machines,
+                               const std::string& plant_flag) {
+  const std::string plant_file = plant_config_path(plant_flag);
+  if (plant_file.empty()) return false;
+  const PlantConfig plant = load_plant_config(plant_file);
+  for (const std::string& m : machines) (void)configured_machine(plant, m);
+  return true;
+}
+
+void check_machines_held(const std::vector<std::string>& machines, storage::Database& db,
+                         const std::string& db_path) {
+  if (machines.empty()) return;
+  const std::vector<std::string> known = db.machines();
+  for (const std::string& m : machines) {
+    if (std::find(known.begin(), known.end(), m) != known.end()) continue;
+    throw UsageError("--machine '" + m + "': the historian " + db_path + " holds no such machine" +
+                     instead_of(m, known, "holds"));
+  }
 }
 
 Calendar plant_calendar(const std::string& plant_flag) {

@@ -15,8 +15,9 @@
 // the sections that need the machine's configuration say so.
 //
 // Exit codes: 0 written; 2 bad usage (a bad date, --check with --since, a machine the plant does
-// not configure, no plant and no --db); 6 no historian file, or a machine or check the historian
-// does not know; 1 anything else (FILE cannot be written: the message names it).
+// not configure or, without a plant config, the historian holds nothing of; no plant and no
+// --db); 6 no historian file, a check the historian does not know, or a configured machine with
+// nothing stored yet; 1 anything else (FILE cannot be written: the message names it).
 #include "commands.hpp"
 
 #include "ncqual/common/version.hpp"
@@ -96,6 +97,7 @@ int run(const Options& o) {
   auto opened = open_historian(db_path, "report");
   if (!opened) return kExitNotFound;
   storage::Database& db = *opened;
+  if (!plant) check_machines_held({o.machine}, db, db_path);
 
   // "Now" as `ncqual status` has it: the wall clock, or the machine's simulated clock.
   query.now_ns = WallClock().now_ns();

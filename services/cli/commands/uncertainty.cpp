@@ -49,9 +49,10 @@
 //        "candidates": [best first, at most 5: {"position_mm", "yaw_deg", "max_u_p_um",
 //            "mean_u_p_um", "worst_point"}]}}
 //
-// Returns 0 when it printed, 1 on an error it reported (unknown machine, no global_check or no
+// Returns 0 when it printed, 1 on an error it reported (no global_check or no
 // global_check.uncertainty, --search without global_check.uncertainty.search, a bad config, a
-// design or setup the solver refuses), 2 on bad usage (the message and the usage on stderr).
+// design or setup the solver refuses), 2 on bad usage (the message and the usage on stderr; and a
+// machine the plant does not configure).
 #include "commands.hpp"
 
 #include "ncqual/common/config.hpp"
@@ -411,12 +412,7 @@ int run(const Options& o) {
   const std::string& machine_id = o.machine;
 
   const PlantConfig plant = load_plant_config(in.plant_file);
-  in.machine = plant.find_machine(machine_id);
-  if (!in.machine) {
-    std::cerr << "ncqual uncertainty: machine '" << machine_id << "' is not configured in "
-              << plant.source_path << "\n";
-    return kExitError;
-  }
+  in.machine = &configured_machine(plant, machine_id);
   if (!in.machine->global_check) {
     std::cerr << "ncqual uncertainty: machine '" << machine_id << "' (" << in.machine->source_path
               << ") has no global_check: section: it has no tracker verification to assess\n";

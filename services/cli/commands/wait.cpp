@@ -7,7 +7,8 @@
 //
 // Waits on the database itself: the historian's commit is the event waited for; the database
 // is re-read every 100 ms until the condition holds or the deadline passes. Prints the check's
-// verdict (--request) or the machine's state (--settled). Exit codes: 0, 5 timed out.
+// verdict (--request) or the machine's state (--settled). Exit codes: 0, 5 timed out, 2 bad usage
+// (and a machine the plant config does not configure).
 #include "commands.hpp"
 
 #include "ncqual/storage/database.hpp"
@@ -34,6 +35,8 @@ int run(const Options& o) {
     throw UsageError("pass --request ID, --count N or --settled --machine M");
   }
   if (o.settled && !o.machine) throw UsageError("--settled needs --machine M");
+  // Checked against the plant config only: the historian may not hold the machine yet.
+  if (o.machine) (void)check_machines_configured({*o.machine}, o.plant);
   const std::string path = database_path(o.db, o.plant);
   const auto deadline = std::chrono::steady_clock::now() +
                         std::chrono::milliseconds(static_cast<long long>(o.timeout_s * 1000));

@@ -30,6 +30,12 @@ std::optional<std::string> read_text_file(const std::string& path, std::string* 
 // for "did you mean" in messages.
 std::size_t edit_distance(std::string_view a, std::string_view b);
 
+// Of `candidates`, the one nearest `word` by edit_distance when it is a likely typo of it (at
+// most a third of the word's length in edits, and at most 3), for "did you mean 'X'?"; nothing
+// when none is that near (another word, not a typo). The first of equally near ones wins.
+std::optional<std::string_view> closest_word(std::string_view word,
+                                             const std::vector<std::string_view>& candidates);
+
 // Writes `text` to `path` so that a reader never sees part of it: into ".<name>.part" beside it,
 // flushed to disk, then renamed over `path`. False, with `*why` (the system's reason), when it
 // could not; then `path` is as it was and the part file is removed.
