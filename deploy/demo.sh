@@ -166,9 +166,11 @@ export NCQUAL_PLANT="$plant"
 export NCQUAL_DOMAIN="$domain"
 
 pids=()
-stop_all() {
-  for pid in "${pids[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
-  for pid in "${pids[@]}"; do wait "$pid" 2>/dev/null || true; done
+stop_all() {  # the historian (started first) last: it stores the others' "stopped" heartbeats
+  local rest=("${pids[@]:1}")
+  for pid in "${rest[@]}"; do kill -TERM "$pid" 2>/dev/null || true; done
+  for pid in "${rest[@]}"; do wait "$pid" 2>/dev/null || true; done
+  for pid in "${pids[@]:0:1}"; do kill -TERM "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; done
   pids=()
 }
 trap stop_all EXIT

@@ -88,7 +88,7 @@ Service::Service(const ServiceOptions& options) : options_(options) {
 
 Service::~Service() = default;
 
-void Service::beat(const std::string& state) {
+Heartbeat Service::heartbeat(const std::string& state) const {
   Heartbeat beat;
   beat.service = options_.service;
   beat.instance = instance_;
@@ -96,6 +96,11 @@ void Service::beat(const std::string& state) {
   beat.state = state;
   beat.time_ns = clock_.now_ns();
   for (const auto& fill : fill_) fill(beat);
+  return beat;
+}
+
+void Service::beat(const std::string& state) {
+  const Heartbeat beat = heartbeat(state);
   if (raw_heartbeat_) {
     raw_heartbeat_->write(serialize<HeartbeatTopic>(to_wire(beat)), beat.machine_id);
   } else {
@@ -115,11 +120,16 @@ int Service::run() {
   // (Type=notify units start what is ordered after this one only now).
   service_manager::notify("READY=1\nSTATUS=running on domain " +
                           std::to_string(options_.participant.domain_id));
+  beat("running");  // at once: a service that runs for less than a period is seen too
   dispatcher_.run();
   service_manager::notify("STOPPING=1\nSTATUS=stopping");
   beat("stopping");
   for (const auto& work : before_stop_) work();
-  spdlog::info("{} stopped", options_.service);
+  beat("stopped");
+  const bool heard = raw_heartbeat_ ? raw_heartbeat_->wait_for_acknowledgments(kLastWordWait)
+                                    : heartbeat_->wait_for_acknowledgments(kLastWordWait);
+  spdlog::info("{} stopped{}", options_.service,
+               heard ? "" : " (its last heartbeat was not acknowledged within 1 s)");
   return 0;
 }
 

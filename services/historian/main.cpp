@@ -124,6 +124,10 @@ int run(int argc, char** argv) {
     service.dispatcher().on(heartbeats, [&](const dds::Received<Heartbeat>& in) {
       historian::store_heartbeat(db, ingest, in.value, in.error);
     });
+    // Its own last word: its reader stops with the receive loop, so it stores that one itself.
+    // Stop the historian last: what the others say as they stop reaches it only while it runs.
+    service.before_stop(
+        [&] { historian::store_heartbeat(db, ingest, service.heartbeat("stopped"), ""); });
     service.dispatcher().every(std::chrono::milliseconds(100), [&] { ingest.retry(steady_now()); });
     historian::FileGuard guard(db, db_path);
     service.dispatcher().every(std::chrono::seconds(1), [&] {

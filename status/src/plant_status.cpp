@@ -6,6 +6,7 @@
 #include "ncqual/common/check_kinds.hpp"
 #include "ncqual/storage/trend.hpp"
 
+#include <string_view>
 #include <utility>
 
 namespace ncqual::plant_status {
@@ -28,7 +29,36 @@ ServiceDocument service_document(const Heartbeat& beat, std::int64_t wall_now_ns
   d.time_ns = beat.time_ns;
   d.age_ns = wall_now_ns - beat.time_ns;
   d.silent = d.age_ns > kSilentPeriods * period_ns;
+  d.liveness = beat.state == "stopped" ? "stopped" : d.silent ? "stale" : "live";
   return d;
+}
+
+// Whether `service` (a scheduler's heartbeat) serves `machine_id`: a plant-wide one (no machine
+// named) or one whose machines, joined by commas, include it.
+bool serves(const ServiceDocument& service, const std::string& machine_id) {
+  if (service.machine_id.empty()) return true;
+  std::string_view rest = service.machine_id;
+  while (true) {
+    const std::size_t comma = rest.find(',');
+    if (rest.substr(0, comma) == machine_id) return true;
+    if (comma == std::string_view::npos) return false;
+    rest.remove_prefix(comma + 1);
+  }
+}
+
+// The best word of the schedulers serving `machine_id`: live over stale over stopped over none.
+std::string scheduler_liveness(const std::vector<ServiceDocument>& services,
+                               const std::string& machine_id) {
+  const auto rank = [](const std::string& l) {
+    return l == "live" ? 3 : l == "stale" ? 2 : l == "stopped" ? 1 : 0;
+  };
+  std::string best = "none";
+  for (const auto& s : services) {
+    if (s.service == "scheduler" && serves(s, machine_id) && rank(s.liveness) > rank(best)) {
+      best = s.liveness;
+    }
+  }
+  return best;
 }
 
 }  // namespace
@@ -100,6 +130,9 @@ StatusDocument plant_status(storage::Database& db, const PlantConfig& plant,
   out.heartbeat_period_ms = period_ns / 1'000'000;
   for (const Heartbeat& beat : db.services()) {
     out.services.push_back(service_document(beat, plant_now, period_ns));
+  }
+  for (auto& machine : out.machines) {
+    machine.scheduler = scheduler_liveness(out.services, machine.machine_id);
   }
   return out;
 }

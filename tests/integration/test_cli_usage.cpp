@@ -4,9 +4,16 @@
 // --flag=value, exit code 6, and the bash completion the build writes.
 #include "cli_runner.hpp"
 
+#include "ncqual/storage/database.hpp"
+
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <algorithm>
+#include <chrono>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
 #include <utility>
@@ -101,8 +108,8 @@ TEST(CliUsage, HelpOfEveryCommandAndSubcommandNamesItsFlags) {
   for (const auto& [path, flags] : kCommands) {
     EXPECT_NE(top.out.find("\n  " + path + " "), std::string::npos) << path << "\n" << top.out;
   }
-  EXPECT_NE(top.out.find("Exit codes: 0 ok/PASS, 1 error, 2 usage, 3 FAIL, 4 INVALID, 5 timed "
-                         "out, 6 not found."),
+  EXPECT_NE(top.out.find("Exit codes: 0 ok/PASS, 1 error, 2 usage (an unknown flag, a bad "
+                         "value, a machine the plant does not configure), 3 FAIL, 4 INVALID"),
             std::string::npos)
       << top.out;
   EXPECT_EQ(top.out.find("completion"), std::string::npos) << "the completion command is hidden";
@@ -167,6 +174,138 @@ TEST(CliUsage, BadUsageExitsTwoNamingTheFlagWithTheCommandsUsage) {
     EXPECT_NE(r.err.find(named), std::string::npos) << args << "\n" << r.err;
     EXPECT_NE(r.err.find("usage: ncqual"), std::string::npos) << args << "\n" << r.err;
   }
+}
+
+// Issue 37: an unknown machine gave exit 0 with an empty table (history), 1 (budget), 2 (status,
+// trend, report). One mistake, one code: a machine the plant does not configure is bad usage,
+// exit 2, naming it, what the plant configures and the nearest name; no command opens a
+// historian, a control's files or the network first.
+TEST(CliUsage, AMachineThePlantDoesNotConfigureIsBadUsageInEveryCommand) {
+  const testing_cli::TempDir tmp("ncqual-cli-machine");
+  const std::string plant = NCQUAL_SOURCE_DIR "/deploy/plant.yaml";
+  const std::string out = (tmp.path() / "out").string();
+  for (const std::string& args : std::vector<std::string>{
+           "history --machine pm11",
+           "count --machine pm11",
+           "status --machine pm11",
+           "trend --machine pm11",
+           "report --machine pm11 --out " + out + ".html",
+           "budget --machine pm11",
+           "uncertainty --machine pm11",
+           "check --machine pm11 --kind monument_positioning",
+           "intervene --machine pm11 --check monument_positioning --note n",
+           "program --machine pm11 --check monument_positioning --out " + out + ".ngc",
+           "export --machine pm11 --since 2027-01-01 --csv " + out,
+           "wait --machine pm11 --count 1 --timeout 1",
+           "analyze touches none.log --program none.ngc --machine pm11",
+           "import touches none.log --program none.ngc --machine pm11",
+       }) {
+    std::vector<std::string> argv = words(args);
+    argv.insert(argv.end(), {"--plant", plant});
+    const CliRun r = run(argv);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("--machine 'pm11' is not configured in " + plant +
+                         " (it configures pm1); did you mean 'pm1'?"),
+              std::string::npos)
+        << args << "\n"
+        << r.err;
+  }
+  EXPECT_FALSE(std::filesystem::exists(out)) << "export made its folder";
+}
+
+// Without a plant config the historian says which machines there are.
+TEST(CliUsage, AMachineTheHistorianDoesNotHoldIsBadUsageWithoutAPlant) {
+  const testing_cli::TempDir tmp("ncqual-cli-held");
+  const std::string db = (tmp.path() / "h.db").string();
+  {
+    storage::Database d = storage::Database::open(db);
+    MachineStatus s;
+    s.machine_id = "cell-7";
+    s.state = MachineState::Qualified;
+    s.time_ns = 1;
+    d.store(s);
+  }
+  for (const char* command : {"history", "count", "report"}) {
+    std::vector<std::string> argv{command, "--db", db, "--machine", "cell-1"};
+    if (std::string(command) == "report")
+      argv.insert(argv.end(), {"--out", (tmp.path() / "r.html").string()});
+    const CliRun r = run(argv);
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.err;
+    EXPECT_NE(r.err.find("--machine 'cell-1': the historian " + db +
+                         " holds no such machine (it holds cell-7); did you mean 'cell-7'?"),
+              std::string::npos)
+        << command << "\n"
+        << r.err;
+  }
+  const CliRun held = run({"count", "--db", db, "--machine", "cell-7"});
+  EXPECT_EQ(held.exit_code, 0) << held.err;
+  EXPECT_EQ(held.out, "0\n");
+}
+
+// Issue 37: a heartbeat older than three periods on the reader's wall clock is stale, whatever
+// its state said; a service whose last word was "stopped" is stopped, however old.
+TEST(CliStatus, AServiceNotHeardForThreePeriodsIsStaleAndOneThatSaidStoppedIsStopped) {
+  const testing_cli::TempDir tmp("ncqual-cli-stale");
+  const std::string db = (tmp.path() / "h.db").string();
+  const auto now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                          std::chrono::system_clock::now().time_since_epoch())
+                          .count();
+  {
+    storage::Database d = storage::Database::open(db);
+    const auto beat = [&](const std::string& service, const std::string& state, double age_s) {
+      Heartbeat b;
+      b.service = service;
+      b.instance = "host:" + service;
+      b.state = state;
+      b.time_ns = now_ns - static_cast<std::int64_t>(age_s * 1e9);
+      d.store(b);
+    };
+    beat("solver", "running", 6.5);      // 3 periods of 2 s and a half second: stale
+    beat("scheduler", "stopped", 3600);  // an hour ago, but it said it stopped
+    beat("historian", "running", 0);     // just now
+  }
+  const CliRun json =
+      run({"status", "--plant", NCQUAL_SOURCE_DIR "/deploy/plant.yaml", "--db", db, "--json"});
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  const auto doc = nlohmann::json::parse(json.out);
+  std::map<std::string, std::string> liveness;
+  for (const auto& s : doc.at("services")) liveness[s.at("service")] = s.at("liveness");
+  EXPECT_EQ(liveness["solver"], "stale");
+  EXPECT_EQ(liveness["scheduler"], "stopped");
+  EXPECT_EQ(liveness["historian"], "live");
+  EXPECT_EQ(doc.at("machines").at(0).at("scheduler"), "stopped");
+
+  const CliRun text =
+      run({"status", "--plant", NCQUAL_SOURCE_DIR "/deploy/plant.yaml", "--db", db});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("STALE"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("stale since"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("no scheduler is running for it (it stopped)"), std::string::npos)
+      << text.out;
+}
+
+// A mistyped flag is named with the flag the command has nearest to it, as `config check` does for
+// a key; a flag nowhere near any is named alone.
+TEST(CliUsage, AMistypedFlagIsNamedWithTheNearestFlag) {
+  for (const auto& [args, said] : std::vector<std::pair<std::string, std::string>>{
+           {"history --machin pm1",
+            "'--machin' is not an option of ncqual history; did you mean '--machine'?"},
+           {"analyze circle c.csv --nominal-radius 150",
+            "'--nominal-radius' is not an option of ncqual analyze circle; did you mean "
+            "'--nominal-radius-mm'?"},
+           {"status --jsno", "'--jsno' is not an option of ncqual status; did you mean '--json'?"},
+           {"status --frobnicate", "'--frobnicate' is not an option of ncqual status\n"},
+       }) {
+    const CliRun r = run(words(args));
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find(said), std::string::npos) << args << "\n" << r.err;
+  }
+  const CliRun service = run_command({NCQUAL_SOLVER_EXE, "--plnat", "p.yaml"}, Capture::Separate);
+  EXPECT_EQ(service.exit_code, 2);
+  EXPECT_NE(service.err.find("'--plnat' is not an option of ncqual-solver; did you mean "
+                             "'--plant'?"),
+            std::string::npos)
+      << service.err;
 }
 
 TEST(CliUsage, FlagEqualsValueMeansTheSameAsTwoWords) {

@@ -618,7 +618,8 @@ TEST(Cyclone, ACycloneDdsPeerReadsEveryTopicExactlyAndItsOrdersAreCarriedOut) {
     for (const auto& l : lines) EXPECT_EQ(l.at("machine_id"), "pm-held");
   }
 
-  // 5. Heartbeats (best effort, volatile: the next ones), from the services the historian lists.
+  // 5. Heartbeats (read best effort, volatile: the next ones), from the services the historian
+  // lists.
   {
     const Outcome read = peer.read("ncqual/Heartbeat", 4);
     ASSERT_EQ(read.exit_code, 0) << read.err;

@@ -11,6 +11,7 @@
 #include "ncqual/sim/simulator_config.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace ncqual::testing {
 namespace {
@@ -94,6 +95,16 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
     return a && b && a->state == MachineState::Qualified &&
            b->state == MachineState::NeedsIntervention;
   })) << plant.log("scheduler");
+
+  // An order the scheduler refuses (a part check on a held machine) exits 9, REFUSED, with the
+  // scheduler's reason; not 4, which is the verdict INVALID (issue 37).
+  const testing_cli::CliRun refused =
+      testing_cli::run_cli({"check", "--plant", plant.plant_file(), "--machine", "pm-shifted",
+                            "--kind", "part_setpoints"},
+                           testing_cli::Capture::Separate);
+  EXPECT_EQ(refused.exit_code, 9) << refused.err;
+  EXPECT_NE(refused.err.find("the scheduler refused"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("held (NEEDS_INTERVENTION)"), std::string::npos) << refused.err;
 }
 
 TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
@@ -101,9 +112,9 @@ TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
   plant.add_machine("pm1", machine_yaml("pm1", "    machine_shift_mm: [0, 0, 0]\n"));
   plant.write_plant("[]");  // no start-up cycle: only the operator's order
   plant.start("historian");
-  plant.start("solver");
+  Process& solver = plant.start("solver");
   plant.start("acquisition", {"--machine", "pm1"});
-  plant.start("scheduler");
+  Process& scheduler = plant.start("scheduler");
 
   const testing_cli::CliRun check =
       testing_cli::run_cli({"check", "--plant", plant.plant_file(), "--machine", "pm1", "--kind",
@@ -128,6 +139,53 @@ TEST(EndToEnd, OperatorCheckGoesThroughTheSchedulerAndTheCliPrintsHistory) {
   EXPECT_EQ(bad.exit_code, 2);
   const std::string msg = bad.out;
   EXPECT_NE(msg.find("'nope'"), std::string::npos) << msg;
+
+  // Issue 37: after the services stopped, `ncqual status` listed them as running (their last
+  // heartbeats were fresh) and advised `ncqual intervene`, which then waited for a scheduler that
+  // was not there. A stopped service says so; a machine without a live scheduler says so.
+  const auto liveness = [&](const nlohmann::json& doc, const std::string& service) {
+    std::string found = "absent";
+    for (const auto& s : doc.at("services")) {
+      if (s.at("service") == service) found = s.at("liveness").get<std::string>();
+    }
+    return found;
+  };
+  const auto status = [&] {
+    const testing_cli::CliRun r = testing_cli::run_cli(
+        {"status", "--plant", plant.plant_file(), "--json"}, testing_cli::Capture::Separate);
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return nlohmann::json::parse(r.out);
+  };
+  ASSERT_TRUE(plant.wait_for_db([](storage::Database& d) {
+    int heard = 0;
+    for (const Heartbeat& beat : d.services()) {
+      heard += beat.service == "solver" || beat.service == "scheduler" ? 1 : 0;
+    }
+    return heard == 2;
+  })) << "the solver's and the scheduler's heartbeats are stored";
+  const nlohmann::json running = status();
+  EXPECT_EQ(liveness(running, "solver"), "live") << running.dump(2);
+  EXPECT_EQ(liveness(running, "scheduler"), "live") << running.dump(2);
+  EXPECT_EQ(running.at("machines").at(0).at("scheduler"), "live");
+  scheduler.terminate();
+  solver.terminate();
+  ASSERT_EQ(scheduler.wait(), 0) << plant.log("scheduler");
+  ASSERT_EQ(solver.wait(), 0) << plant.log("solver");
+  // The historian acknowledged their last heartbeats before they exited (dds::Service::run).
+  const nlohmann::json stopped = status();
+  EXPECT_EQ(liveness(stopped, "solver"), "stopped") << stopped.dump(2);
+  EXPECT_EQ(liveness(stopped, "scheduler"), "stopped") << stopped.dump(2);
+  EXPECT_EQ(liveness(stopped, "historian"), "live") << stopped.dump(2);
+  EXPECT_EQ(stopped.at("machines").at(0).at("scheduler"), "stopped");
+  const testing_cli::CliRun text = testing_cli::run_cli({"status", "--plant", plant.plant_file()},
+                                                        testing_cli::Capture::Separate);
+  EXPECT_NE(text.out.find("no scheduler is running for it (it stopped)"), std::string::npos)
+      << text.out;
+  const std::size_t row = text.out.find("\n  scheduler    ");
+  ASSERT_NE(row, std::string::npos) << text.out;
+  const std::string line = text.out.substr(row + 1, text.out.find('\n', row + 1) - row - 1);
+  EXPECT_NE(line.find(" stopped "), std::string::npos) << line;
+  EXPECT_EQ(line.find("running"), std::string::npos) << line;
 }
 
 }  // namespace

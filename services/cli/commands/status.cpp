@@ -13,18 +13,21 @@
 //     the earliest and expected dates it reaches its tolerance). Then the services: the last
 //     heartbeat the historian stored of every service instance, with its state, health (and why,
 //     when not ok), outbox depth and the age of its oldest unacknowledged sample, and how long ago
-//     it was sent (wall clock); one older than 3 heartbeat periods is "silent since" then (or
-//     "stopped" when its last word was "stopping"). A service whose health is "failed" is
-//     printed again at the end, prominently (the exit code stays 0). Read only; the scheduler
-//     need not run.
+//     it was sent (wall clock). A service whose last heartbeat said "stopped" (an orderly stop)
+//     is "stopped" then; one whose last heartbeat is older than 3 heartbeat periods on this
+//     reader's wall clock (whatever clock the plant simulated) is "STALE since" then: it died,
+//     hangs or cannot reach the historian. A machine without a live scheduler says so: `ncqual
+//     check` and `ncqual intervene` need one. A service whose health is "failed" is printed
+//     again at the end, prominently (the exit code stays 0). Read only; the scheduler need not
+//     run.
 //     --json names (stable): {"plant", "now_ns", "machines": [{"machine_id", "state", "detail",
 //       "status_time_ns", "periods": [{"name", "every", "checks": [{"kind", "last_pass_ns"}],
 //       "last_pass_ns", "due", "overdue", "next_due_ns"}], "conflicts", "warnings": [{"metric",
 //       "check_kind", "kind", "side", "started_ns", "raised_by", "raised_ns",
-//       "expected_crossing_ns", "earliest_crossing_ns", "text"}]}], "wall_now_ns",
+//       "expected_crossing_ns", "earliest_crossing_ns", "text"}], "scheduler"}], "wall_now_ns",
 //       "heartbeat_period_ms", "services": [{"service", "instance", "machine_id", "state",
 //       "health", "health_detail", "outbox_depth", "oldest_unacknowledged_ns",
-//       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent"}]}
+//       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent", "liveness"}]}
 //       (ncqual/status/plant_status.hpp, shared with the dashboard's /api/v1/plant); times are ns
 //       since the Unix epoch UTC or null; the text form prints them in the plant's time zone.
 //       oldest_unacknowledged_age_ns is as of the heartbeat (null: nothing waits).
@@ -80,13 +83,16 @@ void print_services(const StatusDocument& out, const Calendar& calendar) {
     const std::string instance = s.machine_id.empty() || s.service != "acquisition"
                                      ? s.instance
                                      : s.instance + " (" + s.machine_id + ")";
-    const std::string last = !s.silent ? duration_text(s.age_ns) + " ago"
-                             : s.state == "stopping"
-                                 ? "stopped " + calendar.local_text(s.time_ns)
-                                 : "silent since " + calendar.local_text(s.time_ns) + " (" +
-                                       duration_text(s.age_ns) + ")";
+    const std::string last =
+        s.liveness == "stopped" ? "stopped " + calendar.local_text(s.time_ns)
+        : s.liveness == "stale"
+            ? "stale since " + calendar.local_text(s.time_ns) + " (" + duration_text(s.age_ns) + ")"
+            : duration_text(s.age_ns) + " ago";
+    const std::string state = s.liveness == "live"    ? s.state
+                              : s.liveness == "stale" ? "STALE"
+                                                      : "stopped";
     const std::string health = s.health == "ok" ? s.health : upper(s.health);
-    fmt::print(kRow, s.service, instance, s.state, health, s.outbox_depth,
+    fmt::print(kRow, s.service, instance, state, health, s.outbox_depth,
                s.oldest_unacknowledged_age_ns ? duration_text(*s.oldest_unacknowledged_age_ns)
                                               : std::string("-"),
                last);
@@ -95,7 +101,9 @@ void print_services(const StatusDocument& out, const Calendar& calendar) {
   for (const auto& s : out.services) {
     if (s.health != "failed") continue;
     fmt::print("\n!! SERVICE FAILED: {} {}{}: {}\n", s.service, s.instance,
-               s.silent ? " (silent since " + calendar.local_text(s.time_ns) + ")" : "",
+               s.liveness != "live"
+                   ? " (" + s.liveness + " since " + calendar.local_text(s.time_ns) + ")"
+                   : "",
                s.health_detail.empty() ? "no detail given" : s.health_detail);
   }
 }
@@ -108,13 +116,13 @@ struct Options {
 
 int run(const Options& o) {
   const PlantConfig plant = plant_from(o.plant);
+  const auto& machine_filter = o.machine;
+  if (machine_filter) (void)configured_machine(plant, *machine_filter);
   const std::string db_path = o.db.value_or(plant.historian_database);
   auto opened = open_historian(db_path, "status");
   if (!opened) return kExitNotFound;
   storage::Database& db = *opened;
   const Calendar calendar = plant_status::plant_calendar(plant);
-  const auto& machine_filter = o.machine;
-  if (machine_filter) (void)configured_machine(plant, *machine_filter);
   const StatusDocument out =
       plant_status::plant_status(db, plant, calendar, {machine_filter, WallClock().now_ns()});
   if (o.json) {
@@ -126,7 +134,7 @@ int run(const Options& o) {
   };
   fmt::print("plant {} ({}{})\n", plant.plant, calendar.config().time_zone,
              plant.simulated_clock ? ", simulated clock" : "");
-  constexpr const char* kRow = "  {:<10}{:<8}{:<24}{:<24}{}\n";
+  constexpr const char* kRow = "  {:<10}{:<8}{:<30}{:<30}{}\n";
   for (const auto& machine : out.machines) {
     fmt::print("\n{}  {}  ({}){}\n  {}\n", machine.machine_id, to_string(machine.state),
                when(machine.status_time_ns),
@@ -139,6 +147,14 @@ int run(const Options& o) {
                  p.overdue ? "OVERDUE"
                  : p.due   ? "due"
                            : "");
+    }
+    if (machine.scheduler != "live") {
+      fmt::print(
+          "  no scheduler is running for it ({}): nothing is ordered, and `ncqual check` and "
+          "`ncqual intervene` wait for one in vain; start ncqual-scheduler first\n",
+          machine.scheduler == "none"    ? "none was heard"
+          : machine.scheduler == "stale" ? "its heartbeats stopped"
+                                         : "it stopped");
     }
     if (!machine.warnings.empty()) {
       fmt::print(

@@ -39,8 +39,11 @@ class Service {
   const Clock& clock() const { return clock_; }
   const std::string& instance() const { return instance_; }
 
-  // Runs the receive loop until SIGINT/SIGTERM or stop(), announcing itself by heartbeat; then
-  // runs the before_stop work (an outbox's drain) in the order registered.
+  // Runs the receive loop until SIGINT/SIGTERM or stop(), announcing itself by heartbeat (one at
+  // once, then one every period); then says "stopping", runs the before_stop work (an outbox's
+  // drain) in the order registered and says "stopped", waiting (at most kLastWordWait) until the
+  // historian acknowledged that last heartbeat: `ncqual status` then shows the service stopped,
+  // not running until its heartbeat grows stale.
   int run();
   void stop() { dispatcher_.stop(); }
 
@@ -50,6 +53,12 @@ class Service {
   void on_heartbeat(std::function<void(Heartbeat&)> fill) { fill_.push_back(std::move(fill)); }
   // Writes a heartbeat now (a health change should not wait for the period).
   void beat(const std::string& state);
+  // The heartbeat this service would write now in `state` ("running", "stopping", "stopped"):
+  // for the historian, which stores its own last one itself (it no longer reads its own).
+  Heartbeat heartbeat(const std::string& state) const;
+
+  // How long run() waits at most for the acknowledgement of the last heartbeat.
+  static constexpr std::chrono::milliseconds kLastWordWait{1000};
 
  private:
   ServiceOptions options_;

@@ -306,6 +306,13 @@ std::string plant_html(const PlantConfig& plant, const Calendar& calendar, const
                                     : "");
     main += fmt::format("<p class=\"nw-detail\">{} &middot; since {}</p>\n", esc(m.detail),
                         when(calendar, m.status_time_ns));
+    if (m.scheduler != "live") {
+      main += fmt::format(
+          "<p class=\"nw-no-scheduler\"><span class=\"nw-badge nw-bad\">no scheduler</span> {}: "
+          "nothing is ordered, and <code>ncqual check</code> and <code>ncqual intervene</code> "
+          "need a running one</p>\n",
+          m.scheduler == "none" ? "none was heard" : "it " + m.scheduler);
+    }
     main += "<table class=\"nw-summary\"><tbody>\n";
     main += fmt::format("<tr><th>next due</th><td class=\"nw-next-due\">{}</td></tr>\n",
                         next_due_text(calendar, m));
@@ -347,10 +354,12 @@ std::string plant_html(const PlantConfig& plant, const Calendar& calendar, const
                                                    esc(s.health), esc(s.health_detail));
       main += fmt::format(
           "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"nw-num\">{}</td>"
-          "<td>{}{}</td></tr>\n",
-          esc(s.service), esc(s.instance), esc(s.state), health, s.outbox_depth,
-          esc(calendar.local_text(s.time_ns, true)),
-          s.silent ? " <span class=\"nw-badge nw-bad\">silent</span>" : "");
+          "<td>{}</td></tr>\n",
+          esc(s.service), esc(s.instance),
+          s.liveness == "live"      ? esc(s.state)
+          : s.liveness == "stopped" ? std::string("stopped")
+                                    : std::string("<span class=\"nw-badge nw-bad\">stale</span>"),
+          health, s.outbox_depth, esc(calendar.local_text(s.time_ns, true)));
     }
     main += "</tbody></table>\n";
   }

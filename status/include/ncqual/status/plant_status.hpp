@@ -63,6 +63,10 @@ struct MachineDocument {
   std::vector<PeriodDocument> periods;
   std::int64_t conflicts = 0;             // samples kept beside stored ones for other content
   std::vector<WarningDocument> warnings;  // active trend warnings, newest raised first
+  // The scheduler serving the machine, as its heartbeats say (ServiceDocument::liveness): "live",
+  // "stopped", "stale", or "none" when none was ever heard. `ncqual check` and `ncqual
+  // intervene` need a live one.
+  std::string scheduler = "none";
 };
 struct ServiceDocument {
   std::string service;
@@ -77,6 +81,11 @@ struct ServiceDocument {
   std::int64_t time_ns = 0;                                  // of the last heartbeat (wall clock)
   std::int64_t age_ns = 0;                                   // wall_now_ns - time_ns
   bool silent = false;  // no heartbeat for more than kSilentPeriods periods
+  // What the reader makes of it, on its own wall clock (whatever clock the plant simulated):
+  // "stopped" when the last heartbeat said so (an orderly stop), else "stale" when it is older
+  // than kSilentPeriods periods (the service died, hangs or cannot reach the historian), else
+  // "live".
+  std::string liveness = "live";
 };
 struct StatusDocument {
   std::string plant;
@@ -93,10 +102,10 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WarningDocument, metric, check_kind, kind, si
                                    raised_by, raised_ns, expected_crossing_ns, earliest_crossing_ns,
                                    text)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineDocument, machine_id, state, detail, status_time_ns,
-                                   periods, conflicts, warnings)
+                                   periods, conflicts, warnings, scheduler)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ServiceDocument, service, instance, machine_id, state, health,
                                    health_detail, outbox_depth, oldest_unacknowledged_ns,
-                                   oldest_unacknowledged_age_ns, time_ns, age_ns, silent)
+                                   oldest_unacknowledged_age_ns, time_ns, age_ns, silent, liveness)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(StatusDocument, plant, now_ns, machines, wall_now_ns,
                                    heartbeat_period_ms, services)
 
