@@ -116,8 +116,10 @@ double marker_ink(const std::vector<MarkerGroup>& groups) {
   return ink;
 }
 
-// The markers in groups: a marker within `gap` px of the previous one joins its group; the gap
-// widens (x1.5) until the groups' lines cover at most kMaxMarkerInk of the plot's width.
+// The markers in groups, interventions and compensations apart (an intervention keeps its own
+// time however many compensations surround it): a marker within `gap` px of the previous one of
+// its kind joins its group; the gap widens (x1.5) until the groups' lines cover at most
+// kMaxMarkerInk of the plot's width. By the time of their latest marker.
 template <typename ToX>
 std::vector<MarkerGroup> group_markers(const std::vector<TimeMarker>& markers, const ToX& tx,
                                        double plot_width) {
@@ -130,16 +132,23 @@ std::vector<MarkerGroup> group_markers(const std::vector<TimeMarker>& markers, c
   std::vector<MarkerGroup> groups;
   for (double gap = kMarkerGroupPx;; gap *= 1.5) {
     groups.clear();
-    double previous = -1e300;
-    for (const TimeMarker* m : sorted) {
-      const double x = tx(m->time_ns);
-      if (groups.empty() || x - previous > gap) groups.emplace_back();
-      groups.back().markers.push_back(m);
-      if (m->kind == MarkerKind::Intervention) ++groups.back().interventions;
-      previous = x;
+    for (const MarkerKind kind : {MarkerKind::Intervention, MarkerKind::Compensation}) {
+      const std::size_t first = groups.size();
+      double previous = -1e300;
+      for (const TimeMarker* m : sorted) {
+        if (m->kind != kind) continue;
+        const double x = tx(m->time_ns);
+        if (groups.size() == first || x - previous > gap) groups.emplace_back();
+        groups.back().markers.push_back(m);
+        if (kind == MarkerKind::Intervention) ++groups.back().interventions;
+        previous = x;
+      }
     }
-    if (groups.size() <= 1 || marker_ink(groups) <= kMaxMarkerInk * plot_width) break;
+    if (groups.size() <= 2 || marker_ink(groups) <= kMaxMarkerInk * plot_width) break;
   }
+  std::stable_sort(groups.begin(), groups.end(), [](const MarkerGroup& a, const MarkerGroup& b) {
+    return a.markers.back()->time_ns < b.markers.back()->time_ns;
+  });
   return groups;
 }
 
@@ -361,8 +370,8 @@ std::string trend_chart(const TrendChart& c) {
 
   // Interventions and compensations, grouped so that their ink stays within a tenth of the
   // plot's width (kMaxMarkerInk): each group one line, at its latest marker (where the segment
-  // after it starts), with a bracket above the plot over the time it spans; a label only where
-  // it does not crowd the previous one and the ink allows it.
+  // after it starts), with a pale strip along the plot's top over the time it spans; a label
+  // only where it does not crowd the previous one and the ink allows it.
   const std::vector<MarkerGroup> groups = group_markers(c.markers, tx, box.width());
   std::vector<std::pair<double, std::string>> marker_labels;
   double label_ink = 0;
@@ -380,14 +389,15 @@ std::string trend_chart(const TrendChart& c) {
         tip += "\n" + time_text(c, g.markers[k]->time_ns) + ": " + g.markers[k]->label;
       }
       if (g.markers.size() > 5) tip += "\n...";
+      // The time the group spans: a pale strip along the plot's top edge.
       const double x0 = tx(g.markers.front()->time_ns);
-      w.leaf("line", {{"class", "marker-span"},
-                      {"x1", svg::coord(x0)},
-                      {"y1", svg::coord(box.top - 3)},
-                      {"x2", svg::coord(mx)},
-                      {"y2", svg::coord(box.top - 3)},
-                      {"stroke", std::string(intervention ? palette::kDark : palette::kAccent)},
-                      {"stroke-width", "2"}});
+      w.leaf("rect", {{"class", "marker-span"},
+                      {"x", svg::coord(x0)},
+                      {"y", svg::coord(box.top)},
+                      {"width", svg::coord(std::max(mx - x0, 1.0))},
+                      {"height", "5"},
+                      {"fill", std::string(intervention ? palette::kDark : palette::kAccent)},
+                      {"fill-opacity", "0.35"}});
     }
     std::vector<svg::Attr> attrs{
         {"class", intervention ? "marker intervention" : "marker compensation"},

@@ -171,7 +171,9 @@ TEST(Trend, DenseMarkersAreGroupedIntoATenthOfThePlotAtMost) {
     ink += l.num("stroke-width");
   }
   EXPECT_EQ(counted, kMarkers + 1) << "every marker in one group";
-  EXPECT_EQ(interventions.size(), 1u) << "the group holding the intervention is drawn as one";
+  ASSERT_EQ(interventions.size(), 1u) << "interventions are grouped apart from compensations";
+  EXPECT_EQ(interventions[0].get("data-count"), "1");
+  EXPECT_EQ(interventions[0].get("data-time"), std::to_string(kT0 + 30 * kDay)) << "its own date";
   // The labels: rotated text with a halo, each about 14 px across the plot.
   std::size_t labels = 0;
   for (const Element& t : elements(svg, "text")) labels += t.get("class") == "marker-label";
