@@ -94,6 +94,78 @@ void vertical_label(svg::Writer& w, const Box& box, double x, std::string_view t
   w.text("text", attrs, detail::fit_text(text, box.height() - 10, detail::kSmallFontPx));
 }
 
+// Markers closer than this on the time axis are one group at least.
+constexpr double kMarkerGroupPx = 6;
+// The marker lines and labels may cover at most this fraction of the plot's width.
+constexpr double kMaxMarkerInk = 0.1;
+// What one marker label covers across the plot (a rotated line of small text with its halo).
+constexpr double kMarkerLabelInk = detail::kSmallFontPx + 3;
+
+// Consecutive markers (by time) drawn as one line.
+struct MarkerGroup {
+  std::vector<const TimeMarker*> markers;  // by time
+  std::size_t interventions = 0;
+};
+
+// The width of plot one group's line covers.
+double marker_ink(const std::vector<MarkerGroup>& groups) {
+  double ink = 0;
+  for (const MarkerGroup& g : groups) {
+    ink += g.interventions > 0 ? kInterventionLine.width : kCompensationLine.width;
+  }
+  return ink;
+}
+
+// The markers in groups, interventions and compensations apart (an intervention keeps its own
+// time however many compensations surround it): a marker within `gap` px of the previous one of
+// its kind joins its group; the gap widens (x1.5) until the groups' lines cover at most
+// kMaxMarkerInk of the plot's width. By the time of their latest marker.
+template <typename ToX>
+std::vector<MarkerGroup> group_markers(const std::vector<TimeMarker>& markers, const ToX& tx,
+                                       double plot_width) {
+  std::vector<const TimeMarker*> sorted;
+  sorted.reserve(markers.size());
+  for (const TimeMarker& m : markers) sorted.push_back(&m);
+  std::stable_sort(sorted.begin(), sorted.end(), [](const TimeMarker* a, const TimeMarker* b) {
+    return a->time_ns < b->time_ns;
+  });
+  std::vector<MarkerGroup> groups;
+  for (double gap = kMarkerGroupPx;; gap *= 1.5) {
+    groups.clear();
+    for (const MarkerKind kind : {MarkerKind::Intervention, MarkerKind::Compensation}) {
+      const std::size_t first = groups.size();
+      double previous = -1e300;
+      for (const TimeMarker* m : sorted) {
+        if (m->kind != kind) continue;
+        const double x = tx(m->time_ns);
+        if (groups.size() == first || x - previous > gap) groups.emplace_back();
+        groups.back().markers.push_back(m);
+        if (kind == MarkerKind::Intervention) ++groups.back().interventions;
+        previous = x;
+      }
+    }
+    if (groups.size() <= 2 || marker_ink(groups) <= kMaxMarkerInk * plot_width) break;
+  }
+  std::stable_sort(groups.begin(), groups.end(), [](const MarkerGroup& a, const MarkerGroup& b) {
+    return a.markers.back()->time_ns < b.markers.back()->time_ns;
+  });
+  return groups;
+}
+
+// "7 compensations", "2 interventions", "2 interventions, 5 compensations".
+std::string group_label(const MarkerGroup& g) {
+  const std::size_t compensations = g.markers.size() - g.interventions;
+  std::string out;
+  if (g.interventions > 0) {
+    out = detail::count_phrase(g.interventions, "intervention", "interventions");
+  }
+  if (compensations > 0) {
+    if (!out.empty()) out += ", ";
+    out += detail::count_phrase(compensations, "compensation", "compensations");
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string trend_chart(const TrendChart& c) {
@@ -296,24 +368,52 @@ std::string trend_chart(const TrendChart& c) {
   if (has_lower) hline(lower_tol, kToleranceLine, "tolerance lower");
   if (has_upper) hline(upper_tol, kToleranceLine, "tolerance upper");
 
-  // Interventions and compensations; a label only where it does not crowd the previous one.
-  std::vector<const TimeMarker*> markers;
-  for (const TimeMarker& m : c.markers) markers.push_back(&m);
-  std::stable_sort(markers.begin(), markers.end(), [](const TimeMarker* a, const TimeMarker* b) {
-    return a->time_ns < b->time_ns;
-  });
-  double last_label_x = -1e9;
+  // Interventions and compensations, grouped so that their ink stays within a tenth of the
+  // plot's width (kMaxMarkerInk): each group one line, at its latest marker (where the segment
+  // after it starts), with a pale strip along the plot's top over the time it spans; a label
+  // only where it does not crowd the previous one and the ink allows it.
+  const std::vector<MarkerGroup> groups = group_markers(c.markers, tx, box.width());
   std::vector<std::pair<double, std::string>> marker_labels;
-  for (const TimeMarker* m : markers) {
-    const double mx = tx(m->time_ns);
-    const bool compensation = m->kind == MarkerKind::Compensation;
-    vertical_line(w, box, mx, compensation ? kCompensationLine : kInterventionLine,
-                  {{"class", compensation ? "marker compensation" : "marker intervention"},
-                   {"data-time", std::to_string(m->time_ns)},
-                   {"data-label", m->label}},
-                  time_text(c, m->time_ns) + ": " + m->label);
-    if (!m->label.empty() && mx - last_label_x >= 15) {
-      marker_labels.emplace_back(mx, m->label);
+  double label_ink = 0;
+  double last_label_x = -1e9;
+  const double line_ink = marker_ink(groups);
+  for (const MarkerGroup& g : groups) {
+    const TimeMarker& last = *g.markers.back();
+    const bool intervention = g.interventions > 0;
+    const double mx = tx(last.time_ns);
+    std::string tip = time_text(c, last.time_ns) + ": " + last.label;
+    if (g.markers.size() > 1) {
+      tip = group_label(g) + " from " + time_text(c, g.markers.front()->time_ns) + " to " +
+            time_text(c, last.time_ns);
+      for (std::size_t k = g.markers.size(); k-- > 0 && g.markers.size() - k <= 5;) {
+        tip += "\n" + time_text(c, g.markers[k]->time_ns) + ": " + g.markers[k]->label;
+      }
+      if (g.markers.size() > 5) tip += "\n...";
+      // The time the group spans: a pale strip along the plot's top edge.
+      const double x0 = tx(g.markers.front()->time_ns);
+      w.leaf("rect", {{"class", "marker-span"},
+                      {"x", svg::coord(x0)},
+                      {"y", svg::coord(box.top)},
+                      {"width", svg::coord(std::max(mx - x0, 1.0))},
+                      {"height", "5"},
+                      {"fill", std::string(intervention ? palette::kDark : palette::kAccent)},
+                      {"fill-opacity", "0.35"}});
+    }
+    std::vector<svg::Attr> attrs{
+        {"class", intervention ? "marker intervention" : "marker compensation"},
+        {"data-time", std::to_string(last.time_ns)},
+        {"data-count", std::to_string(g.markers.size())},
+        {"data-label", g.markers.size() > 1 ? group_label(g) : last.label}};
+    if (g.markers.size() > 1) {
+      attrs.emplace_back("data-first-time", std::to_string(g.markers.front()->time_ns));
+    }
+    vertical_line(w, box, mx, intervention ? kInterventionLine : kCompensationLine,
+                  std::move(attrs), tip);
+    const std::string text = g.markers.size() > 1 ? group_label(g) : last.label;
+    if (!text.empty() && mx - last_label_x >= 15 &&
+        line_ink + label_ink + kMarkerLabelInk <= kMaxMarkerInk * box.width()) {
+      marker_labels.emplace_back(mx, text);
+      label_ink += kMarkerLabelInk;
       last_label_x = mx;
     }
   }

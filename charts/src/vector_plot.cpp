@@ -16,6 +16,13 @@ constexpr LineStyle kArrow{palette::kAccent, 1.8, ""};
 constexpr LineStyle kArrowFail{palette::kRed, 2.4, ""};
 constexpr LineStyle kCircle{palette::kGrey, 1, "3 2"};
 constexpr LineStyle kCircleFail{palette::kRed, 1.2, ""};
+// The automatic magnification (vector_magnification): the largest arrow at most this fraction of
+// the closest spacing of the points, and at least this many pixels long.
+constexpr double kLargestArrowOfSpacing = 0.8;
+constexpr double kMinLargestArrowPx = 8;
+// Tolerance circles wider than this fraction of the closest spacing (in radius) would cover
+// their neighbours: they are not drawn, the out-of-tolerance points are red all the same.
+constexpr double kLargestCircleOfSpacing = 0.5;
 
 bool usable(const PlaneDeviation& p) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.dx) && std::isfinite(p.dy);
@@ -34,20 +41,9 @@ bool has_tolerance(const DeviationVectorPlot& c) {
   return std::isfinite(c.tolerance) && c.tolerance > 0;
 }
 
-}  // namespace
-
-double vector_magnification(const DeviationVectorPlot& c) {
-  if (c.magnification && std::isfinite(*c.magnification) && *c.magnification > 0) {
-    return *c.magnification;
-  }
-  std::vector<const PlaneDeviation*> pts;
-  for (const PlaneDeviation& p : c.points) {
-    if (usable(p)) pts.push_back(&p);
-  }
-  double largest = has_tolerance(c) ? c.tolerance : 0;
-  for (const PlaneDeviation* p : pts) largest = std::max(largest, std::hypot(p->dx, p->dy));
-  if (pts.empty() || largest <= 0) return 1;
-  // The closest spacing of two distinct points; the extent of the points without two.
+// The closest spacing of two distinct points; without two, a fifth of the first's distance from
+// the origin (at least 100 position units).
+double closest_spacing(const std::vector<const PlaneDeviation*>& pts) {
   double spacing = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < pts.size(); ++i) {
     for (std::size_t j = i + 1; j < pts.size(); ++j) {
@@ -55,19 +51,72 @@ double vector_magnification(const DeviationVectorPlot& c) {
       if (d > 0) spacing = std::min(spacing, d);
     }
   }
-  if (!std::isfinite(spacing))
+  if (!std::isfinite(spacing) && !pts.empty()) {
     spacing = std::max({std::abs(pts[0]->x), std::abs(pts[0]->y), 100.0}) * 0.2;
-  return nice_floor(0.4 * spacing / largest);
+  }
+  return spacing;
+}
+
+// Pixels per position unit the plot of `size` will about have (a little less than it will: the
+// margins taken generously), with the arrows of the magnification the deviations alone give.
+double estimated_px_per_unit(const DeviationVectorPlot& c,
+                             const std::vector<const PlaneDeviation*>& pts, const Size& size) {
+  if (pts.empty()) return 0;
+  double xmin = pts[0]->x, xmax = xmin, ymin = pts[0]->y, ymax = ymin, largest = 0;
+  for (const PlaneDeviation* p : pts) {
+    xmin = std::min(xmin, p->x);
+    xmax = std::max(xmax, p->x);
+    ymin = std::min(ymin, p->y);
+    ymax = std::max(ymax, p->y);
+    largest = std::max(largest, std::hypot(p->dx, p->dy));
+  }
+  DeviationVectorPlot spacing_only = c;
+  spacing_only.magnification.reset();
+  const double reach = largest * vector_magnification(spacing_only, 0) * 2;
+  const double extent = std::max(xmax - xmin, ymax - ymin);
+  const double xr = std::max(xmax - xmin + reach, extent * 0.1) * 1.1;
+  const double yr = std::max(ymax - ymin + reach, extent * 0.1) * 1.1;
+  if (!(xr > 0) || !(yr > 0)) return 0;
+  return std::min((size.width - 100) / xr, (size.height - 170) / yr);
+}
+
+}  // namespace
+
+double vector_magnification(const DeviationVectorPlot& c, double px_per_unit) {
+  if (c.magnification && std::isfinite(*c.magnification) && *c.magnification > 0) {
+    return *c.magnification;
+  }
+  std::vector<const PlaneDeviation*> pts;
+  for (const PlaneDeviation& p : c.points) {
+    if (usable(p)) pts.push_back(&p);
+  }
+  double largest = 0;
+  for (const PlaneDeviation* p : pts) largest = std::max(largest, std::hypot(p->dx, p->dy));
+  // No deviation to draw: the tolerance circle sets it, as the arrows would.
+  if (!(largest > 0) && has_tolerance(c)) largest = c.tolerance;
+  if (pts.empty() || !(largest > 0)) return 1;
+  const double spacing = closest_spacing(pts);
+  // The largest arrow at most kLargestArrowOfSpacing of the closest spacing (it does not reach
+  // its neighbour), as near it as the 1-2-5 series allows (at least 0.32 of it).
+  double mag = nice_floor(kLargestArrowOfSpacing * spacing / largest);
+  // ... and at least kMinLargestArrowPx long when the scale is known (points so dense that this
+  // reaches past the neighbours: the arrow's length matters more than the overlap).
+  if (px_per_unit > 0) {
+    while (largest * mag * px_per_unit < kMinLargestArrowPx) mag = nice_step(mag * 1.01).value();
+  }
+  return mag;
 }
 
 std::string deviation_vector_plot(const DeviationVectorPlot& c) {
   const Size size = detail::resolve_size(c.size, kVectorPlotSize);
   const double scale = detail::display_scale(c.unit);
-  const double mag = vector_magnification(c);
   const bool tol = has_tolerance(c);
-
   std::size_t skipped = 0;
   std::vector<const PlaneDeviation*> pts = detail::usable_items(c.points, usable, skipped);
+  const double spacing = closest_spacing(pts);
+  const double mag = vector_magnification(c, estimated_px_per_unit(c, pts, size));
+  // Circles that would cover their neighbours are left out (the legend says so).
+  const bool circles = tol && c.tolerance * mag <= kLargestCircleOfSpacing * spacing;
   auto fails = [&](const PlaneDeviation& p) {
     if (p.out_of_tolerance) return *p.out_of_tolerance;
     return tol && std::hypot(p.dx, p.dy) > c.tolerance;
@@ -93,14 +142,23 @@ std::string deviation_vector_plot(const DeviationVectorPlot& c) {
             c.position_unit + ")";
   }
   desc += "; vectors drawn ×" + svg::exact(mag) + ".";
+  if (tol && !circles) {
+    desc += " Tolerance circles not drawn: at ×" + svg::exact(mag) +
+            " they would be wider than half the points' spacing.";
+  }
 
   std::vector<LegendItem> legend;
   if (!pts.empty()) {
     legend.push_back(detail::marker_item("nominal point", kNominal));
     legend.push_back(detail::line_item("deviation ×" + svg::exact(mag), kArrow));
-    if (tol) {
+    if (circles) {
       legend.push_back(detail::marker_item("tolerance " + dv(c.tolerance),
                                            {Shape::Circle, 12, "none", palette::kGrey, 1}));
+    } else if (tol) {
+      legend.push_back(detail::marker_item("tolerance " + dv(c.tolerance) + ": circles ×" +
+                                               svg::exact(mag) +
+                                               " would cover the neighbours, not drawn",
+                                           {Shape::Circle, 12, "none", palette::kLightGrey, 1}));
     }
     if (failed > 0) legend.push_back(detail::line_item("out of tolerance", kArrowFail));
   }
@@ -123,7 +181,7 @@ std::string deviation_vector_plot(const DeviationVectorPlot& c) {
   box.right = size.width - 16;
 
   // The data extent: the points and how far their arrows and circles reach.
-  double reach = tol ? c.tolerance * mag : 0;
+  double reach = circles ? c.tolerance * mag : 0;
   for (const PlaneDeviation* p : pts) reach = std::max(reach, std::hypot(p->dx, p->dy) * mag);
   double xmin = 0, xmax = 0, ymin = 0, ymax = 0;
   if (!pts.empty()) {
@@ -208,7 +266,7 @@ std::string deviation_vector_plot(const DeviationVectorPlot& c) {
     w.text("title", {}, tip);
     const double px = x(p->x);
     const double py = y(p->y);
-    if (tol) {
+    if (circles) {
       auto attrs = detail::line_attrs(fail ? kCircleFail : kCircle);
       attrs.insert(attrs.begin(), {{"class", "tolerance"},
                                    {"cx", svg::coord(px)},

@@ -146,12 +146,67 @@ bool is_fixture_check(CheckKind kind) {
   return check_kind_info(kind).instrument == Instrument::FixtureProbe;
 }
 
-bool compensation_restarts(CheckKind issued_by, CheckKind series) {
-  if (is_tracker_check(issued_by) || series == issued_by) return true;
-  const auto related = [](CheckKind a, CheckKind b) {
-    return verified_by(a) == b || check_kind_info(a).satisfies == b;
+CompensationKind compensation_kind(std::string_view target) {
+  const auto starts = [&](std::string_view prefix) {
+    return target.substr(0, prefix.size()) == prefix;
   };
-  return related(issued_by, series) || related(series, issued_by);
+  if (starts(kWorkOffsetTargetPrefix)) return CompensationKind::WorkOffset;
+  if (starts(kZeroOffsetsTargetPrefix)) return CompensationKind::ZeroOffsets;
+  if (starts(kVolumetricTargetPrefix)) return CompensationKind::Volumetric;
+  return CompensationKind::Other;
+}
+
+std::string_view to_string(CompensationKind kind) {
+  constexpr std::array<std::string_view, 4> kNames = {"work offset", "fixture zero offsets",
+                                                      "volumetric compensation", "compensation"};
+  return name_of(kNames, kind);
+}
+
+const std::vector<RestartRow>& restart_rule() {
+  using CK = CompensationKind;
+  // clang-format off
+  static const std::vector<RestartRow> rows = {
+      {std::nullopt, true, {}, std::nullopt, {},
+       "an intervention records the held check it answers and a note, not what was touched: it "
+       "restarts every series of its machine"},
+      {CK::WorkOffset, false, {}, std::nullopt, {},
+       "the work offset of the part just measured: the next part's set points are measured from "
+       "nominal again, so it restarts no series"},
+      {CK::ZeroOffsets, false, {K::FixturePreCalibration, K::FixturePostCalibration},
+       std::nullopt, {},
+       "moves where the fixture's control puts its pogos: the fixture checks' series, not the "
+       "monument's, the tracker's or the part's"},
+      {CK::Volumetric, false,
+       {K::GlobalMasterFrame, K::GlobalGrid, K::CircleXY, K::CircleYZ, K::CircleXZ,
+        K::LinearAxisRun},
+       K::FixturePostCalibration,
+       {"fixture_fit_dx_per_x_ppm", "fixture_fit_dx_per_y_urad", "fixture_fit_dx_per_z_urad",
+        "fixture_fit_dy_per_x_urad", "fixture_fit_dy_per_y_ppm", "fixture_fit_dy_per_z_urad",
+        "fixture_fit_dz_per_x_urad", "fixture_fit_dz_per_y_urad", "fixture_fit_dz_per_z_ppm",
+        "fixture_fit_systematic_residual_mm"},
+       "corrects the shape of X, Y and Z over the volume (scale, straightness, angular and "
+       "squareness errors; the tracker's placement, a rigid shift, is fitted out of it): the "
+       "series of the checks that move X, Y, Z over the volume and the fixture fit's scale, "
+       "angle and systematic terms; not the monument checks (a drift of the machine against "
+       "its monument, the probe, the tool length, the C axis), the rotary checks with X, Y, Z "
+       "held, the pogo deltas, the fit's scatter or the part's set points"},
+      {CK::Other, true, {}, std::nullopt, {},
+       "a target ncqual does not know: nobody can say what it touched, so every series"},
+  };
+  // clang-format on
+  return rows;
+}
+
+bool restarts_series(std::optional<CompensationKind> compensation, CheckKind series,
+                     std::string_view metric) {
+  for (const RestartRow& row : restart_rule()) {
+    if (row.compensation != compensation) continue;
+    return row.everything ||
+           std::find(row.kinds.begin(), row.kinds.end(), series) != row.kinds.end() ||
+           (row.metric_kind == series &&
+            std::find(row.metrics.begin(), row.metrics.end(), metric) != row.metrics.end());
+  }
+  return true;  // not reached: every kind has its row
 }
 
 bool is_tolerance_key(std::string_view key) {

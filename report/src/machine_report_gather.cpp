@@ -344,10 +344,11 @@ MachineReport gather_machine_report(storage::Database& db, const MachineReportQu
     out.trends.push_back(metric_trend(db, q));
   }
   for (const auto& i : db.interventions(query.machine_id)) {
-    out.markers.push_back({i.time_ns, "intervention " + i.intervention_id, false});
+    out.markers.push_back({i.time_ns, "intervention " + i.intervention_id, std::nullopt});
   }
   for (const auto& c : db.compensations(query.machine_id)) {
-    out.markers.push_back({c.time_ns, "compensation " + c.correction.target, true});
+    out.markers.push_back(
+        {c.time_ns, "compensation " + c.correction.target, compensation_kind(c.correction.target)});
   }
   std::sort(out.markers.begin(), out.markers.end(),
             [](const auto& a, const auto& b) { return a.time_ns < b.time_ns; });

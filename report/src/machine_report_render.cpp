@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -144,8 +145,13 @@ std::string grid_section(const MachineReport& r) {
   }
   const double tol = g.tolerance_mm.value_or(0);
   h += "<p class=\"how\">Per constant-Z plane: each nominal point's X/Y deviation (measured in "
-       "the master frame minus commanded) as a magnified arrow against its tolerance circle" +
-       std::string(g.tolerance_mm ? " (radius " + esc(um(tol)) + ", the grid's maximum deviation)"
+       "the master frame minus commanded) as an arrow, magnified so that the largest is at most "
+       "0.8 of the points' spacing and at least 8 px long (the chart says by how much, with a "
+       "scale bar), against its tolerance circle" +
+       std::string(g.tolerance_mm ? " (radius " + esc(um(tol)) +
+                                        ", the grid's maximum deviation; left out when at that "
+                                        "magnification it would cover the neighbouring points: "
+                                        "the points out of tolerance are red)"
                                   : " (the result has no tolerance)") +
        ", and the Z deviation by point number with the tolerance limits dashed.</p>\n";
   for (const GridPlane& plane : g.planes) {
@@ -354,8 +360,11 @@ std::string trends_section(const MachineReport& r) {
     }
     c.tolerance = {t.lower.value_or(-charts::kNoLimit), t.upper.value_or(charts::kNoLimit)};
     if (t.error.empty() && t.baseline.error.empty() && t.baseline.points > 0) {
-      c.control = charts::ControlLimits{t.baseline.mean, t.baseline.lower_control_limit,
-                                        t.baseline.upper_control_limit};
+      // A one-sided metric has the control limit of its watched side only.
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      c.control = charts::ControlLimits{
+          t.baseline.mean, t.baseline.watched == "above" ? nan : t.baseline.lower_control_limit,
+          t.baseline.watched == "below" ? nan : t.baseline.upper_control_limit};
     }
     if (!t.prediction.empty()) {
       charts::Forecast f;
@@ -367,8 +376,13 @@ std::string trends_section(const MachineReport& r) {
       hi = std::max(hi, f.samples.back().time_ns);
       c.forecast = std::move(f);
     }
+    // Only what restarts this series (docs/trends.md, "What restarts a series"): the kind of
+    // its newest check, as its statistics.
+    const CheckKind series =
+        t.points.empty() ? CheckKind::MonumentPositioning : t.points.back().kind;
     for (const auto& m : r.markers) {
       if (m.time_ns < lo || m.time_ns > hi) continue;
+      if (!restarts_series(m.compensation, series, t.metric)) continue;
       c.markers.push_back(
           {m.time_ns, m.label,
            m.compensation ? charts::MarkerKind::Compensation : charts::MarkerKind::Intervention});

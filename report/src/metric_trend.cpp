@@ -60,7 +60,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendPoint, request_id, kind, time_ns, value,
                                    cusum_lower)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendDate, status, time_ns)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendBaseline, error, points, mean, sigma_within, sigma_overall,
-                                   lower_control_limit, upper_control_limit)
+                                   lower_control_limit, upper_control_limit, watched)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendSignal, rule, time_ns, side)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendCapability, error, points, cp, cpk, cpu, cpl, pp, ppk, ppu,
                                    ppl)
@@ -143,7 +143,7 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
 
   // As the historian assesses: as of the newest check, or of the latest restart after it.
   const std::vector<std::int64_t> restarts =
-      storage::restart_times(db, query.machine_id, newest.kind);
+      storage::restart_times(db, query.machine_id, newest.kind, query.metric);
   const std::int64_t now = trend::assessed_as_of(
       newest.time_ns, restarts, query.until_ns.value_or(std::numeric_limits<std::int64_t>::max()));
   out.now_ns = now;
@@ -174,7 +174,8 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
                   b.sigma_within,
                   b.sigma_overall,
                   b.lower_control_limit,
-                  b.upper_control_limit};
+                  b.upper_control_limit,
+                  a.watched ? side_name(*a.watched) : std::string()};
   for (const auto& s : a.rules) {
     out.signals.push_back({s.rule, a.segment.points.at(s.index).time_ns, side_name(s.side)});
   }

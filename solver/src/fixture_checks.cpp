@@ -13,6 +13,7 @@
 //      deltas against the commanded positions (6; the fit itself: fixture_delta_fit.cpp).
 #include "ncqual/solver/fixture_checks.hpp"
 
+#include "ncqual/common/check_kinds.hpp"
 #include "ncqual/common/fixture.hpp"
 #include "ncqual/common/kinematics.hpp"
 #include "result_building.hpp"
@@ -369,7 +370,7 @@ std::string out_of_band_summary(const std::vector<Metric>& metrics) {
 // The zero offsets: every probed pogo's delta along each axis, "C2R3.dx" = delta_x (mm).
 Correction zero_offsets(const std::vector<PogoDelta>& deltas, const FixtureConfig& f) {
   Correction correction;
-  correction.target = "fixture:" + f.fixture_id;
+  correction.target = std::string(kZeroOffsetsTargetPrefix) + f.fixture_id;
   for (const PogoDelta& d : deltas) {
     for (int a = 0; a < 3; ++a) {
       correction.offsets.push_back(NamedValue{zero_offset_name(d.pogo, a), d.delta_mm[a], "mm"});

@@ -3,6 +3,7 @@
 // evaluations, judge the figures against the machine's tolerances, rank the likely causes.
 #include "ncqual/solver/global_checks.hpp"
 
+#include "ncqual/common/check_kinds.hpp"
 #include "ncqual/common/global_check.hpp"
 #include "ncqual/common/kinematics.hpp"
 #include "ncqual/solver/circle_fit.hpp"
@@ -407,7 +408,7 @@ CheckResult check_global_grid(const MeasurementSet& set, const MachineConfig& ma
     // The identified error functions are the volumetric compensation a control can load: the
     // Legendre coefficients of each function (mm or rad) and the squareness errors.
     Correction c;
-    c.target = "volumetric:" + machine.machine_id;
+    c.target = std::string(kVolumetricTargetPrefix) + machine.machine_id;
     for (const auto& p : identified->parameters) {
       if (p.frame >= 0) continue;  // the tracker's placement is not the machine's
       c.offsets.push_back({p.name, p.value,

@@ -54,8 +54,7 @@ constexpr Sql kSelectSeriesNewest{
 constexpr Sql kSelectRestarts{
     "select restarts",
     "SELECT time_ns, NULL FROM interventions WHERE machine_id = ?1 "
-    "UNION ALL SELECT c.time_ns, coalesce(k.kind, -1) FROM compensations AS c "
-    "LEFT JOIN checks AS k ON k.request_id = c.request_id WHERE c.machine_id = ?1"};
+    "UNION ALL SELECT time_ns, target FROM compensations WHERE machine_id = ?1"};
 
 #define NCQUAL_WARNING_COLUMNS                                                               \
   "machine_id, metric, check_kind, kind, side, started_ns, raised_by, raised_ns, ended_by, " \
@@ -209,19 +208,16 @@ std::vector<MetricInfo> machine_metrics(Database& db, const std::string& machine
 }
 
 std::vector<std::int64_t> restart_times(Database& db, const std::string& machine_id,
-                                        CheckKind series) {
+                                        CheckKind series, std::string_view metric) {
   std::vector<std::int64_t> out;
   auto& impl = DatabaseAccess::impl(db);
   impl.read([&] {
     Query q(impl.statements, kSelectRestarts);
     q.bind(machine_id);
     while (q.step()) {
-      const bool intervention = q.is_null(1);
-      const std::int64_t kind = intervention ? -1 : q.int64(1);
-      const bool known = kind >= 0 && kind < kCheckKindCount;
-      if (intervention || !known || compensation_restarts(static_cast<CheckKind>(kind), series)) {
-        out.push_back(q.int64(0));
-      }
+      std::optional<CompensationKind> compensation;
+      if (!q.is_null(1)) compensation = compensation_kind(q.text(1));
+      if (restarts_series(compensation, series, metric)) out.push_back(q.int64(0));
     }
   });
   std::sort(out.begin(), out.end());

@@ -236,8 +236,8 @@ int run(const Options& o) {
     if (std::isfinite(v.value)) points.push_back({v.time_ns, v.value});
     band = {v.lower, v.upper};
   }
-  const auto restarts =
-      ncqual::storage::restart_times(db, machine, ncqual::CheckKind::MonumentPositioning);
+  const auto restarts = ncqual::storage::restart_times(
+      db, machine, ncqual::CheckKind::MonumentPositioning, "center_dy_mm");
   timed("(d') forecast: trend::assess alone on the series of (c), in memory", o.runs, [&] {
     const auto a = ncqual::trend::assess(points, band, restarts, now);
     return std::to_string(points.size()) + " points, " + std::to_string(restarts.size()) +

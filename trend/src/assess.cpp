@@ -92,6 +92,9 @@ Assessment assess(const std::vector<Point>& points, const Band& band,
   a.error = check(options);
   if (a.error.empty()) a.error = detail::check_band(band);
   if (!a.error.empty()) return a;
+  // A magnitude [0, U] is judged as the one-sided band it is; the charts watch its side only.
+  const Band judged = judged_band(band);
+  a.watched = watched_side(judged);
 
   a.restart_ns = last_restart(restart_times, now_ns);
   if (a.restart_ns && *a.restart_ns == std::numeric_limits<std::int64_t>::max()) {
@@ -107,7 +110,7 @@ Assessment assess(const std::vector<Point>& points, const Band& band,
 
   a.baseline = baseline(values, options.baseline_points);
   if (a.baseline.ok()) {
-    a.rules = western_electric(values, a.baseline);
+    a.rules = western_electric(values, a.baseline, a.watched);
     a.ewma = ewma(values, a.baseline.mean, a.baseline.sigma_within, options.ewma_lambda,
                   options.ewma_width);
     a.cusum =
@@ -115,18 +118,18 @@ Assessment assess(const std::vector<Point>& points, const Band& band,
   } else {
     a.ewma.error = a.cusum.error = "no baseline: " + a.baseline.error;
   }
-  a.capability = capability(values, band, options.min_points);
+  a.capability = capability(values, judged, options.min_points);
   const ForecastOptions forecast_options{options.min_points, options.confidence};
   const std::vector<double> x = detail::days_from_first(seg.data(), n);
   a.forecast =
-      detail::fit_sorted(seg.data(), x.data(), n, a.segment.skipped, band, forecast_options);
+      detail::fit_sorted(seg.data(), x.data(), n, a.segment.skipped, judged, forecast_options);
   if (options.theil_sen) {
     if (n > options.theil_sen_max_points) {
       const std::vector<Point> recent(
           seg.end() - static_cast<std::ptrdiff_t>(options.theil_sen_max_points), seg.end());
-      a.theil_sen = theil_sen(recent, band, forecast_options);
+      a.theil_sen = theil_sen(recent, judged, forecast_options);
     } else {
-      a.theil_sen = theil_sen(seg, band, forecast_options);
+      a.theil_sen = theil_sen(seg, judged, forecast_options);
     }
     a.theil_sen.skipped = a.segment.skipped;
   } else {
@@ -141,9 +144,13 @@ Assessment assess(const std::vector<Point>& points, const Band& band,
     }
     Track ewma_track(n), up_track(n), down_track(n);
     for (std::size_t i = 0; i < n; ++i) {
-      if (a.ewma.ok()) ewma_track[i] = a.ewma.signal_at(i);
-      if (a.cusum.ok() && a.cusum.upper[i] > a.cusum.h) up_track[i] = Side::Above;
-      if (a.cusum.ok() && a.cusum.lower[i] > a.cusum.h) down_track[i] = Side::Below;
+      const bool above = a.watched != Side::Below, below = a.watched != Side::Above;
+      if (a.ewma.ok()) {
+        const std::optional<Side> side = a.ewma.signal_at(i);
+        if (side == Side::Above ? above : below) ewma_track[i] = side;
+      }
+      if (above && a.cusum.ok() && a.cusum.upper[i] > a.cusum.h) up_track[i] = Side::Above;
+      if (below && a.cusum.ok() && a.cusum.lower[i] > a.cusum.h) down_track[i] = Side::Below;
     }
     const std::array<std::pair<WarningKind, const Track*>, 7> spc{{
         {WarningKind::ControlLimit, &rule_tracks[0]},
@@ -165,8 +172,8 @@ Assessment assess(const std::vector<Point>& points, const Band& band,
     const std::vector<detail::Moments> moments = detail::prefix_moments(seg.data(), x.data(), n);
     std::size_t since = n - 1;
     while (since > 0) {
-      const LinearForecast earlier = detail::fit_prefix(seg.data(), x.data(), since,
-                                                        moments[since - 1], band, forecast_options);
+      const LinearForecast earlier = detail::fit_prefix(
+          seg.data(), x.data(), since, moments[since - 1], judged, forecast_options);
       if (forecast_condition(earlier, seg[since - 1].time_ns, options.horizon_days) != side) {
         break;
       }

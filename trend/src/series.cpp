@@ -55,6 +55,21 @@ std::optional<std::int64_t> add_days(std::int64_t from_ns, double days) {
   return sum;
 }
 
+Band judged_band(const Band& band) {
+  if (band.lower == 0 && std::isfinite(band.upper) && band.upper > 0) {
+    return {-std::numeric_limits<double>::infinity(), band.upper};
+  }
+  return band;
+}
+
+std::optional<Side> watched_side(const Band& band) {
+  const Band b = judged_band(band);
+  const bool lower = std::isfinite(b.lower), upper = std::isfinite(b.upper);
+  if (upper && !lower) return Side::Above;
+  if (lower && !upper) return Side::Below;
+  return std::nullopt;
+}
+
 Series finite_points(const std::vector<Point>& points) {
   return select(points, [](const Point&) { return true; });
 }

@@ -88,7 +88,8 @@ Baseline baseline(const std::vector<double>& values, std::size_t points) {
   return b;
 }
 
-std::vector<RuleSignal> western_electric(const std::vector<double>& values, const Baseline& base) {
+std::vector<RuleSignal> western_electric(const std::vector<double>& values, const Baseline& base,
+                                         std::optional<Side> only) {
   std::vector<RuleSignal> signals;
   if (!base.ok()) return signals;
   const std::vector<std::size_t> at = finite_indices(values);
@@ -114,9 +115,9 @@ std::vector<RuleSignal> western_electric(const std::vector<double>& values, cons
         if (z[w] > rule.beyond) ++above;
         if (z[w] < -rule.beyond) ++below;
       }
-      if (above >= rule.needed) {
+      if (above >= rule.needed && only != Side::Below) {
         signals.push_back({rule.number, at[j], Side::Above});
-      } else if (below >= rule.needed) {
+      } else if (below >= rule.needed && only != Side::Above) {
         signals.push_back({rule.number, at[j], Side::Below});
       }
     }

@@ -143,6 +143,9 @@ void print_metric_trend(const report::MetricTrend& t, const Calendar& calendar) 
         b.points, value_text(t, b.mean, 1), value_text(t, b.sigma_within, 1),
         value_text(t, b.sigma_overall, 1), value_text(t, b.lower_control_limit, 1),
         value_text(t, b.upper_control_limit, 1));
+    if (!b.watched.empty()) {
+      fmt::print("one-sided: the rules, EWMA and CUSUM warn {} the centre line only\n", b.watched);
+    }
   } else {
     fmt::print("control chart: {}\n", b.error);
   }

@@ -140,6 +140,61 @@ TEST(Trend, ControlLimitsForecastAndMarkersAreDrawnWhereTheirValuesAre) {
   EXPECT_NE(svg.find("expected to cross a tolerance limit on 2026-03-07"), std::string::npos);
 }
 
+// The drift report of issue 37: 3,688 compensations on every trend. A chart given many markers
+// groups them: the lines and labels cover at most a tenth of the plot's width, every marker is
+// counted in a group, and the drift (56 daily checks, 0.74 µm a day) keeps its line and points.
+TEST(Trend, DenseMarkersAreGroupedIntoATenthOfThePlotAtMost) {
+  charts::TrendChart c;
+  c.quantity = "center_dy_mm";
+  c.unit = kMicrons;
+  c.tolerance = {-0.025, 0.025};
+  for (int d = 0; d < 56; ++d) {
+    c.points.push_back({kT0 + d * kDay + kDay / 4, -0.00074 * d + (d % 2 ? 0.0005 : -0.0005), false,
+                        "daily-" + std::to_string(d)});
+  }
+  const int kMarkers = 3688;
+  for (int i = 0; i < kMarkers; ++i) {
+    c.markers.push_back({kT0 + static_cast<std::int64_t>(i) * (56 * kDay / kMarkers),
+                         "compensation work_offset:pm1", charts::MarkerKind::Compensation});
+  }
+  c.markers.push_back({kT0 + 30 * kDay, "intervention iv-1", charts::MarkerKind::Intervention});
+  const std::string svg = charts::trend_chart(c);
+  const Element plot = only(svg, "rect", "plot-area");
+  std::vector<Element> lines = with_class(svg, "line", "marker compensation");
+  const auto interventions = with_class(svg, "line", "marker intervention");
+  lines.insert(lines.end(), interventions.begin(), interventions.end());
+  ASSERT_FALSE(lines.empty());
+  int counted = 0;
+  double ink = 0;
+  for (const Element& l : lines) {
+    counted += std::stoi(l.get("data-count"));
+    ink += l.num("stroke-width");
+  }
+  EXPECT_EQ(counted, kMarkers + 1) << "every marker in one group";
+  ASSERT_EQ(interventions.size(), 1u) << "interventions are grouped apart from compensations";
+  EXPECT_EQ(interventions[0].get("data-count"), "1");
+  EXPECT_EQ(interventions[0].get("data-time"), std::to_string(kT0 + 30 * kDay)) << "its own date";
+  // The labels: rotated text with a halo, each about 14 px across the plot.
+  std::size_t labels = 0;
+  for (const Element& t : elements(svg, "text")) labels += t.get("class") == "marker-label";
+  ink += 14.0 * static_cast<double>(labels);
+  EXPECT_LE(ink, 0.1 * plot.num("width")) << lines.size() << " lines, " << labels << " labels";
+  // The drift: the data line through all 56 checks, and a marker for each.
+  EXPECT_EQ(path_numbers(only(svg, "path", "data-line").get("d")).size(), 2u * 56);
+  EXPECT_EQ(
+      with_class(svg, "circle", "point pass").size() + with_class(svg, "path", "point fail").size(),
+      56u);
+  EXPECT_EQ(with_class(svg, "path", "point fail").size(), 22u);  // beyond -25 µm from day 34
+  // A few markers far apart keep a line each, with their label.
+  charts::TrendChart sparse = three_checks();
+  sparse.markers = {{kT0 + kDay / 2, "new stylus", charts::MarkerKind::Intervention},
+                    {kT0 + 3 * kDay / 2, "comp", charts::MarkerKind::Compensation}};
+  const std::string few = charts::trend_chart(sparse);
+  EXPECT_EQ(only(few, "line", "marker intervention").get("data-count"), "1");
+  EXPECT_EQ(only(few, "line", "marker compensation").get("data-count"), "1");
+  EXPECT_NE(few.find(">new stylus</text>"), std::string::npos);
+}
+
 TEST(Trend, TheCallersFormatterLabelsTheTimeAxis) {
   charts::TrendChart c = three_checks();
   c.time_label = [](std::int64_t t) { return "day " + std::to_string((t - kT0) / kDay); };
@@ -212,19 +267,64 @@ TEST(DeviationVectors, TenMicronsAtMagnificationThousandIsTenMillimetresLong) {
   EXPECT_LE(bar.num("data-length"), 90);
 }
 
-TEST(DeviationVectors, AutomaticMagnificationDrawsTheLargestAtFortyPercentOfTheSpacing) {
+TEST(DeviationVectors, AutomaticMagnificationComesFromTheLargestDeviationAndTheSpacing) {
   charts::DeviationVectorPlot c;
   c.tolerance = 0.010;
   for (int i = 0; i < 3; ++i) c.points.push_back({100.0 * i, 0, 0.003, 0, "", std::nullopt});
   c.points[1].dx = 0.012;
-  // 0.4 × 100 mm / 0.012 mm = 3333 -> the nice value below it: 2000.
-  EXPECT_EQ(charts::vector_magnification(c), 2000);
-  c.points[1].dx = 0.004;  // the tolerance is the largest: 0.4 × 100 / 0.010 = 4000 -> 2000
-  EXPECT_EQ(charts::vector_magnification(c), 2000);
-  c.tolerance = 0.002;  // 0.4 × 100 / 0.004 = 10000 -> 10000
-  EXPECT_EQ(charts::vector_magnification(c), 10000);
+  // 0.8 × 100 mm / 0.012 mm = 6667 -> the 1-2-5 value below it: 5000 (the arrow 60 mm).
+  EXPECT_EQ(charts::vector_magnification(c), 5000);
+  c.points[1].dx = 0.004;  // the tolerance no longer counts: 0.8 × 100 / 0.004 = 20000
+  EXPECT_EQ(charts::vector_magnification(c), 20000);
+  // Known scale: 0.05 px per mm draws 0.004 × 20000 = 80 mm as 4 px; raised along the series
+  // until at least 8 px: 50000 (10 px).
+  EXPECT_EQ(charts::vector_magnification(c, 0.05), 50000);
+  for (auto& p : c.points) p.dx = 0;                 // nothing to draw: the tolerance stands for it
+  EXPECT_EQ(charts::vector_magnification(c), 5000);  // 0.8 × 100 / 0.010 = 8000 -> 5000
   c.magnification = 750;
   EXPECT_EQ(charts::vector_magnification(c), 750);
+}
+
+// The report's grid (pm1: 9 × 6 points, X 200..4200 mm every 500, Y 200..1700 every 300, issue
+// 37): deviations of 10 to 60 µm against a tolerance of 150 µm were drawn ×500, 2 to 4 px long
+// under 2.5 px dots. Now ×2000 (0.8 × 300 mm / 0.060 mm = 4000 -> 2000): the largest arrow is
+// 120 mm of plot, at least 8 px; no arrow reaches the neighbouring point; the circles (300 mm at
+// ×2000) would cover their neighbours and are left out, which the legend says.
+TEST(DeviationVectors, AGridOfAFourMetreTableShowsItsArrows) {
+  charts::DeviationVectorPlot c;
+  c.unit = kMicrons;
+  c.tolerance = 0.150;
+  c.size = {720, 400};
+  int k = 0;
+  for (int j = 0; j < 6; ++j) {
+    for (int i = 0; i < 9; ++i, ++k) {
+      const double len = 0.010 + 0.050 * (k % 11) / 10.0;  // 10 .. 60 µm
+      const double angle = 0.7 * k;
+      c.points.push_back({200.0 + 500 * i, 200.0 + 300 * j, len * std::cos(angle),
+                          len * std::sin(angle), "grid:" + std::to_string(k), std::nullopt});
+    }
+  }
+  const std::string svg = charts::deviation_vector_plot(c);
+  EXPECT_EQ(charts::vector_magnification(c), 2000);
+  EXPECT_NE(svg.find("data-magnification=\"2000\""), std::string::npos);
+  EXPECT_NE(svg.find("(arrows ×2000)"), std::string::npos) << "the scale bar says it";
+  EXPECT_NE(svg.find("circles ×2000 would cover the neighbours, not drawn"), std::string::npos);
+  EXPECT_TRUE(with_class(svg, "circle", "tolerance").empty());
+  const Element plot = only(svg, "rect", "plot-area");
+  const double ppu = plot.num("width") / (plot.num("data-x-max") - plot.num("data-x-min"));
+  const auto nominal = with_class(svg, "circle", "nominal");
+  const auto heads = with_class(svg, "path", "arrow-head");
+  ASSERT_EQ(nominal.size(), 54u);
+  ASSERT_EQ(heads.size(), 54u);
+  double longest = 0;
+  for (std::size_t i = 0; i < heads.size(); ++i) {
+    const auto tip = path_numbers(heads[i].get("d"));
+    const double px = std::hypot(tip[0] - nominal[i].num("cx"), tip[1] - nominal[i].num("cy"));
+    longest = std::max(longest, px);
+    EXPECT_LT(px, 0.8 * 300 * ppu + 0.02) << "reaches no neighbour: " << i;
+  }
+  EXPECT_GE(longest, 8.0);
+  EXPECT_NEAR(longest, 0.060 * 2000 * ppu, 0.02);
 }
 
 TEST(DeviationVectors, TheCallersJudgementWins) {

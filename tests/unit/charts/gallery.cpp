@@ -85,6 +85,46 @@ charts::TrendChart drifting_trend() {
   return c;
 }
 
+// The drift scenario as the report of issue 37 drew it: 56 daily checks of Y creeping 0.74 µm a
+// day, and a compensation every 22 minutes (3,688 in 8 weeks) with an intervention among them:
+// grouped into a tenth of the plot's width at most.
+charts::TrendChart dense_markers() {
+  charts::TrendChart c =
+      trend("Drift under 3,688 compensations (grouped)", "center_dy_mm", kMicrons, {-0.025, 0.025});
+  for (int d = 0; d < 56; ++d) {
+    c.points.push_back({kStart + d * kDay + 6 * kHour, -0.00074 * d + 0.0012 * std::sin(d * 2.3),
+                        false, "daily-" + std::to_string(d)});
+  }
+  for (int i = 0; i < 3688; ++i) {
+    c.markers.push_back({kStart + static_cast<std::int64_t>(i) * (56 * kDay / 3688),
+                         "compensation work_offset:pm1", charts::MarkerKind::Compensation});
+  }
+  c.markers.push_back({kStart + 35 * kDay, "intervention iv-7", charts::MarkerKind::Intervention});
+  return c;
+}
+
+// pm1's grid plane (9 × 6 points, 500 × 300 mm apart) with 10..60 µm deviations and the
+// 150 µm tolerance: the automatic magnification (×2000), circles left out.
+charts::DeviationVectorPlot pm1_grid_plane() {
+  charts::DeviationVectorPlot c;
+  c.title = "pm1 grid, plane Z = 600 mm, automatic magnification";
+  c.unit = kMicrons;
+  c.tolerance = 0.150;
+  c.size = {720, 400};
+  int k = 0;
+  for (int j = 0; j < 6; ++j) {
+    for (int i = 0; i < 9; ++i, ++k) {
+      const double x = 200.0 + 500 * i;
+      const double y = 200.0 + 300 * j;
+      // A scale error along X (up to 40 µm), a squareness (up to 15 µm), a little noise.
+      c.points.push_back({x, y, 0.00001 * x + 0.004 * std::sin(k),
+                          0.00001 * x * 0.3 + 0.003 * std::cos(2.0 * k),
+                          "grid:" + std::to_string(k), std::nullopt});
+    }
+  }
+  return c;
+}
+
 charts::TrendChart one_sided_upper() {
   charts::TrendChart c = trend("Fixture flatness (upper limit only)", "flatness", kMicrons,
                                {-charts::kNoLimit, 0.015});
@@ -289,12 +329,16 @@ std::vector<Sample> samples() {
   add("trend-lower-only", kTrend, "one-sided band (lower; the upper limit NaN), hours",
       charts::trend_chart(one_sided_lower()));
   add("trend-empty", kTrend, "no data", charts::trend_chart(empty_trend()));
+  add("trend-dense-markers", kTrend, "3,688 compensations grouped, the drift visible",
+      charts::trend_chart(dense_markers()));
   add("trend-nan", kTrend, "non-finite values", charts::trend_chart(nan_trend()));
   add("vectors", kDeviationVectors, "grid plane, magnification 10000",
       charts::deviation_vector_plot(grid_plane()));
   add("vectors-auto-nan", kDeviationVectors, "automatic magnification, a NaN point",
       charts::deviation_vector_plot(grid_auto_nan()));
   add("vectors-empty", kDeviationVectors, "no data", charts::deviation_vector_plot(grid_empty()));
+  add("vectors-pm1", kDeviationVectors, "pm1's 4.2 m grid, 10-60 µm, automatic ×2000",
+      charts::deviation_vector_plot(pm1_grid_plane()));
   add("point-deviation", kPointDeviation, "Z deviation by point, a NaN",
       charts::point_deviation_chart(point_deviation()));
   add("positioning", kPositioning, "bidirectional", charts::positioning_chart(positioning(true)));

@@ -3,7 +3,8 @@
 // makes the drift a trend, its dates those of the hand-worked example of docs/trends.md (checks
 // on 5 consecutive days of 1.0, 1.2, 1.1, 1.5, 1.7 mm against an upper limit of 2.5 mm: the line
 // reaches it at day 9.06, its upper 95 % prediction bound at day 5.34), raised once, ended by an
-// intervention and not by a compensation of another check; a late result does not raise it
+// intervention and not by a compensation of another check, nor by a volumetric one (which does not
+// correct a drift against the monument); a late result does not raise it
 // again.
 #include "ncqual/historian/trend_watch.hpp"
 #include "ncqual/historian/watch_worker.hpp"
@@ -105,6 +106,24 @@ TEST_F(TrendWatchTest, AForecastIsRaisedOnceWithTheHandWorkedDatesAndEndedByAnIn
   offsets.correction = Correction{"work_offset:M1", {NamedValue{"dx_mm", 0.01, "mm"}}};
   ASSERT_TRUE(db_.store(offsets));
   EXPECT_TRUE(watch_.after_compensation(db_, offsets).empty());
+
+  // Nor does the monthly grid's volumetric compensation: it corrects the shape of X, Y and Z
+  // over the volume, not a drift of the machine against its monument (docs/trends.md, "What
+  // restarts a series"); the warning stays active, its episode unbroken.
+  CheckRequest grid_check = fixture_check;
+  grid_check.request_id = "g1";
+  grid_check.kind = CheckKind::GlobalGrid;
+  grid_check.time_ns = kT0 + 5 * kDay + kDay / 5;
+  ASSERT_TRUE(db_.store(grid_check));
+  Compensation volumetric;
+  volumetric.machine_id = "M1";
+  volumetric.request_id = "g1";
+  volumetric.time_ns = kT0 + 5 * kDay + kDay / 4;
+  volumetric.correction = Correction{"volumetric:M1", {NamedValue{"EYX P2", 1e-6, "rad"}}};
+  ASSERT_TRUE(db_.store(volumetric));
+  EXPECT_TRUE(watch_.after_compensation(db_, volumetric).empty());
+  ASSERT_EQ(storage::trend_warnings(db_, {"M1", {}, true}).size(), 1u);
+  EXPECT_EQ(storage::trend_warnings(db_, {"M1", {}, true})[0].started_ns, kT0 + 4 * kDay);
 
   // An intervention ends it.
   Intervention i;

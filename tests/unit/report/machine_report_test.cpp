@@ -313,6 +313,57 @@ TEST_F(MachineReportTest, OneCheckOnlyAndNoConfiguration) {
   EXPECT_EQ(doc["checks"][0][3].get<std::string>().rfind("FAIL", 0), 0u);
 }
 
+// The drift report of issue 37 drew every part check's work offset on every trend (3,688
+// lines). A trend chart marks only the restarts of its series (docs/trends.md, "What restarts a
+// series"): on center_dx_mm's, the intervention and none of the 600 work offsets, the fixture's
+// zero offsets or the grid's volumetric compensation.
+TEST_F(MachineReportTest, ATrendChartMarksOnlyTheRestartsOfItsSeries) {
+  const MachineConfig m = testing::report_machine("PM1");
+  const std::string path = (dir_ / "historian.db").string();
+  testing::build_report_historian(path, m);
+  {
+    storage::Database db = storage::Database::open(path);
+    const auto compensate = [&](const std::string& id, const std::string& target, std::int64_t t) {
+      Compensation c;
+      c.machine_id = "PM1";
+      c.request_id = id;
+      c.correction = Correction{target, {NamedValue{"dx_mm", 0.001, "mm"}}};
+      c.time_ns = t;
+      ASSERT_TRUE(db.store(c)) << id;
+    };
+    for (int i = 0; i < 600; ++i) {
+      compensate("part-" + std::to_string(i), "work_offset:PM1",
+                 kT0 + kDay + i * (11 * kDay / 600));
+    }
+    compensate("fixture-1", "fixture:F1", kT0 + 4 * kDay);
+    compensate("monthly-grid", "volumetric:PM1", kT0 + 13 * kDay + kDay / 2);
+  }
+  storage::Database db = storage::Database::open_readonly(path);
+  MachineReportQuery q;
+  q.machine_id = "PM1";
+  q.since_ns = kT0;
+  q.now_ns = kT0 + 14 * kDay;
+  q.machine = &m;
+  const MachineReport r = gather_machine_report(db, q);
+  EXPECT_EQ(r.markers.size(), 603u);
+  const std::string document = machine_report_document(r);
+  std::string chart;
+  for (std::size_t at = document.find("<svg"); at != std::string::npos;
+       at = document.find("<svg", at + 1)) {
+    const std::string svg = document.substr(at, document.find("</svg>", at) - at);
+    if (svg.find("<title>PM1: center_dx_mm</title>") != std::string::npos) chart = svg;
+  }
+  ASSERT_FALSE(chart.empty()) << "no trend chart of center_dx_mm";
+  const auto occurrences = [&](const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = chart.find(what); at != std::string::npos; at = chart.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(occurrences("class=\"marker compensation\""), 0u);
+  EXPECT_EQ(occurrences("class=\"marker intervention\""), 1u);
+  EXPECT_NE(chart.find("data-label=\"intervention fix-1\""), std::string::npos);
+}
+
 TEST_F(MachineReportTest, UnknownMachineOrCheckIsNamed) {
   const MachineConfig m = testing::report_machine("PM1");
   storage::Database db = historian(m);

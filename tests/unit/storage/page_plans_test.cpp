@@ -138,7 +138,7 @@ TEST(StorageQueryPlans, ThePagesReadsWalkIndexesOnAGeneratedPlant) {
   // `ncqual trend` and the forecast.
   (void)machine_metrics(db, machine);
   (void)metric_series(db, {machine, "center_dy_mm"});
-  (void)restart_times(db, machine, CheckKind::MonumentPositioning);
+  (void)restart_times(db, machine, CheckKind::MonumentPositioning, "center_dy_mm");
   (void)trend_warnings(db, {machine, std::string("center_dy_mm"), false});
   report::MetricTrendQuery trend_query;
   trend_query.machine_id = machine;

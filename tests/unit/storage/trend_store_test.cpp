@@ -165,19 +165,22 @@ TEST_F(TrendStore, ANewestResultWithFewerMetricsHidesNoneOfTheirHistory) {
   EXPECT_EQ(machine_metrics(migrated, "M1").size(), 7u);
 }
 
-// p7 (monument_positioning) issued the compensations: they restart its own series and not the
-// fixture's; the intervention restarts every series.
+// The intervention restarts every series. At day 7 two compensations: "machine:work_offset", a
+// target ncqual does not know (every series), and fixture zero offsets (the fixture's series).
 TEST_F(TrendStore, RestartsAreTheInterventionsAndTheCompensationsThatConcernTheSeries) {
   Database db = Database::open(path_);
   const std::vector<std::int64_t> both{5 * kDay + 1, 7 * kDay + 2};
-  EXPECT_EQ(restart_times(db, "M1", CheckKind::MonumentPositioning), both) << "each time once";
-  EXPECT_EQ(restart_times(db, "M1", CheckKind::FixturePreCalibration),
-            std::vector<std::int64_t>{5 * kDay + 1});
-  EXPECT_TRUE(restart_times(db, "M2", CheckKind::MonumentPositioning).empty());
+  EXPECT_EQ(restart_times(db, "M1", CheckKind::MonumentPositioning, "center_dy_mm"), both)
+      << "each time once";
+  EXPECT_EQ(restart_times(db, "M1", CheckKind::FixturePreCalibration, "fixture_dx_mm"), both);
+  EXPECT_TRUE(restart_times(db, "M2", CheckKind::MonumentPositioning, "center_dy_mm").empty());
 
-  // A fixture pre-calibration's zero offsets restart the fixture's series (pre- and
-  // post-calibration), not the monument's; a tracker check's volumetric compensation every one.
-  const auto compensate = [&](const std::string& id, CheckKind kind, int day) {
+  // By what the compensation corrects (its target; docs/trends.md, "What restarts a series"):
+  // zero offsets restart the fixture's series (pre- and post-calibration), not the monument's; a
+  // volumetric compensation the series over the volume and the fixture fit's shape terms, not
+  // the monument's, the probe's or the pogo deltas; a part's work offset none.
+  const auto compensate = [&](const std::string& id, CheckKind kind, int day,
+                              const std::string& target) {
     CheckRequest request = testing::make_request(id, "M2", day * kDay - 10);
     request.kind = kind;
     db.store(request);
@@ -185,100 +188,30 @@ TEST_F(TrendStore, RestartsAreTheInterventionsAndTheCompensationsThatConcernTheS
     c.machine_id = "M2";
     c.request_id = id;
     c.time_ns = day * kDay;
-    c.correction = Correction{"x:" + id, {NamedValue{"dx_mm", 0.001, "mm"}}};
+    c.correction = Correction{target, {NamedValue{"dx_mm", 0.001, "mm"}}};
     db.store(c);
   };
-  compensate("f1", CheckKind::FixturePreCalibration, 20);
-  compensate("g1", CheckKind::GlobalGrid, 30);
-  EXPECT_EQ(restart_times(db, "M2", CheckKind::MonumentPositioning),
+  compensate("f1", CheckKind::FixturePreCalibration, 20, "fixture:F1");
+  compensate("g1", CheckKind::GlobalGrid, 30, "volumetric:M2");
+  compensate("s1", CheckKind::PartSetPoints, 40, "work_offset:M2");
+  const std::vector<std::int64_t> none;
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::MonumentPositioning, "center_dy_mm"), none);
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::MonumentCAlignment, "probe_c_offset_mm"), none);
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::PartSetPoints, "setpoint_max_dev_mm"), none);
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::RotaryC, "c_dR_max_mm"), none);
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::GlobalGrid, "grid_max_deviation_mm"),
             std::vector<std::int64_t>{30 * kDay});
-  EXPECT_EQ(restart_times(db, "M2", CheckKind::FixturePostCalibration),
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::CircleXY, "circle_xy_G_mm"),
+            std::vector<std::int64_t>{30 * kDay});
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::FixturePreCalibration, "fixture_dx_mm"),
+            std::vector<std::int64_t>{20 * kDay});
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::FixturePostCalibration, "fixture_dx_mm"),
+            std::vector<std::int64_t>{20 * kDay});
+  EXPECT_EQ(restart_times(db, "M2", CheckKind::FixturePostCalibration, "fixture_fit_dy_per_y_ppm"),
             (std::vector<std::int64_t>{20 * kDay, 30 * kDay}));
-  EXPECT_EQ(restart_times(db, "M2", CheckKind::FixturePreCalibration),
-            (std::vector<std::int64_t>{20 * kDay, 30 * kDay}));
-}
-
-TrendWarningRecord warning(const std::string& kind, std::int64_t started, const std::string& text,
-                           std::optional<std::int64_t> earliest = {}) {
-  TrendWarningRecord w;
-  w.check_kind = CheckKind::MonumentPositioning;
-  w.kind = kind;
-  w.side = "above";
-  w.started_ns = started;
-  w.earliest_crossing_ns = earliest;
-  w.text = text;
-  return w;
-}
-
-TEST_F(TrendStore, WarningsAreRaisedUpdatedAndEndedOnceEach) {
-  Database db = Database::open(path_);
-  // p8 raises a forecast and an EWMA warning.
-  auto changes =
-      apply_trend_warnings(db, "M1", "center_dy_mm",
-                           {warning("forecast", 6 * kDay, "reaches 0.01 mm in 9 days", 17 * kDay),
-                            warning("ewma", 8 * kDay, "EWMA above")},
-                           "p8", 8 * kDay);
-  ASSERT_EQ(changes.raised.size(), 2u);
-  EXPECT_TRUE(changes.ended.empty());
-  EXPECT_EQ(changes.raised[0].raised_by, "p8");
-  EXPECT_EQ(changes.raised[0].machine_id, "M1");
-  EXPECT_EQ(changes.raised[0].metric, "center_dy_mm");
-
-  // The same again (a result stored twice, a replay): nothing changes.
-  EXPECT_TRUE(
-      apply_trend_warnings(db, "M1", "center_dy_mm",
-                           {warning("forecast", 6 * kDay, "reaches 0.01 mm in 9 days", 17 * kDay),
-                            warning("ewma", 8 * kDay, "EWMA above")},
-                           "p8", 8 * kDay)
-          .empty());
-
-  // p9: the forecast's dates move, the EWMA warning ends, a CUSUM warning starts.
-  changes =
-      apply_trend_warnings(db, "M1", "center_dy_mm",
-                           {warning("forecast", 6 * kDay, "reaches 0.01 mm in 8 days", 16 * kDay),
-                            warning("cusum_up", 9 * kDay, "CUSUM above")},
-                           "p9", 9 * kDay);
-  ASSERT_EQ(changes.updated.size(), 1u);
-  EXPECT_EQ(changes.updated[0].kind, "forecast");
-  EXPECT_EQ(changes.updated[0].raised_by, "p8") << "an update keeps who raised it";
-  EXPECT_EQ(changes.updated[0].earliest_crossing_ns, 16 * kDay);
-  ASSERT_EQ(changes.ended.size(), 1u);
-  EXPECT_EQ(changes.ended[0].kind, "ewma");
-  EXPECT_EQ(changes.ended[0].ended_by, "p9");
-  EXPECT_EQ(changes.ended[0].ended_ns, 9 * kDay);
-  ASSERT_EQ(changes.raised.size(), 1u);
-  EXPECT_EQ(changes.raised[0].kind, "cusum_up");
-
-  auto listed = trend_warnings(db, {"M1"});
-  ASSERT_EQ(listed.size(), 3u);
-  EXPECT_TRUE(listed[0].active());  // active first, newest raised first
-  EXPECT_EQ(listed[0].kind, "cusum_up");
-  EXPECT_EQ(listed[1].kind, "forecast");
-  EXPECT_EQ(listed[1].text, "reaches 0.01 mm in 8 days");
-  EXPECT_FALSE(listed[2].active());
-  EXPECT_EQ(trend_warnings(db, {"M1", {}, true}).size(), 2u);
-  EXPECT_EQ(trend_warnings(db, {{}, "center_dy_mm"}).size(), 3u);
-  EXPECT_TRUE(trend_warnings(db, {"M2"}).empty());
-  EXPECT_EQ(trend_warnings(db, {{}, {}, false, 0, 1}).size(), 1u) << "the limit";
-  // Since: raised or ended at or after it.
-  EXPECT_EQ(trend_warnings(db, {"M1", {}, false, 9 * kDay}).size(), 3u);
-  EXPECT_EQ(trend_warnings(db, {"M1", {}, false, 10 * kDay}).size(), 2u) << "the active ones";
-
-  // The file says the same, read behind the library's back.
-  RawDb raw(path_);
-  EXPECT_EQ(raw.count("trend_warnings", "ended_ns IS NULL"), 2);
-  EXPECT_EQ(raw.text("SELECT group_concat(kind || ':' || side || ':' || coalesce(ended_by, '-'), "
-                     "',') FROM (SELECT * FROM trend_warnings ORDER BY kind)"),
-            "cusum_up:above:-,ewma:above:p9,forecast:above:-");
-
-  // p10 ends both: nothing is active.
-  changes = apply_trend_warnings(db, "M1", "center_dy_mm", {}, "p10", 10 * kDay);
-  EXPECT_EQ(changes.ended.size(), 2u);
-  EXPECT_TRUE(trend_warnings(db, {"M1", {}, true}).empty());
-
-  // A read-only connection cannot write them.
-  Database reader = Database::open_readonly(path_);
-  EXPECT_THROW(apply_trend_warnings(reader, "M1", "x", {}, "p", 0), StorageError);
+  EXPECT_EQ(
+      restart_times(db, "M2", CheckKind::FixturePostCalibration, "fixture_fit_scatter_rms_mm"),
+      std::vector<std::int64_t>{20 * kDay});
 }
 
 // The plans of the trend reads on a file with many machines and checks: each statement uses an
@@ -318,8 +251,7 @@ TEST_F(TrendStore, TheTrendReadsWalkIndexesNotTables) {
       "'center_dy_mm' WHERE r.machine_id = 'G3' AND r.kind = 2 AND r.time_ns >= 0 AND r.time_ns "
       "<= 9000000000000000000 ORDER BY r.time_ns, r.request_id",
       "SELECT time_ns, NULL FROM interventions WHERE machine_id = 'G3' UNION ALL SELECT "
-      "c.time_ns, coalesce(k.kind, -1) FROM compensations AS c LEFT JOIN checks AS k ON "
-      "k.request_id = c.request_id WHERE c.machine_id = 'G3'",
+      "time_ns, target FROM compensations WHERE machine_id = 'G3'",
       "SELECT * FROM trend_warnings WHERE machine_id = 'M1' AND metric = 'x' AND ended_ns IS NULL",
       "SELECT * FROM trend_warnings WHERE machine_id = 'M1' ORDER BY ended_ns IS NOT NULL, "
       "raised_ns DESC LIMIT 10",

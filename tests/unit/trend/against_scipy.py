@@ -171,6 +171,16 @@ def make_series():
     # Nothing at all, and only NaN.
     out.append(series("empty", [], [], -0.01, 0.01))
     out.append(series("all_nan", daily_times(8), [float("nan")] * 8, -0.01, 0.01))
+    # Magnitudes toleranced [0, U] (docs/trends.md, "One-sided metrics"): one that improves
+    # (a step down after the baseline: no rule, EWMA or CUSUM may warn below, no forecast towards
+    # 0) and one that drifts up to U.
+    tm = daily_times(60)
+    dm = (np.array(tm) - tm[0]) / NS_PER_DAY
+    mag = np.abs(0.006 + rng.normal(0, 0.001, 60))
+    mag[30:] -= 0.003
+    out.append(series("magnitude_improves", tm, mag, 0.0, 0.015))
+    out.append(series("magnitude_towards", tm, 0.004 + 0.0001 * dm + np.abs(
+        rng.normal(0, 0.0006, 60)), 0.0, 0.012))
     return out
 
 
@@ -452,7 +462,24 @@ def spc_figures(values, opts):
     return dict(mean=mean, mr=mr, sigma=sigma, sd=float(np.std(base, ddof=1)))
 
 
-def we_rules(values, mean, sigma):
+def judged(lower, upper):
+    # A magnitude [0, U] is the one-sided band (-inf, U]: its 0 is where values end.
+    if lower == 0 and upper is not None and upper > 0:
+        return None, upper
+    return lower, upper
+
+
+def watched(lower, upper):
+    # The side a one-sided metric can go wrong on: its rules, EWMA and CUSUM warn there only.
+    lower, upper = judged(lower, upper)
+    if upper is not None and lower is None:
+        return "above"
+    if lower is not None and upper is None:
+        return "below"
+    return None
+
+
+def we_rules(values, mean, sigma, only=None):
     z = [(v - mean) / sigma for v in values]
     out = []
     for j in range(len(z)):
@@ -461,14 +488,14 @@ def we_rules(values, mean, sigma):
             if j + 1 < window:
                 continue
             w = z[j + 1 - window:j + 1]
-            if sum(1 for v in w if v > k) >= need:
+            if sum(1 for v in w if v > k) >= need and only != "below":
                 out.append([rule, j, "above"])
-            elif sum(1 for v in w if v < -k) >= need:
+            elif sum(1 for v in w if v < -k) >= need and only != "above":
                 out.append([rule, j, "below"])
     return out
 
 
-def check_spc(rep, s, got, values, opts):
+def check_spc(rep, s, got, values, opts, only=None):
     where = s["name"]
     base = spc_figures(values, opts)
     if base is None:
@@ -483,7 +510,7 @@ def check_spc(rep, s, got, values, opts):
     rep.num(where, "baseline sigma_overall", g["sigma_overall"], base["sd"])
     rep.num(where, "baseline UCL", g["ucl"], base["mean"] + 3 * base["sigma"], scale=sc)
     rep.num(where, "baseline LCL", g["lcl"], base["mean"] - 3 * base["sigma"], scale=sc)
-    rules = we_rules(values, base["mean"], base["sigma"])
+    rules = we_rules(values, base["mean"], base["sigma"], only)
     rep.same(where, "Western Electric signals", got["rules"], rules)
     # EWMA
     lam = opts.get("ewma_lambda", 0.2)
@@ -539,13 +566,13 @@ def check_spc(rep, s, got, values, opts):
     for rule, j, side in rules:
         tracks[names[rule]][j] = side
     for i in range(n):
-        if zs[i] > ups[i]:
+        if zs[i] > ups[i] and only != "below":
             tracks["ewma"][i] = "above"
-        elif zs[i] < lows[i]:
+        elif zs[i] < lows[i] and only != "above":
             tracks["ewma"][i] = "below"
-        if ups_c[i] > H:
+        if ups_c[i] > H and only != "below":
             tracks["cusum_up"][i] = "above"
-        if downs_c[i] > H:
+        if downs_c[i] > H and only != "above":
             tracks["cusum_down"][i] = "below"
     return tracks
 
@@ -643,10 +670,11 @@ def main():
         rep.same(s["name"], "segment times", got["segment_times_ns"], [p[0] for p in pts])
         rep.same(s["name"], "skipped", got["skipped"], skipped)
         values = [p[1] for p in pts]
-        lower, upper = s["lower"], s["upper"]
+        only = watched(s["lower"], s["upper"])
+        lower, upper = judged(s["lower"], s["upper"])
         check_forecast(rep, s, got["forecast"], pts, lower, upper, opts)
         check_theil_sen(rep, s, got["theil_sen"], pts, lower, upper, opts)
-        tracks = check_spc(rep, s, got, values, opts)
+        tracks = check_spc(rep, s, got, values, opts, only)
         check_capability(rep, s, got["capability"], values, lower, upper, opts)
         for kind in check_warnings(rep, s, got["warnings"], pts, tracks, lower, upper, opts):
             fired[kind] = fired.get(kind, 0) + 1

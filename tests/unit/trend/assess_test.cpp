@@ -85,6 +85,45 @@ TEST(Assess, StepAboveTheBaseline) {
   EXPECT_NE(before.warning(WarningKind::WesternElectric3), nullptr);
 }
 
+// A magnitude toleranced [0, U] (probe_c_offset_mm [0, 0.015]) watched on its upper side only
+// (docs/trends.md, "One-sided metrics"): the step series mirrored below a centre of 5 (sigma 1)
+// is the magnitude getting smaller. As a two-sided metric it gives the mirror image of
+// StepAboveTheBaseline's warnings, below; as a magnitude none (it improves), and its 0 is no
+// limit the forecast heads to. The step series itself above 5 warns the same either way.
+TEST(Assess, AMagnitudeWarnsOnlyWhenItGrows) {
+  std::vector<double> down, up;
+  for (const double v : step_series()) {
+    down.push_back(5 - v);
+    up.push_back(5 + v);
+  }
+  const auto smaller = daily(down);
+  const std::int64_t now = smaller.back().time_ns;
+  const Assessment two_sided = assess(smaller, {-10, 20}, {}, now);
+  EXPECT_EQ(two_sided.watched, std::nullopt);
+  EXPECT_EQ(kinds(two_sided),
+            (std::vector<WarningKind>{WarningKind::WesternElectric3, WarningKind::WesternElectric4,
+                                      WarningKind::Ewma, WarningKind::CusumDown}));
+  const Assessment magnitude = assess(smaller, {0, 20}, {}, now);
+  ASSERT_TRUE(magnitude.ok()) << magnitude.error;
+  EXPECT_EQ(magnitude.watched, Side::Above);
+  EXPECT_TRUE(magnitude.warnings.empty()) << to_string(magnitude.warnings.front().kind);
+  EXPECT_TRUE(magnitude.rules.empty()) << "no rule runs below the centre line";
+  EXPECT_EQ(magnitude.forecast.heading, Side::Below);
+  EXPECT_EQ(magnitude.forecast.expected.status, DateStatus::NoLimit) << "0 is no limit";
+  EXPECT_FALSE(magnitude.capability.cp.has_value()) << "one-sided: Cpu only";
+  ASSERT_TRUE(magnitude.capability.cpu.has_value());
+  EXPECT_EQ(magnitude.capability.cpk, magnitude.capability.cpu);
+
+  const auto larger = daily(up);
+  EXPECT_EQ(kinds(assess(larger, {0, 20}, {}, larger.back().time_ns)),
+            kinds(assess(larger, {-10, 20}, {}, larger.back().time_ns)));
+  EXPECT_EQ(kinds(assess(larger, {0, 20}, {}, larger.back().time_ns)),
+            (std::vector<WarningKind>{WarningKind::WesternElectric3, WarningKind::WesternElectric4,
+                                      WarningKind::Ewma, WarningKind::CusumUp}));
+  // A band with only a lower limit is watched below.
+  EXPECT_EQ(assess(smaller, {-10, kInf}, {}, now).watched, Side::Below);
+}
+
 TEST(Assess, AnOutlierWarnsUntilTheNextCheck) {
   std::vector<double> v = unit_baseline();
   v.push_back(0.3);

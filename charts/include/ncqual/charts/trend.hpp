@@ -63,7 +63,13 @@ struct Forecast {
 enum class MarkerKind { Intervention, Compensation };
 
 // A vertical line at a time with a short label (an intervention on the machine, a compensation
-// the solver issued).
+// the solver issued). Give a chart only the markers that restart its series (restarts_series):
+// the others explain nothing on it. Markers of one kind closer than 6 px are drawn as one line
+// (class "marker intervention" or "marker compensation"; data-count, the group's size;
+// data-time, its latest marker; data-first-time, its first) at the latest one, with a pale strip
+// ("marker-span") along the plot's top over the time they span and the count as its label;
+// interventions and compensations are grouped apart, and the groups widen until the lines and
+// labels cover at most a tenth of the plot's width.
 struct TimeMarker {
   std::int64_t time_ns = 0;
   std::string label;

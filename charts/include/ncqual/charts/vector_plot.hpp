@@ -33,9 +33,11 @@ struct DeviationVectorPlot {
   DisplayUnit unit;  // of the deviations, e.g. {1000, "µm"} for deviations in mm
   std::vector<PlaneDeviation> points;
   double tolerance = 0;  // radius (caller's unit); not finite or <= 0: no circles
-  // Drawn arrow length = deviation × magnification (in position units). Without it the largest
-  // nice value (1, 2, 5 × 10^k) that draws the largest arrow or circle at 40 % of the closest
-  // spacing of the points.
+  // Drawn arrow length = deviation × magnification (in position units). Without it: from the
+  // largest deviation and the closest spacing of the points (vector_magnification), never from
+  // the tolerance, so that the arrows are seen whatever the tolerance. Tolerance circles whose
+  // radius would pass half the spacing are not drawn (the legend and the <desc> say so; points
+  // out of tolerance are red all the same).
   std::optional<double> magnification;
   Size size;  // default 560 × 560
 };
@@ -48,7 +50,12 @@ inline constexpr Size kVectorPlotSize{560, 560};
 // says what length of arrow is how many display units.
 std::string deviation_vector_plot(const DeviationVectorPlot& chart);
 
-// The magnification the plot uses for `chart` (the given one, or the automatic one).
-double vector_magnification(const DeviationVectorPlot& chart);
+// The magnification the plot uses for `chart`: the given one, or the largest value of the 1-2-5
+// series that draws the largest deviation at most 0.8 of the closest spacing of the points (so
+// at least 0.32 of it), raised along the series until that arrow is at least 8 px long when
+// `px_per_unit` (the plot's pixels per position unit; 0: unknown) is given. Without a deviation
+// the tolerance stands for it; without either, 1. The plot prints it: the legend ("deviation
+// ×2000"), the scale bar (a nice length of deviation and "arrows ×2000"), data-magnification.
+double vector_magnification(const DeviationVectorPlot& chart, double px_per_unit = 0);
 
 }  // namespace ncqual::charts

@@ -74,12 +74,40 @@ bool intervention_matches(CheckKind named, CheckKind held);
 bool is_tracker_check(CheckKind kind);  // instrument LaserTracker
 bool is_fixture_check(CheckKind kind);  // instrument FixtureProbe
 
-// Whether a compensation issued by a check of `issued_by` restarts the trend series of the
-// metrics of `series` (docs/trends.md, "The series and its segment"): a tracker check's
-// (volumetric) compensation moves the machine everywhere and restarts every series; any other
-// the series of its own kind and of the kinds it is verified by or satisfies (a fixture's zero
-// offsets restart the fixture checks' series, not the monument's).
-bool compensation_restarts(CheckKind issued_by, CheckKind series);
+// What a Compensation corrects, read from its target's prefix (the solver writes them):
+//   WorkOffset   "work_offset:<machine>"  a part's set points: the work offset of that one part
+//   ZeroOffsets  "fixture:<fixture>"      a fixture pre-calibration's zero offsets of its pogos
+//   Volumetric   "volumetric:<machine>"   the monthly grid's error functions (scale, straightness,
+//                                         angular, squareness of X, Y, Z) for the control
+//   Other        any other target: nobody knows what it touched
+enum class CompensationKind { WorkOffset, ZeroOffsets, Volumetric, Other };
+inline constexpr std::string_view kWorkOffsetTargetPrefix = "work_offset:";
+inline constexpr std::string_view kZeroOffsetsTargetPrefix = "fixture:";
+inline constexpr std::string_view kVolumetricTargetPrefix = "volumetric:";
+CompensationKind compensation_kind(std::string_view target);
+// "work offset", "fixture zero offsets", "volumetric compensation", "compensation"
+std::string_view to_string(CompensationKind kind);
+
+// The restart rule (docs/trends.md, "What restarts a series"): one row per kind of compensation
+// and one for interventions, saying which series (check kind, and metrics of it) it restarts: the
+// series whose cause it corrects, and only those, so that a warning is ended only by what could
+// have removed its cause. The trend watch, `ncqual trend`, the report's and the dashboard's
+// charts read it through restarts_series; nothing else decides what restarts a series.
+struct RestartRow {
+  std::optional<CompensationKind> compensation;  // none: an intervention
+  bool everything = false;                       // every series of the machine
+  std::vector<CheckKind> kinds;                  // every metric of these kinds' checks
+  // Besides `kinds`: these metrics of `metric_kind`'s checks only.
+  std::optional<CheckKind> metric_kind;
+  std::vector<std::string_view> metrics;
+  std::string_view why;  // for people (and the docs' table)
+};
+const std::vector<RestartRow>& restart_rule();
+
+// Whether a restart restarts the series of `metric` reported by checks of `series`: an
+// intervention (compensation none) or a compensation of that kind.
+bool restarts_series(std::optional<CompensationKind> compensation, CheckKind series,
+                     std::string_view metric);
 
 // True when some kind's check reads tolerance key `key`.
 bool is_tolerance_key(std::string_view key);

@@ -8,6 +8,7 @@
 // radians (the evaluations' and the historian's); µm and degrees only in what people read.
 #pragma once
 
+#include "ncqual/common/check_kinds.hpp"
 #include "ncqual/common/config.hpp"
 #include "ncqual/report/metric_trend.hpp"
 #include "ncqual/solver/error_budget.hpp"
@@ -76,11 +77,12 @@ struct LinearRunSection {
   std::optional<double> tolerance_mm;  // the upper limit of linear_A_mm
 };
 
-// An intervention or a compensation: a restart of trend series, marked on the trend charts.
+// An intervention or a compensation: a restart of trend series, marked on the trend charts of
+// the series it restarts (restarts_series) and on no other.
 struct RestartMarker {
   std::int64_t time_ns = 0;
   std::string label;
-  bool compensation = false;
+  std::optional<CompensationKind> compensation;  // none: an intervention
 };
 
 struct BudgetSection {

@@ -45,6 +45,10 @@ struct TrendBaseline {
   std::size_t points = 0;
   double mean = 0, sigma_within = 0, sigma_overall = 0;
   double lower_control_limit = 0, upper_control_limit = 0;
+  // A one-sided metric (an upper limit only, a magnitude toleranced [0, U]; trend::watched_side):
+  // "above" (or "below"), the only side its rules, EWMA and CUSUM warn on, and the only control
+  // limit the charts draw; "": both.
+  std::string watched;
 };
 
 struct TrendSignal {

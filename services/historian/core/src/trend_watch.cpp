@@ -13,8 +13,9 @@ namespace ncqual::historian {
 
 struct TrendWatch::Context {
   std::string machine_id;
-  std::map<CheckKind, std::vector<std::int64_t>> restarts;  // read when first needed
-  std::set<std::string> warning_metrics;                    // with a stored active warning
+  // Per (kind, metric) series, read when first needed.
+  std::map<std::pair<CheckKind, std::string>, std::vector<std::int64_t>> restarts;
+  std::set<std::string> warning_metrics;  // with a stored active warning
 
   Context(storage::Database& db, std::string machine) : machine_id(std::move(machine)) {
     storage::TrendWarningQuery q;
@@ -22,10 +23,13 @@ struct TrendWatch::Context {
     q.active_only = true;
     for (const auto& w : storage::trend_warnings(db, q)) warning_metrics.insert(w.metric);
   }
-  const std::vector<std::int64_t>& restarts_of(storage::Database& db, CheckKind kind) {
-    auto it = restarts.find(kind);
+  const std::vector<std::int64_t>& restarts_of(storage::Database& db, CheckKind kind,
+                                               const std::string& metric) {
+    auto key = std::make_pair(kind, metric);
+    auto it = restarts.find(key);
     if (it == restarts.end()) {
-      it = restarts.emplace(kind, storage::restart_times(db, machine_id, kind)).first;
+      it = restarts.emplace(std::move(key), storage::restart_times(db, machine_id, kind, metric))
+               .first;
     }
     return it->second;
   }
@@ -58,7 +62,7 @@ void TrendWatch::assess_metric(storage::Database& db, Context& context, const st
   for (const auto& v : series) points.push_back({v.time_ns, v.value});
   const storage::MetricValue& newest = series.back();
   const trend::Band band{newest.lower, newest.upper};
-  std::vector<std::int64_t> restarts = context.restarts_of(db, newest.kind);
+  std::vector<std::int64_t> restarts = context.restarts_of(db, newest.kind, metric);
   if (in_order) {
     restarts.erase(std::upper_bound(restarts.begin(), restarts.end(), event.at_ns), restarts.end());
   }
@@ -112,22 +116,20 @@ std::vector<TrendWarning> TrendWatch::after_intervention(storage::Database& db,
 
 std::vector<TrendWarning> TrendWatch::after_compensation(storage::Database& db,
                                                          const Compensation& compensation) {
-  std::optional<CheckKind> issued_by;
-  if (const auto check = db.find_check(compensation.request_id)) issued_by = check->kind;
   return after_restart(db, compensation.machine_id, compensation.request_id, compensation.time_ns,
-                       issued_by);
+                       compensation_kind(compensation.correction.target));
 }
 
 std::vector<TrendWarning> TrendWatch::after_restart(storage::Database& db,
                                                     const std::string& machine_id,
                                                     const std::string& by, std::int64_t at_ns,
-                                                    std::optional<CheckKind> restarted) {
+                                                    std::optional<CompensationKind> compensation) {
   std::vector<TrendWarning> out;
   Context context(db, machine_id);
   const Event restart{by, at_ns, true};
   std::set<std::string> seen;
   for (const auto& m : storage::machine_metrics(db, machine_id)) {
-    if (restarted && !compensation_restarts(*restarted, m.kind)) continue;
+    if (!restarts_series(compensation, m.kind, m.name)) continue;
     if (!seen.insert(m.name).second) continue;
     assess_metric(db, context, m.name, restart, out);
   }

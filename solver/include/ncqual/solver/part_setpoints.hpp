@@ -10,6 +10,7 @@
 // workpiece": its measured position becomes the zero reference of the part program.
 #pragma once
 
+#include "ncqual/common/check_kinds.hpp"
 #include "ncqual/common/config.hpp"
 #include "ncqual/common/model.hpp"
 
@@ -36,7 +37,7 @@ inline constexpr std::string_view kFeaturePrefix = "setpoint:";
 // On PASS the result carries the zero reference of the part program: a correction with this
 // target prefix ("work_offset:<machine_id>") and offsets dx_mm, dy_mm, dz_mm = the deviation of
 // the first (primary) set point.
-inline constexpr std::string_view kWorkOffsetTarget = "work_offset:";
+inline constexpr std::string_view kWorkOffsetTarget = kWorkOffsetTargetPrefix;
 
 inline constexpr std::string_view kCauseSeating =
     "part not seated on its locators (unload, clean and reload the part)";

@@ -14,6 +14,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace ncqual::storage {
@@ -56,12 +57,11 @@ struct MetricInfo {
 // kind), by check kind, then the place its newest value had in its check, then name.
 std::vector<MetricInfo> machine_metrics(Database& db, const std::string& machine_id);
 
-// What restarts the series of a metric of `series` checks (docs/trends.md, "The series and its
-// segment"): the times of the machine's interventions, and of its compensations that restart it
-// (compensation_restarts: by the kind of the check that issued them; one whose check is unknown
-// restarts every series), ascending, each once.
+// What restarts the series of `metric` reported by `series` checks (docs/trends.md, "What
+// restarts a series"): the times of the machine's interventions and compensations that
+// restarts_series says restart it (a compensation by its target's kind), ascending, each once.
 std::vector<std::int64_t> restart_times(Database& db, const std::string& machine_id,
-                                        CheckKind series);
+                                        CheckKind series, std::string_view metric);
 
 // One trend warning as the historian keeps it: raised at a stored result when the assessment of
 // a metric finds it active, ended at the result (or intervention, compensation) after which it

@@ -16,6 +16,10 @@
 // baseline included. Capability is over the whole segment; the forecasts too (Theil-Sen over
 // its last theil_sen_max_points checks).
 //
+// A one-sided metric (an upper limit only, or a magnitude toleranced [0, U]: judged_band) is
+// watched on its limit's side only (watched_side): the rules, the EWMA and the CUSUM warn only
+// above (below) the centre line, and its 0 is no limit for capability and the forecasts.
+//
 // A warning is active when its condition holds at the last point of the segment:
 //   control_limit        rule 1: the last point is beyond 3 sigma
 //   western_electric_2   rule 2: 2 of the last 3 points beyond 2 sigma, one side
@@ -98,6 +102,9 @@ struct Assessment {
   std::string error;  // the band or the options cannot be used; nothing else is filled
   std::int64_t now_ns = 0;
   std::optional<std::int64_t> restart_ns;  // the restart the segment follows
+  // A one-sided metric (watched_side of judged_band: a magnitude [0, U] too): the side its
+  // rules, EWMA and CUSUM warn on; none: both. Capability and the forecasts use judged_band.
+  std::optional<Side> watched;
   Series segment;
   Baseline baseline;
   std::vector<RuleSignal> rules;  // western_electric over the segment

@@ -40,6 +40,17 @@ struct Band {
   double upper = std::numeric_limits<double>::infinity();
 };
 
+// A one-sided metric as the statistics read it (docs/trends.md, "One-sided metrics"): a
+// magnitude toleranced [0, upper] (a flatness, a distance, a range: its values cannot be below
+// 0, so 0 is where they end, not a limit a drift could cross) is the band (-infinity, upper];
+// every other band is itself.
+Band judged_band(const Band& band);
+// The side of the centre line on which a metric can go wrong: Above for a band with only an
+// upper limit (after judged_band: a magnitude too), Below for one with only a lower limit, none
+// for a two-sided band (or none at all). The SPC rules, EWMA and CUSUM of a one-sided metric
+// warn on that side only: on the other the metric improves.
+std::optional<Side> watched_side(const Band& band);
+
 // Finite points in time order (stable: equal times keep their input order), and how many points
 // of the selection were left out because their value was not finite.
 struct Series {

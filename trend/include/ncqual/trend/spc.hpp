@@ -70,7 +70,9 @@ struct RuleSignal {
   Side side = Side::Above;
 };
 // Every (rule, index) that holds, by index and then by rule. Empty when the baseline is not ok.
-std::vector<RuleSignal> western_electric(const std::vector<double>& values, const Baseline& base);
+// `only`: the rules on that side of the centre line only (a one-sided metric: watched_side).
+std::vector<RuleSignal> western_electric(const std::vector<double>& values, const Baseline& base,
+                                         std::optional<Side> only = std::nullopt);
 // The first signal of `rule` in signals; std::nullopt when it never holds.
 std::optional<RuleSignal> first_signal(const std::vector<RuleSignal>& signals, int rule);
 

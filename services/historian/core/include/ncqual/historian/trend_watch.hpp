@@ -4,7 +4,7 @@
 // values, restarted at its interventions and the compensations that concern it), keeps the
 // warnings that start, move or end in the trend_warnings table, and returns each change as a
 // TrendWarning to publish. An intervention re-assesses every metric of the machine, a
-// compensation those whose series it restarts (compensation_restarts): the warnings of the
+// compensation those whose series it restarts (restarts_series, by its target): the warnings of the
 // series they restart end. No DDS here: the historian publishes what comes back (a warning
 // raised or ended; an active warning's new figures are only stored). Cheap when nothing warns:
 // a metric with no stored active warning and none now costs its reads, no write transaction.
@@ -17,6 +17,7 @@
 // changes are by that newest event; assessing twice changes nothing.
 #pragma once
 
+#include "ncqual/common/check_kinds.hpp"
 #include "ncqual/common/model.hpp"
 #include "ncqual/storage/database.hpp"
 #include "ncqual/storage/trend.hpp"
@@ -53,12 +54,13 @@ class TrendWatch {
                                                const Compensation& compensation);
 
  private:
-  // The metrics of the series `restarted` (all when empty), assessed again after `by` at `at_ns`.
+  // The metrics of the series a restart restarts (restarts_series: an intervention when
+  // `compensation` is empty), assessed again after `by` at `at_ns`.
   std::vector<TrendWarning> after_restart(storage::Database& db, const std::string& machine_id,
                                           const std::string& by, std::int64_t at_ns,
-                                          std::optional<CheckKind> restarted);
-  // What one call reads once: the machine's restart times per series kind, and the metrics
-  // with a stored active warning.
+                                          std::optional<CompensationKind> compensation);
+  // What one call reads once: the machine's restart times per series (kind, metric), and the
+  // metrics with a stored active warning.
   struct Context;
   // What the warnings change by: a stored result, or a restart (an intervention, a compensation).
   struct Event {
