@@ -84,7 +84,8 @@
 //     of the deviation), "in_tolerance", "after_offset_mm", "in_tolerance_after"}], "offset":
 //     {"translation_mm": [3], "rotation_urad": [3] | null, "work_offset_correction_mm": [3],
 //     "axis_resolved": [3], "characteristics", "out_of_tolerance_after", "max_abs_after_mm",
-//     "left_out": [text]} | null}
+//     "left_out": [text], "constraining": [3] (characteristics used along X, Y, Z), "warnings":
+//     [text] (a direction one characteristic alone constrains)} | null}
 //
 // Exit codes: 0 printed (touches, points, cmm: PASS); 3 FAIL (touches, points, cmm) and 4 INVALID
 // (touches, points); 1 the
