@@ -3,6 +3,9 @@
 
 #include "ncqual/storage/trend.hpp"
 #include "ncqual/common/units.hpp"
+#include "ncqual/charts/axis.hpp"
+
+#include <fmt/format.h>
 
 namespace ncqual::report {
 
@@ -40,11 +43,48 @@ BudgetHistory gather_budget_history(storage::Database& db, const std::string& ma
         continue;
       }
       auto& values = h.values[name];
-      if (values.empty()) h.newest_time_ns[name] = it->time_ns;
+      if (values.empty()) {
+        h.newest_time_ns[name] = it->time_ns;
+        h.newest[name] = *it;
+      }
       values.push_back(it->value * *factor);
     }
   }
   return h;
+}
+
+void read_machine_hold(storage::Database& db, const std::string& machine_id, std::int64_t until_ns,
+                       solver::BudgetMachineStanding& standing) {
+  std::optional<MachineStatus> status;
+  if (until_ns == std::numeric_limits<std::int64_t>::max()) {
+    status = db.latest_status(machine_id);
+  } else {
+    for (const MachineStatus& m : db.status_history(machine_id)) {  // oldest first
+      if (m.time_ns <= until_ns) status = m;
+    }
+  }
+  standing.held = status && status->state == MachineState::NeedsIntervention;
+  standing.held_why.clear();
+  if (standing.held) {
+    standing.held_why = std::string(to_string(status->state)) + " since " +
+                        charts::utc_date_time(status->time_ns) + " UTC" +
+                        (status->detail.empty() ? "" : ": " + status->detail);
+  }
+}
+
+solver::BudgetMachineStanding budget_machine_standing(storage::Database& db,
+                                                      const std::string& machine_id,
+                                                      const BudgetHistory& history,
+                                                      std::int64_t until_ns) {
+  solver::BudgetMachineStanding s;
+  read_machine_hold(db, machine_id, until_ns, s);
+  for (const auto& [name, v] : history.newest) {
+    if (v.pass) continue;
+    s.failed_metrics.push_back(fmt::format(
+        "{} = {:.4g} {} out of [{:.4g}, {:.4g}] ({} {}, {} UTC)", name, v.value, v.unit, v.lower,
+        v.upper, to_string(v.kind), to_string(v.verdict), charts::utc_date_time(v.time_ns)));
+  }
+  return s;
 }
 
 }  // namespace ncqual::report

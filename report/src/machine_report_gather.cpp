@@ -219,6 +219,10 @@ BudgetSection machine_budget(storage::Database& db, const std::string& machine_i
                           storage::results_up_to(db, machine_id, until_ns)};
     if (auto kept = memo->find(machine_id, *key)) {
       kept->until_ns = until_ns;
+      // An intervention changes the machine's hold without a new result: read it again.
+      read_machine_hold(db, machine_id, until_ns, kept->standing);
+      if (kept->evaluation)
+        kept->judgement = solver::judge_budget(kept->evaluation->today, kept->standing);
       return std::move(*kept);
     }
   }
@@ -227,6 +231,8 @@ BudgetSection machine_budget(storage::Database& db, const std::string& machine_i
   for (const auto& [name, values] : history.values) s.values += static_cast<int>(values.size());
   try {
     s.evaluation = solver::evaluate_error_budget(*s.config, history.values, s.last);
+    s.standing = budget_machine_standing(db, machine_id, history, until_ns);
+    s.judgement = solver::judge_budget(s.evaluation->today, s.standing);
   } catch (const std::invalid_argument& e) {
     s.error = std::string("The error budget could not be evaluated: ") + e.what();
   }

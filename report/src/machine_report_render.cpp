@@ -483,16 +483,30 @@ std::string budget_section(const MachineReport& r) {
       "The newest value of each metric, up to {}; capabilities from the "
       "newest {} values.",
       when(b.until_ns), b.last);
+  if (b.judgement.verdict == solver::BudgetVerdict::Held) {
+    c.description += " The machine is held: not within budget whatever the total.";
+  }
   c.unit = micrometres();
   for (const auto& s : e.sources) c.contributions.push_back({s.name, s.today_contribution_mm});
   c.total = charts::BudgetBar{"total (RSS)", e.today.rss_total_mm};
   c.allowance = e.allowable_total_mm;
   h += figure(charts::budget_chart(c));
+  const solver::BudgetJudgement& j = b.judgement;
+  const char* verdict = j.verdict == solver::BudgetVerdict::WithinBudget ? "within budget"
+                        : j.verdict == solver::BudgetVerdict::OverBudget ? "over budget"
+                                                                         : "NOT within budget";
+  std::string why;
+  for (const auto& w : j.why) why += (why.empty() ? " " : "; ") + w;
+  if (j.verdict == solver::BudgetVerdict::Held) {
+    why += ". A held machine is not released to cut parts, whatever its errors' total";
+  }
   h += "<p class=\"figures\">" +
-       esc(fmt::format("Total {} against an allowance of {} at θ = {:.1f}°: {}.",
+       esc(fmt::format("Total {} against an allowance of {} at θ = {:.1f}° ({:.1f} % of it): "
+                       "{}{}.",
                        um(e.today.rss_total_mm), um(e.allowable_total_mm),
                        units::rad_to_deg(e.today.theta_rad),
-                       e.today.within_budget ? "within budget" : "over budget")) +
+                       100 * e.today.rss_total_mm / e.allowable_total_mm, verdict,
+                       why.empty() ? "" : ":" + why)) +
        (b.values == 0 ? " No value of its metrics is stored yet: the capabilities are the "
                         "configured defaults."
                       : "") +

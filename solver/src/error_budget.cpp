@@ -11,6 +11,7 @@
 #include "ncqual/solver/error_budget.hpp"
 
 #include "ncqual/common/enum_names.hpp"
+#include "result_building.hpp"
 
 #include "ncqual/common/units.hpp"
 
@@ -399,6 +400,33 @@ Consumption budget_consumption(const ErrorBudgetConfig& config,
   });
   c.within_budget = c.rss_total_mm <= config.allowable_total_mm;
   return c;
+}
+
+// ---- The budget's verdict
+// ---------------------------------------------------------------------------
+
+std::string_view to_string(BudgetVerdict verdict) {
+  constexpr std::array<std::string_view, 3> kNames = {"WITHIN_BUDGET", "OVER_BUDGET", "HELD"};
+  return name_of(kNames, verdict);
+}
+
+BudgetJudgement judge_budget(const Consumption& today, const BudgetMachineStanding& machine) {
+  BudgetJudgement j;
+  if (machine.held) j.why.push_back("the machine is held: " + machine.held_why);
+  for (const std::string& m : machine.failed_metrics) {
+    j.why.push_back("its newest check failed: " + m);
+  }
+  const double percent = 100 * today.rss_total_mm / today.allowable_total_mm;
+  if (!today.within_budget) {
+    j.why.push_back("today's total " + detail::format_number(today.rss_total_mm, 4) +
+                    " mm is over the allowable " +
+                    detail::format_number(today.allowable_total_mm, 4) + " mm (" +
+                    detail::format_number(percent, 3) + " % of it)");
+  }
+  j.verdict = machine.held || !machine.failed_metrics.empty() ? BudgetVerdict::Held
+              : today.within_budget                           ? BudgetVerdict::WithinBudget
+                                                              : BudgetVerdict::OverBudget;
+  return j;
 }
 
 // ---- Everything at once

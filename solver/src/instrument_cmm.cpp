@@ -6,10 +6,12 @@
 #include "ncqual/common/text.hpp"
 #include "result_building.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -175,18 +177,39 @@ CmmReport read_cmm_table(const CsvTable& t) {
   return report;
 }
 
-std::vector<std::string> words_of(const std::string& line) {
-  std::vector<std::string> out;
-  std::string word;
+// A word of a line and the columns it spans, [begin, end) (tabs expanded to every 8th column).
+struct Word {
+  std::string text;
+  std::size_t begin = 0, end = 0;
+};
+
+std::vector<Word> spans_of(const std::string& line) {
+  std::vector<Word> out;
+  std::size_t column = 0;
+  Word word;
+  const auto close = [&] {
+    if (word.text.empty()) return;
+    word.end = column;
+    out.push_back(std::move(word));
+    word = Word{};
+  };
   for (char ch : line) {
     if (ch == ' ' || ch == '\t' || ch == '\r') {
-      if (!word.empty()) out.push_back(std::move(word));
-      word.clear();
+      close();
+      column = ch == '\t' ? (column / 8 + 1) * 8 : column + (ch == ' ' ? 1 : 0);
     } else {
-      word += ch;
+      if (word.text.empty()) word.begin = column;
+      word.text += ch;
+      ++column;
     }
   }
-  if (!word.empty()) out.push_back(std::move(word));
+  close();
+  return out;
+}
+
+std::vector<std::string> words_of(const std::string& line) {
+  std::vector<std::string> out;
+  for (Word& w : spans_of(line)) out.push_back(std::move(w.text));
   return out;
 }
 
@@ -201,19 +224,82 @@ bool is_pc_dmis_text(const std::vector<std::string>& lines) {
   return dim && ax;
 }
 
+// The material condition PC-DMIS prints in a TRUE POSITION block's TP row where other rows have
+// their nominal.
+bool is_material_condition(const std::string& word) {
+  const std::string w = upper(word);
+  return w == "MMC" || w == "LMC" || w == "RFS" || w == "MMB" || w == "LMB" || w == "RMB";
+}
+
+// PC-DMIS's graph of a deviation after a row's values: "----#----", "--------->".
+bool is_graph(const std::string& word) {
+  return word.find_first_not_of("-#<>+*|") == std::string::npos;
+}
+
+// The values of a row: its words after the axis, without the graph that may end it.
+std::vector<const Word*> values_of(const std::vector<Word>& row) {
+  std::size_t end = row.size();
+  while (end > 1 && is_graph(row[end - 1].text)) --end;
+  std::vector<const Word*> values;
+  for (std::size_t i = 1; i < end; ++i) values.push_back(&row[i]);
+  return values;
+}
+
+// The cells of a row under an AX header, by header name. A row with a value in every column is read
+// in the header's order; a row with blank cells (the X and Y rows of a TRUE POSITION block have no
+// tolerance) is read by where its values stand: each belongs to the header column it overlaps
+// most (PC-DMIS aligns them), else to the one whose end is nearest. Nothing when a value cannot be
+// placed: two values under one column; `why` says which.
+std::optional<std::map<std::string, std::string>> cells_of(const std::vector<Word>& row,
+                                                           const std::vector<Word>& header,
+                                                           std::string* why) {
+  const std::vector<const Word*> values = values_of(row);
+  std::map<std::string, std::string> cells;
+  if (values.size() + 1 >= header.size()) {
+    for (std::size_t k = 1; k < header.size(); ++k) cells[header[k].text] = values[k - 1]->text;
+    return cells;
+  }
+  for (const Word* value : values) {
+    const Word& w = *value;
+    std::size_t best = 0;
+    std::size_t best_overlap = 0, best_distance = std::string::npos;
+    for (std::size_t k = 1; k < header.size(); ++k) {
+      const Word& h = header[k];
+      const std::size_t lo = std::max(w.begin, h.begin), hi = std::min(w.end, h.end);
+      const std::size_t overlap = hi > lo ? hi - lo : 0;
+      const std::size_t distance = w.end > h.end ? w.end - h.end : h.end - w.end;
+      if (overlap > best_overlap ||
+          (best_overlap == 0 && overlap == 0 && distance < best_distance)) {
+        best = k;
+        best_overlap = overlap;
+        best_distance = distance;
+      }
+    }
+    const std::string& column = header[best].text;
+    if (cells.count(column)) {
+      *why = "'" + cells[column] + "' and '" + w.text + "' both stand under " + column +
+             ": align the values with the AX header's columns";
+      return std::nullopt;
+    }
+    cells[column] = w.text;
+  }
+  return cells;
+}
+
 CmmReport read_pc_dmis_text(const std::vector<std::string>& lines, const std::string& file) {
   CmmReport report;
   report.format = "PC-DMIS text";
   std::map<std::string, int> seen;
   std::string feature;
   std::optional<double> to_mm;
-  std::map<std::string, std::size_t> columns;  // header word -> index of the row's words
+  std::vector<Word> header;    // the AX header's words (upper case) where they stand
+  bool true_position = false;  // the DIM is a TRUE POSITION block
   int line_no = 0;
   for (const std::string& line : lines) {
     ++line_no;
-    const std::vector<std::string> w = words_of(line);
-    if (w.empty()) continue;
-    const std::string first = upper(w[0]);
+    const std::vector<Word> row = spans_of(line);
+    if (row.empty()) continue;
+    const std::string first = upper(row[0].text);
     const auto fail = [&](const std::string& why) { throw CsvError(file, line_no, 0, why); };
     if (first == "DIM") {
       const std::string up = upper(line);
@@ -239,64 +325,117 @@ CmmReport read_pc_dmis_text(const std::vector<std::string>& lines, const std::st
       }
       to_mm = mm_per(unit);
       if (!to_mm) fail("UNITS=" + upper(unit) + ": expected MM or IN");
-      columns.clear();
+      header.clear();
+      true_position = up.find("TRUE POSITION") != std::string::npos;
       continue;
     }
     if (first == "AX") {
       if (!to_mm) fail("an AX header before any DIM line");
-      columns.clear();
-      for (std::size_t k = 1; k < w.size(); ++k) columns[upper(w[k])] = k;
-      for (const char* need : {"NOMINAL", "MEAS"}) {
-        if (!columns.count(need)) {
-          fail(std::string("the AX header has no ") + need + " column: expected 'AX NOMINAL " +
-               "+TOL -TOL MEAS DEV OUTTOL'");
-        }
+      header = row;
+      std::set<std::string> names;
+      for (Word& h : header) {
+        h.text = upper(h.text);
+        if (!names.insert(h.text).second) fail("the AX header names " + h.text + " twice");
+      }
+      if (!names.count("NOMINAL") || (!names.count("MEAS") && !names.count("DEV"))) {
+        fail(std::string("the AX header has no ") + (names.count("NOMINAL") ? "MEAS" : "NOMINAL") +
+             " column: expected 'AX NOMINAL +TOL -TOL MEAS DEV OUTTOL'");
       }
       continue;
     }
-    // A characteristic: an axis word, then numbers, under an AX header.
-    if (columns.empty() || w.size() < 2 || !parse_finite_number(w[1]) ||
-        !std::isalpha(static_cast<unsigned char>(w[0][0]))) {
+    // A characteristic: an axis word, then numbers (a TRUE POSITION block's TP row: its material
+    // condition first), under an AX header.
+    if (header.empty() || row.size() < 2 ||
+        !std::isalpha(static_cast<unsigned char>(row[0].text[0])) ||
+        !(parse_finite_number(row[1].text) ||
+          (first == "TP" && is_material_condition(row[1].text)))) {
       continue;  // titles, GRAPH=..., page headers, "END OF DIMENSION"
     }
+    const std::string where = "DIM " + feature + " axis " + first;
+    std::string why;
+    const auto cells = cells_of(row, header, &why);
+    if (!cells) fail(where + ": " + why);
     const auto value = [&](const char* name) -> std::optional<std::pair<double, std::string>> {
-      const auto it = columns.find(name);
-      if (it == columns.end()) return std::nullopt;
-      if (it->second >= w.size()) {
-        fail("DIM " + feature + " axis " + first + ": no " + name + " value (" +
-             std::to_string(w.size() - 1) + " values on the line)");
-      }
-      const auto v = parse_finite_number(w[it->second]);
-      if (!v)
-        fail("DIM " + feature + " axis " + first + ": " + name + " = '" + w[it->second] +
-             "': expected a number");
-      return std::make_pair(*v * *to_mm, w[it->second]);
+      const auto it = cells->find(name);
+      if (it == cells->end()) return std::nullopt;
+      const auto v = parse_finite_number(it->second);
+      if (!v) fail(where + ": " + name + " = '" + it->second + "': expected a number");
+      return std::make_pair(*v * *to_mm, it->second);
     };
     CmmCharacteristic c;
     c.feature = feature;
     c.axis = first;
     c.line = line_no;
     if (is_angle_axis(c.axis)) {
-      fail("DIM " + feature + " axis " + c.axis +
-           " is an angle: ncqual reads the lengths of a CMM report; leave the angle out");
+      fail(where + " is an angle: ncqual reads the lengths of a CMM report; leave the angle out");
     }
-    const auto nominal = value("NOMINAL");
+    const std::size_t values = values_of(row).size();
+    const auto missing = [&](const std::string& what) {
+      fail(where + ": no " + what + " value (" + std::to_string(values) + " value" +
+           (values == 1 ? "" : "s") + " on the line under " + std::to_string(header.size() - 1) +
+           " columns)");
+    };
+    const bool tp = first == "TP";
+    std::optional<std::pair<double, std::string>> nominal;
+    if (tp && cells->count("NOMINAL") && is_material_condition(cells->at("NOMINAL"))) {
+      nominal = std::make_pair(0.0, std::string());  // from the true position: exact
+    } else {
+      nominal = value("NOMINAL");
+    }
+    if (!nominal) missing(tp ? "NOMINAL (or material condition)" : "NOMINAL");
     const auto actual = value("MEAS");
+    const auto dev = value("DEV");
+    if (!actual && !dev) missing("MEAS or DEV");
     c.nominal_mm = nominal->first;
-    c.actual_mm = actual->first;
-    if (const auto dev = value("DEV")) {
-      const double rounding = rounding_mm(dev->second, *to_mm) +
-                              rounding_mm(nominal->second, *to_mm) +
-                              rounding_mm(actual->second, *to_mm);
-      if (const auto why = deviation_disagreement(c, dev->first, rounding)) {
-        fail("DIM " + feature + " axis " + c.axis + ": " + *why);
+    // A position row without MEAS: the nominal and the deviation give it.
+    c.actual_mm = actual ? actual->first : nominal->first + dev->first;
+    double rounding = nominal->second.empty() ? 0.0 : rounding_mm(nominal->second, *to_mm);
+    if (actual) rounding += rounding_mm(actual->second, *to_mm);
+    if (dev) rounding += rounding_mm(dev->second, *to_mm);
+    // A TRUE POSITION block may print its axes' deviations as magnitudes (the report of issue 37
+    // does: Y 45.000, MEAS 44.991, DEV 0.009): with the MEAS beside it, a magnitude that fits is
+    // read from MEAS; without MEAS, the DEV is taken as actual - nominal.
+    const bool magnitude =
+        true_position && actual && dev &&
+        std::abs(std::abs(dev->first) - std::abs(c.deviation_mm())) <= rounding + 1e-9;
+    if (actual && dev && !magnitude) {
+      if (const auto disagree = deviation_disagreement(c, dev->first, rounding)) {
+        fail(where + ": " + *disagree);
       }
     }
     const auto plus = value("+TOL");
     const auto minus = value("-TOL");
-    if (plus && minus) {
+    if (tp) {
+      // The position's deviation (diametral) against its tolerance zone, enlarged by the bonus
+      // the report gives the row.
+      if (!plus) missing("+TOL");
+      const auto bonus = value("BONUS");
+      c.lower_mm = 0;
+      c.upper_mm = plus->first + (bonus ? bonus->first : 0);
+      rounding +=
+          rounding_mm(plus->second, *to_mm) + (bonus ? rounding_mm(bonus->second, *to_mm) : 0);
+    } else if (plus && minus) {
       c.upper_mm = plus->first;
       c.lower_mm = -std::abs(minus->first);
+      rounding += rounding_mm(plus->second, *to_mm) + rounding_mm(minus->second, *to_mm);
+    } else if (plus || minus) {
+      missing(plus ? "-TOL" : "+TOL");
+    }
+    // The report's own OUTTOL must be what the band read here gives: a column misread, or a bonus
+    // this reader does not see, would otherwise judge the part against another band than the
+    // report's.
+    if (const auto outtol = value("OUTTOL"); outtol && c.upper_mm) {
+      const double d = c.deviation_mm();
+      const double over = std::max({0.0, d - *c.upper_mm, *c.lower_mm - d});
+      if (std::abs(std::abs(outtol->first) - over) >
+          rounding + rounding_mm(outtol->second, *to_mm) + 1e-9) {
+        fail(where + ": the report's OUTTOL " + detail::format_number(outtol->first) +
+             " mm is not what the band " + detail::format_number(*c.lower_mm) + " .. " +
+             detail::format_number(*c.upper_mm) + " mm gives the deviation " +
+             detail::format_number(d) + " mm (" + detail::format_number(over) +
+             " mm): a column is not where this reader looks" +
+             (tp ? ", or the report counts a bonus its TP row does not print" : ""));
+      }
     }
     add_characteristic(report, seen, std::move(c), fail);
   }

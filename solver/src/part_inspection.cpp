@@ -148,6 +148,22 @@ PartInspection inspect_part(const CmmReport& report) {
     }
   }
   fit.characteristics = static_cast<int>(used.size());
+  std::array<std::string, 3> only;  // the feature of a direction's first characteristic
+  for (std::size_t i : used) {
+    const CmmCharacteristic& c = out.characteristics[i].characteristic;
+    const auto k = static_cast<std::size_t>(axis_index(c.axis));
+    if (fit.constraining[k]++ == 0) only[k] = c.feature;
+  }
+  for (std::size_t k = 0; k < 3; ++k) {
+    if (fit.constraining[k] != 1) continue;
+    const std::string axis(1, static_cast<char>('X' + k));
+    fit.warnings.push_back(axis + ": 1 characteristic (" + only[k] + " " + axis +
+                           ") constrains the displacement along " + axis + ": d" +
+                           static_cast<char>('x' + k) +
+                           " is that feature's own deviation, "
+                           "not a best fit; measure more features along " +
+                           axis + " before correcting the work offset with it");
+  }
   out.fit = fit;
   return out;
 }

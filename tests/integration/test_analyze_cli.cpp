@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -319,16 +320,29 @@ std::string grid_line(const std::string& name, double x, double y, double z) {
 
 const char* kGridHeader = "point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas\n";
 
-TEST_F(AnalyzeCli, GridJsonRecoversSquarenessAndScaleInTheMasterFrame) {
-  std::string x = kGridHeader, y = kGridHeader, g = kGridHeader;
-  for (int i = 0; i <= 10; ++i) x += grid_line("x" + std::to_string(i), 200 + 400 * i, 950, 900);
-  for (int i = 0; i <= 9; ++i) y += grid_line("y" + std::to_string(i), 2200, 200 + 150 * i, 900);
+// The X run, the Y run and the 216-point grid of the machine above, as the tracker exports them.
+GridFiles sheared_grid() {
+  GridFiles f{kGridHeader, kGridHeader, kGridHeader};
+  for (int i = 0; i <= 10; ++i) {
+    f.x_run += grid_line("x" + std::to_string(i), 200 + 400 * i, 950, 900);
+  }
+  for (int i = 0; i <= 9; ++i) {
+    f.y_run += grid_line("y" + std::to_string(i), 2200, 200 + 150 * i, 900);
+  }
   int n = 0;
   for (double z : {600.0, 800.0, 1000.0, 1200.0}) {
     for (double yy : {200.0, 500.0, 800.0, 1100.0, 1400.0, 1700.0}) {
-      for (int i = 0; i < 9; ++i) g += grid_line("g" + std::to_string(n++), 200 + 500 * i, yy, z);
+      for (int i = 0; i < 9; ++i) {
+        f.grid += grid_line("g" + std::to_string(n++), 200 + 500 * i, yy, z);
+      }
     }
   }
+  return f;
+}
+
+TEST_F(AnalyzeCli, GridJsonRecoversSquarenessAndScaleInTheMasterFrame) {
+  const GridFiles files = sheared_grid();
+  const std::string &x = files.x_run, &y = files.y_run, &g = files.grid;
   const json r = run_json({"analyze", "grid", "--x-run", write("x.csv", x), "--y-run",
                            write("y.csv", y), "--grid", write("g.csv", g)});
   ASSERT_TRUE(r.is_object());
@@ -350,6 +364,64 @@ TEST_F(AnalyzeCli, GridJsonRecoversSquarenessAndScaleInTheMasterFrame) {
                             write("y2.csv", y), "--grid", write("g2.csv", g)});
   EXPECT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("squareness xy"), std::string::npos) << table.out;
+}
+
+// Issue 37, point 9: with --machine the grid is judged against the machine's tolerances as the
+// solver judges the monthly global_grid check. pm1 allows ±60 urad of XY squareness and ±40 um/m
+// of scale: the grid above (80 urad, 25 um/m) fails on its squareness (and the rms deviation the
+// shear spreads), with the cause the solver names first; without --machine there is no verdict.
+TEST_F(AnalyzeCli, GridWithItsMachineIsJudgedAgainstItsTolerances) {
+  const GridFiles files = sheared_grid();
+  const std::string xf = write("x.csv", files.x_run), yf = write("y.csv", files.y_run),
+                    gf = write("g.csv", files.grid);
+  const std::string plant = std::string(NCQUAL_SOURCE_DIR) + "/deploy/plant.yaml";
+  const std::vector<std::string> args = {"analyze", "grid", "--x-run",   xf,    "--y-run", yf,
+                                         "--grid",  gf,     "--machine", "pm1", "--plant", plant};
+  std::vector<std::string> with_json = args;
+  with_json.push_back("--json");
+  const CliRun judged = run(with_json);
+  EXPECT_EQ(judged.exit_code, 3) << judged.err;
+  const json r = json::parse(judged.out);
+  EXPECT_EQ(r["verdict"], "FAIL");
+  const json& check = r["check"];
+  EXPECT_EQ(check["kind"], "global_grid");
+  EXPECT_EQ(check["verdict"], "FAIL");
+  std::map<std::string, json> metric;
+  for (const json& m : check["metrics"]) metric[m["name"].get<std::string>()] = m;
+  EXPECT_NEAR(metric.at("grid_squareness_xy_urad")["value"].get<double>(), 80, 0.01);
+  EXPECT_EQ(metric.at("grid_squareness_xy_urad")["upper"].get<double>(), 60);
+  EXPECT_FALSE(metric.at("grid_squareness_xy_urad")["pass"].get<bool>());
+  EXPECT_NEAR(metric.at("grid_scale_x_um_per_m")["value"].get<double>(), 25, 0.01);
+  EXPECT_TRUE(metric.at("grid_scale_x_um_per_m")["pass"].get<bool>());
+  // The same figures as the analysis above them.
+  EXPECT_NEAR(metric.at("grid_max_deviation_mm")["value"].get<double>(),
+              r["max_deviation_mm"].get<double>(), 1e-9);
+  // The shear spreads 0.064 mm rms over the grid, over pm1's 0.06: the second failure.
+  EXPECT_NEAR(metric.at("grid_rms_deviation_mm")["value"].get<double>(),
+              r["rms_deviation_mm"].get<double>(), 1e-9);
+  EXPECT_FALSE(metric.at("grid_rms_deviation_mm")["pass"].get<bool>());
+  int failed = 0;
+  for (const auto& [name, m] : metric) failed += m["pass"].get<bool>() ? 0 : 1;
+  EXPECT_EQ(failed, 2) << check["metrics"];
+  ASSERT_FALSE(check["likely_causes"].empty());
+  EXPECT_EQ(check["likely_causes"][0], "axes x and y out of square (way alignment)");
+
+  const CliRun text = run(args);
+  EXPECT_EQ(text.exit_code, 3) << text.err;
+  EXPECT_NE(
+      text.out.find("global_grid on pm1, judged as the solver judges the monthly check: FAIL"),
+      std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("likely cause 1: axes x and y out of square"), std::string::npos)
+      << text.out;
+
+  const CliRun bare = run({"analyze", "grid", "--x-run", xf, "--y-run", yf, "--grid", gf});
+  EXPECT_EQ(bare.exit_code, 0) << bare.err;
+  EXPECT_NE(bare.out.find("verdict: none (pass --machine M"), std::string::npos) << bare.out;
+  EXPECT_TRUE(
+      json::parse(run({"analyze", "grid", "--x-run", xf, "--y-run", yf, "--grid", gf, "--json"})
+                      .out)["verdict"]
+          .is_null());
 }
 
 TEST_F(AnalyzeCli, BadGridFilesNameFileLineAndColumn) {

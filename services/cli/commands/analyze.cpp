@@ -22,7 +22,10 @@
 //       (ncqual::solver::analyze_grid); files: point,x_cmd,y_cmd,z_cmd,x_meas,y_meas,z_meas (mm,
 //       commanded in machine axes, measured in the tracker frame), or, with --machine, the
 //       tracker's point exports (name, x, y, z) paired by name with the machine's monthly
-//       program (solver::grid_points_from_export).
+//       program (solver::grid_points_from_export). With --machine the grid is also judged as the
+//       solver service judges the monthly global_grid check (the set `ncqual import grid`
+//       publishes, through solver::solve: the machine's tolerances, verdict, likely causes);
+//       exit code: its verdict.
 //
 //   ncqual analyze cmm FILE [--json]
 //       a CMM report of a part (solver::read_cmm_results: PC-DMIS's text report or a table),
@@ -76,7 +79,9 @@
 //     {"orthogonality_urad", "origin_rms_mm", "x_run" / "y_run": {"file", "points",
 //     "straightness_mm": [2], "max_distance_mm", "scale_um_per_m"}}, "worst_points": [point],
 //     "planes": [{"z_mm", "points", "worst_point", "worst_deviation_mm", "rms_deviation_mm"}],
-//     "per_point": [{"point", "commanded_mm", "master_mm", "deviation_mm", "deviation_norm_mm"}]}
+//     "per_point": [{"point", "commanded_mm", "master_mm", "deviation_mm", "deviation_norm_mm"}],
+//     "verdict": "PASS" | "FAIL" | "INVALID" | null (with --machine: the global_grid check's),
+//     "check": the check record of `ncqual history --json` | null (with --machine)}
 //
 //   cmm: {"file", "format": "PC-DMIS text" | "table", "unit": "mm", "characteristics", "judged",
 //     "out_of_tolerance", "verdict": "PASS" | "FAIL" | null, "per_characteristic": [{"feature",
@@ -84,10 +89,11 @@
 //     of the deviation), "in_tolerance", "after_offset_mm", "in_tolerance_after"}], "offset":
 //     {"translation_mm": [3], "rotation_urad": [3] | null, "work_offset_correction_mm": [3],
 //     "axis_resolved": [3], "characteristics", "out_of_tolerance_after", "max_abs_after_mm",
-//     "left_out": [text]} | null}
+//     "left_out": [text], "constraining": [3] (characteristics used along X, Y, Z), "warnings":
+//     [text] (a direction one characteristic alone constrains)} | null}
 //
-// Exit codes: 0 printed (touches, points, cmm: PASS); 3 FAIL (touches, points, cmm) and 4 INVALID
-// (touches, points); 1 the
+// Exit codes: 0 printed (touches, points, cmm, grid --machine: PASS); 3 FAIL (touches, points, cmm,
+// grid --machine) and 4 INVALID (touches, points, grid --machine); 1 the
 // file was refused (the CsvError "<file>:<line>:<column>: message" on stderr, or "<file>: message"
 // for a refusal of the evaluation), or not found; 2 bad usage (the message and the usage of `ncqual
 // analyze` on stderr).

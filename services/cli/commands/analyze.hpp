@@ -6,6 +6,8 @@
 
 #include "commands.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -40,6 +42,13 @@ int refusing(const std::string& file, int (*run)(const Options&), const Options&
 using SetFromFiles = MeasurementSet (*)(const std::string&, const std::string&,
                                         const MachineConfig&, std::int64_t);
 int judge_files(const Options& o, SetFromFiles from_files, const char* what, const char* answers);
+// A judged check's metrics against their tolerances, reason, likely causes and correction, as
+// `analyze touches|points|grid --machine` print them.
+void print_judgement(const CheckResult& r);
+// The exit code of a verdict: 0 PASS, 3 FAIL, 4 INVALID.
+int exit_code_of(Verdict verdict);
+// The check record of `ncqual history --json` (ncqual/storage/json.hpp) of `r`, judged from `set`.
+nlohmann::json check_record_json(const CheckResult& r, const MeasurementSet& set);
 
 // What runs each subcommand (analyze_<subcommand>.cpp); add_analyze (analyze.cpp) lists them with
 // their help, their file and a --json flag, in the order of the help.

@@ -39,6 +39,8 @@ struct CmmOffsetDocument {
   int characteristics = 0, out_of_tolerance_after = 0;
   double max_abs_after_mm = 0;
   std::vector<std::string> left_out;
+  std::vector<int> constraining;
+  std::vector<std::string> warnings;
 };
 struct CmmDocument {
   std::string file, format, unit = "mm";
@@ -52,7 +54,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CmmCharacteristicDocument, feature, axis, lin
                                    after_offset_mm, in_tolerance_after)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CmmOffsetDocument, translation_mm, rotation_urad,
                                    work_offset_correction_mm, axis_resolved, characteristics,
-                                   out_of_tolerance_after, max_abs_after_mm, left_out)
+                                   out_of_tolerance_after, max_abs_after_mm, left_out, constraining,
+                                   warnings)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CmmDocument, file, format, unit, characteristics, judged,
                                    out_of_tolerance, verdict, per_characteristic, offset)
 
@@ -90,6 +93,8 @@ CmmDocument document_of(const solver::PartInspection& p, const solver::CmmReport
     o.out_of_tolerance_after = p.fit->out_of_tolerance_after;
     o.max_abs_after_mm = p.fit->max_abs_after_mm;
     o.left_out = p.fit->left_out;
+    o.constraining = p.fit->constraining;
+    o.warnings = p.fit->warnings;
     d.offset = o;
   }
   return d;
@@ -149,6 +154,7 @@ void print_cmm(const solver::PartInspection& p, const solver::CmmReport& report,
                  "spanning a plane)\n";
   }
   for (const auto& why : f.left_out) std::cout << "  left out: " << why << "\n";
+  for (const auto& w : f.warnings) std::cout << "  warning: " << w << "\n";
   std::cout << "  after it: " << f.out_of_tolerance_after
             << " out of tolerance, largest remaining deviation " << mm(f.max_abs_after_mm)
             << " mm\n";

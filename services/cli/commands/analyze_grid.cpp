@@ -3,10 +3,13 @@
 // and its deviations, squareness and scale in it, printed as a table or as its --json document.
 #include "analyze.hpp"
 
+#include "ncqual/common/clock.hpp"
 #include "ncqual/common/csv.hpp"
+#include "ncqual/common/version.hpp"
 #include "ncqual/common/json.hpp"
 #include "ncqual/solver/global_grid.hpp"
 #include "ncqual/solver/instrument_files.hpp"
+#include "ncqual/solver/solve.hpp"
 
 #include <fmt/format.h>
 
@@ -21,22 +24,18 @@ namespace {
 
 using nlohmann::json;
 
-// One of the grid's files as frame points, refusing one with fewer than `minimum` points at its
+// One of the grid's parts as frame points, refusing one with fewer than `minimum` points at its
 // last line.
-std::vector<solver::FramePoint> grid_file(const std::string& path, const std::string& prefix,
-                                          const MachineConfig* machine, std::size_t minimum,
-                                          const std::string& what) {
-  const CsvTable table = read_csv_file(path);
-  const std::vector<solver::GridFilePoint> points = read_grid_part(table, prefix, machine);
-  if (points.size() < minimum) {
-    const int last = table.rows.empty() ? table.header_line : table.rows.back().line;
-    throw CsvError(path, last, 0,
-                   std::to_string(points.size()) + " points; " + what + " needs at least " +
+std::vector<solver::FramePoint> frame_points(const GridPart& part, const std::string& path,
+                                             std::size_t minimum, const std::string& what) {
+  if (part.points.size() < minimum) {
+    throw CsvError(path, part.last_line, 0,
+                   std::to_string(part.points.size()) + " points; " + what + " needs at least " +
                        std::to_string(minimum));
   }
   std::vector<solver::FramePoint> out;
-  out.reserve(points.size());
-  for (const auto& p : points) out.push_back({p.point, p.commanded_mm, p.measured_mm});
+  out.reserve(part.points.size());
+  for (const auto& p : part.points) out.push_back({p.point, p.commanded_mm, p.measured_mm});
   return out;
 }
 
@@ -76,6 +75,10 @@ struct GridDocument {
   std::vector<std::string> worst_points;
   std::vector<GridPlaneDocument> planes;
   std::vector<GridPointDocument> per_point;
+  // With --machine: the global_grid check's verdict against the machine's tolerances and its
+  // check record (`ncqual history --json`); null without.
+  std::optional<std::string> verdict;
+  std::optional<nlohmann::json> check;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(RunDocument, file, points, straightness_mm, max_distance_mm,
                                    scale_um_per_m)
@@ -90,7 +93,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(GridDocument, unit, grid_file, points, max_de
                                    max_abs_dy_mm, max_abs_dz_mm, squareness_xy_urad,
                                    squareness_yz_urad, squareness_zx_urad, scale_x_um_per_m,
                                    scale_y_um_per_m, scale_z_um_per_m, affine_residual_rms_mm,
-                                   master_frame, worst_points, planes, per_point)
+                                   master_frame, worst_points, planes, per_point, verdict, check)
 
 RunDocument run_document(const solver::RunFit& run, const std::string& file) {
   return {file, run.points.size(), run.straightness_mm, run.max_distance_mm, run.scale_um_per_m};
@@ -141,9 +144,12 @@ int run_grid(const Options& o) {
     plant = plant_from(o.plant);
     machine = &configured_machine(*plant, *o.grid_machine);
   }
-  const auto x_run = grid_file(x_file, "x_run", machine, 3, "an X run");
-  const auto y_run = grid_file(y_file, "y_run", machine, 3, "a Y run");
-  const auto grid = grid_file(g_file, "grid", machine, 5, "the grid (12 affine unknowns)");
+  const GridPart x_part = read_grid_file(x_file, "x_run", machine);
+  const GridPart y_part = read_grid_file(y_file, "y_run", machine);
+  const GridPart g_part = read_grid_file(g_file, "grid", machine);
+  const auto x_run = frame_points(x_part, x_file, 3, "an X run");
+  const auto y_run = frame_points(y_part, y_file, 3, "a Y run");
+  const auto grid = frame_points(g_part, g_file, 5, "the grid (12 affine unknowns)");
   solver::MasterFrame frame;
   try {
     frame = solver::fit_master_frame(x_run, y_run);
@@ -156,9 +162,36 @@ int run_grid(const Options& o) {
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(g_file + ": grid: " + e.what());
   }
+  // With a machine: the files as the global_grid set `ncqual import grid` publishes, judged as
+  // the solver service judges the monthly check (solver::solve, its tolerances and verdict rules).
+  std::optional<MeasurementSet> set;
+  std::optional<CheckResult> judged;
+  if (machine) {
+    if (!machine->global_check) {
+      throw UsageError("machine '" + machine->machine_id + "' has no global_check: section (" +
+                       machine->source_path + "): its grid cannot be judged");
+    }
+    const std::int64_t now = WallClock().now_ns();
+    set.emplace();
+    set->machine_id = machine->machine_id;
+    set->request_id = new_sample_id("analyze", machine->machine_id);
+    set->kind = CheckKind::GlobalGrid;
+    set->instrument = kImportedInstrument;
+    set->frame = "tracker";
+    set->time_ns = now;
+    set->tracker_points = solver::tracker_points_for_grid(
+        x_part.points, y_part.points, g_part.points, machine->global_check->targets.front());
+    judged = solver::solve(*set, *machine, now);
+    judged->produced_by = version_line("ncqual analyze");
+  }
   if (o.json) {
-    std::cout << json(document_of(r, frame, x_file, y_file, g_file)).dump(2) << "\n";
-    return kExitOk;
+    GridDocument d = document_of(r, frame, x_file, y_file, g_file);
+    if (judged) {
+      d.verdict = std::string(to_string(judged->verdict));
+      d.check = check_record_json(*judged, *set);
+    }
+    std::cout << json(d).dump(2) << "\n";
+    return judged ? exit_code_of(judged->verdict) : kExitOk;
   }
   fmt::print("grid {}: {} points in the master frame of {} and {}\n", g_file, r.points.size(),
              x_file, y_file);
@@ -175,16 +208,24 @@ int run_grid(const Options& o) {
     fmt::print("  plane Z {:.1f}: worst {} ({} mm), rms {} mm\n", pl.z_mm, pl.worst_label,
                mm(pl.worst_deviation_mm), mm(pl.rms_deviation_mm));
   }
-  return kExitOk;
+  if (!judged) {
+    fmt::print("verdict: none (pass --machine M to judge the grid against M's tolerances)\n");
+    return kExitOk;
+  }
+  fmt::print("global_grid on {}, judged as the solver judges the monthly check: {}\n",
+             judged->machine_id, to_string(judged->verdict));
+  print_judgement(*judged);
+  return exit_code_of(judged->verdict);
 }
 
 void grid_options(CLI::App* grid, Options& o) {
   grid->add_option("--x-run", o.x_run, "the X run of the master frame")->type_name("F")->required();
   grid->add_option("--y-run", o.y_run, "the Y run of the master frame")->type_name("F")->required();
   grid->add_option("--grid", o.grid, "the grid's points")->type_name("F")->required();
-  add_machine_option(grid, o.grid_machine,
-                     "the machine whose monthly program gives the commanded positions of "
-                     "point exports");
+  add_machine_option(
+      grid, o.grid_machine,
+      "the machine whose tolerances judge the grid (the global_grid check's verdict) "
+      "and whose monthly program gives the commanded positions of point exports");
   add_plant_option(grid, o.plant);
 }
 

@@ -35,42 +35,52 @@ int judge_files(const Options& o, SetFromFiles from_files, const char* what, con
   CheckResult r = solver::solve(set, machine, now);
   r.produced_by = version_line("ncqual analyze");
   if (o.json) {
-    storage::CheckRecord rec;
-    rec.machine_id = r.machine_id;
-    rec.request_id = r.request_id;
-    rec.kind = r.kind;
-    rec.result = r;
-    storage::MeasurementSummary measured;
-    measured.instrument = set.instrument;
-    measured.frame = set.frame;
-    measured.time_ns = set.time_ns;
-    measured.touches = static_cast<std::int64_t>(set.touches.size());
-    measured.tracker_points = static_cast<std::int64_t>(set.tracker_points.size());
-    rec.measurement = measured;
-    std::cout << storage::to_json(rec).dump(2) << "\n";
+    std::cout << check_record_json(r, set).dump(2) << "\n";
   } else {
     fmt::print("{} on {}: {} {} of {} ({} {}, request {}): {}\n", to_string(r.kind), r.machine_id,
                set.touches.size() + set.tracker_points.size(), what, o.file, answers, o.program,
                r.request_id, to_string(r.verdict));
-    for (const Metric& m : r.metrics) {
-      fmt::print("  {:<28} {:>12} {:<6} [{}, {}]{}\n", m.name, format_metric_value(m), m.unit,
-                 format_metric_value(Metric{m.name, m.lower, m.unit, m.lower, m.upper, true}),
-                 format_metric_value(Metric{m.name, m.upper, m.unit, m.lower, m.upper, true}),
-                 m.pass ? "" : "  (!) out of tolerance");
-    }
-    if (!r.reason.empty()) fmt::print("reason: {}\n", r.reason);
-    for (std::size_t i = 0; i < r.likely_causes.size(); ++i) {
-      fmt::print("likely cause {}: {}\n", i + 1, r.likely_causes[i]);
-    }
-    if (r.correction) {
-      for (const auto& c : r.correction->offsets) {
-        fmt::print("correction {}: {} = {} {}\n", r.correction->target, c.name, c.value, c.unit);
-      }
+    print_judgement(r);
+  }
+  return exit_code_of(r.verdict);
+}
+
+void print_judgement(const CheckResult& r) {
+  for (const Metric& m : r.metrics) {
+    fmt::print("  {:<28} {:>12} {:<6} [{}, {}]{}\n", m.name, format_metric_value(m), m.unit,
+               format_metric_value(Metric{m.name, m.lower, m.unit, m.lower, m.upper, true}),
+               format_metric_value(Metric{m.name, m.upper, m.unit, m.lower, m.upper, true}),
+               m.pass ? "" : "  (!) out of tolerance");
+  }
+  if (!r.reason.empty()) fmt::print("reason: {}\n", r.reason);
+  for (std::size_t i = 0; i < r.likely_causes.size(); ++i) {
+    fmt::print("likely cause {}: {}\n", i + 1, r.likely_causes[i]);
+  }
+  if (r.correction) {
+    for (const auto& c : r.correction->offsets) {
+      fmt::print("correction {}: {} = {} {}\n", r.correction->target, c.name, c.value, c.unit);
     }
   }
-  return r.verdict == Verdict::Pass   ? kExitOk
-         : r.verdict == Verdict::Fail ? kExitFail
-                                      : kExitInvalid;
+}
+
+int exit_code_of(Verdict verdict) {
+  return verdict == Verdict::Pass ? kExitOk : verdict == Verdict::Fail ? kExitFail : kExitInvalid;
+}
+
+nlohmann::json check_record_json(const CheckResult& r, const MeasurementSet& set) {
+  storage::CheckRecord rec;
+  rec.machine_id = r.machine_id;
+  rec.request_id = r.request_id;
+  rec.kind = r.kind;
+  rec.result = r;
+  storage::MeasurementSummary measured;
+  measured.instrument = set.instrument;
+  measured.frame = set.frame;
+  measured.time_ns = set.time_ns;
+  measured.touches = static_cast<std::int64_t>(set.touches.size());
+  measured.tracker_points = static_cast<std::int64_t>(set.tracker_points.size());
+  rec.measurement = measured;
+  return storage::to_json(rec);
 }
 
 int run_touches(const Options& o) {

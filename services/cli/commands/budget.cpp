@@ -17,7 +17,7 @@
 //    "allowable_total_mm", "allowable_total_in", "panel_radius_mm", "theta_min_deg",
 //    "theta_max_deg",
 //    "rss_total_mm", "rss_total_in", "rss_theta_deg": today's total (RSS of the newest values),
-//    "within_budget": rss_total_mm <= allowable_total_mm,
+//    "within_budget": the budget's verdict is WITHIN_BUDGET (never for a held machine),
 //    "monte_carlo_total_mm", "monte_carlo_theta_deg", "monte_carlo_samples": the Monte Carlo total
 //        of the capabilities at the coverage,
 //    "capability_rss_total_mm", "capability_rss_theta_deg", "allocation_rss_total_mm",
@@ -33,7 +33,19 @@
 //            "sensitivity_theta_deg", "samples", "mean", "sigma", "max_abs", "capability",
 //            "capability_basis", "derived_tolerance" (±, metric unit),
 //            "configured_tolerance": {"lower", "upper"} | null (metric unit),
-//            "today_value" | null, "today_time_ns" | null, "today_within_derived_tolerance"}]}]}
+//            "today_value" | null, "today_time_ns" | null, "today_within_derived_tolerance"}]}],
+//    "total_within_allowable": rss_total_mm <= allowable_total_mm (the arithmetic alone),
+//    "verdict": "WITHIN_BUDGET" | "OVER_BUDGET" | "HELD" (solver::judge_budget: HELD when the
+//        machine's newest status is NEEDS_INTERVENTION or a budget metric's newest value failed
+//        its check, whatever the total), "verdict_why": [text], "held": the machine's status,
+//    "failed_metrics": [text] (budget metrics whose newest value failed its check)}
+//
+// What the figures mean (also printed under the table): a source's share is its ΔS² over the
+// allowable's square (the shares add up to (total / allowable)², 100 % at the limit); a metric's
+// derived tolerance is how far it may read before its source uses its allowance of the part's
+// tolerance (the allowance over ΔS per unit of the metric), the part's view, which differs from the
+// configured tolerance, the check's own (the machine's qualification standard, usually tighter):
+// checks are judged against the configured one.
 //
 // Returns 0 when it printed, 1 on an error it reported (no budget section, bad config, unreadable
 // historian), 2 on bad usage (and a machine the plant does not configure).
@@ -138,6 +150,11 @@ struct BudgetDocument {
   double allocation_rss_total_mm = 0, allocation_monte_carlo_total_mm = 0;
   AllocationDocument allocation;
   std::vector<SourceDocument> sources;
+  bool total_within_allowable = false;
+  std::string verdict;
+  std::vector<std::string> verdict_why;
+  bool held = false;
+  std::vector<std::string> failed_metrics;
 };
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ComponentsDocument, y, z, s)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ToleranceDocument, lower, upper)
@@ -157,7 +174,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BudgetDocument, machine_id, config, database,
                                    monte_carlo_theta_deg, monte_carlo_samples,
                                    capability_rss_total_mm, capability_rss_theta_deg,
                                    allocation_rss_total_mm, allocation_monte_carlo_total_mm,
-                                   allocation, sources)
+                                   allocation, sources, total_within_allowable, verdict,
+                                   verdict_why, held, failed_metrics)
 
 ComponentsDocument components(const solver::SourceError& e) { return {e.y_mm, e.z_mm, e.s_mm}; }
 
@@ -188,7 +206,9 @@ MetricDocument metric_document(const solver::MetricReport& m, const MachineConfi
 
 BudgetDocument document_of(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
                            const MachineConfig& machine, const std::optional<std::string>& database,
-                           const GatheredHistory& history, int last) {
+                           const GatheredHistory& history, int last,
+                           const solver::BudgetMachineStanding& standing,
+                           const solver::BudgetJudgement& judgement) {
   BudgetDocument d;
   d.machine_id = machine.machine_id;
   d.config = machine.source_path;
@@ -204,7 +224,12 @@ BudgetDocument document_of(const ErrorBudgetReport& r, const ErrorBudgetConfig& 
   d.rss_total_mm = r.today.rss_total_mm;
   d.rss_total_in = units::mm_to_inch(r.today.rss_total_mm);
   d.rss_theta_deg = deg(r.today.theta_rad);
-  d.within_budget = r.today.within_budget;
+  d.within_budget = judgement.verdict == solver::BudgetVerdict::WithinBudget;
+  d.total_within_allowable = r.today.within_budget;
+  d.verdict = to_string(judgement.verdict);
+  d.verdict_why = judgement.why;
+  d.held = standing.held;
+  d.failed_metrics = standing.failed_metrics;
   d.monte_carlo_total_mm = r.capability_monte_carlo.total_mm;
   d.monte_carlo_theta_deg = deg(r.capability_monte_carlo.theta_rad);
   d.monte_carlo_samples = r.capability_monte_carlo.samples;
@@ -269,9 +294,14 @@ std::string row(const std::vector<std::pair<std::string, std::size_t>>& cells) {
   return out;
 }
 
+// The configured tolerance is looser than the budget can afford on either side.
+bool looser_than_derived(const std::optional<Tolerance>& t, double derived) {
+  return t && (t->upper > derived * (1 + 1e-9) || t->lower < -derived * (1 + 1e-9));
+}
+
 void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
-                 const MachineConfig& machine, const std::optional<std::string>& database,
-                 int last) {
+                 const MachineConfig& machine, const std::optional<std::string>& database, int last,
+                 const solver::BudgetJudgement& judgement) {
   fmt::print("Error budget of {} ({})\n", machine.machine_id, machine.source_path);
   fmt::print(
       "  allowable ΔS {} on a panel of R {:.1f} mm ({:.1f} in), holes at θ {:.1f} .. {:.1f} "
@@ -320,6 +350,10 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
                     {s.fixed ? "fixed allowance" : (s.today_measured ? "" : "no value yet"), 0}}));
   }
 
+  fmt::print(
+      "  share: the source's ΔS today squared over the allowable squared; the shares add up to\n"
+      "  (today's total / allowable)², 100 % when the total reaches the allowable\n");
+
   fmt::print("\nCheck metrics (derived tolerance: the source's allowance in the metric's unit)\n");
   const std::vector<std::size_t> mw{22, 19, 4, 4, 12, 13, 13, 12};
   fmt::print("{}\n", row({{"metric", mw[0]},
@@ -333,17 +367,36 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
                           {"", 0}}));
   for (const auto& s : r.sources) {
     for (const auto& m : s.metrics) {
-      fmt::print("{}\n", row({{m.name, mw[0]},
-                              {s.name, mw[1]},
-                              {std::string(to_string(m.axis)), mw[2]},
-                              {std::to_string(m.capability.samples), mw[3]},
-                              {in_unit(m.capability.capability, m.unit), mw[4]},
-                              {"±" + in_unit(m.derived_tolerance, m.unit), mw[5]},
-                              {tolerance_text(configured_tolerance(machine, m), m.unit), mw[6]},
-                              {m.today_value ? in_unit(*m.today_value, m.unit) : "-", mw[7]},
-                              {m.today_within_tolerance ? "" : "OVER ITS ALLOWANCE", 0}}));
+      fmt::print("{}\n",
+                 row({{m.name, mw[0]},
+                      {s.name, mw[1]},
+                      {std::string(to_string(m.axis)), mw[2]},
+                      {std::to_string(m.capability.samples), mw[3]},
+                      {in_unit(m.capability.capability, m.unit), mw[4]},
+                      {"±" + in_unit(m.derived_tolerance, m.unit), mw[5]},
+                      {tolerance_text(configured_tolerance(machine, m), m.unit), mw[6]},
+                      {m.today_value ? in_unit(*m.today_value, m.unit) : "-", mw[7]},
+                      {m.today_within_tolerance ? ""
+                       : looser_than_derived(configured_tolerance(machine, m), m.derived_tolerance)
+                           ? "OVER ITS ALLOWANCE; configured looser than the budget"
+                           : "OVER ITS ALLOWANCE",
+                       0}}));
+      if (m.today_within_tolerance &&
+          looser_than_derived(configured_tolerance(machine, m), m.derived_tolerance)) {
+        fmt::print("  {}: its configured tolerance is looser than the budget affords\n", m.name);
+      }
     }
   }
+  fmt::print(
+      "  derived tol.: how far the metric may read before its source uses up its allowance of\n"
+      "  the part's allowable ΔS, {}: the allowance over ΔS per unit of the metric\n"
+      "  where it matters most (a Z error moves a hole by ΔZ·sin θ only, at most {:.2f} ΔZ here).\n"
+      "  It is the part's view of the metric, not the machine's: the configured tolerance is the\n"
+      "  check's own (its qualification standard, usually much tighter), and every check's\n"
+      "  verdict is judged against it\n",
+      mm_in(c.allowable_total_mm),
+      solver::worst_axis_sensitivity(solver::BudgetAxis::Z, c.theta_min_rad, c.theta_max_rad)
+          .sensitivity);
 
   fmt::print("\nTotals (ΔS)\n");
   auto total = [](const std::string& what, double mm, const std::string& rest) {
@@ -351,8 +404,9 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
   };
   total("allowable", c.allowable_total_mm, "");
   total("today (RSS of the newest values)", r.today.rss_total_mm,
-        fmt::format("at θ = {:.1f} deg: {}, {:.1f} % of the allowable squared",
-                    deg(r.today.theta_rad), r.today.within_budget ? "WITHIN BUDGET" : "OVER BUDGET",
+        fmt::format("at θ = {:.1f} deg: {:.1f} % of the allowable ({:.1f} % of its square, the "
+                    "sum of the shares)",
+                    deg(r.today.theta_rad), 100 * r.today.rss_total_mm / c.allowable_total_mm,
                     100 * std::pow(r.today.rss_total_mm / c.allowable_total_mm, 2)));
   total("capability (RSS)", r.capability_rss.total_mm,
         fmt::format("at θ = {:.1f} deg", deg(r.capability_rss.theta_rad)));
@@ -361,6 +415,20 @@ void print_table(const ErrorBudgetReport& r, const ErrorBudgetConfig& c,
         fmt::format("at θ = {:.1f} deg", deg(r.capability_monte_carlo.theta_rad)));
   total("allowances (RSS)", r.allocation_rss.total_mm, "");
   total("allowances (Monte Carlo)", r.allocation_monte_carlo.total_mm, "");
+
+  const char* verdict = judgement.verdict == solver::BudgetVerdict::WithinBudget ? "WITHIN BUDGET"
+                        : judgement.verdict == solver::BudgetVerdict::OverBudget ? "OVER BUDGET"
+                                                                                 : "HELD";
+  fmt::print("\nVerdict: {}", verdict);
+  if (judgement.verdict == solver::BudgetVerdict::Held) {
+    fmt::print(" (not within budget whatever the total: a held machine is not released)");
+  } else if (judgement.verdict == solver::BudgetVerdict::WithinBudget) {
+    fmt::print(
+        " (today's total within the allowable; the machine is not held and no budget\n"
+        "  metric's newest check failed)");
+  }
+  fmt::print("\n");
+  for (const auto& why : judgement.why) fmt::print("  {}\n", why);
 }
 
 struct Options {
@@ -391,9 +459,11 @@ int run(const Options& o) {
   const std::string db_path = db_flag ? *db_flag : plant.historian_database;
   std::optional<std::string> database;
   GatheredHistory history;
+  solver::BudgetMachineStanding standing;  // the machine's hold and failed metrics
   if (std::filesystem::exists(db_path)) {
     auto db = storage::Database::open_readonly(db_path);
     history = gather_history(db, machine_id, budget);
+    standing = report::budget_machine_standing(db, machine_id, history);
     database = db_path;
   } else if (db_flag) {
     std::cerr << "ncqual budget: --db " << db_path << ": no such file\n";
@@ -408,12 +478,14 @@ int run(const Options& o) {
   }
 
   const ErrorBudgetReport report = solver::evaluate_error_budget(budget, history.values, last);
+  const solver::BudgetJudgement judgement = solver::judge_budget(report.today, standing);
   if (o.json) {
-    std::cout
-        << nlohmann::json(document_of(report, budget, *machine, database, history, last)).dump(2)
-        << "\n";
+    std::cout << nlohmann::json(document_of(report, budget, *machine, database, history, last,
+                                            standing, judgement))
+                     .dump(2)
+              << "\n";
   } else {
-    print_table(report, budget, *machine, database, last);
+    print_table(report, budget, *machine, database, last, judgement);
   }
   return kExitOk;
 }

@@ -145,6 +145,16 @@ void check_machines_held(const std::vector<std::string>& machines, storage::Data
 std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const std::string& prefix,
                                                   const MachineConfig* machine);
 
+// One part of a tracker grid read from `path` (read_grid_part), each point refused at its cell
+// when no instrument on `machine` can have read it (solver::check_grid_envelope; no such check
+// without a machine or its global_check: section). `last_line`: the file's last row's line.
+struct GridPart {
+  std::vector<solver::GridFilePoint> points;
+  int last_line = 0;
+};
+GridPart read_grid_file(const std::string& path, const std::string& prefix,
+                        const MachineConfig* machine);
+
 // "warning: <file>: N points are not <what> and not used: 'NEST1' (line 3), ..." on stderr
 // (up to five named); nothing when `unused` is empty.
 void warn_unused(const std::string& file, const std::vector<solver::TrackerExportPoint>& unused,

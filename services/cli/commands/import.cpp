@@ -138,10 +138,7 @@ int run(const Options& o) {
         solver::tracker_points_for_circle(circle, stylus_ball_centre(centre, target), target);
   } else {
     auto read = [&](const std::string& f, const std::string& prefix) {
-      const CsvTable table = read_csv_file(f);
-      std::vector<solver::GridFilePoint> points = read_grid_part(table, prefix, machine);
-      solver::check_grid_envelope(table, points, envelope);
-      return points;
+      return read_grid_file(f, prefix, machine).points;
     };
     set.kind = CheckKind::GlobalGrid;
     set.tracker_points = solver::tracker_points_for_grid(

@@ -261,6 +261,19 @@ std::vector<solver::GridFilePoint> read_grid_part(const CsvTable& table, const s
   return part.points;
 }
 
+GridPart read_grid_file(const std::string& path, const std::string& prefix,
+                        const MachineConfig* machine) {
+  const CsvTable table = read_csv_file(path);
+  GridPart part;
+  part.points = read_grid_part(table, prefix, machine);
+  if (machine && machine->global_check) {
+    solver::check_grid_envelope(table, part.points,
+                                solver::machine_envelope(*machine->global_check));
+  }
+  part.last_line = table.rows.empty() ? table.header_line : table.rows.back().line;
+  return part;
+}
+
 void add_sample_filter_options(CLI::App* command, std::vector<std::string>& topics,
                                std::vector<std::string>& machines) {
   command->add_option("--topics", topics, "only these topics (CheckResult,MeasurementSet,...)")

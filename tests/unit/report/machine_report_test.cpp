@@ -264,6 +264,50 @@ TEST_F(MachineReportTest, TheBudgetIsEvaluatedAgainOnlyWhenItsResultsOrConfigura
             after.evaluation->capability_monte_carlo.total_mm);
 }
 
+// Issue 37, point 4: the report historian's pm1 is NEEDS_INTERVENTION from day 14 (a daily check
+// failed). Its errors' total is far within the part's allowance all along, but from day 14 the
+// budget is HELD and the report says "NOT within budget" with the hold; a status QUALIFIED after
+// it (an intervention, no new result) clears it, also through the memo.
+TEST_F(MachineReportTest, AHeldMachineIsNeverWithinBudget) {
+  MachineConfig m = testing::report_machine("pm1");
+  const std::string path = (dir_ / "historian.db").string();
+  testing::build_report_historian(path, m);
+  storage::Database db = storage::Database::open(path);
+  BudgetMemo memo;
+  const BudgetSection before = machine_budget(db, "pm1", &m, kT0 + 14 * kDay - 1, &memo);
+  ASSERT_TRUE(before.evaluation) << before.error;
+  EXPECT_TRUE(before.evaluation->today.within_budget);
+  EXPECT_EQ(before.judgement.verdict, solver::BudgetVerdict::WithinBudget);
+
+  const BudgetSection held = machine_budget(db, "pm1", &m, kT0 + 15 * kDay, &memo);
+  ASSERT_TRUE(held.evaluation) << held.error;
+  EXPECT_TRUE(held.evaluation->today.within_budget);  // the arithmetic alone
+  EXPECT_TRUE(held.standing.held);
+  EXPECT_EQ(held.judgement.verdict, solver::BudgetVerdict::Held);
+  MachineReportQuery q;
+  q.machine_id = "pm1";
+  q.now_ns = kT0 + 15 * kDay;
+  q.machine = &m;
+  q.budget_memo = &memo;
+  const std::string sections = machine_report_sections(gather_machine_report(db, q));
+  EXPECT_NE(sections.find("NOT within budget: the machine is held: NEEDS_INTERVENTION since "
+                          "2026-03-16 00:00 UTC: daily 3 failed: center_dx_mm out of tolerance"),
+            std::string::npos)
+      << sections;
+  EXPECT_EQ(sections.find("): within budget"), std::string::npos);
+
+  MachineStatus qualified;
+  qualified.machine_id = "pm1";
+  qualified.state = MachineState::Qualified;
+  qualified.time_ns = kT0 + 15 * kDay;
+  db.store(qualified);
+  const std::size_t evaluated = memo.evaluations();
+  const BudgetSection cleared = machine_budget(db, "pm1", &m, kT0 + 16 * kDay, &memo);
+  EXPECT_EQ(memo.evaluations(), evaluated);  // no new result: from the memo, the hold read again
+  EXPECT_FALSE(cleared.standing.held);
+  EXPECT_EQ(cleared.judgement.verdict, solver::BudgetVerdict::WithinBudget);
+}
+
 TEST_F(MachineReportTest, SectionsWithoutDataSaySoInOneSentence) {
   const MachineConfig m = testing::report_machine("PM1");
   storage::Database db = historian(m);

@@ -454,6 +454,41 @@ TEST(ErrorBudgetConsumption, LargestConsumerFirstAndSharesOfTheSquare) {
   EXPECT_GT(over.rss_total_mm, 1.0);
 }
 
+// A held machine is never within budget (issue 37, point 4): the total of 0.3 mm of an allowable
+// 1 mm is within the arithmetic, but the machine's hold or a budget metric that failed its check
+// makes the verdict HELD, whatever the total; over the allowable and not held is OVER_BUDGET.
+TEST(ErrorBudgetVerdict, AHeldMachineOrAFailedMetricIsNeverWithinBudget) {
+  const auto c =
+      config(1.0, 25, {measured("a", BudgetDirection::Y, y(0.1), BudgetAxis::Y, "a_mm")});
+  const Consumption small = budget_consumption(c, {y(0.3)});
+  ASSERT_TRUE(small.within_budget);
+  EXPECT_EQ(judge_budget(small, {}).verdict, BudgetVerdict::WithinBudget);
+  EXPECT_TRUE(judge_budget(small, {}).why.empty());
+
+  BudgetMachineStanding held;
+  held.held = true;
+  held.held_why = "NEEDS_INTERVENTION since 2026-02-09 06:00 UTC: monument_positioning FAIL";
+  const BudgetJudgement j = judge_budget(small, held);
+  EXPECT_EQ(j.verdict, BudgetVerdict::Held);
+  EXPECT_EQ(to_string(j.verdict), "HELD");
+  ASSERT_EQ(j.why.size(), 1u);
+  EXPECT_EQ(j.why[0], "the machine is held: " + held.held_why);
+
+  BudgetMachineStanding failed;
+  failed.failed_metrics.push_back("a_mm = 0.3 mm out of [-0.025, 0.025]");
+  EXPECT_EQ(judge_budget(small, failed).verdict, BudgetVerdict::Held);
+  EXPECT_EQ(judge_budget(small, failed).why.at(0),
+            "its newest check failed: a_mm = 0.3 mm out of [-0.025, 0.025]");
+
+  const Consumption over = budget_consumption(c, {y(1.5)});
+  const BudgetJudgement o = judge_budget(over, {});
+  EXPECT_EQ(o.verdict, BudgetVerdict::OverBudget);
+  ASSERT_EQ(o.why.size(), 1u);
+  EXPECT_EQ(o.why[0], "today's total 1.5 mm is over the allowable 1 mm (150 % of it)");
+  EXPECT_EQ(judge_budget(over, held).verdict, BudgetVerdict::Held);
+  EXPECT_EQ(judge_budget(over, held).why.size(), 2u);
+}
+
 // ---- Everything at once ----------------------------------------------------------------------
 
 TEST(ErrorBudgetReport, CapabilityTodayAndToleranceFromHistory) {

@@ -12,7 +12,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace ncqual::solver {
@@ -154,6 +156,110 @@ TEST(CmmResults, WhatCannotBeReadRightIsRefusedSayingWhatToChange) {
             std::string::npos);
 }
 
+// Issue 37, point 9: a PC-DMIS report with a TRUE POSITION block, in the layout the issue quotes
+// (MEAS second, blank tolerance cells on the X and Y rows, the TP row led by its material
+// condition), and in the layout with MEAS after the tolerances and the bonus on the TP row. Before,
+// the X row's missing cells refused the whole report ("DIM CIR2 axis X: no MEAS value").
+// Worked by hand: CIR3 at (60.015, 29.980) against (60, 30) is off by (0.015, -0.020), 0.025 mm,
+// a diametral true position of 0.050 mm, 0.010 over its 0.040 mm zone (RFS, no bonus).
+const char* kTruePosition =
+    "DIM LOC1= TRUE POSITION OF CIRCLE CIR2  UNITS=MM ,$\n"
+    "GRAPH=OFF  TEXT=OFF  MULT=10.00  OUTPUT=BOTH  FIT TO DATUMS=ON  DEV PERPEN CENTERLINE=ON  "
+    "DISPLAY=DIAMETER\n"
+    "AX    NOMINAL       MEAS    +TOL    -TOL   BONUS     DEV  OUTTOL\n"
+    "X     120.000    120.012                            0.012\n"
+    "Y      45.000     44.991                            0.009\n"
+    "DF     10.000     10.004   0.050   0.050   0.004   0.004   0.000\n"
+    "TP     MMC        0.030    0.100                   0.030   0.000\n"
+    "END OF DIMENSION LOC1\n"
+    "DIM LOC3= TRUE POSITION OF CIRCLE CIR3  UNITS=MM ,$\n"
+    "AX        NOMINAL       +TOL       -TOL      BONUS       MEAS        DEV     OUTTOL\n"
+    "X         60.0000                                     60.0150     0.0150\n"
+    "Y         30.0000                                     29.9800    -0.0200\n"
+    "DF        12.0000     0.0500     0.0500               12.0300     0.0300     0.0000\n"
+    "TP            RFS     0.0400                0.0000     0.0500     0.0500     0.0100 ---#\n"
+    "END OF DIMENSION LOC3\n";
+
+TEST(CmmResults, ATruePositionBlockIsReadRowByRow) {
+  const CmmReport r = read_cmm_results(kTruePosition, "tp.txt");
+  ASSERT_EQ(r.characteristics.size(), 8u);
+  struct Expected {
+    const char* feature;
+    const char* axis;
+    double nominal, actual;
+    std::optional<double> lower, upper;
+    int line;
+  };
+  const Expected expected[] = {
+      {"CIR2", "X", 120.000, 120.012, std::nullopt, std::nullopt, 4},
+      {"CIR2", "Y", 45.000, 44.991, std::nullopt, std::nullopt, 5},
+      {"CIR2", "DF", 10.000, 10.004, -0.050, 0.050, 6},
+      {"CIR2", "TP", 0, 0.030, 0, 0.100, 7},  // MMC; no bonus on its row
+      {"CIR3", "X", 60.0, 60.015, std::nullopt, std::nullopt, 11},
+      {"CIR3", "Y", 30.0, 29.980, std::nullopt, std::nullopt, 12},
+      {"CIR3", "DF", 12.0, 12.030, -0.050, 0.050, 13},
+      {"CIR3", "TP", 0, 0.050, 0, 0.040, 14},
+  };
+  for (std::size_t k = 0; k < 8; ++k) {
+    SCOPED_TRACE(k);
+    const CmmCharacteristic& c = r.characteristics[k];
+    EXPECT_EQ(c.feature, expected[k].feature);
+    EXPECT_EQ(c.axis, expected[k].axis);
+    EXPECT_NEAR(c.nominal_mm, expected[k].nominal, 1e-12);
+    EXPECT_NEAR(c.actual_mm, expected[k].actual, 1e-12);
+    EXPECT_EQ(c.lower_mm.has_value(), expected[k].lower.has_value());
+    if (c.lower_mm && expected[k].lower) {
+      EXPECT_NEAR(*c.lower_mm, *expected[k].lower, 1e-12);
+    }
+    if (c.upper_mm && expected[k].upper) {
+      EXPECT_NEAR(*c.upper_mm, *expected[k].upper, 1e-12);
+    }
+    EXPECT_EQ(c.line, expected[k].line);
+  }
+  // The TP of CIR3 by hand: 2 sqrt(0.015² + 0.020²) = 0.050, over its 0.040 zone.
+  EXPECT_NEAR(2 * std::hypot(0.015, 0.020), r.characteristics[7].actual_mm, 1e-12);
+  const PartInspection p = inspect_part(r);
+  EXPECT_EQ(p.judged, 4);
+  EXPECT_EQ(p.out_of_tolerance, 1);
+  EXPECT_FALSE(*p.characteristics[7].in_tolerance);
+  EXPECT_TRUE(*p.characteristics[3].in_tolerance);
+
+  // A bonus on the TP row widens its zone: 0.040 + 0.015 holds 0.050, and its OUTTOL says so.
+  std::string bonus = kTruePosition;
+  bonus.replace(bonus.find("0.0000     0.0500     0.0500     0.0100"), 39,
+                "0.0150     0.0500     0.0500     0.0000");
+  const CmmReport with_bonus = read_cmm_results(bonus, "tp.txt");
+  EXPECT_NEAR(*with_bonus.characteristics[7].upper_mm, 0.055, 1e-12);
+  EXPECT_TRUE(*inspect_part(with_bonus).pass);
+}
+
+TEST(CmmResults, ARowThatCannotBeReadIsRefusedNamingLineAndWhatIsMissing) {
+  // A position row without MEAS: NOMINAL + DEV is the measured position.
+  std::string no_meas = kTruePosition;
+  no_meas.replace(no_meas.find("60.0150     0.0150"), 18, "            0.0150");
+  EXPECT_NEAR(read_cmm_results(no_meas, "tp.txt").characteristics[4].actual_mm, 60.015, 1e-12);
+  // Neither MEAS nor DEV.
+  std::string neither = kTruePosition;
+  neither.replace(neither.find("60.0150     0.0150"), 18, "                  ");
+  EXPECT_EQ(error_of([&] { read_cmm_results(neither, "tp.txt"); }),
+            "tp.txt:11: DIM CIR3 axis X: no MEAS or DEV value (1 value on the line under 7 "
+            "columns)");
+  // The report's OUTTOL is not what the band read gives: a bonus the TP row does not print.
+  std::string hidden_bonus = kTruePosition;
+  hidden_bonus.replace(hidden_bonus.find("0.0500     0.0100 ---#"), 22, "0.0500     0.0000 ---#");
+  EXPECT_EQ(error_of([&] { read_cmm_results(hidden_bonus, "tp.txt"); }),
+            "tp.txt:14: DIM CIR3 axis TP: the report's OUTTOL 0 mm is not what the band 0 .. "
+            "0.04 mm gives the deviation 0.05 mm (0.01 mm): a column is not where this reader "
+            "looks, or the report counts a bonus its TP row does not print");
+  // A deviation that is neither actual - nominal nor its magnitude.
+  std::string wrong = kTruePosition;
+  wrong.replace(wrong.find("29.9800    -0.0200"), 18, "29.9800    -0.0300");
+  EXPECT_NE(error_of([&] { read_cmm_results(wrong, "tp.txt"); })
+                .find("tp.txt:12: DIM CIR3 axis Y: the report's deviation -0.03 mm is not actual "
+                      "- nominal (-0.02 mm)"),
+            std::string::npos);
+}
+
 // Translation only (one feature per axis, no whole positions), worked by hand: X deviations
 // 0.020 (band +-0.05, weight 1/0.05^2 = 400) and 0.000 (+-0.1, weight 100) give
 // (0.020 * 400 + 0) / 500 = 0.016; Y one deviation -0.010; no Z.
@@ -186,6 +292,34 @@ TEST(PartInspection, TheOffsetIsTheToleranceWeightedMeanWithoutPositions) {
   EXPECT_FALSE(p.characteristics[3].after_offset_mm);
   EXPECT_EQ(p.out_of_tolerance, 1);  // the diameter
   EXPECT_EQ(p.fit->out_of_tolerance_after, 0);
+}
+
+// Issue 37, point 9: one characteristic along Z is no best fit of Z; the fit says so, naming the
+// direction and the count, and is silent for X (two characteristics).
+TEST(PartInspection, ADirectionOneCharacteristicConstrainsIsWarnedOf) {
+  CmmReport r;
+  const auto add = [&](const std::string& f, const std::string& axis, double dev) {
+    CmmCharacteristic c;
+    c.feature = f;
+    c.axis = axis;
+    c.nominal_mm = 10;
+    c.actual_mm = 10 + dev;
+    c.lower_mm = -0.05;
+    c.upper_mm = 0.05;
+    r.characteristics.push_back(c);
+  };
+  add("A", "X", 0.010);
+  add("B", "X", 0.020);
+  add("P1", "Z", 0.030);
+  const PartInspection p = inspect_part(r);
+  ASSERT_TRUE(p.fit);
+  EXPECT_EQ(p.fit->constraining, (std::vector<int>{2, 0, 1}));
+  EXPECT_NEAR(p.fit->translation_mm.z(), 0.030, 1e-12);  // that one deviation
+  ASSERT_EQ(p.fit->warnings.size(), 1u);
+  EXPECT_EQ(p.fit->warnings[0],
+            "Z: 1 characteristic (P1 Z) constrains the displacement along Z: dz is that "
+            "feature's own deviation, not a best fit; measure more features along Z before "
+            "correcting the work offset with it");
 }
 
 // A part displaced rigidly by t and turned by w about the report's origin: the features' X, Y, Z

@@ -6,6 +6,7 @@
 
 #include "ncqual/solver/error_budget.hpp"
 #include "ncqual/storage/database.hpp"
+#include "ncqual/storage/trend.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -18,6 +19,8 @@ namespace ncqual::report {
 struct BudgetHistory {
   solver::MetricHistories values;  // newest first, the budget metric's unit
   std::map<std::string, std::int64_t> newest_time_ns;
+  // Each metric's newest stored value as its check judged it (value, band, pass; stored unit).
+  std::map<std::string, storage::MetricValue> newest;
   int unconvertible = 0;  // values stored in a unit that cannot be turned into the metric's
 };
 
@@ -26,6 +29,18 @@ struct BudgetHistory {
 BudgetHistory gather_budget_history(
     storage::Database& db, const std::string& machine_id, const solver::ErrorBudgetConfig& budget,
     std::int64_t until_ns = std::numeric_limits<std::int64_t>::max());
+
+// The machine's standing for the budget's verdict (solver::judge_budget) as of `until_ns`: held
+// when its newest status up to then is NEEDS_INTERVENTION; each budget metric whose newest value
+// in `history` failed its check's tolerance.
+solver::BudgetMachineStanding budget_machine_standing(
+    storage::Database& db, const std::string& machine_id, const BudgetHistory& history,
+    std::int64_t until_ns = std::numeric_limits<std::int64_t>::max());
+
+// Sets standing.held and held_why from the machine's newest status up to `until_ns` (the part of
+// the standing that can change without a new result: an intervention).
+void read_machine_hold(storage::Database& db, const std::string& machine_id, std::int64_t until_ns,
+                       solver::BudgetMachineStanding& standing);
 
 // Factor turning a value in unit `from` into `to` when both are units of one dimension (length
 // or angle); none otherwise. An empty `from` is taken as `to`.

@@ -92,6 +92,10 @@ struct BudgetSection {
   int last = 30;   // the newest N values of each metric make its capability (`ncqual budget`)
   int values = 0;  // values found in the historian for its metrics
   std::int64_t until_ns = 0;  // the values are those of results up to this time
+  // The machine's standing up to until_ns (held, failed budget metrics) and the budget's verdict
+  // with it (solver::judge_budget): a held machine is never within budget.
+  solver::BudgetMachineStanding standing;
+  solver::BudgetJudgement judgement;
 };
 
 // A metric of the checks in range without a chart of its own (docs/report.md, "Trends"): how

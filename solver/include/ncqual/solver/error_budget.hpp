@@ -179,12 +179,45 @@ struct Consumption {
   double theta_rad = 0;                // the inclination where today's total is largest
   double rss_total_mm = 0;             // ΔS_T of today's errors there
   double allowable_total_mm = 0;
-  bool within_budget = true;  // rss_total_mm <= allowable_total_mm
+  bool within_budget = true;  // rss_total_mm <= allowable_total_mm: the arithmetic alone; the
+                              // verdict, with the machine's standing, is judge_budget's
 };
 // How much of the budget today's errors (one per config.sources, tool-tip mm) use. Today is one
 // state, not a distribution, so the total is the patent's RSS whatever the configured method.
 Consumption budget_consumption(const ErrorBudgetConfig& config,
                                const std::vector<SourceError>& today);
+
+// ---- The budget's verdict -----------------------------------------------------------------------
+
+// What the budget's arithmetic cannot see: the machine's own standing in the historian. The budget
+// shares the part's tolerance among error sources; a machine held by its qualification process
+// (NEEDS_INTERVENTION), or whose newest value of a budget metric failed its check, is not released
+// to cut parts however small its errors' total is, so the budget never calls it within budget.
+struct BudgetMachineStanding {
+  // The machine's newest stored status is NEEDS_INTERVENTION; `held_why` says since when and why
+  // ("NEEDS_INTERVENTION since <time>: <detail>").
+  bool held = false;
+  std::string held_why;
+  // Budget metrics whose newest value failed the configured tolerance of its check, in words
+  // ("face_dz_mm = 0.0512 mm out of [-0.025, 0.025] (monument_positioning, FAIL)").
+  std::vector<std::string> failed_metrics;
+};
+
+enum class BudgetVerdict {
+  WithinBudget,  // today's total within the allowable, the machine not held, no metric failed
+  OverBudget,    // today's total over the allowable (the machine not held)
+  Held,          // the machine is held or a budget metric's newest check failed: never "within"
+};
+std::string_view to_string(BudgetVerdict verdict);  // "WITHIN_BUDGET", "OVER_BUDGET", "HELD"
+
+struct BudgetJudgement {
+  BudgetVerdict verdict = BudgetVerdict::WithinBudget;
+  std::vector<std::string> why;  // each reason in words, the machine's standing first
+};
+// The verdict of `today` (budget_consumption) given the machine's standing: Held when the machine
+// is held or any budget metric failed (whatever the total), else OverBudget when the total is over
+// the allowable, else WithinBudget.
+BudgetJudgement judge_budget(const Consumption& today, const BudgetMachineStanding& machine);
 
 // ---- Everything at once -------------------------------------------------------------------------
 

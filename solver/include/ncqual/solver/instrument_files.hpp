@@ -200,11 +200,19 @@ struct CmmReport {
 //    as PC-DMIS writes it) or one symmetric "Tol". Lengths in the unit the header names
 //    ("Nominal (in)") or a comment declares ('# Units: mm'), refused when nothing names it.
 //  - PC-DMIS's text report: "DIM <id>= LOCATION OF POINT <name>  UNITS=MM" blocks, each with
-//    an "AX NOMINAL +TOL -TOL MEAS DEV OUTTOL" header (columns in any order) and one line per
-//    axis; a block's feature is the name after "OF <type>", else the dimension's id.
+//    an "AX NOMINAL +TOL -TOL MEAS DEV OUTTOL" header (columns in any order, BONUS too) and one
+//    line per axis; a block's feature is the name after "OF <type>", else the dimension's id. A
+//    line with a value in every column is read in the header's order; one with blank cells by
+//    where its values stand under the header (PC-DMIS aligns them). A line without MEAS is
+//    NOMINAL + DEV. A "TRUE POSITION" block gives X, Y, Z lines (no band), a DF size and a TP
+//    line: its material condition (MMC, LMC, RFS) for the nominal (0), the measured position
+//    deviation as the actual, judged in 0 .. +TOL + BONUS; there an axis' DEV may be printed as
+//    the magnitude of MEAS - NOMINAL. A printed OUTTOL must be what the band gives the deviation.
 // A deviation the report prints must be actual - nominal within the rounding of the cells (a
 // report that writes nominal - actual is refused: its signs would be read backwards). Refused
-// besides cell errors: no characteristics, a feature and axis twice (naming the first line).
+// besides cell errors: no characteristics, a feature and axis twice (naming the first line), a
+// line missing what it needs ("DIM CIR2 axis X: no MEAS or DEV value ..."): the whole report is
+// refused, naming file and line, rather than judged without one of its characteristics.
 CmmReport read_cmm_results(std::string_view text, const std::string& file);
 
 // ---- Imports: instrument exports as the tracker points of a MeasurementSet ---------------------

@@ -16,6 +16,10 @@
 // span a plane (the normal matrix then has full rank); otherwise only the translation, from every
 // X, Y and Z characteristic. A characteristic without a tolerance band gets the weight of the
 // tightest band in the report (all weights 1 when none has one).
+//
+// A direction that only one characteristic constrains (a part with one Z point) is fitted all the
+// same, but the fit says so (PartOffsetFit::warnings): its displacement is that one feature's
+// deviation, which cannot tell the part's offset from the feature's own error.
 #pragma once
 
 #include "ncqual/solver/instrument_files.hpp"
@@ -48,6 +52,11 @@ struct PartOffsetFit {
   int out_of_tolerance_after = 0;                           // of those judged
   double max_abs_after_mm = 0;        // the largest remaining deviation of those used
   std::vector<std::string> left_out;  // "PNT7: only X of its position" (rotation fits)
+  // Characteristics used along X, Y and Z (the rows of the fit's design matrix per direction).
+  std::vector<int> constraining = {0, 0, 0};
+  // A direction constrained by one characteristic alone: its displacement is that feature's own
+  // deviation, with nothing to check it against ("Z: 1 characteristic (PNT1) ...").
+  std::vector<std::string> warnings;
 };
 
 struct PartInspection {
