@@ -291,7 +291,7 @@ std::string circles_section(const MachineReport& r) {
 
 charts::DisplayUnit display_unit(const std::string& unit) {
   if (unit == "mm") return micrometres();
-  if (unit == "rad") return {180 / units::kPi, "°"};
+  if (unit == "rad") return {1e6, "µrad"};  // angular errors are µrad-sized: µrad, not 0.000767°
   if (unit == "urad") return {1, "µrad"};
   if (unit == "um") return {1, "µm"};
   if (unit == "um/m") return {1, "µm/m"};
@@ -432,7 +432,7 @@ std::string correction_text(const Correction& c) {
     if (o.unit == "mm") {
       out += " " + o.name + " = " + um(o.value, 2);
     } else if (o.unit == "rad") {
-      out += " " + o.name + " = " + fmt::format("{:.6f}°", units::rad_to_deg(o.value));
+      out += " " + o.name + " = " + fmt::format("{:.1f} µrad", o.value * 1e6);
     } else {
       out += " " + o.name + " = " + fmt::format("{:.6g} {}", o.value, o.unit);
     }

@@ -318,7 +318,7 @@ TEST_F(BudgetCli, ErrorsSayWhatIsWrong) {
   EXPECT_NE(fresh.out.find("no historian"), std::string::npos) << fresh.out;
 
   const CliRun unknown = run_cli({"budget", "--plant", plant, "--machine", "nope"});
-  EXPECT_EQ(unknown.exit_code, 1) << unknown.out;
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.out;  // bad usage, as in every command
   EXPECT_NE(unknown.out.find("'nope' is not configured"), std::string::npos) << unknown.out;
 
   const CliRun no_budget = run_cli({"budget", "--plant", plant, "--machine", "m2"});

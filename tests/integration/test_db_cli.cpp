@@ -451,6 +451,7 @@ TEST_F(DbCli, StatusShowsServicesHealthSilenceAndConflicts) {
   EXPECT_EQ(solver.at("oldest_unacknowledged_age_ns"), 90'000'000'000);
   const auto& acquisition = services.at("acquisition");
   EXPECT_EQ(acquisition.at("silent"), true);
+  EXPECT_EQ(acquisition.at("liveness"), "stale");
   EXPECT_EQ(acquisition.at("machine_id"), "m1");
   EXPECT_GE(acquisition.at("age_ns").get<std::int64_t>(), 3'600'000'000'000);
 
@@ -462,7 +463,7 @@ TEST_F(DbCli, StatusShowsServicesHealthSilenceAndConflicts) {
             std::string::npos)
       << text.out;
   EXPECT_NE(text.out.find("FAILED"), std::string::npos) << text.out;
-  EXPECT_NE(text.out.find("silent since"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("stale since"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("90 s"), std::string::npos) << "the solver's oldest sample\n" << text.out;
 }
 

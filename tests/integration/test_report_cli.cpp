@@ -103,7 +103,7 @@ TEST_F(ReportCli, BadInputIsNamedAndWritesNothing) {
   const std::string missing_dir = (tmp_.path() / "no-such-folder" / "r.html").string();
   const std::vector<Case> cases{
       {{"--machine", "pm9", "--out", out_path(), "--plant", plant_}, 2, "pm9"},
-      {{"--machine", "pm9", "--out", out_path(), "--db", db_path()}, 6, "'pm9'"},
+      {{"--machine", "pm9", "--out", out_path(), "--db", db_path()}, 2, "'pm9'"},
       {{"--machine", "pm1", "--check", "nope-7", "--out", out_path(), "--plant", plant_},
        6,
        "'nope-7'"},

@@ -383,7 +383,7 @@ TEST_F(UncertaintyCli, ErrorsSayWhatIsMissingAndBadUsageExitsTwo) {
   EXPECT_NE(no_global.out.find("no global_check"), std::string::npos) << no_global.out;
 
   const CliRun unknown = run_cli(command("nope"));
-  EXPECT_EQ(unknown.exit_code, 1) << unknown.out;
+  EXPECT_EQ(unknown.exit_code, 2) << unknown.out;  // bad usage, as in every command
   EXPECT_NE(unknown.out.find("'nope' is not configured"), std::string::npos) << unknown.out;
 
   const std::string bad_config = tmp_.write(

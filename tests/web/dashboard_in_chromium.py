@@ -26,6 +26,7 @@ import base64
 import glob
 import html
 import json
+import math
 import os
 import queue
 import re
@@ -87,9 +88,18 @@ def get_json(url):
     return json.loads(body)
 
 
-def g6(v):
-    """A value as the pages write it (six significant digits)."""
-    return format(v, ".6g")
+def at_band(v, lower, upper):
+    """A metric's value or bound as the pages write it: to a tenth of its tolerance band (the
+    band's width, or the one limit's size), 4 decimals without one; "-0.000" is "0.000"."""
+    if v is None or math.isnan(v):
+        return "not evaluated"
+    if math.isinf(v):
+        return "&mdash;"
+    finite = [b for b in (lower, upper) if b is not None and math.isfinite(b)]
+    band = upper - lower if len(finite) == 2 else abs(finite[0]) if finite else 0.0
+    decimals = 4 if not band > 0 else min(9, max(0, math.ceil(-math.log10(band / 10) - 1e-9)))
+    text = f"{v:.{decimals}f}"
+    return text[1:] if text.startswith("-") and not text.strip("-0.") else text
 
 
 # ---- A minimal WebSocket client for the DevTools protocol (RFC 6455, text frames) ---------------
@@ -368,7 +378,7 @@ def check_pages(chromium, url, db, outdir, fail_id):
         check(row is not None, f"check page: no row of {name}")
         if row:
             cells = re.findall(r'<td class="nw-num[^"]*">([^<]*)</td>', row.group(0))
-            check(cells == [g6(value), g6(lower), g6(upper)],
+            check(cells == [at_band(x, lower, upper) for x in (value, lower, upper)],
                   f"check page: {name} shows {cells}, database {[value, lower, upper]}")
     for (cause,) in db.execute("SELECT cause FROM causes WHERE request_id = ?", (fail_id,)):
         check(html.escape(cause, quote=False) in check_dom, f"check page: cause {cause!r}")

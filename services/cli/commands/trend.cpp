@@ -104,14 +104,28 @@ std::string optional_ratio(const std::optional<double>& v) {
   return v ? fmt::format("{:.2f}", *v) : std::string("-");
 }
 
+// A forecast date's status (trend::to_string(DateStatus), stable in --json) as people read it.
+std::string date_status_text(const std::string& status) {
+  static const std::map<std::string, std::string> kText{
+      {"already_beyond", "already past"},
+      {"never", "never: the line heads away from the limit"},
+      {"no_trend", "none: no significant trend"},
+      {"no_limit", "none: no limit on the side the line heads to"},
+      {"too_far", "beyond the forecast horizon"},
+      {"not_enough_points", "none: too few checks"},
+  };
+  const auto it = kText.find(status);
+  return it == kText.end() ? status : it->second;
+}
+
 void print_metric_trend(const report::MetricTrend& t, const Calendar& calendar) {
   const auto when = [&](std::optional<std::int64_t> ns) {
     return ns ? calendar.local_text(*ns) : std::string("-");
   };
   const auto date = [&](const report::TrendDate& d) {
     return d.time_ns ? calendar.local_text(*d.time_ns).substr(0, 10) +
-                           (d.status == "date" ? "" : " (" + d.status + ")")
-                     : d.status;
+                           (d.status == "date" ? "" : " (" + date_status_text(d.status) + ")")
+                     : date_status_text(d.status);
   };
   std::string kinds;
   for (CheckKind k : t.check_kinds)
@@ -291,19 +305,25 @@ int run(const Options& o) {
     if (static_cast<int>(ranked.size()) > shown) ranked.resize(static_cast<std::size_t>(shown));
     fmt::print("\n{}  (per {}: runs, and the value nearest its tolerance; (!) out of tolerance)\n",
                to_string(kind), every);
+    // A column is as wide as its metric's name and two spaces: names never run together.
+    const auto width = [](const std::string& name) {
+      return std::max<std::size_t>(26, name.size() + 2);
+    };
     std::string header = fmt::format("  {:<18}{:<14}", every + " from", "pass/fail/inv");
-    for (const auto& [use, name] : ranked) header += fmt::format("{:<26}", name);
+    for (const auto& [use, name] : ranked) header += fmt::format("{:<{}}", name, width(name));
     fmt::print("{}\n", header);
     for (const auto& [start, b] : buckets) {
       std::string line = fmt::format("  {:<18}{:<14}", calendar.local_text(start).substr(0, 10),
                                      fmt::format("{}/{}/{}", b.pass, b.fail, b.invalid));
       for (const auto& [use, name] : ranked) {
         auto it = b.worst.find(name);
-        line += fmt::format(
-            "{:<26}", it == b.worst.end()
-                          ? std::string()
-                          : fmt::format("{} {}{}", format_metric_value(it->second), it->second.unit,
-                                        band_use(it->second) > 1 ? " (!)" : ""));
+        line +=
+            fmt::format("{:<{}}",
+                        it == b.worst.end()
+                            ? std::string()
+                            : fmt::format("{} {}{}", format_metric_value(it->second),
+                                          it->second.unit, band_use(it->second) > 1 ? " (!)" : ""),
+                        width(name));
       }
       fmt::print("{}\n", line);
     }

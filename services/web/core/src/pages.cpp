@@ -88,6 +88,16 @@ std::string number(double v) {
   return fmt::format("{:.6g}", v);
 }
 
+// A metric's value or one of its bounds as people read it: at a tenth of its tolerance band, as
+// the CLI prints it (format_metric_value: 0.000 mm, not 9.34795e-06); NaN and a missing bound in
+// words.
+std::string metric_number(const Metric& metric, double v) {
+  if (!std::isfinite(v)) return number(v);
+  Metric shown = metric;
+  shown.value = v;
+  return format_metric_value(shown);
+}
+
 constexpr const char* kStyle = R"css(
 :root { color-scheme: light; --ink: #1d2430; --muted: #5b6575; --line: #d8dde5;
   --accent: #1f5fa8; --good: #1b7a3a; --bad: #b3261e; --warn: #a15c00; --idle: #6b7280; }
@@ -410,9 +420,9 @@ std::string machine_html(const PlantConfig& plant, const Calendar& calendar,
         t = c.result->time_ns;
         for (const auto& metric : c.result->metrics) {
           if (metric.pass) continue;
-          out_of_tolerance +=
-              (out_of_tolerance.empty() ? "" : ", ") +
-              fmt::format("{} {} {}", esc(metric.name), number(metric.value), esc(metric.unit));
+          out_of_tolerance += (out_of_tolerance.empty() ? "" : ", ") +
+                              fmt::format("{} {} {}", esc(metric.name),
+                                          metric_number(metric, metric.value), esc(metric.unit));
         }
       }
       main += fmt::format(
@@ -499,8 +509,8 @@ std::string check_html(const PlantConfig& plant, const Calendar& calendar,
         main += fmt::format(
             "<tr data-metric=\"{}\"{}><td>{}</td><td class=\"nw-num nw-value\">{}</td>"
             "<td class=\"nw-num\">{}</td><td class=\"nw-num\">{}</td><td>{}</td><td>{}</td></tr>\n",
-            esc(m.name), m.pass ? "" : " class=\"nw-out\"", esc(m.name), number(m.value),
-            number(m.lower), number(m.upper), esc(m.unit),
+            esc(m.name), m.pass ? "" : " class=\"nw-out\"", esc(m.name), metric_number(m, m.value),
+            metric_number(m, m.lower), metric_number(m, m.upper), esc(m.unit),
             m.pass ? "<span class=\"nw-badge nw-ok\">in</span>"
                    : "<span class=\"nw-badge nw-bad\">OUT</span>");
       }
