@@ -93,6 +93,7 @@ int run(const Options& o) {
   }
   const Calendar calendar(plant && plant->calendar ? *plant->calendar : default_calendar_config());
   if (o.since) query.since_ns = plant_time_option("--since", *o.since, calendar);
+  query.calendar = &calendar;
   check_out_path(o.out);
   const std::string db_path = o.db.value_or(plant ? plant->historian_database : "");
   auto opened = open_historian(db_path, "report");
