@@ -30,15 +30,20 @@ struct TimeAxis {
   std::vector<std::string> labels;
 };
 
-// The ticks with the most labels that fit `width` px (labels 14 px apart or more).
-TimeAxis fit_time_axis(std::int64_t lo, std::int64_t hi, double width, const TimeFormatter& fmt) {
+// The ticks with the most labels that fit `width` px (labels 14 px apart or more). In a zone:
+// ticks on its wall clock's round times, labelled with its wall clock, placed at their instants.
+TimeAxis fit_time_axis(std::int64_t lo, std::int64_t hi, double width, const TimeFormatter& fmt,
+                       const TimeZone& zone) {
   TimeAxis axis{lo, hi, {}, {}};
   const double span = static_cast<double>(hi - lo);
+  const bool zoned = zone.to_wall && zone.from_wall;
   for (int n = std::max(2, static_cast<int>(width / 60)); n >= 2; --n) {
-    axis.ticks = time_ticks(lo, hi, n);
+    axis.ticks = zoned ? time_ticks(zone.to_wall(lo), zone.to_wall(hi), n) : time_ticks(lo, hi, n);
     axis.labels.clear();
-    for (const std::int64_t t : axis.ticks.ticks) {
-      axis.labels.push_back(fmt ? fmt(t) : default_time_label(axis.ticks, t));
+    for (std::int64_t& t : axis.ticks.ticks) {
+      const std::int64_t wall = t;
+      if (zoned) t = zone.from_wall(wall);
+      axis.labels.push_back(fmt ? fmt(t) : default_time_label(axis.ticks, wall));
     }
     const double spacing = width * static_cast<double>(axis.ticks.step_ns) / span;
     if (axis.ticks.ticks.size() <= 1 || detail::widest(axis.labels) + 14 <= spacing) break;
@@ -47,12 +52,14 @@ TimeAxis fit_time_axis(std::int64_t lo, std::int64_t hi, double width, const Tim
 }
 
 std::string time_text(const TrendChart& c, std::int64_t t) {
-  return c.time_label ? c.time_label(t) : utc_date_time(t);
+  if (c.time_label) return c.time_label(t);
+  if (c.zone.text) return c.zone.text(t);
+  return utc_date_time(c.zone.to_wall ? c.zone.to_wall(t) : t);
 }
 
 // A date of the forecast: a day is as precise as a forecast gets.
 std::string date_text(const TrendChart& c, std::int64_t t) {
-  return c.time_label ? c.time_label(t) : utc_date(t);
+  return c.time_label ? c.time_label(t) : utc_date(c.zone.to_wall ? c.zone.to_wall(t) : t);
 }
 
 // The fitted value at `t` by linear interpolation between the samples around it.
@@ -320,7 +327,7 @@ std::string trend_chart(const TrendChart& c) {
   const std::int64_t pad = tmax > tmin ? (tmax - tmin) / 30 : kNsPerDay / 2;
   tmin -= pad;
   tmax += pad;
-  const TimeAxis t_axis = fit_time_axis(tmin, tmax, box.width(), c.time_label);
+  const TimeAxis t_axis = fit_time_axis(tmin, tmax, box.width(), c.time_label, c.zone);
   const LinearScale x(0, static_cast<double>(tmax - tmin), box.left, box.right);
   auto tx = [&](std::int64_t t) { return x(static_cast<double>(t - tmin)); };
 

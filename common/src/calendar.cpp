@@ -2,11 +2,13 @@
 #include "ncqual/common/calendar.hpp"
 
 #include "ncqual/common/check_kinds.hpp"
+#include "ncqual/common/clock.hpp"
 #include "ncqual/common/config.hpp"
 
 #include <date/tz.h>
 
 #include <algorithm>
+#include <cctype>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -260,6 +262,45 @@ std::int64_t Calendar::utc_ns(int year, int month, int day, int hour, int minute
                                 std::to_string(day) + " does not exist");
   }
   return to_utc(zone_, date::local_days{ymd} + std::chrono::hours(hour) + minutes(minute));
+}
+
+std::optional<std::int64_t> Calendar::parse_time(std::string_view text) const {
+  std::string s(text);
+  if (s.size() == 10 && s[4] == '-' && s[7] == '-') s += "T00:00";  // a date: its local midnight
+  if (!s.empty() && s.back() == 'Z') return parse_iso8601(s);
+  constexpr std::int64_t kMinuteNs = 60LL * 1000000000LL;
+  // An explicit offset, +HH:MM or -HH:MM after the time (the date's own '-' come before it).
+  if (s.size() >= 16 + 6 && (s[s.size() - 6] == '+' || s[s.size() - 6] == '-') &&
+      s[s.size() - 3] == ':') {
+    const auto digit = [&](std::size_t i) {
+      return std::isdigit(static_cast<unsigned char>(s[i])) ? s[i] - '0' : -100;
+    };
+    const std::size_t k = s.size() - 5;
+    const int hours = digit(k) * 10 + digit(k + 1);
+    const int mins = digit(k + 3) * 10 + digit(k + 4);
+    if (hours < 0 || hours > 23 || mins < 0 || mins > 59) return std::nullopt;
+    const auto wall = parse_iso8601(s.substr(0, s.size() - 6) + "Z");
+    if (!wall) return std::nullopt;
+    const std::int64_t offset_ns = (hours * 60 + mins) * kMinuteNs;
+    return s[s.size() - 6] == '+' ? *wall - offset_ns : *wall + offset_ns;
+  }
+  // A wall-clock time of the plant: read as if UTC, then placed in the zone.
+  const auto wall = parse_iso8601(s + "Z");
+  if (!wall) return std::nullopt;
+  return from_wall_ns(*wall);
+}
+
+std::int64_t Calendar::wall_ns(std::int64_t t_ns) const {
+  const date::sys_time<nanoseconds> sys{nanoseconds(t_ns)};
+  return zone_->to_local(sys).time_since_epoch().count();
+}
+
+std::int64_t Calendar::from_wall_ns(std::int64_t wall_ns) const {
+  // To the minute through the zone's rules (offsets are whole minutes), the rest added back.
+  constexpr std::int64_t kMinuteNs = 60LL * 1000000000LL;
+  const std::int64_t minute = floor_div(wall_ns, kMinuteNs);
+  const LocalSeconds local{std::chrono::duration_cast<seconds>(minutes(minute))};
+  return to_utc(zone_, local) + (wall_ns - minute * kMinuteNs);
 }
 
 }  // namespace ncqual

@@ -260,6 +260,7 @@ MachineReport gather_machine_report(storage::Database& db, const MachineReportQu
   out.machine_id = query.machine_id;
   out.now_ns = query.now_ns;
   out.configured = query.machine != nullptr;
+  if (query.calendar) out.calendar = *query.calendar;
   std::int64_t until_ns = query.now_ns;
   if (query.check_id) {
     auto record = db.find_check(*query.check_id);

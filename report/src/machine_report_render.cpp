@@ -24,20 +24,30 @@ charts::DisplayUnit micrometres() { return {1000, "µm"}; }
 
 std::string esc(std::string_view text) { return svg::escape(text); }
 
-// "2026-03-02 06:00 UTC", or the date alone at midnight.
-std::string when(std::int64_t ns) {
-  const std::string t = charts::utc_date_time(ns);
-  return t + " UTC";
+// "2026-03-02 07:00 +01:00 CET": in the plant's zone with the offset, as `ncqual status` has it.
+std::string when(const MachineReport& r, std::int64_t ns) { return r.calendar.local_text(ns); }
+// The date alone ("2026-03-02") at a local midnight, else when().
+std::string day_or_time(const MachineReport& r, std::int64_t ns) {
+  const std::string day = r.calendar.local_text(ns).substr(0, 10);
+  return r.calendar.parse_time(day) == ns ? day : when(r, ns);
 }
-std::string day_or_time(std::int64_t ns) {
-  constexpr std::int64_t kDay = 86'400'000'000'000;
-  return ns % kDay == 0 ? charts::utc_date(ns) : when(ns);
+// A chart's time axis in the plant's zone: ticks on local days, labels of its wall clock.
+charts::TimeZone chart_zone(const MachineReport& r) {
+  const Calendar* cal = &r.calendar;
+  return {[cal](std::int64_t t) { return cal->wall_ns(t); },
+          [cal](std::int64_t wall) { return cal->from_wall_ns(wall); },
+          [cal](std::int64_t t) { return cal->local_text(t); }};
+}
+
+// The local date of a time.
+std::string local_day(const MachineReport& r, std::int64_t ns) {
+  return r.calendar.local_text(ns).substr(0, 10);
 }
 
 // Where the report looks: "since 2026-01-05", "in check daily-1", "in the historian".
 std::string range_phrase(const MachineReport& r) {
   if (r.check_id) return "in check " + *r.check_id;
-  if (r.since_ns) return "since " + day_or_time(*r.since_ns);
+  if (r.since_ns) return "since " + day_or_time(r, *r.since_ns);
   return "in the historian";
 }
 
@@ -57,12 +67,13 @@ std::string verdict_cell(const std::optional<Verdict>& v) {
 // A length for people: mm shown in µm, never "-0.0".
 std::string um(double mm, int decimals = 1) { return svg::fixed(mm * 1000, decimals) + " µm"; }
 
-std::string check_title(const ReportedCheck& c) {
-  return std::string(check_kind_info(c.kind).title) + " — " + c.request_id + ", " + when(c.time_ns);
+std::string check_title(const MachineReport& r, const ReportedCheck& c) {
+  return std::string(check_kind_info(c.kind).title) + " — " + c.request_id + ", " +
+         when(r, c.time_ns);
 }
 
-std::string check_line(const ReportedCheck& c) {
-  return "<p class=\"check\">" + esc(check_title(c)) + ": " + verdict_cell(c.verdict) + "</p>\n";
+std::string check_line(const MachineReport& r, const ReportedCheck& c) {
+  return "<p class=\"check\">" + esc(check_title(r, c)) + ": " + verdict_cell(c.verdict) + "</p>\n";
 }
 
 std::string figure(const std::string& svg_text) {
@@ -74,7 +85,7 @@ std::string figure(const std::string& svg_text) {
 std::string state_section(const MachineReport& r) {
   std::string h =
       "<section class=\"ncqual-report-state\">\n<h2>State of " + esc(r.machine_id) + "</h2>\n";
-  h += "<p class=\"asof\">As of " + esc(when(r.now_ns)) + "; checks " + esc(range_phrase(r)) +
+  h += "<p class=\"asof\">As of " + esc(when(r, r.now_ns)) + "; checks " + esc(range_phrase(r)) +
        (r.configured ? "" : "; no machine configuration given") + ".</p>\n";
   if (!r.status) {
     h += "<p class=\"none\">No status of " + esc(r.machine_id) + " is stored.</p>\n";
@@ -84,7 +95,7 @@ std::string state_section(const MachineReport& r) {
     h += "<table class=\"status\"><tbody>\n";
     h += "<tr><th>state</th><td><span class=\"state " + esc(state) + "\">" + esc(state) +
          "</span></td></tr>\n";
-    h += "<tr><th>since</th><td>" + esc(when(s.time_ns)) + "</td></tr>\n";
+    h += "<tr><th>since</th><td>" + esc(when(r, s.time_ns)) + "</td></tr>\n";
     if (!s.detail.empty()) h += "<tr><th>detail</th><td>" + esc(s.detail) + "</td></tr>\n";
     if (s.last_kind) {
       h += "<tr><th>last check</th><td>" + esc(to_string(*s.last_kind)) +
@@ -102,9 +113,9 @@ std::string state_section(const MachineReport& r) {
       h += std::string("<li class=\"warning ") + (w.active() ? "active" : "ended") + "\">";
       h += std::string("<strong>") + (w.active() ? "active" : "ended") + "</strong> " +
            esc(w.metric) + " (" + esc(w.kind) + ", " + esc(w.side) + "), raised " +
-           esc(when(w.raised_ns)) + " by " + esc(w.raised_by);
+           esc(when(r, w.raised_ns)) + " by " + esc(w.raised_by);
       if (w.ended_ns) {
-        h += ", ended " + esc(when(*w.ended_ns)) + (w.ended_by ? " by " + esc(*w.ended_by) : "");
+        h += ", ended " + esc(when(r, *w.ended_ns)) + (w.ended_by ? " by " + esc(*w.ended_by) : "");
       }
       h += ": " + esc(w.text) + "</li>\n";
     }
@@ -138,7 +149,7 @@ std::string grid_section(const MachineReport& r) {
   std::string h = "<section class=\"ncqual-report-grid\">\n<h2>Monthly grid</h2>\n";
   if (!r.grid) return h + none_sentence("monthly grid", r) + "</section>\n";
   const GridSection& g = *r.grid;
-  h += check_line(g.check);
+  h += check_line(r, g.check);
   if (!g.check.error.empty()) {
     return h + "<p class=\"none\">The grid's charts cannot be drawn: " + esc(g.check.error) +
            ".</p>\n</section>\n";
@@ -212,7 +223,7 @@ std::string linear_section(const MachineReport& r) {
       "<section class=\"ncqual-report-linear\">\n<h2>Linear axis positioning (ISO 230-2)</h2>\n";
   if (!r.linear_run) return h + none_sentence("ISO 230-2 linear axis run", r) + "</section>\n";
   const LinearRunSection& s = *r.linear_run;
-  h += check_line(s.check);
+  h += check_line(r, s.check);
   if (!s.evaluation) {
     return h + "<p class=\"none\">The run's chart cannot be drawn: " + esc(s.check.error) +
            ".</p>\n</section>\n";
@@ -246,7 +257,7 @@ std::string circles_section(const MachineReport& r) {
   h += "<p class=\"how\">The radial deviation from the nominal circle against the angle, both "
        "directions, magnified around the reference circle.</p>\n";
   for (const CircleSection& s : r.circles) {
-    h += "<div class=\"circle\">" + check_line(s.check);
+    h += "<div class=\"circle\">" + check_line(r, s.check);
     if (!s.evaluation) {
       h += "<p class=\"none\">The test's chart cannot be drawn: " + esc(s.check.error) +
            ".</p></div>\n";
@@ -298,7 +309,7 @@ charts::DisplayUnit display_unit(const std::string& unit) {
   return {1, unit};
 }
 
-std::string trend_figures(const MetricTrend& t) {
+std::string trend_figures(const MachineReport& r, const MetricTrend& t) {
   std::vector<std::string> parts;
   parts.push_back(std::to_string(t.checks) + (t.checks == 1 ? " check" : " checks"));
   if (t.pass_rate.rate) parts.push_back(fmt::format("pass rate {:.0f} %", 100 * *t.pass_rate.rate));
@@ -308,7 +319,7 @@ std::string trend_figures(const MetricTrend& t) {
     const charts::DisplayUnit u = display_unit(t.unit);
     parts.push_back(fmt::format("slope {:.3g} {}/day", f.slope_per_day * u.scale, u.unit));
     if (f.expected.status == "date" && f.expected.time_ns) {
-      parts.push_back("expected to cross its limit " + charts::utc_date(*f.expected.time_ns));
+      parts.push_back("expected to cross its limit " + local_day(r, *f.expected.time_ns));
     }
   }
   if (!t.error.empty()) parts.push_back(t.error);
@@ -341,7 +352,7 @@ std::string trends_section(const MachineReport& r) {
                    "</td><td>" + esc(shown(p.value)) + "</td><td>" +
                    esc("[" + shown(p.lower) + ", " + shown(p.upper) + "]") + "</td><td>" +
                    esc(u.unit) + "</td><td>" + esc(p.request_id) + "</td><td>" +
-                   esc(when(p.time_ns)) + "</td></tr>\n";
+                   esc(when(r, p.time_ns)) + "</td></tr>\n";
       }
       continue;
     }
@@ -349,6 +360,8 @@ std::string trends_section(const MachineReport& r) {
     c.title = r.machine_id + ": " + t.metric;
     c.quantity = t.metric;
     c.unit = display_unit(t.unit);
+    c.zone = chart_zone(r);
+    c.time_title = "date (" + r.calendar.zone_name() + ")";
     std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = r.now_ns;
     for (const auto& p : t.points) {
       lo = std::min(lo, p.time_ns);
@@ -388,7 +401,7 @@ std::string trends_section(const MachineReport& r) {
            m.compensation ? charts::MarkerKind::Compensation : charts::MarkerKind::Intervention});
     }
     h += "<div class=\"trend\">" + figure(charts::trend_chart(c)) + "<p class=\"figures\">" +
-         esc(trend_figures(t)) + "</p></div>\n";
+         esc(trend_figures(r, t)) + "</p></div>\n";
   }
   if (!r.other_metrics.empty()) {
     h += "<h3>The other " + std::to_string(r.other_metrics.size()) + " metrics " +
@@ -411,7 +424,7 @@ std::string trends_section(const MachineReport& r) {
            "</td><td>" + esc(m.checks > 0 ? shown(m.value) : std::string("—")) + "</td><td>" +
            esc("[" + shown(m.lower) + ", " + shown(m.upper) + "]") + "</td><td>" + esc(u.unit) +
            "</td><td>" + esc(m.checks > 0 ? fmt::format("{:.0f} %", 100 * m.usage) : "—") +
-           "</td><td>" + esc(m.checks > 0 ? when(m.time_ns) : std::string("—")) + "</td></tr>\n";
+           "</td><td>" + esc(m.checks > 0 ? when(r, m.time_ns) : std::string("—")) + "</td></tr>\n";
     }
     h += "</tbody></table>\n";
   }
@@ -443,7 +456,8 @@ std::string correction_text(const Correction& c) {
 std::string checks_section(const MachineReport& r) {
   std::string h = "<section class=\"ncqual-report-checks\">\n<h2>Checks</h2>\n";
   if (r.checks.empty()) return h + none_sentence("check", r) + "</section>\n";
-  h += "<table class=\"checks\">\n<thead><tr><th>time (UTC)</th><th>kind</th><th>request</th>"
+  h += "<table class=\"checks\">\n<thead><tr><th>time (" + esc(r.calendar.zone_name()) +
+       ")</th><th>kind</th><th>request</th>"
        "<th>verdict</th><th>causes (most likely first)</th><th>corrections</th></tr></thead>\n"
        "<tbody>\n";
   for (const auto& c : r.checks) {
@@ -451,8 +465,8 @@ std::string checks_section(const MachineReport& r) {
                            : c.measurement ? c.measurement->time_ns
                            : c.request     ? c.request->time_ns
                                            : 0;
-    h += "<tr><td class=\"time\">" + esc(charts::utc_date_time(t)) + "</td><td>" +
-         esc(to_string(c.kind)) + "</td><td>" + esc(c.request_id) + "</td><td>" +
+    h += "<tr><td class=\"time\">" + esc(when(r, t)) + "</td><td>" + esc(to_string(c.kind)) +
+         "</td><td>" + esc(c.request_id) + "</td><td>" +
          verdict_cell(c.result ? std::optional<Verdict>(c.result->verdict) : std::nullopt);
     if (c.result && !c.result->reason.empty()) {
       h += "<div class=\"reason\">" + esc(c.result->reason) + "</div>";
@@ -482,7 +496,7 @@ std::string budget_section(const MachineReport& r) {
   c.description = fmt::format(
       "The newest value of each metric, up to {}; capabilities from the "
       "newest {} values.",
-      when(b.until_ns), b.last);
+      when(r, b.until_ns), b.last);
   if (b.judgement.verdict == solver::BudgetVerdict::Held) {
     c.description += " The machine is held: not within budget whatever the total.";
   }
@@ -565,15 +579,16 @@ div.plane, div.trend, div.circle { break-inside: avoid; page-break-inside: avoid
 std::string machine_report_document(const MachineReport& report) {
   std::string h = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n";
   h += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"/>\n";
-  h +=
-      "<title>" +
-      esc("Qualification report of " + report.machine_id + ", " + charts::utc_date(report.now_ns)) +
-      "</title>\n<style>\n" + report_stylesheet() + "</style>\n</head>\n<body>\n";
+  h += "<title>" +
+       esc("Qualification report of " + report.machine_id + ", " +
+           local_day(report, report.now_ns)) +
+       "</title>\n<style>\n" + report_stylesheet() + "</style>\n</head>\n<body>\n";
   h += "<main class=\"ncqual-report\">\n<h1>" + esc("Qualification report: " + report.machine_id) +
        "</h1>\n";
   h += machine_report_sections(report);
   const std::string by = report.produced_by.empty() ? "ncqual report" : report.produced_by;
-  h += "<footer><p class=\"how\">Written by " + esc(by) + " as of " + esc(when(report.now_ns)) +
+  h += "<footer><p class=\"how\">Written by " + esc(by) + " as of " +
+       esc(when(report, report.now_ns)) +
        ". Lengths in µm, angles in degrees.</p></footer>\n</main>\n</body>\n</html>\n";
   return h;
 }

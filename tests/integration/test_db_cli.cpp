@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -371,6 +372,74 @@ TEST_F(DbCli, HistoryIsInThePlantsTimeZoneWithTheOffsetAndSaysWhoOrdered) {
   const CliRun utc = run_cli({"history", "--db", file}, Capture::Separate);
   ASSERT_EQ(utc.exit_code, 0) << utc.out << utc.err;
   EXPECT_NE(utc.out.find("2027-01-15 08:00:01 +00:00 UTC"), std::string::npos) << utc.out;
+}
+
+// Issue 37 point 7: dates on the command line are read in the plant's zone. In Berlin (CET,
+// +01:00 in January) 2027-01-14 23:30Z is 00:30 on the 15th and 22:30Z is 23:30 on the 14th:
+// `--since 2027-01-15` (local midnight, 23:00Z) takes the first and not the second. A time with Z
+// or an offset means what it says.
+TEST_F(DbCli, CommandLineDatesAreReadInThePlantsTimeZone) {
+  const std::string file = path("since.db");
+  constexpr std::int64_t kLocal0030 = 1'799'969'400'000'000'000;  // 2027-01-14T23:30:00Z
+  constexpr std::int64_t kLocal2330 = 1'799'965'800'000'000'000;  // 2027-01-14T22:30:00Z
+  {
+    auto db = storage::Database::open(file);
+    for (const auto& [i, t] : {std::pair{1, kLocal0030}, std::pair{2, kLocal2330}}) {
+      CheckRequest q = request(i);
+      q.time_ns = t;
+      db.store(q);
+      CheckResult r = result(i);
+      r.time_ns = t + 60'000'000'000;
+      db.store(r);
+    }
+  }
+  const std::string berlin =
+      write_plant(file, "scheduler:\n  calendar:\n    time_zone: Europe/Berlin\n");
+  const auto trend_ids = [&](const std::vector<std::string>& range, const std::string& plant) {
+    std::vector<std::string> args{"trend",  "--machine", "m1", "--metric", "center_dx_mm",
+                                  "--json", "--db",      file, "--plant",  plant};
+    args.insert(args.end(), range.begin(), range.end());
+    const CliRun r = run_cli(args, Capture::Separate);
+    EXPECT_EQ(r.exit_code, 0) << joined(args) << "\n" << r.out << r.err;
+    std::set<std::string> ids;
+    if (r.exit_code != 0) return ids;
+    const nlohmann::json doc = nlohmann::json::parse(r.out);
+    for (const auto& p : doc.at("points")) {
+      ids.insert(p.at("request_id").get<std::string>());
+    }
+    return ids;
+  };
+  EXPECT_EQ(trend_ids({"--since", "2027-01-15"}, berlin), std::set<std::string>{"req-1"});
+  EXPECT_EQ(trend_ids({"--until", "2027-01-15"}, berlin), std::set<std::string>{"req-2"});
+  EXPECT_EQ(trend_ids({"--since", "2027-01-15T00:15"}, berlin), std::set<std::string>{"req-1"});
+  EXPECT_EQ(trend_ids({"--since", "2027-01-14T22:00Z"}, berlin),
+            (std::set<std::string>{"req-1", "req-2"}));
+  EXPECT_EQ(trend_ids({"--since", "2027-01-15T00:00+02:00"}, berlin),
+            (std::set<std::string>{"req-1", "req-2"}));
+  // `export` reads --since the same way and says its range in the zone; the files keep UTC.
+  const std::string dir = path("since-export");
+  const CliRun e =
+      run_cli({"export", "--db", file, "--plant", berlin, "--since", "2027-01-15", "--csv", dir},
+              Capture::Separate);
+  ASSERT_EQ(e.exit_code, 0) << e.out << e.err;
+  EXPECT_NE(e.out.find("from 2027-01-15 00:00:00 +01:00 CET to the newest row"), std::string::npos)
+      << e.out;
+  const std::string requests = read_file(dir + "/requests.csv");
+  EXPECT_NE(requests.find("\nreq-1,"), std::string::npos) << requests;
+  EXPECT_EQ(requests.find("req-2"), std::string::npos) << requests;
+  // The same check in `history`, read in the same zone: its result, a minute after 00:30 local.
+  const CliRun h = run_cli({"history", "--db", file, "--plant", berlin}, Capture::Separate);
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  EXPECT_NE(h.out.find("2027-01-15 00:31:00 +01:00 CET"), std::string::npos) << h.out;
+  // A date the zone cannot read is named with the zone.
+  const CliRun bad = run_cli({"trend", "--machine", "m1", "--metric", "center_dx_mm", "--since",
+                              "15.01.2027", "--db", file, "--plant", berlin},
+                             Capture::Separate);
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--since '15.01.2027': expected a date or time in the plant's time zone "
+                         "(Europe/Berlin)"),
+            std::string::npos)
+      << bad.err;
 }
 
 TEST_F(DbCli, CountOfAMissingDatabaseIsNotFound) {

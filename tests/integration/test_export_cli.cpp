@@ -395,7 +395,7 @@ TEST_F(DbExport, BadInputIsNamedWithItsExitCode) {
     EXPECT_NE(r.err.find(named), std::string::npos) << testing_cli::joined(args) << "\n" << r.err;
   };
   refused({"export", "--db", db, "--csv", path("a"), "--since", "last week"}, 2,
-          "--since 'last week': expected a UTC date or time");
+          "--since 'last week': expected a date or time in the plant's time zone (UTC)");
   refused(
       {"export", "--db", db, "--csv", path("a"), "--since", "2027-01-10", "--until", "2027-01-32"},
       2, "--until '2027-01-32'");
@@ -668,7 +668,8 @@ TEST_F(DbThin, BadInputIsNamedWithItsExitCode) {
   const CliRun date =
       run_cli({"db", "thin", "--db", file, "--before", "last year"}, Capture::Separate);
   EXPECT_EQ(date.exit_code, 2) << date.err;
-  EXPECT_NE(date.err.find("--before 'last year': expected a UTC date or time"), std::string::npos)
+  EXPECT_NE(date.err.find("--before 'last year': expected a date or time in the plant's time zone"),
+            std::string::npos)
       << date.err;
   const std::string missing = (tmp_.path() / "none.db").string();
   const CliRun none =

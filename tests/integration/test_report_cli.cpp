@@ -12,6 +12,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -62,7 +63,8 @@ TEST_F(ReportCli, WritesTheWholeReportAsOfTheSimulatedClock) {
   EXPECT_NE(r.out.find("wrote " + out_path()), std::string::npos) << r.out;
   const std::string html = read(out_path());
   // "Now" on a simulated clock is the machine's newest status: day 14, 2026-03-16.
-  EXPECT_NE(html.find("As of 2026-03-16 00:00 UTC; checks since 2026-03-01."), std::string::npos);
+  EXPECT_NE(html.find("As of 2026-03-16 00:00 +00:00 UTC; checks since 2026-03-01."),
+            std::string::npos);
   // The software that wrote it, as `ncqual --version` names it.
   EXPECT_NE(html.find("Written by ncqual report 0.1.0 (git "), std::string::npos);
   const nlohmann::json doc = inspect(out_path());
@@ -82,6 +84,44 @@ TEST_F(ReportCli, WritesTheWholeReportAsOfTheSimulatedClock) {
     files += e.path().filename().string().rfind("pm1.html", 0) == 0;
   }
   EXPECT_EQ(files, 1);
+}
+
+// Issue 37 point 7: one clock. In a Berlin plant (CET, +01:00 in March 2026 before the 29th)
+// daily-12's result, 2026-03-14 06:00Z, is 07:00 local in `history`, in the report's checks
+// table and in the text of its trend chart; the status of 2026-03-16 00:00Z is 01:00 local in
+// `status` and in the report. `--since 2026-03-12` is local midnight (2026-03-11 23:00Z): daily-10
+// (12 March, 07:00 local) is in, daily-9 (11 March) is not.
+TEST_F(ReportCli, EveryTimeAPersonReadsIsInThePlantsZone) {
+  const std::string berlin = tmp_.write(
+      "berlin.yaml", "plant: report-test\ndomain_id: 0\nhistorian:\n  database: " + db_path() +
+                         "\nclock: {mode: simulated, start: 2026-03-01T00:00:00Z}\nmachines:\n  "
+                         "- " NCQUAL_SOURCE_DIR
+                         "/deploy/machines/pm1.yaml\nscheduler:\n  calendar:\n    time_zone: "
+                         "Europe/Berlin\n");
+  const CliRun history = run_cli({"history", "--machine", "pm1", "--plant", berlin});
+  ASSERT_EQ(history.exit_code, 0) << history.out;
+  EXPECT_NE(history.out.find("2026-03-14 07:00:00 +01:00 CET"), std::string::npos) << history.out;
+  const CliRun status = run_cli({"status", "--machine", "pm1", "--plant", berlin});
+  EXPECT_NE(status.out.find("2026-03-16 01:00 +01:00 CET"), std::string::npos) << status.out;
+
+  const CliRun r = run_cli({"report", "--machine", "pm1", "--since", "2026-03-12", "--out",
+                            out_path(), "--plant", berlin});
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const std::string html = read(out_path());
+  EXPECT_NE(html.find("As of 2026-03-16 01:00 +01:00 CET; checks since 2026-03-12."),
+            std::string::npos);
+  EXPECT_NE(html.find("<th>time (Europe/Berlin)</th>"), std::string::npos);
+  EXPECT_NE(html.find("date (Europe/Berlin)"), std::string::npos) << "the trend charts' axes";
+  EXPECT_EQ(html.find("date (UTC)"), std::string::npos);
+  EXPECT_NE(html.find("daily-12: 2026-03-14 07:00 +01:00 CET, "), std::string::npos)
+      << "daily-12 in the trend chart's tooltip";
+  const nlohmann::json doc = inspect(out_path());
+  ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
+  std::map<std::string, std::string> checks;  // request id -> time cell
+  for (const auto& row : doc["checks"]) checks[row[2].get<std::string>()] = row[0];
+  EXPECT_EQ(checks["daily-12"], "2026-03-14 07:00 +01:00 CET");
+  EXPECT_EQ(checks["daily-10"], "2026-03-12 07:00 +01:00 CET");
+  EXPECT_EQ(checks.count("daily-9"), 0u) << "11 March is before local midnight of the 12th";
 }
 
 TEST_F(ReportCli, OneCheckWithDbAlone) {

@@ -43,6 +43,8 @@ import time
 import urllib.error
 import urllib.parse
 import urllib.request
+import zoneinfo
+from datetime import datetime, timezone
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
@@ -396,6 +398,24 @@ def check_pages(chromium, url, db, outdir, fail_id):
     check(served_charts > 0, "machine page: no chart (svg.ncqual-chart) served")
     check(dom_charts == served_charts, f"machine page: {dom_charts} charts in the DOM, "
           f"{served_charts} served")
+
+    # One clock: the newest failure's time, worked out here with Python's zoneinfo, reads the same
+    # in the page's own table and in the report's checks table (the fixture plant is in Berlin),
+    # and no time on the page is in UTC (but the budget's reason for a held machine, which still
+    # writes its status time in UTC: docs/report.md).
+    (t_ns,) = db.execute("SELECT time_ns FROM results WHERE request_id = ?", (fail_id,)).fetchone()
+    local = datetime.fromtimestamp(t_ns // 1_000_000_000, timezone.utc).astimezone(
+        zoneinfo.ZoneInfo("Europe/Berlin"))
+    text = local.strftime("%Y-%m-%d %H:%M ") + local.strftime("%z")[:3] + ":" + \
+        local.strftime("%z")[3:] + " " + local.tzname()
+    report_at = machine.find('class="ncqual-report-checks"')
+    check(0 <= machine.find(text) < report_at, f"machine page: its own table lacks {text}")
+    check(report_at >= 0 and machine.find(text, report_at) >= 0,
+          f"machine page: the report's checks table lacks {text}")
+    budget_at = machine.find('class="ncqual-report-budget"')
+    utc = re.search(r"\(UTC\)|\d\d:\d\d(:\d\d)? (\+00:00 )?UTC", machine[:budget_at])
+    check(utc is None, f"machine page: a time in UTC: {utc.group(0) if utc else ''}")
+    check("date (Europe/Berlin)" in machine, "machine page: the trend axes do not name the zone")
 
 
 def check_live(chromium, url, fixture, directory):

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -164,6 +165,35 @@ TEST_F(Dashboard, TheBudgetsAreEvaluatedAgainOnlyForAMachineWithANewResult) {
     store(db, "r3", kNow - 20 * kSecond, Verdict::Pass);
   }
   EXPECT_EQ(d.refresh_budgets([] { return true; }), 0u);
+}
+
+// Issue 37 point 7: one clock. The machine page's own tables and the report sections it embeds
+// read the same check at the same local time with its offset; nothing on it is UTC. r<1> is at
+// 2027-01-15 07:59Z: 08:59 in Berlin (CET, +01:00).
+TEST_F(Dashboard, TheMachinePageReadsEveryTimeInThePlantsZone) {
+  std::ofstream(dir_ / "plant.yaml")
+      << "plant: unit\nhistorian: {database: historian.db}\nmachines: [pm1.yaml]\n"
+         "scheduler:\n  calendar:\n    time_zone: Europe/Berlin\n";
+  {
+    auto db = storage::Database::open((dir_ / "historian.db").string());
+    store(db, "r2", kNow - 30 * kSecond, Verdict::Pass);  // two checks: a trend chart
+  }
+  auto d = make();
+  const auto page = get(d, "/machines/pm1");
+  ASSERT_EQ(page.status, 200) << page.body;
+  const std::string& html = page.body;
+  const std::string local = "2027-01-15 08:59 +01:00 CET";
+  const std::size_t report = html.find("ncqual-report-checks");
+  ASSERT_NE(report, std::string::npos) << html;
+  EXPECT_NE(html.find(local), std::string::npos) << "the page's failures";
+  EXPECT_LT(html.find(local), report) << "the page's own table, before the report's";
+  EXPECT_NE(html.find(local, report), std::string::npos) << "the report's checks table";
+  EXPECT_NE(html.find("<th>time (Europe/Berlin)</th>"), std::string::npos);
+  EXPECT_NE(html.find("date (Europe/Berlin)"), std::string::npos) << "the trend chart's axis";
+  EXPECT_EQ(html.find("07:59"), std::string::npos) << "the UTC reading of the check";
+  const std::regex utc("\\(UTC\\)|[0-9]{2}:[0-9]{2}(:[0-9]{2})? (\\+00:00 )?UTC");
+  EXPECT_FALSE(std::regex_search(html, utc)) << html;
+  EXPECT_NE(html.find("data-time-zone=\"Europe/Berlin\""), std::string::npos);
 }
 
 }  // namespace

@@ -196,10 +196,15 @@ void add_sample_filter_options(CLI::App* command, std::vector<std::string>& topi
 // The ncqual topics --topics names (recording::topics_named); UsageError naming an unknown one.
 std::vector<const dds::TopicInfo*> topics_option(const std::vector<std::string>& names);
 
-// A UTC date ("2027-01-15": its midnight) or time ("2027-01-15T06:00Z", "2027-01-15
-// 06:00:30.5Z") given to `flag`, in ns since the epoch; UsageError naming the flag and the text
-// when it is neither.
-std::int64_t utc_time_option(const std::string& flag, const std::string& text);
+// A date or time given to `flag` (--since, --until, --before), read in the plant's time zone
+// (Calendar::parse_time: "2027-01-15" is its local midnight, "2027-01-15T06:00" a local time, a
+// time with Z or an offset means what it says), in ns since the epoch; UsageError naming the
+// flag, the text and the zone when it is none of these.
+std::int64_t plant_time_option(const std::string& flag, const std::string& text,
+                               const Calendar& calendar);
+// What a date flag's help says of its zone.
+inline constexpr const char* kPlantZoneHelp =
+    "in the plant's time zone (UTC without a plant config)";
 
 // The operator: $USER, else the host name.
 std::string operator_name();

@@ -27,8 +27,9 @@ struct ThinOptions {
 int run_thin(const ThinOptions& o) {
   const std::int64_t now_ns = WallClock().now_ns();
   std::int64_t before_ns = 0;
+  const Calendar calendar = plant_calendar(o.plant);
   if (!o.before.empty()) {
-    before_ns = utc_time_option("--before", o.before);
+    before_ns = plant_time_option("--before", o.before, calendar);
   } else {
     const PlantConfig plant = plant_from(o.plant);
     const auto policy = plant.retention.thin_points_before_ns(now_ns);
@@ -39,7 +40,6 @@ int run_thin(const ThinOptions& o) {
     before_ns = *policy;
   }
   const std::string path = database_path(o.db, o.plant);
-  const Calendar calendar = plant_calendar(o.plant);
   // Read only first: a missing file is not created, and another schema version is refused
   // rather than migrated under a running historian.
   if (!open_historian(path, "db thin")) return kExitNotFound;
@@ -82,8 +82,9 @@ void add_thin(CLI::App* db, Commands& commands) {
       "keeping every request, result, metric, cause and status; safe while the historian runs",
       run_thin);
   thin->add_option("--before", t->before,
-                   "a UTC date or time, e.g. 2025-01-01 (default: the plant's "
-                   "historian.retention.thin_points_after_months before now)")
+                   std::string("a date or time, e.g. 2025-01-01, ") + kPlantZoneHelp +
+                       " (default: the plant's historian.retention.thin_points_after_months "
+                       "before now)")
       ->type_name("D");
   thin->add_flag("--dry-run", t->dry_run, "count what would be deleted; change nothing");
   add_plant_option(thin, t->plant);

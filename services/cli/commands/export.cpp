@@ -5,10 +5,10 @@
 //   ncqual export --since D [--until D] [--machine M,...] --csv DIR [--overwrite]
 //                 [--plant F | --db F]
 //     One CSV file per table of the historian (storage::exported_tables) into DIR, from one read
-//     transaction: the rows of [--since, --until) (UTC dates or times; a row's own time, the
-//     parts of a sample by their sample's) of the machines named (all without --machine); then
-//     manifest.json (this build, the database and its schema version, the filter, rows, bytes and
-//     columns per file, when), written last: a folder without it is an export that did not end.
+//     transaction: the rows of [--since, --until) (dates or times in the plant's zone; a row's own
+//     time, the parts of a sample by their sample's) of the machines named (all without --machine);
+//     then manifest.json (this build, the database and its schema version, the filter, rows, bytes
+//     and columns per file, when), written last: a folder without it is an export that did not end.
 //     DIR is created; an existing DIR must be empty, or --overwrite replaces the files of those
 //     names. Exit codes: 0, 2 bad usage (a date, DIR a file or not empty, a machine the
 //     plant does not configure, or without a plant config the historian does not hold), 6 no file
@@ -130,9 +130,10 @@ void prepare_folder(const ExportOptions& o) {
 
 int run_export(const ExportOptions& o) {
   storage::ExportFilter filter;
-  filter.since_ns = utc_time_option("--since", o.since);
+  const Calendar calendar = plant_calendar(o.plant);
+  filter.since_ns = plant_time_option("--since", o.since, calendar);
   if (!o.until.empty()) {
-    filter.until_ns = utc_time_option("--until", o.until);
+    filter.until_ns = plant_time_option("--until", o.until, calendar);
     if (filter.until_ns <= filter.since_ns) {
       throw UsageError("--until " + o.until + " is not after --since " + o.since);
     }
@@ -181,11 +182,11 @@ int run_export(const ExportOptions& o) {
 
   std::cout << fmt::format("exported {} into {}: {} files, {} rows, {}, in {:.2f} s\n", path, o.csv,
                            report.tables.size(), rows, size_text(bytes), seconds);
-  std::cout << fmt::format("  from {} to {}, {}\n", manifest.filter.since_utc,
-                           manifest.filter.until_utc.value_or("the newest row"),
-                           filter.machines.empty()
-                               ? std::string("every machine")
-                               : "machines " + fmt::format("{}", fmt::join(filter.machines, ",")));
+  std::cout << fmt::format(
+      "  from {} to {}, {}\n", calendar.local_text(filter.since_ns, true),
+      o.until.empty() ? std::string("the newest row") : calendar.local_text(filter.until_ns, true),
+      filter.machines.empty() ? std::string("every machine")
+                              : "machines " + fmt::format("{}", fmt::join(filter.machines, ",")));
   for (const auto& t : report.tables) {
     std::cout << fmt::format("  {:<28} {:>9} rows\n", t.file, t.rows);
   }
@@ -252,11 +253,14 @@ void add_export(CLI::App& app, Commands& commands) {
       "CSV files of the historian's tables for a time range and machines, from one snapshot,\n"
       "with manifest.json; read only, the historian may be running (docs/export.md)",
       run_export);
-  cmd->add_option("--since", o->since,
-                  "from this UTC date or time on (2027-01-01, 2027-01-01T06:00Z)")
+  cmd->add_option(
+         "--since", o->since,
+         std::string("from this date or time on (2027-01-01, 2027-01-01T06:00), ") + kPlantZoneHelp)
       ->type_name("D")
       ->required();
-  cmd->add_option("--until", o->until, "before this UTC date or time (default: up to the newest)")
+  cmd->add_option("--until", o->until,
+                  std::string("before this date or time, ") + kPlantZoneHelp +
+                      " (default: up to the newest)")
       ->type_name("D");
   cmd->add_option("--machine", o->machines, "only these machines' rows (default: every machine)")
       ->delimiter(',')

@@ -213,12 +213,13 @@ std::pair<double, double> centre_option(const std::string& text) {
   return {number(text.substr(0, comma)), number(text.substr(comma + 1))};
 }
 
-std::int64_t utc_time_option(const std::string& flag, const std::string& text) {
-  // A date alone is its midnight, UTC: the same reading as a time without seconds.
-  const bool date_only = text.size() == 10 && text[4] == '-' && text[7] == '-';
-  if (const auto t = parse_iso8601(date_only ? text + "T00:00Z" : text)) return *t;
-  throw UsageError(flag + " '" + text +
-                   "': expected a UTC date or time such as 2027-01-15 or 2027-01-15T06:00Z");
+std::int64_t plant_time_option(const std::string& flag, const std::string& text,
+                               const Calendar& calendar) {
+  if (const auto t = calendar.parse_time(text)) return *t;
+  throw UsageError(flag + " '" + text + "': expected a date or time in the plant's time zone (" +
+                   calendar.zone_name() +
+                   ") such as 2027-01-15 or 2027-01-15T06:00, or a time with Z or an offset such "
+                   "as 2027-01-15T06:00Z or 2027-01-15T06:00+01:00");
 }
 
 std::string operator_name() {

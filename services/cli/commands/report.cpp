@@ -8,11 +8,11 @@
 // machine's state and trend warnings, the newest monthly grid, ISO 230-2 run and circular tests
 // of the range, each metric's trend, the checks of the range, the error budget; and writes
 // report::machine_report_document into FILE (a temporary file beside it, renamed: FILE is whole
-// or untouched). --since: a UTC date or time as `ncqual trend` takes it; --check: one check by its
-// request id. "Now" is `ncqual status`'s: the wall clock, or on a simulated clock the machine's
-// newest status time. The plant config (--plant or NCQUAL_PLANT) gives the machine's nominal
-// positions and budget, the clock and the historian; without one, --db names the historian and
-// the sections that need the machine's configuration say so.
+// or untouched). --since: a date or time in the plant's zone as `ncqual trend` takes it; --check:
+// one check by its request id. "Now" is `ncqual status`'s: the wall clock, or on a simulated clock
+// the machine's newest status time. The plant config (--plant or NCQUAL_PLANT) gives the machine's
+// nominal positions and budget, the clock and the historian; without one, --db names the historian
+// and the sections that need the machine's configuration say so.
 //
 // Exit codes: 0 written; 2 bad usage (a bad date, --check with --since, a machine the plant does
 // not configure or, without a plant config, the historian holds nothing of; no plant and no
@@ -81,7 +81,6 @@ int run(const Options& o) {
   report::MachineReportQuery query;
   query.machine_id = o.machine;
   query.check_id = o.check;
-  if (o.since) query.since_ns = utc_time_option("--since", *o.since);
 
   const std::string plant_file = plant_config_path(o.plant);
   if (plant_file.empty() && !o.db) {
@@ -92,6 +91,9 @@ int run(const Options& o) {
     plant = load_plant_config(plant_file);
     query.machine = &configured_machine(*plant, o.machine);
   }
+  const Calendar calendar(plant && plant->calendar ? *plant->calendar : default_calendar_config());
+  if (o.since) query.since_ns = plant_time_option("--since", *o.since, calendar);
+  query.calendar = &calendar;
   check_out_path(o.out);
   const std::string db_path = o.db.value_or(plant ? plant->historian_database : "");
   auto opened = open_historian(db_path, "report");
@@ -129,7 +131,8 @@ void add_report(CLI::App& app, Commands& commands) {
       run);
   add_machine_option(cmd, o->machine, "the machine to report on");
   cmd->add_option("--check", o->check, "only this check (its request id)")->type_name("ID");
-  cmd->add_option("--since", o->since, "the checks at or after this UTC date or time")
+  cmd->add_option("--since", o->since,
+                  std::string("the checks at or after this date or time, ") + kPlantZoneHelp)
       ->type_name("D");
   cmd->add_option("--out", o->out, "the HTML file to write (replaced whole)")
       ->type_name("FILE.html")

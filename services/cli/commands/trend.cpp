@@ -218,8 +218,9 @@ int run_metric(const Options& o, const PlantConfig& plant, const std::string& ma
   report::MetricTrendQuery query;
   query.machine_id = machine;
   query.metric = *o.metric;
-  if (o.since) query.since_ns = utc_time_option("--since", *o.since);
-  if (o.until) query.until_ns = utc_time_option("--until", *o.until);
+  const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
+  if (o.since) query.since_ns = plant_time_option("--since", *o.since, calendar);
+  if (o.until) query.until_ns = plant_time_option("--until", *o.until, calendar);
   query.last = o.last;
   const std::string db_path = o.db.value_or(plant.historian_database);
   auto opened = open_historian(db_path, "trend");
@@ -243,7 +244,7 @@ int run_metric(const Options& o, const PlantConfig& plant, const std::string& ma
   } else if (t.checks == 0) {
     fmt::print("no check of {} reports {} in the range asked\n", machine, *o.metric);
   } else {
-    print_metric_trend(t, Calendar(plant.calendar.value_or(default_calendar_config())));
+    print_metric_trend(t, calendar);
   }
   return kExitOk;
 }
@@ -350,9 +351,13 @@ void add_trend(CLI::App& app, Commands& commands) {
   cmd->add_option("--metric", o->metric,
                   "one metric's SPC, forecast and warnings (docs/trends.md) instead of the table")
       ->type_name("NAME");
-  cmd->add_option("--since", o->since, "with --metric: checks at or after this UTC date or time")
+  cmd->add_option(
+         "--since", o->since,
+         std::string("with --metric: checks at or after this date or time, ") + kPlantZoneHelp)
       ->type_name("DATE");
-  cmd->add_option("--until", o->until, "with --metric: checks at or before this UTC date or time")
+  cmd->add_option(
+         "--until", o->until,
+         std::string("with --metric: checks at or before this date or time, ") + kPlantZoneHelp)
       ->type_name("DATE");
   cmd->add_option("--last", o->last, "with --metric: only the newest N checks of the range")
       ->type_name("N")

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -204,6 +205,33 @@ TEST(Trend, TheCallersFormatterLabelsTheTimeAxis) {
   // Without it: UTC dates, here with the time of day (two days fit 12-hour ticks).
   EXPECT_NE(charts::trend_chart(three_checks()).find(">2026-03-03 00:00</text>"),
             std::string::npos);
+}
+
+// A zone's wall clock: ticks on its round times (here the midnights of a zone 1 h ahead of UTC),
+// labelled with its dates, its text in the tooltips. Checked against the UTC chart of the same
+// checks 1 h later, where the same labels must fall at the same places.
+TEST(Trend, AZonesTicksFallOnItsMidnightsAndItsTextsAreItsOwn) {
+  constexpr std::int64_t kHour = kDay / 24;
+  charts::TrendChart zoned = three_checks();
+  zoned.zone = {[](std::int64_t t) { return t + kHour; }, [](std::int64_t w) { return w - kHour; },
+                [](std::int64_t t) { return charts::utc_date_time(t + kHour) + " +01:00"; }};
+  charts::TrendChart later = three_checks();
+  for (auto& p : later.points) p.time_ns += kHour;
+  const auto labels = [](const std::string& svg) {
+    static const std::regex kLabel("<text class=\"tick-label\" x=\"([^\"]+)\"[^>]*>([^<]*)</text>");
+    std::vector<std::pair<std::string, std::string>> out;
+    for (std::sregex_iterator i(svg.begin(), svg.end(), kLabel), end; i != end; ++i) {
+      out.emplace_back((*i)[1], (*i)[2]);
+    }
+    return out;
+  };
+  const std::string svg = charts::trend_chart(zoned);
+  const auto zoned_labels = labels(svg);
+  EXPECT_EQ(zoned_labels, labels(charts::trend_chart(later)));
+  EXPECT_NE(svg.find(">2026-03-03 00:00</text>"), std::string::npos) << svg;
+  // Without the zone the same checks have their ticks at UTC midnights: elsewhere.
+  EXPECT_NE(zoned_labels, labels(charts::trend_chart(three_checks())));
+  EXPECT_NE(svg.find("b: 2026-03-03 01:00 +01:00, "), std::string::npos) << "b's tooltip";
 }
 
 TEST(Trend, NonFiniteValuesAreSkippedAndCounted) {

@@ -98,6 +98,36 @@ TEST(Calendar, LocalTimesInTheGapStartAfterItAndRepeatedOnesTakeTheFirst) {
   EXPECT_THROW((void)cal.utc_ns(2026, 2, 29, 0, 0), std::invalid_argument);
 }
 
+TEST(Calendar, ReadsTypedDatesAndTimesInThePlantsZone) {
+  // Hand-worked: Berlin is UTC+1 in January (CET), UTC+2 in July (CEST); on 2026-03-29 02:00 CET
+  // the clocks jump to 03:00 CEST, on 2026-10-25 03:00 CEST they fall back to 02:00 CET.
+  const Calendar berlin(zone_config("Europe/Berlin", {}));
+  EXPECT_EQ(berlin.parse_time("2027-01-15"), utc("2027-01-14T23:00:00Z"));  // local midnight
+  EXPECT_EQ(berlin.parse_time("2027-07-15"), utc("2027-07-14T22:00:00Z"));
+  EXPECT_EQ(berlin.parse_time("2027-01-15T00:30"), utc("2027-01-14T23:30:00Z"));
+  EXPECT_EQ(berlin.parse_time("2027-01-15 09:00:01.5"), utc("2027-01-15T08:00:01.5Z"));
+  EXPECT_EQ(berlin.parse_time("2026-03-29T02:30"), utc("2026-03-29T01:00:00Z"));  // the gap's end
+  EXPECT_EQ(berlin.parse_time("2026-10-25T02:30"), utc("2026-10-25T00:30:00Z"));  // the first
+  // A time with Z or an offset means what it says, whatever the plant's zone.
+  EXPECT_EQ(berlin.parse_time("2027-01-15T06:00Z"), utc("2027-01-15T06:00:00Z"));
+  EXPECT_EQ(berlin.parse_time("2027-01-15T06:00+05:30"), utc("2027-01-15T00:30:00Z"));
+  EXPECT_EQ(berlin.parse_time("2027-01-15T06:00:10-03:00"), utc("2027-01-15T09:00:10Z"));
+  // Without a plant config the CLI reads UTC: a date is UTC midnight.
+  const Calendar utc_plant(zone_config("UTC", {}));
+  EXPECT_EQ(utc_plant.parse_time("2027-01-15"), utc("2027-01-15T00:00:00Z"));
+  // The wall clock as if UTC (a chart's local days) and back.
+  EXPECT_EQ(berlin.wall_ns(utc("2027-01-14T23:30:00Z")), utc("2027-01-15T00:30:00Z"));
+  EXPECT_EQ(berlin.wall_ns(utc("2027-07-14T22:00:00.25Z")), utc("2027-07-15T00:00:00.25Z"));
+  EXPECT_EQ(berlin.from_wall_ns(utc("2027-01-15T00:30:00Z")), utc("2027-01-14T23:30:00Z"));
+  EXPECT_EQ(berlin.from_wall_ns(utc("2026-03-29T00:00:00Z")), utc("2026-03-28T23:00:00Z"));
+  EXPECT_EQ(berlin.from_wall_ns(utc("2026-03-30T00:00:00Z")), utc("2026-03-29T22:00:00Z"));
+  for (const char* bad :
+       {"", "2027-1-15", "2027-02-30", "15.01.2027", "2027-01-15T25:00", "2027-01-15T06:00+24:00",
+        "2027-01-15T06:00+1:00", "2027-01-15Z", "2027-01-15T06:00 CET", "yesterday"}) {
+    EXPECT_FALSE(berlin.parse_time(bad).has_value()) << bad;
+  }
+}
+
 TEST(Calendar, WeekdayShiftsSkipTheWeekend) {
   const Calendar cal(zone_config("America/Chicago", default_calendar_config().shifts));
   // Friday 6 March 2026 22:00 CST is the end of the late shift; the next shift is Monday

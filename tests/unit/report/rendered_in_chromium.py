@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: Apache-2.0
 # report.RenderedInChromium: the tests' sample report (ncqual_report_sample) in headless Chromium:
-#  - --dump-dom: every section is in the DOM with its charts (the browser parsed what we wrote);
+#  - --dump-dom: every section is in the DOM with its charts (the browser parsed what we wrote),
+#    its times in the sample plant's zone (Europe/Berlin), none in UTC;
 #  - --print-to-pdf: it prints (a PDF of several pages, one per section at least);
 #  - --screenshot of the whole page, kept as OUTDIR/report.png to look at.
 # Usage: rendered_in_chromium.py SAMPLE_EXE OUTDIR. Skipped (77) without Chromium.
@@ -37,6 +38,11 @@ def main(exe, outdir):
             failures.append(f"no {kind} chart in the DOM")
     if "<script" in dom:
         failures.append("a script in the DOM")
+    # One clock: the sample plant is in Berlin; its times and the trend axes say so, none UTC.
+    if "+01:00 CET" not in dom or "date (Europe/Berlin)" not in dom:
+        failures.append("the times are not in the plant's zone (Europe/Berlin, +01:00 CET)")
+    if "(UTC)" in dom:
+        failures.append("a time in UTC: " + dom[max(0, dom.find("(UTC)") - 80):dom.find("(UTC)") + 5])
     pdf = os.path.join(outdir, "report.pdf")
     run_chromium(chromium, ["--print-to-pdf=" + pdf, "--no-pdf-header-footer", page], timeout=120)
     if not os.path.exists(pdf):

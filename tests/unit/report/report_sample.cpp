@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Writes the sample report of the tests (report_historian.hpp, pm1) to OUTDIR/report.html, for
-// report.RenderedInChromium (rendered_in_chromium.py). Usage: ncqual_report_sample OUTDIR.
+// report.RenderedInChromium (rendered_in_chromium.py), its times in Europe/Berlin. Usage:
+// ncqual_report_sample OUTDIR.
 #include "ncqual/report/machine_report.hpp"
 
 #include "report_historian.hpp"
@@ -28,6 +29,11 @@ int main(int argc, char** argv) {
   q.since_ns = report::testing::kT0;
   q.now_ns = report::testing::kT0 + 14 * report::testing::kDay;
   q.machine = &m;
+  // A plant in Berlin: the report's times and chart axes in CET with the offset.
+  CalendarConfig zone = default_calendar_config();
+  zone.time_zone = "Europe/Berlin";
+  const Calendar calendar(zone);
+  q.calendar = &calendar;
   std::ofstream(out / "report.html", std::ios::binary)
       << report::machine_report_document(report::gather_machine_report(read, q));
   return 0;

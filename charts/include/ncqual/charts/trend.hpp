@@ -76,6 +76,16 @@ struct TimeMarker {
   MarkerKind kind = MarkerKind::Intervention;
 };
 
+// The time zone of a time axis: its ticks fall on the zone's round times (local midnights for
+// days) and its labels and texts read its wall clock. Empty: UTC. The charts stay free of a tz
+// database: the caller gives the conversions (e.g. ncqual::Calendar's wall_ns, from_wall_ns and
+// local_text).
+struct TimeZone {
+  std::function<std::int64_t(std::int64_t)> to_wall;    // instant -> wall clock read as UTC
+  std::function<std::int64_t(std::int64_t)> from_wall;  // and back
+  TimeFormatter text;  // a time in texts and tooltips, e.g. "2027-01-15 09:00 +01:00 CET"
+};
+
 struct TrendChart {
   std::string title;        // the visible title and the SVG's <title>
   std::string description;  // appended to the generated <desc>
@@ -86,7 +96,8 @@ struct TrendChart {
   std::optional<ControlLimits> control;
   std::optional<Forecast> forecast;
   std::vector<TimeMarker> markers;
-  TimeFormatter time_label;  // tick labels and dates in texts; empty: UTC dates
+  TimeFormatter time_label;  // tick labels and dates in texts; empty: dates of `zone`
+  TimeZone zone;             // empty: UTC
   std::string time_title = "date (UTC)";
   Size size;  // default 720 × 360
 };

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace date {
@@ -127,6 +128,16 @@ class Calendar {
   const std::string& zone_name() const { return config_.time_zone; }
   // The UTC instant of a local date and time in the plant's zone (DST rules as above).
   std::int64_t utc_ns(int year, int month, int day, int hour, int minute) const;
+  // A date or time a person typed (the command line's --since, --until, --before), read in the
+  // plant's zone: "2027-01-15" is that day's local midnight, "2027-01-15T06:00[:SS[.fff]]" (or
+  // with a space for the T) a local time (DST rules as above); a time with "Z" or an offset
+  // ("2027-01-15T06:00Z", "2027-01-15T06:00+01:00") means what it says. Nothing when the text is
+  // none of these.
+  std::optional<std::int64_t> parse_time(std::string_view text) const;
+  // The plant's wall clock at t, as ns since the epoch read as if it were UTC (a chart's local
+  // days are whole days of it), and back: the instant of a wall-clock time (DST rules as above).
+  std::int64_t wall_ns(std::int64_t t_ns) const;
+  std::int64_t from_wall_ns(std::int64_t wall_ns) const;
 
  private:
   CalendarConfig config_;

@@ -8,6 +8,7 @@
 // radians (the evaluations' and the historian's); µm and degrees only in what people read.
 #pragma once
 
+#include "ncqual/common/calendar.hpp"
 #include "ncqual/common/check_kinds.hpp"
 #include "ncqual/common/config.hpp"
 #include "ncqual/report/metric_trend.hpp"
@@ -40,6 +41,9 @@ struct MachineReportQuery {
   const MachineConfig* machine = nullptr;
   // Budget sections already evaluated (a dashboard keeps one); none: evaluated every time.
   BudgetMemo* budget_memo = nullptr;
+  // The plant's calendar: every time a person reads is in its time zone with the offset
+  // ("2027-01-15 09:00 +01:00 CET", as `ncqual status` writes it); none: UTC.
+  const Calendar* calendar = nullptr;
 };
 
 // A stored check a chart section draws: which one, and what became of its evaluation.
@@ -140,6 +144,8 @@ struct MachineReport {
   // The software that wrote the report (version_line: "ncqual report 0.1.0 (git ...)"), named in
   // its footer; empty: "ncqual report".
   std::string produced_by;
+  // The zone of the times people read (the query's calendar; UTC without one).
+  Calendar calendar{CalendarConfig{}};
 };
 
 // The machine's error budget as of `until_ns`: the values of its results up to then

@@ -319,8 +319,8 @@ Reply Dashboard::machine_page(const Request& request, const std::string& id, boo
       }
       try {
         constexpr std::int64_t kDayNs = 86'400'000'000'000;
-        view.report_sections =
-            report_sections(db, *config, view.now_ns - days * kDayNs, view.now_ns, &budgets_);
+        view.report_sections = report_sections(db, *config, calendar_, view.now_ns - days * kDayNs,
+                                               view.now_ns, &budgets_);
       } catch (const std::invalid_argument& e) {
         view.report_problem = e.what();  // e.g. the historian has nothing of the machine yet
       }

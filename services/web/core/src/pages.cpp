@@ -154,13 +154,20 @@ constexpr const char* kScript = R"js(
   var body = document.body, live = document.getElementById('live');
   var token = body.getAttribute('data-token');
   var every = parseInt(body.getAttribute('data-poll-ms'), 10) || 2000;
+  var zone = body.getAttribute('data-time-zone') || 'UTC';
   function stamp(text) { if (live) live.textContent = text; }
+  // The plant's clock, as every time on the page (not the browser's).
+  function now() {
+    try {
+      return new Date().toLocaleTimeString('en-GB', {timeZone: zone, timeZoneName: 'short'});
+    } catch (e) { return new Date().toISOString().substring(11, 19) + ' UTC'; }
+  }
   function poll() {
     fetch('/api/v1/changes?since=' + encodeURIComponent(token), {cache: 'no-store'})
       .then(function (r) { if (!r.ok) throw new Error('HTTP ' + r.status); return r.json(); })
       .then(function (c) {
         body.setAttribute('data-polls', String(1 + (parseInt(body.getAttribute('data-polls'), 10) || 0)));
-        if (!c.changed) { stamp('live: up to date ' + new Date().toLocaleTimeString()); return; }
+        if (!c.changed) { stamp('live: up to date ' + now()); return; }
         return fetch(location.pathname + location.search, {cache: 'no-store'})
           .then(function (r) { if (!r.ok) throw new Error('HTTP ' + r.status); return r.text(); })
           .then(function (html) {
@@ -171,7 +178,7 @@ constexpr const char* kScript = R"js(
             token = page.body.getAttribute('data-token');
             body.setAttribute('data-token', token);
             body.setAttribute('data-updates', String(1 + (parseInt(body.getAttribute('data-updates'), 10) || 0)));
-            stamp('live: updated ' + new Date().toLocaleTimeString());
+            stamp('live: updated ' + now());
           });
       })
       .catch(function (e) { stamp('live: ' + e.message + '; retrying'); })
@@ -194,8 +201,9 @@ std::string page(const PlantConfig& plant, const std::string& title, const std::
   if (!extra_style.empty()) out += "<style>" + extra_style + "</style>\n";
   out += "</head>\n";
   out += fmt::format(
-      "<body data-token=\"{}\" data-poll-ms=\"{}\" data-updates=\"0\" data-polls=\"0\">\n",
-      esc(token), limits.poll_ms);
+      "<body data-token=\"{}\" data-poll-ms=\"{}\" data-time-zone=\"{}\" data-updates=\"0\" "
+      "data-polls=\"0\">\n",
+      esc(token), limits.poll_ms, esc(plant.calendar ? plant.calendar->time_zone : "UTC"));
   out += fmt::format(
       "<header><nav><a href=\"/\">plant {}</a>{}</nav><span id=\"live\">static page</span>"
       "</header>\n",
@@ -562,9 +570,10 @@ std::string error_page(const PlantConfig& plant, int status, const std::string& 
 }
 
 std::string report_sections(storage::Database& db, const MachineConfig& machine,
-                            std::int64_t since_ns, std::int64_t now_ns,
+                            const Calendar& calendar, std::int64_t since_ns, std::int64_t now_ns,
                             report::BudgetMemo* budgets) {
   report::MachineReportQuery query;
+  query.calendar = &calendar;
   query.budget_memo = budgets;
   query.machine_id = machine.machine_id;
   query.since_ns = since_ns;

@@ -48,9 +48,10 @@ std::string check_html(const PlantConfig& plant, const Calendar& calendar,
 std::string error_page(const PlantConfig& plant, int status, const std::string& message);
 
 // The machine report's sections (ncqual/report/machine_report.hpp) of `machine`'s checks since
-// `since_ns`, as of `now_ns`. std::invalid_argument when the historian has nothing of it.
+// `since_ns`, as of `now_ns`, its times in the plant's zone (`calendar`, as the pages' own).
+// std::invalid_argument when the historian has nothing of it.
 std::string report_sections(storage::Database& db, const MachineConfig& machine,
-                            std::int64_t since_ns, std::int64_t now_ns,
+                            const Calendar& calendar, std::int64_t since_ns, std::int64_t now_ns,
                             report::BudgetMemo* budgets = nullptr);
 
 }  // namespace ncqual::web
