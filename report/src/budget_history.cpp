@@ -53,8 +53,17 @@ BudgetHistory gather_budget_history(storage::Database& db, const std::string& ma
   return h;
 }
 
+namespace {
+
+// "2026-03-16 06:00 +01:00 CET" in the plant's zone, or "2026-03-16 05:00 UTC" without one.
+std::string time_text(std::int64_t ns, const Calendar* calendar) {
+  return calendar ? calendar->local_text(ns) : charts::utc_date_time(ns) + " UTC";
+}
+
+}  // namespace
+
 void read_machine_hold(storage::Database& db, const std::string& machine_id, std::int64_t until_ns,
-                       solver::BudgetMachineStanding& standing) {
+                       solver::BudgetMachineStanding& standing, const Calendar* calendar) {
   std::optional<MachineStatus> status;
   if (until_ns == std::numeric_limits<std::int64_t>::max()) {
     status = db.latest_status(machine_id);
@@ -67,7 +76,7 @@ void read_machine_hold(storage::Database& db, const std::string& machine_id, std
   standing.held_why.clear();
   if (standing.held) {
     standing.held_why = std::string(to_string(status->state)) + " since " +
-                        charts::utc_date_time(status->time_ns) + " UTC" +
+                        time_text(status->time_ns, calendar) +
                         (status->detail.empty() ? "" : ": " + status->detail);
   }
 }
@@ -75,14 +84,15 @@ void read_machine_hold(storage::Database& db, const std::string& machine_id, std
 solver::BudgetMachineStanding budget_machine_standing(storage::Database& db,
                                                       const std::string& machine_id,
                                                       const BudgetHistory& history,
-                                                      std::int64_t until_ns) {
+                                                      std::int64_t until_ns,
+                                                      const Calendar* calendar) {
   solver::BudgetMachineStanding s;
-  read_machine_hold(db, machine_id, until_ns, s);
+  read_machine_hold(db, machine_id, until_ns, s, calendar);
   for (const auto& [name, v] : history.newest) {
     if (v.pass) continue;
     s.failed_metrics.push_back(fmt::format(
-        "{} = {:.4g} {} out of [{:.4g}, {:.4g}] ({} {}, {} UTC)", name, v.value, v.unit, v.lower,
-        v.upper, to_string(v.kind), to_string(v.verdict), charts::utc_date_time(v.time_ns)));
+        "{} = {:.4g} {} out of [{:.4g}, {:.4g}] ({} {}, {})", name, v.value, v.unit, v.lower,
+        v.upper, to_string(v.kind), to_string(v.verdict), time_text(v.time_ns, calendar)));
   }
   return s;
 }

@@ -201,8 +201,8 @@ std::size_t BudgetMemo::evaluations() const {
 }
 
 BudgetSection machine_budget(storage::Database& db, const std::string& machine_id,
-                             const MachineConfig* machine, std::int64_t until_ns,
-                             BudgetMemo* memo) {
+                             const MachineConfig* machine, std::int64_t until_ns, BudgetMemo* memo,
+                             const Calendar* calendar) {
   BudgetSection s;
   s.until_ns = until_ns;
   if (!machine) {
@@ -220,7 +220,7 @@ BudgetSection machine_budget(storage::Database& db, const std::string& machine_i
     if (auto kept = memo->find(machine_id, *key)) {
       kept->until_ns = until_ns;
       // An intervention changes the machine's hold without a new result: read it again.
-      read_machine_hold(db, machine_id, until_ns, kept->standing);
+      read_machine_hold(db, machine_id, until_ns, kept->standing, calendar);
       if (kept->evaluation)
         kept->judgement = solver::judge_budget(kept->evaluation->today, kept->standing);
       return std::move(*kept);
@@ -231,7 +231,7 @@ BudgetSection machine_budget(storage::Database& db, const std::string& machine_i
   for (const auto& [name, values] : history.values) s.values += static_cast<int>(values.size());
   try {
     s.evaluation = solver::evaluate_error_budget(*s.config, history.values, s.last);
-    s.standing = budget_machine_standing(db, machine_id, history, until_ns);
+    s.standing = budget_machine_standing(db, machine_id, history, until_ns, calendar);
     s.judgement = solver::judge_budget(s.evaluation->today, s.standing);
   } catch (const std::invalid_argument& e) {
     s.error = std::string("The error budget could not be evaluated: ") + e.what();
@@ -360,7 +360,8 @@ MachineReport gather_machine_report(storage::Database& db, const MachineReportQu
   std::sort(out.markers.begin(), out.markers.end(),
             [](const auto& a, const auto& b) { return a.time_ns < b.time_ns; });
 
-  out.budget = machine_budget(db, query.machine_id, query.machine, until_ns, query.budget_memo);
+  out.budget = machine_budget(db, query.machine_id, query.machine, until_ns, query.budget_memo,
+                              query.calendar);
   return out;
 }
 

@@ -63,6 +63,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <optional>
 #include <string>
@@ -463,7 +464,9 @@ int run(const Options& o) {
   if (std::filesystem::exists(db_path)) {
     auto db = storage::Database::open_readonly(db_path);
     history = gather_history(db, machine_id, budget);
-    standing = report::budget_machine_standing(db, machine_id, history);
+    const Calendar calendar(plant.calendar.value_or(default_calendar_config()));
+    standing = report::budget_machine_standing(db, machine_id, history,
+                                               std::numeric_limits<std::int64_t>::max(), &calendar);
     database = db_path;
   } else if (db_flag) {
     std::cerr << "ncqual budget: --db " << db_path << ": no such file\n";

@@ -295,6 +295,17 @@ TEST_F(MachineReportTest, AHeldMachineIsNeverWithinBudget) {
             std::string::npos)
       << sections;
   EXPECT_EQ(sections.find("): within budget"), std::string::npos);
+  // In the plant's zone, as every other time of the report (issue 37 point 7): 00:00 UTC is
+  // 01:00 in Berlin in March (CET, +01:00).
+  CalendarConfig berlin = default_calendar_config();
+  berlin.time_zone = "Europe/Berlin";
+  const Calendar calendar(berlin);
+  q.calendar = &calendar;
+  const std::string local = machine_report_sections(gather_machine_report(db, q));
+  EXPECT_NE(local.find("NEEDS_INTERVENTION since 2026-03-16 01:00 +01:00 CET: daily 3 failed"),
+            std::string::npos)
+      << local;
+  q.calendar = nullptr;
 
   MachineStatus qualified;
   qualified.machine_id = "pm1";

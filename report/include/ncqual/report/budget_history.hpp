@@ -4,6 +4,7 @@
 // configured unit. The math is solver::evaluate_error_budget's.
 #pragma once
 
+#include "ncqual/common/calendar.hpp"
 #include "ncqual/solver/error_budget.hpp"
 #include "ncqual/storage/database.hpp"
 #include "ncqual/storage/trend.hpp"
@@ -33,14 +34,16 @@ BudgetHistory gather_budget_history(
 // The machine's standing for the budget's verdict (solver::judge_budget) as of `until_ns`: held
 // when its newest status up to then is NEEDS_INTERVENTION; each budget metric whose newest value
 // in `history` failed its check's tolerance.
+// Its times are in `calendar`'s zone with the offset (UTC without one).
 solver::BudgetMachineStanding budget_machine_standing(
     storage::Database& db, const std::string& machine_id, const BudgetHistory& history,
-    std::int64_t until_ns = std::numeric_limits<std::int64_t>::max());
+    std::int64_t until_ns = std::numeric_limits<std::int64_t>::max(),
+    const Calendar* calendar = nullptr);
 
 // Sets standing.held and held_why from the machine's newest status up to `until_ns` (the part of
 // the standing that can change without a new result: an intervention).
 void read_machine_hold(storage::Database& db, const std::string& machine_id, std::int64_t until_ns,
-                       solver::BudgetMachineStanding& standing);
+                       solver::BudgetMachineStanding& standing, const Calendar* calendar = nullptr);
 
 // Factor turning a value in unit `from` into `to` when both are units of one dimension (length
 // or angle); none otherwise. An empty `from` is taken as `to`.

@@ -153,9 +153,10 @@ struct MachineReport {
 // costliest part of a report (about 0.1 s with 100,000 draws), so a `memo` that holds the
 // machine's section evaluated from the same results under the same configuration gives it back
 // instead; a new result (storage::results_up_to) evaluates it again.
+// Its texts read times in `calendar`'s zone (UTC without one).
 BudgetSection machine_budget(storage::Database& db, const std::string& machine_id,
                              const MachineConfig* machine, std::int64_t until_ns,
-                             BudgetMemo* memo = nullptr);
+                             BudgetMemo* memo = nullptr, const Calendar* calendar = nullptr);
 
 // The newest budget section of each machine with what it was evaluated from; any thread.
 class BudgetMemo {

@@ -162,7 +162,7 @@ std::size_t Dashboard::refresh_budgets(const std::function<bool()>& stop) {
     for (const auto& machine : plant_.machines) {
       if (stop && stop()) break;
       if (!machine.budget || !db.machine(machine.machine_id)) continue;
-      (void)report::machine_budget(db, machine.machine_id, &machine, now, &budgets_);
+      (void)report::machine_budget(db, machine.machine_id, &machine, now, &budgets_, &calendar_);
     }
   });
   return budgets_.evaluations() - before;
