@@ -589,7 +589,8 @@ std::string machine_report_document(const MachineReport& report) {
   const std::string by = report.produced_by.empty() ? "ncqual report" : report.produced_by;
   h += "<footer><p class=\"how\">Written by " + esc(by) + " as of " +
        esc(when(report, report.now_ns)) +
-       ". Lengths in µm, angles in degrees.</p></footer>\n</main>\n</body>\n</html>\n";
+       ". Lengths in µm; angular errors in µrad; the budget's table angle θ in "
+       "degrees.</p></footer>\n</main>\n</body>\n</html>\n";
   return h;
 }
 
