@@ -4,6 +4,8 @@
 // never renumber. `ncqual --help` prints kExitCodesHelp.
 #pragma once
 
+#include "ncqual/common/model.hpp"
+
 namespace ncqual::cli {
 
 enum ExitCode : int {
@@ -21,6 +23,11 @@ enum ExitCode : int {
   kExitRefused = 9,  // a service refused the order or sample (`check`, `intervene`, `import`):
                      // the reason it gave is printed; nothing was done
 };
+
+// The exit code of a check's verdict (`check --wait`, `analyze`): 0 PASS, 3 FAIL, 4 INVALID.
+inline int exit_code_of(Verdict verdict) {
+  return verdict == Verdict::Pass ? kExitOk : verdict == Verdict::Fail ? kExitFail : kExitInvalid;
+}
 
 inline constexpr const char* kExitCodesHelp =
     "Exit codes: 0 ok/PASS, 1 error, 2 usage (an unknown flag, a bad value, a machine the plant "

@@ -45,8 +45,6 @@ int judge_files(const Options& o, SetFromFiles from_files, const char* what, con
 // A judged check's metrics against their tolerances, reason, likely causes and correction, as
 // `analyze touches|points|grid --machine` print them.
 void print_judgement(const CheckResult& r);
-// The exit code of a verdict: 0 PASS, 3 FAIL, 4 INVALID.
-int exit_code_of(Verdict verdict);
 // The check record of `ncqual history --json` (ncqual/storage/json.hpp) of `r`, judged from `set`.
 nlohmann::json check_record_json(const CheckResult& r, const MeasurementSet& set);
 

@@ -63,10 +63,6 @@ void print_judgement(const CheckResult& r) {
   }
 }
 
-int exit_code_of(Verdict verdict) {
-  return verdict == Verdict::Pass ? kExitOk : verdict == Verdict::Fail ? kExitFail : kExitInvalid;
-}
-
 nlohmann::json check_record_json(const CheckResult& r, const MeasurementSet& set) {
   storage::CheckRecord rec;
   rec.machine_id = r.machine_id;

@@ -31,14 +31,6 @@ struct Options {
   bool json = false;
 };
 
-int exit_code_of(Verdict v) {
-  switch (v) {
-    case Verdict::Pass: return kExitOk;
-    case Verdict::Fail: return kExitFail;
-    default: return kExitInvalid;
-  }
-}
-
 int run(const Options& o) {
   const PlantConfig plant = plant_from(o.dds.plant);
   const std::string machine = configured_machine(plant, o.machine).machine_id;
