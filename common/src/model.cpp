@@ -17,6 +17,7 @@ constexpr std::array<std::string_view, 6> kStateNames = {
     "UNKNOWN", "QUALIFIED", "CHECKING", "NEEDS_INTERVENTION", "OVERDUE", "OFFLINE"};
 constexpr std::array<std::string_view, 5> kAckNames = {"STORED", "DUPLICATE", "CONFLICT", "REFUSED",
                                                        "ACCEPTED"};
+constexpr std::array<std::string_view, 3> kOriginNames = {"unknown", "measured", "simulated"};
 constexpr std::array<std::string_view, 2> kAlarmNames = {"CONFLICT", "STORAGE"};
 
 }  // namespace
@@ -42,6 +43,13 @@ std::vector<CheckKind> all_check_kinds() {
 std::string_view to_string(Verdict verdict) { return name_of(kVerdictNames, verdict, "unknown"); }
 std::optional<Verdict> parse_verdict(std::string_view name) {
   return enum_named<Verdict>(kVerdictNames, name);
+}
+
+std::string_view to_string(DataOrigin origin) {
+  return name_of(kOriginNames, origin, "unknown");
+}
+std::optional<DataOrigin> parse_data_origin(std::string_view name) {
+  return enum_named<DataOrigin>(kOriginNames, name);
 }
 
 std::string_view to_string(MachineState state) { return name_of(kStateNames, state, "unknown"); }

@@ -42,6 +42,13 @@ struct OnWire<MachineState> {
   static constexpr const char* kWhat = "state";
 };
 template <>
+struct OnWire<DataOrigin> {
+  using Wire = msg::DataOrigin;
+  static constexpr auto kLast = DataOrigin::Simulated;
+  static constexpr auto kFallback = DataOrigin::Unknown;
+  static constexpr const char* kWhat = "data origin";
+};
+template <>
 struct OnWire<AckOutcome> {
   using Wire = msg::AckOutcome;
   static constexpr auto kLast = AckOutcome::Accepted;
@@ -170,6 +177,9 @@ NCQUAL_CONVERT_PART(Metric, msg::Metric, NCQUAL_FIELDS_METRIC)
 NCQUAL_CONVERT_PART(Correction, msg::SoftwareCorrection, NCQUAL_FIELDS_CORRECTION)
 NCQUAL_CONVERT_FIELDS(CheckRequest, msg::CheckRequest, NCQUAL_FIELDS_CHECK_REQUEST)
 NCQUAL_CONVERT_FIELDS(CheckCommand, msg::CheckCommand, NCQUAL_FIELDS_CHECK_COMMAND)
+NCQUAL_CONVERT_FIELDS(MeasurementSet, msg::v2::MeasurementSet, NCQUAL_FIELDS_MEASUREMENT_SET)
+NCQUAL_CONVERT_FIELDS(CheckResult, msg::v2::CheckResult, NCQUAL_FIELDS_CHECK_RESULT)
+// Contract 1's layouts: the same X fields, no origin.
 NCQUAL_CONVERT_FIELDS(MeasurementSet, msg::MeasurementSet, NCQUAL_FIELDS_MEASUREMENT_SET)
 NCQUAL_CONVERT_FIELDS(CheckResult, msg::CheckResult, NCQUAL_FIELDS_CHECK_RESULT)
 NCQUAL_CONVERT_FIELDS(MachineStatus, msg::MachineStatus, NCQUAL_FIELDS_MACHINE_STATUS)
@@ -210,11 +220,22 @@ msg::CheckCommand to_wire(const CheckCommand& v) { return plain_to_wire<msg::Che
 CheckCommand from_wire(const msg::CheckCommand& w, std::string& error) {
   return plain_from_wire<CheckCommand>(w, error);
 }
-msg::MeasurementSet to_wire(const MeasurementSet& v) {
+// S: origin, from contract 2 on.
+msg::v2::MeasurementSet to_wire(const MeasurementSet& v) {
+  msg::v2::MeasurementSet w = plain_to_wire<msg::v2::MeasurementSet>(v);
+  w.origin(wire_value(v.origin));
+  return w;
+}
+MeasurementSet from_wire(const msg::v2::MeasurementSet& w, std::string& error) {
+  MeasurementSet v = plain_from_wire<MeasurementSet>(w, error);
+  model_value(w.origin(), v.origin, Field{"MeasurementSet", "origin"}, error);
+  return v;
+}
+msg::MeasurementSet to_wire_contract1(const MeasurementSet& v) {
   return plain_to_wire<msg::MeasurementSet>(v);
 }
 MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error) {
-  return plain_from_wire<MeasurementSet>(w, error);
+  return plain_from_wire<MeasurementSet>(w, error);  // origin: Unknown
 }
 msg::Intervention to_wire(const Intervention& v) { return plain_to_wire<msg::Intervention>(v); }
 Intervention from_wire(const msg::Intervention& w, std::string& error) {
@@ -235,19 +256,37 @@ Alarm from_wire(const msg::Alarm& w, std::string& error) {
   return plain_from_wire<Alarm>(w, error);
 }
 
-// S: correction travels with has_correction.
-msg::CheckResult to_wire(const CheckResult& v) {
-  msg::CheckResult w = plain_to_wire<msg::CheckResult>(v);
+// S: correction travels with has_correction; origin from contract 2 on.
+template <typename Wire>
+Wire result_to_wire(const CheckResult& v) {
+  Wire w = plain_to_wire<Wire>(v);
   w.has_correction(v.correction.has_value());
   if (v.correction) w.correction(wire_value(*v.correction));
   return w;
 }
-CheckResult from_wire(const msg::CheckResult& w, std::string& error) {
+template <typename Wire>
+CheckResult result_from_wire(const Wire& w, std::string& error) {
   CheckResult v = plain_from_wire<CheckResult>(w, error);
   if (w.has_correction()) {
     model_value(w.correction(), v.correction.emplace(), Field{"CheckResult", "correction"}, error);
   }
   return v;
+}
+msg::v2::CheckResult to_wire(const CheckResult& v) {
+  msg::v2::CheckResult w = result_to_wire<msg::v2::CheckResult>(v);
+  w.origin(wire_value(v.origin));
+  return w;
+}
+CheckResult from_wire(const msg::v2::CheckResult& w, std::string& error) {
+  CheckResult v = result_from_wire(w, error);
+  model_value(w.origin(), v.origin, Field{"CheckResult", "origin"}, error);
+  return v;
+}
+msg::CheckResult to_wire_contract1(const CheckResult& v) {
+  return result_to_wire<msg::CheckResult>(v);
+}
+CheckResult from_wire(const msg::CheckResult& w, std::string& error) {
+  return result_from_wire(w, error);  // origin: Unknown
 }
 
 // S: last_kind and last_verdict travel with has_last_check (the verdict INVALID when none).

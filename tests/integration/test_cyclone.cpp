@@ -95,6 +95,7 @@ std::string idl(CheckKind k) { return upper(to_string(k)); }
 std::string idl(Verdict v) { return "VERDICT_" + std::string(to_string(v)); }
 std::string idl(MachineState s) { return "STATE_" + std::string(to_string(s)); }
 std::string idl(AlarmKind k) { return "ALARM_" + std::string(to_string(k)); }
+std::string idl(DataOrigin o) { return "ORIGIN_" + upper(to_string(o)); }
 
 json number(double v) {
   if (std::isnan(v)) return "NaN";
@@ -150,7 +151,8 @@ json expected(const MeasurementSet& m) {
           {"kind", idl(m.kind)},        {"instrument", m.instrument},
           {"frame", m.frame},           {"time_ns", m.time_ns},
           {"touches", touches},         {"tracker_points", points},
-          {"error", m.error},           {"parameters", values(m.parameters)}};
+          {"error", m.error},           {"parameters", values(m.parameters)},
+          {"origin", idl(m.origin)}};
 }
 json expected(const CheckResult& r) {
   json metrics = json::array();
@@ -172,7 +174,8 @@ json expected(const CheckResult& r) {
           {"has_correction", r.correction.has_value()},
           {"correction", correction(r.correction)},
           {"time_ns", r.time_ns},
-          {"produced_by", r.produced_by}};
+          {"produced_by", r.produced_by},
+          {"origin", idl(r.origin)}};
 }
 json expected(const MachineStatus& s) {
   json out = {{"machine_id", s.machine_id}, {"request_id", s.request_id},

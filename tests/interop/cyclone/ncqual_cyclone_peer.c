@@ -114,6 +114,7 @@ static const char* const kStates[] = {"STATE_UNKNOWN",  "STATE_QUALIFIED",
 static const char* const kAckOutcomes[] = {"ACK_STORED", "ACK_DUPLICATE", "ACK_CONFLICT",
                                            "ACK_REFUSED", "ACK_ACCEPTED"};
 static const char* const kAlarmKinds[] = {"ALARM_CONFLICT", "ALARM_STORAGE"};
+static const char* const kOrigins[] = {"ORIGIN_UNKNOWN", "ORIGIN_MEASURED", "ORIGIN_SIMULATED"};
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 // The tables above follow the IDL's enumerators in order (a value beyond them is printed as its
 // number, so a peer built from an older IDL still prints what a newer ncqual sends).
@@ -122,6 +123,7 @@ _Static_assert(ncqual_msg_VERDICT_INVALID == COUNT(kVerdicts) - 1, "kVerdicts");
 _Static_assert(ncqual_msg_STATE_OFFLINE == COUNT(kStates) - 1, "kStates");
 _Static_assert(ncqual_msg_ACK_ACCEPTED == COUNT(kAckOutcomes) - 1, "kAckOutcomes");
 _Static_assert(ncqual_msg_ALARM_STORAGE == COUNT(kAlarmKinds) - 1, "kAlarmKinds");
+_Static_assert(ncqual_msg_ORIGIN_SIMULATED == COUNT(kOrigins) - 1, "kOrigins");
 
 // One JSON object being written: its stream and whether a member came before.
 typedef struct {
@@ -272,7 +274,7 @@ static void print_check_command(FILE* f, const void* sample) {
   end(&o);
 }
 static void print_measurement_set(FILE* f, const void* sample) {
-  const ncqual_msg_MeasurementSet* v = sample;
+  const ncqual_msg_v2_MeasurementSet* v = sample;
   Obj o = begin(f);
   str(&o, "machine_id", v->machine_id);
   str(&o, "request_id", v->request_id);
@@ -284,10 +286,11 @@ static void print_measurement_set(FILE* f, const void* sample) {
   SEQ(&o, "tracker_points", v->tracker_points, print_tracker_point);
   str(&o, "error", v->error);
   SEQ(&o, "parameters", v->parameters, print_named_value);
+  ENUM(&o, "origin", kOrigins, v->origin);
   end(&o);
 }
 static void print_check_result(FILE* f, const void* sample) {
-  const ncqual_msg_CheckResult* v = sample;
+  const ncqual_msg_v2_CheckResult* v = sample;
   Obj o = begin(f);
   str(&o, "machine_id", v->machine_id);
   str(&o, "request_id", v->request_id);
@@ -300,6 +303,7 @@ static void print_check_result(FILE* f, const void* sample) {
   print_correction(key(&o, "correction"), &v->correction);
   i64(&o, "time_ns", v->time_ns);
   str(&o, "produced_by", v->produced_by);
+  ENUM(&o, "origin", kOrigins, v->origin);
   end(&o);
 }
 static void print_machine_status(FILE* f, const void* sample) {
@@ -393,9 +397,9 @@ typedef struct {
 
 static const TopicInfo kTopics[] = {
     {"ncqual/CheckRequest", &ncqual_msg_CheckRequest_desc, kDurable, print_check_request, true},
-    {"ncqual/MeasurementSet", &ncqual_msg_MeasurementSet_desc, kDurable, print_measurement_set,
+    {"ncqual/MeasurementSet", &ncqual_msg_v2_MeasurementSet_desc, kDurable, print_measurement_set,
      true},
-    {"ncqual/CheckResult", &ncqual_msg_CheckResult_desc, kDurable, print_check_result, false},
+    {"ncqual/CheckResult", &ncqual_msg_v2_CheckResult_desc, kDurable, print_check_result, false},
     {"ncqual/MachineStatus", &ncqual_msg_MachineStatus_desc, kDurable, print_machine_status, false},
     {"ncqual/Compensation", &ncqual_msg_Compensation_desc, kDurable, print_compensation, true},
     {"ncqual/CheckCommand", &ncqual_msg_CheckCommand_desc, kCommand, print_check_command, false},
@@ -408,8 +412,8 @@ static const TopicInfo kTopics[] = {
 
 // Every topic type begins with `@key string machine_id`: the --machine filter reads it there.
 _Static_assert(offsetof(ncqual_msg_CheckRequest, machine_id) == 0, "machine_id first");
-_Static_assert(offsetof(ncqual_msg_MeasurementSet, machine_id) == 0, "machine_id first");
-_Static_assert(offsetof(ncqual_msg_CheckResult, machine_id) == 0, "machine_id first");
+_Static_assert(offsetof(ncqual_msg_v2_MeasurementSet, machine_id) == 0, "machine_id first");
+_Static_assert(offsetof(ncqual_msg_v2_CheckResult, machine_id) == 0, "machine_id first");
 _Static_assert(offsetof(ncqual_msg_MachineStatus, machine_id) == 0, "machine_id first");
 _Static_assert(offsetof(ncqual_msg_Compensation, machine_id) == 0, "machine_id first");
 _Static_assert(offsetof(ncqual_msg_CheckCommand, machine_id) == 0, "machine_id first");

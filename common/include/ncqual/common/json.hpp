@@ -90,6 +90,10 @@ inline void to_json(nlohmann::json& j, CheckKind v) { j = std::string(to_string(
 inline void from_json(const nlohmann::json& j, CheckKind& v) {
   detail::enum_from_json(j, v, parse_check_kind, "CheckKind");
 }
+inline void to_json(nlohmann::json& j, DataOrigin v) { j = std::string(to_string(v)); }
+inline void from_json(const nlohmann::json& j, DataOrigin& v) {
+  detail::enum_from_json(j, v, parse_data_origin, "DataOrigin");
+}
 inline void to_json(nlohmann::json& j, Verdict v) { j = std::string(to_string(v)); }
 inline void from_json(const nlohmann::json& j, Verdict& v) {
   detail::enum_from_json(j, v, parse_verdict, "Verdict");
@@ -101,8 +105,9 @@ inline void from_json(const nlohmann::json& j, MachineState& v) {
 
 // The model's structs from their field lists (ncqual/common/model.hpp): every field under its name.
 // A document missing a field is refused, naming the field (nlohmann's json::at), except a
-// CheckRequest's: its missing fields read as their defaults, so state documents written before a
-// field existed still load.
+// CheckRequest's and an S field (an optional, a field added with a wire contract, such as a set's
+// origin): those read as their defaults when missing, so documents written before a field
+// existed (state files, the historian's conflict documents) still load.
 // Their arguments are a type and field names, which cannot be parenthesised.
 // NOLINTBEGIN(bugprone-macro-parentheses)
 #define NCQUAL_JSON_PUT(f) j[#f] = v.f;
@@ -114,7 +119,7 @@ inline void from_json(const nlohmann::json& j, MachineState& v) {
     j = nlohmann::json::object();                         \
     FIELDS(NCQUAL_JSON_PUT, NCQUAL_JSON_PUT)              \
   }                                                       \
-  inline void from_json(const nlohmann::json& j, Type& v) { FIELDS(GET, GET) }
+  inline void from_json(const nlohmann::json& j, Type& v) { FIELDS(GET, NCQUAL_JSON_GET_OR_DEFAULT) }
 // NOLINTEND(bugprone-macro-parentheses)
 
 NCQUAL_JSON(NamedValue, NCQUAL_FIELDS_NAMED_VALUE, NCQUAL_JSON_GET)

@@ -49,6 +49,12 @@ enum class Verdict : int { Pass = 0, Fail = 1, Invalid = 2 };
 std::string_view to_string(Verdict verdict);
 std::optional<Verdict> parse_verdict(std::string_view name);
 
+// Where a set's numbers (and so its result's) come from; its numbering is the IDL's DataOrigin.
+// Unknown: a sample of wire contract 1 or a row stored before schema 11; never assumed measured.
+enum class DataOrigin : int { Unknown = 0, Measured = 1, Simulated = 2 };
+std::string_view to_string(DataOrigin origin);  // "unknown", "measured", "simulated"
+std::optional<DataOrigin> parse_data_origin(std::string_view name);
+
 enum class MachineState : int {
   Unknown = 0,
   Qualified = 1,
@@ -129,11 +135,13 @@ struct MeasurementSet {
   // (e.g. "fixture_configuration" of a weekly fixture check).
   std::vector<NamedValue> parameters;
   std::string error;  // non-empty when the instrument could not perform the request
+  DataOrigin origin = DataOrigin::Unknown;  // measured by an instrument, or simulated
 };
+// S: origin exists on the wire from contract 2 on (v2::MeasurementSet), not in contract 1's type.
 // clang-format off
 #define NCQUAL_FIELDS_MEASUREMENT_SET(X, S) \
   X(machine_id) X(request_id) X(kind) X(instrument) X(frame) X(time_ns) X(touches) \
-  X(tracker_points) X(parameters) X(error)
+  X(tracker_points) X(parameters) X(error) S(origin)
 // clang-format on
 
 struct Metric {
@@ -191,12 +199,14 @@ struct CheckResult {
   // The software that judged it ("ncqual-solver 0.1.0 (git 1a2b3c4)"), so that a stored verdict
   // names the version that made it; empty for results stored before it was recorded.
   std::string produced_by;
+  // The origin of the set it judged: a verdict on simulated numbers says nothing of a machine.
+  DataOrigin origin = DataOrigin::Unknown;
 };
-// S: correction travels with has_correction on the wire.
+// S: correction travels with has_correction on the wire; origin from contract 2 on.
 // clang-format off
 #define NCQUAL_FIELDS_CHECK_RESULT(X, S) \
   X(machine_id) X(request_id) X(kind) X(verdict) X(metrics) X(likely_causes) X(reason) \
-  S(correction) X(time_ns) X(produced_by)
+  S(correction) X(time_ns) X(produced_by) S(origin)
 // clang-format on
 
 struct MachineStatus {

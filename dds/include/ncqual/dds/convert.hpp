@@ -14,8 +14,8 @@ namespace ncqual::dds {
 
 msg::CheckRequest to_wire(const CheckRequest& v);
 msg::CheckCommand to_wire(const CheckCommand& v);
-msg::MeasurementSet to_wire(const MeasurementSet& v);
-msg::CheckResult to_wire(const CheckResult& v);
+msg::v2::MeasurementSet to_wire(const MeasurementSet& v);
+msg::v2::CheckResult to_wire(const CheckResult& v);
 msg::MachineStatus to_wire(const MachineStatus& v);
 msg::Intervention to_wire(const Intervention& v);
 msg::Compensation to_wire(const Compensation& v);
@@ -28,8 +28,8 @@ msg::TrendWarning to_wire(const TrendWarning& v);
 // machine_id and the request id) when the sample is malformed.
 CheckRequest from_wire(const msg::CheckRequest& w, std::string& error);
 CheckCommand from_wire(const msg::CheckCommand& w, std::string& error);
-MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error);
-CheckResult from_wire(const msg::CheckResult& w, std::string& error);
+MeasurementSet from_wire(const msg::v2::MeasurementSet& w, std::string& error);
+CheckResult from_wire(const msg::v2::CheckResult& w, std::string& error);
 MachineStatus from_wire(const msg::MachineStatus& w, std::string& error);
 Intervention from_wire(const msg::Intervention& w, std::string& error);
 Compensation from_wire(const msg::Compensation& w, std::string& error);
@@ -37,5 +37,13 @@ Heartbeat from_wire(const msg::Heartbeat& w, std::string& error);
 Acknowledgement from_wire(const msg::Acknowledgement& w, std::string& error);
 Alarm from_wire(const msg::Alarm& w, std::string& error);
 TrendWarning from_wire(const msg::TrendWarning& w, std::string& error);
+
+// Wire contract 1's layouts (docs/architecture.md, "Changing the wire contract"): read from
+// services of an older version and from their recordings, with the origin Unknown; written only
+// by tests and tools that stand in for such a service.
+MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error);
+CheckResult from_wire(const msg::CheckResult& w, std::string& error);
+msg::MeasurementSet to_wire_contract1(const MeasurementSet& v);
+msg::CheckResult to_wire_contract1(const CheckResult& v);
 
 }  // namespace ncqual::dds
