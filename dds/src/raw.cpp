@@ -33,6 +33,7 @@ TopicInfo info_of() {
   t.name = Topic::kName;
   typename Topic::PubSub type;
   t.type_name = type.getName();
+  t.contract = Topic::kContract;
   t.writer_profile = Topic::kWriterProfile;
   t.reader_profile = Topic::kReaderProfile;
   t.per_machine = Topic::kPerMachine;
@@ -52,6 +53,34 @@ TopicInfo info_of() {
   return t;
 }
 
+// `Older`'s layout of `Current`'s topic, read and written again as `Current`.
+template <typename Older, typename Current>
+OlderLayout older_layout() {
+  static_assert(std::string_view(Older::kName) == std::string_view(Current::kName));
+  OlderLayout o;
+  o.type_name = typename Older::PubSub().getName();
+  o.contract = Older::kContract;
+  o.upgrade = [](const std::vector<std::uint8_t>& bytes, std::vector<std::uint8_t>& current,
+                 std::string& error) {
+    typename Older::Wire wire;
+    if (!deserialize<Older>(bytes, wire)) {
+      error = std::to_string(bytes.size()) + " bytes that are not a serialized " +
+              std::string(typename Older::PubSub().getName());
+      return false;
+    }
+    std::string malformed;
+    const typename Current::Model model = from_wire(wire, malformed);
+    if (!malformed.empty()) {
+      error = "not written again in wire contract " + std::to_string(Current::kContract) + ": " +
+              malformed;
+      return false;
+    }
+    current = serialize<Current>(to_wire(model));
+    return true;
+  };
+  return o;
+}
+
 std::string lower(std::string_view s) {
   std::string out(s);
   std::transform(out.begin(), out.end(), out.begin(),
@@ -62,13 +91,37 @@ std::string lower(std::string_view s) {
 }  // namespace
 
 const std::vector<TopicInfo>& ncqual_topics() {
-  static const std::vector<TopicInfo> topics{
-      info_of<CheckRequestTopic>(),  info_of<MeasurementSetTopic>(),  info_of<CheckResultTopic>(),
-      info_of<MachineStatusTopic>(), info_of<CompensationTopic>(),    info_of<CheckCommandTopic>(),
-      info_of<InterventionTopic>(),  info_of<AcknowledgementTopic>(), info_of<AlarmTopic>(),
-      info_of<HeartbeatTopic>(),     info_of<TrendWarningTopic>(),
-  };
+  static const std::vector<TopicInfo> topics = [] {
+    std::vector<TopicInfo> t{
+        info_of<CheckRequestTopic>(), info_of<MeasurementSetTopic>(),
+        info_of<CheckResultTopic>(),  info_of<MachineStatusTopic>(),
+        info_of<CompensationTopic>(), info_of<CheckCommandTopic>(),
+        info_of<InterventionTopic>(), info_of<AcknowledgementTopic>(),
+        info_of<AlarmTopic>(),        info_of<HeartbeatTopic>(),
+        info_of<TrendWarningTopic>(),
+    };
+    t[1].older.push_back(older_layout<MeasurementSetContract1Topic, MeasurementSetTopic>());
+    t[2].older.push_back(older_layout<CheckResultContract1Topic, CheckResultTopic>());
+    return t;
+  }();
   return topics;
+}
+
+std::optional<int> contract_of_type(std::string_view type_name) {
+  constexpr std::string_view kModule = "ncqual::msg::";
+  if (type_name.substr(0, kModule.size()) != kModule) return std::nullopt;
+  const std::string_view rest = type_name.substr(kModule.size());
+  if (rest.size() > 1 && rest[0] == 'v' && std::isdigit(static_cast<unsigned char>(rest[1]))) {
+    const auto end = rest.find("::");
+    if (end == std::string_view::npos) return std::nullopt;
+    int n = 0;
+    for (std::size_t i = 1; i < end; ++i) {
+      if (!std::isdigit(static_cast<unsigned char>(rest[i]))) return std::nullopt;
+      n = n * 10 + (rest[i] - '0');
+    }
+    return n;
+  }
+  return 1;
 }
 
 const TopicInfo* find_topic(std::string_view name) {

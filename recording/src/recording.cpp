@@ -275,7 +275,15 @@ ChannelInfo describe_channel(const mcap::Recording& recording, const mcap::Chann
   } else if (c.schema_encoding != "omgidl") {
     c.problem = "schema encoding '" + c.schema_encoding + "', not omgidl";
   } else if (c.schema_name != topic->type_name) {
-    c.problem = "schema '" + c.schema_name + "' is not the topic's type " + topic->type_name;
+    for (const auto& layout : topic->older) {
+      if (layout.type_name == c.schema_name) c.older = &layout;
+    }
+    if (c.older != nullptr) {
+      c.topic_info = topic;
+    } else {
+      c.problem = "schema '" + c.schema_name + "' is not the topic's type " + topic->type_name;
+      if (!topic->older.empty()) c.problem += " nor an older wire contract's layout of it";
+    }
   } else {
     c.topic_info = topic;
   }
@@ -310,7 +318,12 @@ Info inspect(const mcap::Recording& recording, const std::string& file, std::uin
     if (c.topic_info == nullptr) continue;
     std::string machine;
     std::string error;
-    if (c.topic_info->machine_of(m.data, machine, error)) {
+    std::vector<std::uint8_t> upgraded;
+    const bool readable = c.older == nullptr
+                              ? c.topic_info->machine_of(m.data, machine, error)
+                              : c.older->upgrade(m.data, upgraded, error) &&
+                                    c.topic_info->machine_of(upgraded, machine, error);
+    if (readable) {
       ++info.per_machine[{c.topic, machine}];
     } else {
       if (info.unreadable++ < kListed) {
@@ -349,6 +362,9 @@ std::string to_json(const Info& info) {
     cj["schema"] = c.schema_name;
     cj["schema_encoding"] = c.schema_encoding;
     cj["schema_is_this_build"] = c.schema_is_this_build;
+    if (c.topic_info != nullptr) {
+      cj["wire_contract"] = c.older != nullptr ? c.older->contract : c.topic_info->contract;
+    }
     cj["messages"] = c.messages;
     cj["ncqual"] = c.topic_info != nullptr;
     if (!c.problem.empty()) cj["problem"] = c.problem;
@@ -410,7 +426,16 @@ Selection select(const mcap::Recording& recording, const Filter& filter, const s
     }
     Sample sample;
     std::string error;
-    if (!c.topic_info->machine_of(m.data, sample.machine_id, error)) {
+    if (c.older != nullptr && !c.older->upgrade(m.data, sample.upgraded, error)) {
+      ++s.skipped_messages;
+      if (unreadable++ < kListed) {
+        s.skipped.push_back(mcap::location(m) + " (" + c.topic + ", wire contract " +
+                            std::to_string(c.older->contract) + "): " + error);
+      }
+      continue;
+    }
+    sample.message = &m;
+    if (!c.topic_info->machine_of(sample.bytes(), sample.machine_id, error)) {
       ++s.skipped_messages;
       if (unreadable++ < kListed) {
         s.skipped.push_back(mcap::location(m) + " (" + c.topic + "): " + error);
@@ -424,8 +449,8 @@ Selection select(const mcap::Recording& recording, const Filter& filter, const s
     sample.topic = c.topic_info;
     sample.log_time_ns = log;
     sample.publish_time_ns = static_cast<std::int64_t>(m.publish_time);
-    sample.message = &m;
-    s.samples.push_back(sample);
+    if (c.older != nullptr) ++s.upgraded[c.topic][c.older->contract];
+    s.samples.push_back(std::move(sample));
   }
   for (const auto& [id, count] : skipped_per_channel) {
     const ChannelInfo& c = channels.at(id);

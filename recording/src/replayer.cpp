@@ -41,7 +41,7 @@ ReplayReport Replayer::run(const Selection& selection,
           std::to_string(options_.ready_timeout.count()) + " ms; replayed all the same");
     }
     if (options_.rate > 0 && !wait_until(std::chrono::nanoseconds(due[i]))) break;
-    if (writer.write(s.message->data, s.machine_id, s.publish_time_ns)) {
+    if (writer.write(s.bytes(), s.machine_id, s.publish_time_ns)) {
       ++report.written;
       ++report.per_topic[s.topic->name];
     } else {

@@ -174,7 +174,7 @@ TEST(Recordings, ASimulatedWeekRecordedReplayedAndRecordedAgainGivesTheSameHisto
     EXPECT_EQ(c.message_encoding, "cdr") << c.topic;
     EXPECT_EQ(r.schemas.at(c.schema_id).encoding, "omgidl") << c.topic;
     if (c.topic == "ncqual/CheckResult") {
-      EXPECT_EQ(r.schemas.at(c.schema_id).name, "ncqual::msg::CheckResult");
+      EXPECT_EQ(r.schemas.at(c.schema_id).name, "ncqual::msg::v2::CheckResult");
       EXPECT_EQ(c.metadata.at("durability"), "TRANSIENT_LOCAL");
       EXPECT_EQ(c.metadata.at("reliability"), "RELIABLE");
       EXPECT_EQ(c.metadata.at("key"), "machine_id");
@@ -321,8 +321,11 @@ TEST_P(CommittedRecordings, ReplayedThroughSolverAndHistorianStoreTheRecordedVer
   std::map<std::string, CheckResult> recorded;  // by request id
   for (const auto& m : r.messages) {
     if (r.channels.at(m.channel_id).topic != "ncqual/CheckResult") continue;
+    // Recorded before wire contract 2: contract 1's layout, replayed in contract 2's.
+    ASSERT_EQ(r.schemas.at(r.channels.at(m.channel_id).schema_id).name, "ncqual::msg::CheckResult");
     msg::CheckResult wire;
-    ASSERT_TRUE(dds::deserialize<dds::CheckResultTopic>(m.data, wire)) << mcap::location(m);
+    ASSERT_TRUE(dds::deserialize<dds::CheckResultContract1Topic>(m.data, wire))
+        << mcap::location(m);
     std::string error;
     CheckResult result = dds::from_wire(wire, error);
     ASSERT_TRUE(error.empty()) << error;

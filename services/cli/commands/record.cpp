@@ -162,6 +162,10 @@ int run_info(const InfoOptions& o) {
               << ")";
     if (c.topic_info != nullptr) {
       std::cout << (c.schema_is_this_build ? ", this build's IDL" : ", another version's IDL");
+      if (c.older != nullptr) {
+        std::cout << "; wire contract " << c.older->contract << ", replayed as contract "
+                  << c.topic_info->contract;
+      }
     } else {
       std::cout << ", not replayed: " << c.problem;
     }

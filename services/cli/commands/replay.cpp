@@ -77,6 +77,14 @@ recording::Filter filter_of(const Options& o) {
 
 void print_skipped(const recording::Selection& s) {
   for (const auto& line : s.skipped) std::cerr << "skipped: " << line << "\n";
+  // Recorded by an older version: read in this build's layout, their new fields unknown.
+  for (const auto& [topic, per_contract] : s.upgraded) {
+    for (const auto& [contract, n] : per_contract) {
+      std::cerr << "note: " << n << " " << topic << " samples were recorded in wire contract "
+                << contract << " and are read in contract " << ncqual::dds::kWireContract
+                << " (their data origin unknown)\n";
+    }
+  }
 }
 
 // ---- replay into a domain --------------------------------------------------------------------
@@ -133,7 +141,7 @@ int run_replay(const Options& o) {
 template <typename Topic>
 std::optional<typename Topic::Model> decode(const recording::Sample& s, std::string& error) {
   typename Topic::Wire wire;
-  if (!ncqual::dds::deserialize<Topic>(s.message->data, wire)) {
+  if (!ncqual::dds::deserialize<Topic>(s.bytes(), wire)) {
     error = mcap::location(*s.message) + ": not a readable " + Topic::kName;
     return std::nullopt;
   }

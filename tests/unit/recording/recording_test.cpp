@@ -255,7 +255,7 @@ TEST(TopicsNamed, UnknownNameThrowsNamingItAndTheKnownOnes) {
 
 TEST(Metadata, ChannelMetadataOfAKeyedTopic) {
   const auto m = channel_metadata(topic(kResult));
-  EXPECT_EQ(m.at("type"), "ncqual::msg::CheckResult");
+  EXPECT_EQ(m.at("type"), "ncqual::msg::v2::CheckResult");
   EXPECT_EQ(m.at("keyed"), "true");
   EXPECT_EQ(m.at("key"), "machine_id");
   EXPECT_EQ(m.at("writer_profile"), topic(kResult).writer_profile);
@@ -341,7 +341,8 @@ TEST(RecordingWriter, FileLayoutAsRead) {
     }
     EXPECT_EQ(c->metadata, expected);
   }
-  EXPECT_EQ(r.schemas.at(channel_named(r, kResult)->schema_id).name, "ncqual::msg::CheckResult");
+  EXPECT_EQ(r.schemas.at(channel_named(r, kResult)->schema_id).name,
+            "ncqual::msg::v2::CheckResult");
   expect_messages(r, r.messages, written);
 }
 
@@ -654,7 +655,7 @@ MixedFile write_mixed(const std::string& path) {
   o.profile = "ros2";
   o.library = "someone else";
   mcap::Writer w(path, o);
-  const auto result_schema = w.add_schema("ncqual::msg::CheckResult", "omgidl", idl_bytes());
+  const auto result_schema = w.add_schema("ncqual::msg::v2::CheckResult", "omgidl", idl_bytes());
   const auto status_schema = w.add_schema("ncqual::msg::MachineStatus", "omgidl", idl_bytes());
   const auto tf_schema = w.add_schema("tf2_msgs/msg/TFMessage", "ros2msg",
                                       Bytes{'T', 'r', 'a', 'n', 's', 'f', 'o', 'r', 'm'});
@@ -710,7 +711,7 @@ TEST(Inspect, CountsAndChannelProblems) {
   EXPECT_EQ(result->topic_info, &topic(kResult));
   EXPECT_EQ(result->problem, "");
   EXPECT_TRUE(result->schema_is_this_build);
-  EXPECT_EQ(result->schema_name, "ncqual::msg::CheckResult");
+  EXPECT_EQ(result->schema_name, "ncqual::msg::v2::CheckResult");
   EXPECT_EQ(result->schema_encoding, "omgidl");
   EXPECT_EQ(result->messages, 4U);
   EXPECT_EQ(channel_info(info, f.status)->messages, 1U);
@@ -727,7 +728,8 @@ TEST(Inspect, CountsAndChannelProblems) {
   ASSERT_NE(other, nullptr);
   EXPECT_EQ(other->topic_info, nullptr);
   EXPECT_NE(other->problem.find("ncqual::msg::Other"), std::string::npos) << other->problem;
-  EXPECT_NE(other->problem.find("ncqual::msg::CheckResult"), std::string::npos) << other->problem;
+  EXPECT_NE(other->problem.find("ncqual::msg::v2::CheckResult"), std::string::npos)
+      << other->problem;
   EXPECT_EQ(other->messages, 1U);
 
   EXPECT_EQ(channel_info(info, f.json)->topic_info, nullptr);
@@ -741,6 +743,48 @@ TEST(Inspect, CountsAndChannelProblems) {
   ASSERT_EQ(info.problems.size(), 1U);
   EXPECT_EQ(info.problems[0].rfind("Message at byte", 0), 0U) << info.problems[0];
   EXPECT_NE(info.problems[0].find(kResult), std::string::npos) << info.problems[0];
+}
+
+// A recording an earlier version made, in wire contract 1's layout of CheckResult: listed with its
+// contract, and every sample read (and replayed) in contract 2's layout with its origin unknown.
+TEST(Inspect, ARecordingOfWireContractOneIsReadInTheCurrentLayout) {
+  TempDir dir;
+  const std::string path = dir.file("contract1.mcap");
+  CheckResult r;
+  r.machine_id = "pm1";
+  r.request_id = "r1";
+  r.verdict = Verdict::Pass;
+  r.time_ns = 1'700'000'000 * kSecond;
+  const Bytes one = dds::serialize<dds::CheckResultContract1Topic>(dds::to_wire_contract1(r));
+  {
+    mcap::Options o;
+    o.profile = "ncqual";
+    mcap::Writer w(path, o);
+    const auto schema = w.add_schema("ncqual::msg::CheckResult", "omgidl", Bytes{'x'});
+    const auto channel = w.add_channel(schema, kResult, "cdr");
+    write_message(w, channel, 100, one);
+    write_message(w, channel, 200, Bytes{0, 1, 0, 0, 9});  // not a CheckResult of any layout
+    w.close();
+  }
+  const mcap::Recording rec = mcap::read_file(path);
+  const Info info = inspect(rec, path, fs::file_size(path));
+  ASSERT_EQ(info.channels.size(), 1U);
+  EXPECT_EQ(info.channels[0].topic_info, &topic(kResult));
+  ASSERT_NE(info.channels[0].older, nullptr);
+  EXPECT_EQ(info.channels[0].older->contract, 1);
+  EXPECT_EQ(info.channels[0].problem, "");
+  EXPECT_EQ(info.unreadable, 1U);
+  EXPECT_NE(nlohmann::json::parse(to_json(info))["channels"][0]["wire_contract"], nullptr);
+  EXPECT_EQ(nlohmann::json::parse(to_json(info))["channels"][0]["wire_contract"], 1);
+
+  const Selection s = select(rec, {}, path);
+  ASSERT_EQ(s.samples.size(), 1U);
+  EXPECT_EQ(s.samples[0].machine_id, "pm1");
+  // What this build writes for the same result, its origin unknown.
+  EXPECT_EQ(s.samples[0].bytes(), dds::serialize<dds::CheckResultTopic>(dds::to_wire(r)));
+  EXPECT_EQ(s.upgraded.at(kResult).at(1), 1U);
+  ASSERT_EQ(s.skipped.size(), 1U);
+  EXPECT_NE(s.skipped[0].find("wire contract 1"), std::string::npos) << s.skipped[0];
 }
 
 TEST(Inspect, RecordingOfThisBuild) {

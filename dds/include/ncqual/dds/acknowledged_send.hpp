@@ -47,7 +47,7 @@ OrderOutcome send_acknowledged(Participant& participant, Writer<Topic>& writer,
   // Our reader should hear the acknowledging services before the first write (best effort: a
   // missed first acknowledgement only costs a second write).
   acks.wait_for_writers(1, std::min(patience, std::chrono::milliseconds(3000)));
-  const auto wire = to_wire(sample);
+  const auto wire = to_wire_as<typename Topic::Wire>(sample);
   const std::string hash = sha256_hex(serialize<Topic>(wire));
   const std::string id = sample_id_of(sample);
   WaitSet waitset;

@@ -9,6 +9,7 @@
 #include "ncqual/common/model.hpp"
 
 #include <string>
+#include <type_traits>
 
 namespace ncqual::dds {
 
@@ -45,5 +46,15 @@ MeasurementSet from_wire(const msg::MeasurementSet& w, std::string& error);
 CheckResult from_wire(const msg::CheckResult& w, std::string& error);
 msg::MeasurementSet to_wire_contract1(const MeasurementSet& v);
 msg::CheckResult to_wire_contract1(const CheckResult& v);
+
+// The sample in layout `Wire`: the current one, or contract 1's (for a topic's *Contract1Topic).
+template <typename Wire, typename Model>
+Wire to_wire_as(const Model& v) {
+  if constexpr (std::is_same_v<Wire, decltype(to_wire(v))>) {
+    return to_wire(v);
+  } else {
+    return to_wire_contract1(v);
+  }
+}
 
 }  // namespace ncqual::dds

@@ -93,7 +93,7 @@ class Writer {
   // Writes one sample. False when the sample could not be queued within the profile's
   // max_blocking_time (history full of unacknowledged samples): the caller decides to retry.
   bool write(const Model& value) {
-    auto wire = to_wire(value);
+    auto wire = to_wire_as<typename Topic::Wire>(value);
     return writer_->write(&wire);
   }
   bool write_wire(const typename Topic::Wire& wire) {

@@ -29,10 +29,25 @@
 
 namespace ncqual::dds {
 
+// A layout an older wire contract gave a topic's type (docs/architecture.md, "Changing the wire
+// contract"): what a recording of an older version holds and an older service writes.
+struct OlderLayout {
+  std::string type_name;  // "ncqual::msg::CheckResult"
+  int contract = 1;
+  // The same sample in the topic's current layout (fields it did not have: their defaults, an
+  // origin Unknown); false, with `error` saying why, when `bytes` are not a sample of this layout
+  // or hold a value out of range.
+  std::function<bool(const std::vector<std::uint8_t>& bytes, std::vector<std::uint8_t>& current,
+                     std::string& error)>
+      upgrade;
+};
+
 // One of ncqual's topics (topics.hpp) at run time.
 struct TopicInfo {
   std::string name;       // "ncqual/CheckResult"
-  std::string type_name;  // "ncqual::msg::CheckResult"
+  std::string type_name;  // "ncqual::msg::v2::CheckResult"
+  int contract = 1;       // the wire contract of type_name (that of the type's last change)
+  std::vector<OlderLayout> older;  // the layouts older contracts gave it, newest first
   const char* writer_profile = nullptr;
   const char* reader_profile = nullptr;
   bool per_machine = false;  // travels in its machine's partition (machine_partition)
@@ -48,6 +63,9 @@ struct TopicInfo {
 const std::vector<TopicInfo>& ncqual_topics();
 // The topic named `name` ("ncqual/CheckResult" or "CheckResult", any case); nullptr when none.
 const TopicInfo* find_topic(std::string_view name);
+// The wire contract a type name of an ncqual topic belongs to: N for "ncqual::msg::vN::Type", 1
+// for "ncqual::msg::Type"; nothing for a type that is not ncqual's.
+std::optional<int> contract_of_type(std::string_view type_name);
 
 // A sample as bytes.
 struct RawSample {

@@ -128,6 +128,9 @@ struct ChannelInfo {
   // An ncqual topic of the same type, in CDR: its samples can be read and replayed. Else
   // `problem` says why not (another system's channel, another type under an ncqual name).
   const dds::TopicInfo* topic_info = nullptr;
+  // Of a channel recorded in an older wire contract's layout of its topic: that layout. Its
+  // samples are read, and replayed, in the topic's current layout (OlderLayout::upgrade).
+  const dds::OlderLayout* older = nullptr;
   std::string problem;
   bool schema_is_this_build = false;  // the schema's IDL is exactly this build's idl_text()
 };
@@ -173,6 +176,12 @@ struct Sample {
   std::int64_t log_time_ns = 0;
   std::int64_t publish_time_ns = 0;
   const mcap::Message* message = nullptr;  // into the Recording selected from
+  // A message of an older wire contract: the same sample in its topic's current layout.
+  std::vector<std::uint8_t> upgraded;
+  // The sample's bytes in the topic's current layout: what a replay writes and a resolve reads.
+  const std::vector<std::uint8_t>& bytes() const {
+    return upgraded.empty() ? message->data : upgraded;
+  }
 };
 
 struct Selection {
@@ -182,6 +191,9 @@ struct Selection {
   // (N messages): why", and unreadable messages "<location>: <why>" (at most 20 each).
   std::vector<std::string> skipped;
   std::uint64_t skipped_messages = 0;
+  // Samples recorded in an older wire contract's layout, read in the current one, per topic and
+  // contract: "ncqual/CheckResult" -> {1: 12}.
+  std::map<std::string, std::map<int, std::uint64_t>> upgraded;
 };
 
 // The samples of `recording` that `filter` selects. Throws mcap::Error naming the file when it
