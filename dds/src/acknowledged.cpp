@@ -2,6 +2,7 @@
 #include "ncqual/dds/acknowledged.hpp"
 
 #include "ncqual/common/clock.hpp"
+#include "ncqual/dds/raw.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -57,7 +58,51 @@ std::int64_t Outbox::oldest_queued_ns() const {
 }
 
 void Outbox::start() {
+  upgrade_older_layouts();
   for (auto& [key, p] : index_) write(key, p, nullptr);
+}
+
+// A sample an older version left in the file in an older wire contract's layout of its topic
+// (docs/architecture.md, "Changing the wire contract"): this version's writers and readers speak
+// the current layout only, so it is queued again in that layout (a new content hash, the same
+// roles awaited) and the old entry removed. Saved before the old one is removed: a kill between
+// the two leaves both, and the next start upgrades the old one again into the same entry.
+void Outbox::upgrade_older_layouts() {
+  std::vector<Key> keys;
+  for (const auto& [key, p] : index_) keys.push_back(key);
+  for (const Key& key : keys) {
+    const auto& [topic, sample_id, hash] = key;
+    const TopicInfo* info = find_topic(topic);
+    if (info == nullptr || info->older.empty()) continue;
+    const auto payload = file_.outbox_payload(topic, sample_id, hash);
+    std::string machine_id;
+    std::string error;
+    if (!payload || info->machine_of(*payload, machine_id, error)) continue;  // current layout
+    for (const OlderLayout& layout : info->older) {
+      std::vector<std::uint8_t> current;
+      std::string why;
+      if (!layout.upgrade(*payload, current, why)) continue;
+      const Pending pending = index_.at(key);
+      storage::OutboxEntry e;
+      e.topic = topic;
+      e.sample_id = sample_id;
+      info->machine_of(current, e.machine_id, why);
+      e.content_hash = sha256_hex(current);
+      e.payload = std::move(current);
+      e.awaiting = pending.awaiting;
+      e.queued_ns = pending.queued_ns;
+      file_.save({}, {}, {e});
+      file_.discard(topic, sample_id, hash);
+      index_.erase(key);
+      index_[key_of(e)] = pending;
+      spdlog::warn(
+          "outbox {}: {} {} was queued by an older version in wire contract {}; sent in contract "
+          "{} instead (content hash {} -> {})",
+          file_.path(), topic, sample_id, layout.contract, info->contract, hash.substr(0, 12),
+          e.content_hash.substr(0, 12));
+      break;
+    }
+  }
 }
 
 void Outbox::written(const std::vector<storage::OutboxEntry>& saved) {

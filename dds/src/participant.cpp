@@ -2,10 +2,13 @@
 #include "ncqual/dds/participant.hpp"
 
 #include "ncqual/dds/identity.hpp"
+#include "ncqual/dds/raw.hpp"
+#include "ncqual/dds/topics.hpp"
 
 #include "ncqualTypeObject.h"
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/log/Log.hpp>
 #include <fastdds/rtps/attributes/ServerAttributes.h>
@@ -22,6 +25,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <set>
+#include <sstream>
+#include <cctype>
 
 namespace ncqual::dds {
 using namespace eprosima::fastdds::dds;
@@ -339,6 +344,187 @@ void log_refused_endpoints(const SecurityConfig& security) {
 }
 }  // namespace
 
+// ---- Wire contracts of the others --------------------------------------------------------------
+
+namespace {
+
+// The participants of this process: their endpoints are never another version's.
+std::mutex local_mutex;
+std::set<eprosima::fastrtps::rtps::GuidPrefix_t> local_participants;
+
+bool is_local(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+  std::lock_guard<std::mutex> lock(local_mutex);
+  return local_participants.count(prefix) != 0;
+}
+
+// Every ncqual participant announces its wire contract in its USER_DATA:
+// "ncqual;contract=2" or, reading older layouts beside, "ncqual;contract=2;reads=1".
+constexpr std::string_view kUserDataTag = "ncqual;contract=";
+
+std::vector<eprosima::fastrtps::rtps::octet> contract_user_data(const std::vector<int>& reads) {
+  std::string text = std::string(kUserDataTag) + std::to_string(kWireContract);
+  for (std::size_t i = 0; i < reads.size(); ++i) {
+    text += (i == 0 ? ";reads=" : ",") + std::to_string(reads[i]);
+  }
+  return {text.begin(), text.end()};
+}
+
+struct Announced {
+  std::optional<int> contract;  // nothing: not said (ncqual before contract 2, another system)
+  std::set<int> reads;
+};
+
+Announced announced(const std::vector<eprosima::fastrtps::rtps::octet>& data) {
+  const std::string text(data.begin(), data.end());
+  Announced a;
+  if (text.rfind(kUserDataTag, 0) != 0) return a;
+  std::size_t at = kUserDataTag.size();
+  const auto number = [&text, &at]() -> std::optional<int> {
+    int n = 0;
+    const std::size_t start = at;
+    while (at < text.size() && std::isdigit(static_cast<unsigned char>(text[at])) &&
+           at - start < 6) {
+      n = n * 10 + (text[at++] - '0');
+    }
+    return at > start ? std::optional<int>(n) : std::nullopt;
+  };
+  a.contract = number();
+  if (text.compare(at, 7, ";reads=") == 0) {
+    at += 7;
+    while (const auto n = number()) {
+      a.reads.insert(*n);
+      if (at >= text.size() || text[at] != ',') break;
+      ++at;
+    }
+  }
+  return a;
+}
+
+std::string prefix_text(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+  std::ostringstream out;
+  out << prefix;
+  return out.str();
+}
+
+}  // namespace
+
+// Listens to discovery: the others' announced contracts and the types of their endpoints on
+// ncqual's topics. Called on Fast DDS's threads.
+class Participant::ContractWatch : public DomainParticipantListener {
+ public:
+  // `log`: log each mismatch once (a process's second participant hears the same as its first
+  // and keeps quiet).
+  ContractWatch(std::string own_name, bool log) : own_name_(std::move(own_name)), log_(log) {}
+
+  std::vector<std::string> mismatches() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<std::string> out;
+    for (const auto& [key, text] : mismatches_) out.push_back(text);
+    return out;
+  }
+
+  void on_participant_discovery(
+      DomainParticipant* /*participant*/,
+      eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+    const auto& data = info.info;
+    const auto prefix = data.m_guid.guidPrefix;
+    if (is_local(prefix)) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (info.status == Status::REMOVED_PARTICIPANT || info.status == Status::DROPPED_PARTICIPANT) {
+      remotes_.erase(prefix);
+      const std::string start = prefix_text(prefix);
+      for (auto it = mismatches_.begin(); it != mismatches_.end();) {
+        it = it->first.rfind(start, 0) == 0 ? mismatches_.erase(it) : std::next(it);
+      }
+      return;
+    }
+    Remote& r = remotes_[prefix];
+    r.name = data.m_participantName.to_string();
+    r.announced = announced(data.m_userData.data_vec());
+    if (r.announced.contract && *r.announced.contract != kWireContract) {
+      note(prefix_text(prefix), "participant '" + r.name + "' (GUID prefix " + prefix_text(prefix) +
+                                    ") speaks wire contract " +
+                                    std::to_string(*r.announced.contract) + "; " + own());
+    }
+  }
+  void on_subscriber_discovery(DomainParticipant* /*participant*/,
+                               eprosima::fastrtps::rtps::ReaderDiscoveryInfo&& info) override {
+    using Status = eprosima::fastrtps::rtps::ReaderDiscoveryInfo;
+    endpoint(info.info.guid(), info.info.topicName().to_string(), info.info.typeName().to_string(),
+             false, info.status == Status::REMOVED_READER);
+  }
+  void on_publisher_discovery(DomainParticipant* /*participant*/,
+                              eprosima::fastrtps::rtps::WriterDiscoveryInfo&& info) override {
+    using Status = eprosima::fastrtps::rtps::WriterDiscoveryInfo;
+    endpoint(info.info.guid(), info.info.topicName().to_string(), info.info.typeName().to_string(),
+             true, info.status == Status::REMOVED_WRITER);
+  }
+
+ private:
+  struct Remote {
+    std::string name;
+    Announced announced;
+  };
+
+  // "this process (ncqual-solver) speaks wire contract 2 (ncqual::msg::v2::CheckResult). ..."
+  std::string own(const std::string& type = "") const {
+    return "this process (" + own_name_ + ") speaks wire contract " +
+           std::to_string(kWireContract) + (type.empty() ? "" : " (" + type + ")") +
+           ". Services of two contracts do not read each other's samples of the types that "
+           "changed: upgrade the plant's services together (docs/deploy.md, \"Upgrading\")";
+  }
+
+  void note(const std::string& key, const std::string& text) {
+    if (mismatches_.emplace(key, text).second && log_) spdlog::error("wire contract: {}", text);
+  }
+
+  void endpoint(const eprosima::fastrtps::rtps::GUID_t& guid, const std::string& topic,
+                const std::string& type, bool writer, bool removed) {
+    if (is_local(guid.guidPrefix)) return;
+    const TopicInfo* ours = nullptr;
+    for (const auto& t : ncqual_topics()) {
+      if (t.name == topic) ours = &t;
+    }
+    if (ours == nullptr || ours->type_name == type) return;
+    std::ostringstream id;
+    id << guid;
+    const std::string key = prefix_text(guid.guidPrefix) + " " + id.str();
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (removed) {
+      mismatches_.erase(key);
+      return;
+    }
+    const auto their = contract_of_type(type);
+    const auto remote = remotes_.find(guid.guidPrefix);
+    // A reader of an older layout in a participant that reads it beside the current one (the
+    // historian's second participant) is not another version.
+    if (!writer && their && remote != remotes_.end() &&
+        remote->second.announced.reads.count(*their))
+      return;
+    const std::string who = remote != remotes_.end() && !remote->second.name.empty()
+                                ? "participant '" + remote->second.name + "'"
+                                : std::string("a participant");
+    std::string text = who + " (GUID prefix " + prefix_text(guid.guidPrefix) + ") " +
+                       (writer ? "writes " : "reads ") + topic + " as " + type;
+    if (their) {
+      text += " (wire contract " + std::to_string(*their) + "); " + own(ours->type_name);
+    } else {
+      text += ", which is not ncqual's type of that topic (" + ours->type_name +
+              "): DDS never matches them";
+    }
+    note(key, text);
+  }
+
+  std::string own_name_;
+  bool log_ = true;
+  mutable std::mutex mutex_;
+  std::map<eprosima::fastrtps::rtps::GuidPrefix_t, Remote> remotes_;
+  std::map<std::string, std::string> mismatches_;  // by "<prefix> <endpoint GUID>" or "<prefix>"
+};
+
+std::vector<std::string> Participant::contract_mismatches() const { return watch_->mismatches(); }
+
 // What to do when the profiles are not there, said once for all of the process's refusals.
 constexpr const char* kProfilesRemedy =
     "set qos_profiles in the plant config (deploy/qos/ncqual-qos.xml) or "
@@ -375,7 +561,16 @@ Participant::Participant(const ParticipantOptions& options)
   warn_if_secured_over_multicast(options);
   log_refused_endpoints(options.security);
   if (!options.name.empty()) qos.name(options.name);
-  participant_ = factory->create_participant(options.domain_id, qos);
+  qos.user_data().data_vec(contract_user_data(options.reads_older_contracts));
+  watch_ = std::make_unique<ContractWatch>(options.name.empty() ? "ncqual" : options.name,
+                                           options.reads_older_contracts.empty());
+  // The listener hears discovery only: no status of the entities goes to it.
+  participant_ =
+      factory->create_participant(options.domain_id, qos, watch_.get(), StatusMask::none());
+  if (participant_) {
+    std::lock_guard<std::mutex> lock(local_mutex);
+    local_participants.insert(participant_->guid().guidPrefix);
+  }
   if (!participant_) {
     throw DdsError(
         "could not create a DDS participant on domain " + std::to_string(options.domain_id) +
@@ -393,6 +588,10 @@ Participant::Participant(const ParticipantOptions& options)
 
 Participant::~Participant() {
   if (participant_) {
+    {
+      std::lock_guard<std::mutex> lock(local_mutex);
+      local_participants.erase(participant_->guid().guidPrefix);
+    }
     participant_->delete_contained_entities();
     DomainParticipantFactory::get_instance()->delete_participant(participant_);
   }

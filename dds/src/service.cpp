@@ -96,7 +96,30 @@ Heartbeat Service::heartbeat(const std::string& state) const {
   beat.state = state;
   beat.time_ns = clock_.now_ns();
   for (const auto& fill : fill_) fill(beat);
+  const std::vector<std::string> mismatches = participant_->contract_mismatches();
+  if (!mismatches.empty()) {
+    std::string text = "wire contract: " + mismatches.front();
+    if (mismatches.size() > 1) {
+      text += " (and " + std::to_string(mismatches.size() - 1) + " more endpoints; see the log)";
+    }
+    if (beat.health.empty() || beat.health == "ok") {
+      beat.health = "degraded";
+      beat.health_detail = text;
+    } else {
+      beat.health_detail += "; " + text;
+    }
+  }
   return beat;
+}
+
+Participant& Service::older_contracts_participant() {
+  if (!older_participant_) {
+    ParticipantOptions options = options_.participant;
+    options.name += " (older wire contracts)";
+    options.reads_older_contracts = {1};
+    older_participant_ = std::make_unique<Participant>(options);
+  }
+  return *older_participant_;
 }
 
 void Service::beat(const std::string& state) {

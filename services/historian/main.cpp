@@ -27,9 +27,10 @@ namespace {
 // How each topic's samples are named in log lines, conflicts and alarm ids.
 template <typename Topic>
 historian::SampleKind kind_of(const char* what) {
-  const char* part = std::is_same_v<Topic, dds::MeasurementSetTopic> ? "measurements"
-                     : std::is_same_v<Topic, dds::CheckResultTopic>  ? "results"
-                                                                     : nullptr;
+  using Model = typename Topic::Model;
+  const char* part = std::is_same_v<Model, MeasurementSet> ? "measurements"
+                     : std::is_same_v<Model, CheckResult>  ? "results"
+                                                           : nullptr;
   return {what, part, Topic::kName};
 }
 
@@ -118,6 +119,15 @@ int run(int argc, char** argv) {
     ingest_from(statuses, kind_of<dds::MachineStatusTopic>("status"));
     dds::MachineReaders<dds::CompensationTopic> compensations(p, machine_ids);
     ingest_from(compensations, kind_of<dds::CompensationTopic>("compensation"));
+    // What a service of an older version writes (docs/architecture.md, "Changing the wire
+    // contract"): contract 1's sets and results, read by a second participant (one type per
+    // topic name in a participant), stored with their origin unknown and acknowledged with the
+    // hash of the bytes that service sent, so that its outbox lets them go.
+    auto& older = service.older_contracts_participant();
+    dds::MachineReaders<dds::MeasurementSetContract1Topic> sets_contract1(older, machine_ids);
+    ingest_from(sets_contract1, kind_of<dds::MeasurementSetContract1Topic>("measurement set"));
+    dds::Reader<dds::CheckResultContract1Topic> results_contract1(older);
+    ingest_from(results_contract1, kind_of<dds::CheckResultContract1Topic>("result"));
     dds::Reader<dds::InterventionTopic> interventions(p);
     ingest_from(interventions, kind_of<dds::InterventionTopic>("intervention"));
     dds::Reader<dds::HeartbeatTopic> heartbeats(p);

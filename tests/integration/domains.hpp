@@ -83,6 +83,8 @@ enum class TestDomain : int {
   SecureAttack = detail::test_domain(178),
   // Conflict.AConflictingMeasurementHoldsTheMachine...: the scheduler holds on a conflict
   ConflictHold = detail::test_domain(179),
+  // WireContract.*: a service of the previous wire contract in a plant of the current one
+  WireContract = detail::test_domain(180),
 };
 
 // The id as an int. The switch is the check that no two ids are equal: two case labels with the
@@ -130,7 +132,8 @@ constexpr int domain_id(TestDomain domain) {
     case TestDomain::TrendWarnings:
     case TestDomain::Permissions:
     case TestDomain::SecureAttack:
-    case TestDomain::ConflictHold: break;
+    case TestDomain::ConflictHold:
+    case TestDomain::WireContract: break;
   }
   return static_cast<int>(domain);
 }

@@ -38,7 +38,7 @@ storage::OutboxEntry outbox_entry(const typename Topic::Model& value,
   e.topic = Topic::kName;
   e.sample_id = sample_id_of(value);
   e.machine_id = value.machine_id;
-  e.payload = serialize<Topic>(to_wire(value));
+  e.payload = serialize<Topic>(to_wire_as<typename Topic::Wire>(value));
   e.content_hash = sha256_hex(e.payload);
   e.awaiting = std::move(roles);
   e.queued_ns = queued_ns;
@@ -122,6 +122,7 @@ class Outbox {
   std::int64_t now_ns() const;
   void on_acknowledgement(const Acknowledgement& ack);
   void resend_due();
+  void upgrade_older_layouts();
   void write(const Key& key, Pending& p, const std::vector<std::uint8_t>* payload);
 
   Service& service_;

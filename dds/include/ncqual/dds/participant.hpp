@@ -43,6 +43,10 @@ struct ParticipantOptions {
   NetworkConfig network;
   // DDS Security: the plant's material and the identity to run as (empty dir: not secured).
   SecurityConfig security;
+  // The older wire contracts this participant reads beside the current one (the historian's
+  // second participant): announced, so that the others do not take its readers of older layouts
+  // for a service of an older version.
+  std::vector<int> reads_older_contracts;
 };
 
 // The options of a participant of `plant` on `domain_id`, named `name` ("ncqual-cli").
@@ -125,7 +129,16 @@ class Participant {
   eprosima::fastdds::dds::ContentFilteredTopic* machine_filter(eprosima::fastdds::dds::Topic* topic,
                                                                const std::string& machine_id);
 
+  // The participants of the domain that speak another wire contract than this process
+  // (docs/architecture.md, "Changing the wire contract"), one sentence each naming both: an
+  // endpoint of an ncqual topic with another type name (an older or newer layout of a changed
+  // type, or another system's type), or a participant that announces another contract. Each is
+  // logged as an error once when it is discovered, and is forgotten when it leaves.
+  std::vector<std::string> contract_mismatches() const;
+
  private:
+  class ContractWatch;
+  std::unique_ptr<ContractWatch> watch_;  // outlives participant_ (declared before it)
   int domain_id_ = 0;
   bool allow_default_qos_ = false;
   SecurityConfig security_;

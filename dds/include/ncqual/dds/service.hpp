@@ -35,6 +35,10 @@ class Service {
   ~Service();
 
   Participant& participant() { return *participant_; }
+  // A second participant, made on first use, that reads the layouts older wire contracts gave
+  // the types that changed (topics.hpp's *Contract1Topic): a participant has one type per topic
+  // name. The historian's, so that it stores what a service of an older version sends.
+  Participant& older_contracts_participant();
   Dispatcher& dispatcher() { return dispatcher_; }
   const Clock& clock() const { return clock_; }
   const std::string& instance() const { return instance_; }
@@ -49,7 +53,9 @@ class Service {
 
   // Work to do between the stop and the last heartbeat (on the dispatcher's thread).
   void before_stop(std::function<void()> work) { before_stop_.push_back(std::move(work)); }
-  // Fills the heartbeat's health and outbox fields; called before every heartbeat.
+  // Fills the heartbeat's health and outbox fields; called before every heartbeat. Beside what
+  // they say, a participant of another wire contract in the domain makes the health "degraded"
+  // (Participant::contract_mismatches).
   void on_heartbeat(std::function<void(Heartbeat&)> fill) { fill_.push_back(std::move(fill)); }
   // Writes a heartbeat now (a health change should not wait for the period).
   void beat(const std::string& state);
@@ -65,6 +71,7 @@ class Service {
   std::string instance_;
   WallClock clock_;
   std::unique_ptr<Participant> participant_;
+  std::unique_ptr<Participant> older_participant_;
   Dispatcher dispatcher_;
   std::unique_ptr<Writer<HeartbeatTopic>> heartbeat_;
   std::unique_ptr<RawWriter> raw_heartbeat_;

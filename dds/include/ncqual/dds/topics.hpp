@@ -19,16 +19,16 @@ inline constexpr int kWireContract = 2;
 // refused by every reader when a writer in machine partitions writes another machine's.
 // CONTRACT: the contract whose layout WIRE is (that of the last change of the type).
 #define NCQUAL_TOPIC_OF(TRAITS, NAME, MODEL, WIRE, CONTRACT, WRITER_PROFILE, READER_PROFILE, \
-                        PER_MACHINE)                                                          \
-  struct TRAITS {                                                                             \
-    using Model = ::ncqual::MODEL;                                                            \
-    using Wire = ::ncqual::msg::WIRE;                                                         \
-    using PubSub = ::ncqual::msg::WIRE##PubSubType;                                           \
-    static constexpr const char* kName = NAME;                                                \
-    static constexpr const char* kWriterProfile = WRITER_PROFILE;                             \
-    static constexpr const char* kReaderProfile = READER_PROFILE;                             \
-    static constexpr bool kPerMachine = PER_MACHINE;                                          \
-    static constexpr int kContract = CONTRACT;                                                \
+                        PER_MACHINE)                                                         \
+  struct TRAITS {                                                                            \
+    using Model = ::ncqual::MODEL;                                                           \
+    using Wire = ::ncqual::msg::WIRE;                                                        \
+    using PubSub = ::ncqual::msg::WIRE##PubSubType;                                          \
+    static constexpr const char* kName = NAME;                                               \
+    static constexpr const char* kWriterProfile = WRITER_PROFILE;                            \
+    static constexpr const char* kReaderProfile = READER_PROFILE;                            \
+    static constexpr bool kPerMachine = PER_MACHINE;                                         \
+    static constexpr int kContract = CONTRACT;                                               \
   }
 #define NCQUAL_TOPIC(TRAITS, NAME, MODEL, WRITER_PROFILE, READER_PROFILE, PER_MACHINE) \
   NCQUAL_TOPIC_OF(TRAITS, NAME, MODEL, MODEL, 1, WRITER_PROFILE, READER_PROFILE, PER_MACHINE)
