@@ -45,9 +45,7 @@ std::optional<Verdict> parse_verdict(std::string_view name) {
   return enum_named<Verdict>(kVerdictNames, name);
 }
 
-std::string_view to_string(DataOrigin origin) {
-  return name_of(kOriginNames, origin, "unknown");
-}
+std::string_view to_string(DataOrigin origin) { return name_of(kOriginNames, origin, "unknown"); }
 std::optional<DataOrigin> parse_data_origin(std::string_view name) {
   return enum_named<DataOrigin>(kOriginNames, name);
 }

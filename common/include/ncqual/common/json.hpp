@@ -114,12 +114,14 @@ inline void from_json(const nlohmann::json& j, MachineState& v) {
 #define NCQUAL_JSON_GET(f) j.at(#f).get_to(v.f);
 #define NCQUAL_JSON_GET_OR_DEFAULT(f) \
   if (const auto it = j.find(#f); it != j.end()) it->get_to(v.f);
-#define NCQUAL_JSON(Type, FIELDS, GET)                    \
-  inline void to_json(nlohmann::json& j, const Type& v) { \
-    j = nlohmann::json::object();                         \
-    FIELDS(NCQUAL_JSON_PUT, NCQUAL_JSON_PUT)              \
-  }                                                       \
-  inline void from_json(const nlohmann::json& j, Type& v) { FIELDS(GET, NCQUAL_JSON_GET_OR_DEFAULT) }
+#define NCQUAL_JSON(Type, FIELDS, GET)                      \
+  inline void to_json(nlohmann::json& j, const Type& v) {   \
+    j = nlohmann::json::object();                           \
+    FIELDS(NCQUAL_JSON_PUT, NCQUAL_JSON_PUT)                \
+  }                                                         \
+  inline void from_json(const nlohmann::json& j, Type& v) { \
+    FIELDS(GET, NCQUAL_JSON_GET_OR_DEFAULT)                 \
+  }
 // NOLINTEND(bugprone-macro-parentheses)
 
 NCQUAL_JSON(NamedValue, NCQUAL_FIELDS_NAMED_VALUE, NCQUAL_JSON_GET)
