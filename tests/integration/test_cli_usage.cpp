@@ -375,7 +375,8 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
   const std::string machine =
       tmp.write("m.yaml", "extends: " + pm1 + "\nmachine_id: m\ntolerances: {centre_dx_mm: 1}\n");
   const std::string plant = tmp.write(
-      "plant.yaml", "plant: p\ndomian_id: 3\nqos_profile: q.xml\nmachines: [" + machine + "]\n");
+      "plant.yaml",
+      "plant: p\nsimulated: true\ndomian_id: 3\nqos_profile: q.xml\nmachines: [" + machine + "]\n");
   const CliRun bad = run({"config", "check", "--plant", plant});
   EXPECT_EQ(bad.exit_code, 4) << bad.out << bad.err;
   EXPECT_NE(bad.out.find(plant + ": domian_id = '3': unknown key"), std::string::npos) << bad.out;
@@ -392,6 +393,7 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
   EXPECT_NE(ok.out.find("OK, plant 'demo-plant' on domain 42, 1 machine: pm1"), std::string::npos)
       << ok.out;
+  EXPECT_NE(ok.out.find("  simulated = true\n"), std::string::npos) << ok.out;
   EXPECT_NE(ok.out.find("  budget.allowable_total = 0.762 mm (written 0.03 in)"), std::string::npos)
       << ok.out;
   EXPECT_NE(ok.out.find("  monument.face_offset_mm = 35 mm  (default)"), std::string::npos)

@@ -55,6 +55,15 @@ void Diagnostics::resolved(const std::string& file, const std::string& path,
   values_.push_back({file, path, value, defaulted});
 }
 
+bool Diagnostics::has_problem_under(const std::string& file, const std::string& path) const {
+  for (auto it = seen_.lower_bound({file, path}); it != seen_.end() && it->first == file; ++it) {
+    const std::string& p = it->second;
+    if (p.compare(0, path.size(), path) != 0) break;
+    if (p.size() == path.size() || p[path.size()] == '.' || p[path.size()] == '[') return true;
+  }
+  return false;
+}
+
 void Diagnostics::throw_if_any() const {
   if (problems_.empty()) return;
   throw ConfigError(problems_);
@@ -295,6 +304,11 @@ int Node::integer(int lo, int hi, int fallback) const {
 std::string Node::text(const std::string& fallback) const {
   if (!present()) log_default("\"" + fallback + "\"");
   return text().value_or(fallback);
+}
+
+bool Node::flag(bool fallback) const {
+  if (!present()) log_default(fallback ? "true" : "false");
+  return flag().value_or(fallback);
 }
 
 Eigen::VectorXd Node::lengths(int n, const Eigen::VectorXd& fallback) const {

@@ -48,6 +48,8 @@ class Diagnostics {
   void resolved(const std::string& file, const std::string& path, const std::string& value,
                 bool defaulted);
 
+  // True when `file` has a problem at `path` or below it (`path.x`, `path[0]`).
+  bool has_problem_under(const std::string& file, const std::string& path) const;
   bool empty() const { return problems_.empty(); }
   std::size_t count() const { return problems_.size(); }
   const std::vector<std::string>& problems() const { return problems_; }
@@ -120,6 +122,7 @@ class Node {
   double number(double fallback) const;
   int integer(int lo, int hi, int fallback) const;
   std::string text(const std::string& fallback) const;
+  bool flag(bool fallback) const;
   Eigen::VectorXd lengths(int n, const Eigen::VectorXd& fallback) const;
 
   // ---- Required: a problem "required" when absent ---------------------------------------------
