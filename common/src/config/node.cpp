@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "node.hpp"
 
+#include "ncqual/common/text.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -129,8 +131,13 @@ bool Node::problem(const std::string& why) const {
 bool Node::map_of(const std::set<std::string>& keys) const {
   if (!present()) return false;
   if (!yaml_->IsMap()) return problem("expected a mapping");
+  const std::vector<std::string_view> known(keys.begin(), keys.end());
   for (const auto& [key, child] : entries()) {
-    if (!keys.count(key)) child.problem("unknown key; expected one of: " + join(keys));
+    if (keys.count(key)) continue;
+    const auto nearest = closest_word(key, known);
+    child.problem("unknown key; " +
+                  (nearest ? "did you mean '" + std::string(*nearest) + "'? " : std::string()) +
+                  "expected one of: " + join(keys));
   }
   return true;
 }

@@ -94,7 +94,8 @@ class Node {
 
   // ---- Shapes ----------------------------------------------------------------------------------
   // A mapping with only these keys: true when it is one (each other key is a problem, "unknown
-  // key; expected one of: ..."); false when absent (no problem) or not a mapping (a problem).
+  // key; did you mean 'x'? expected one of: ...", the suggestion when one is a few edits away);
+  // false when absent (no problem) or not a mapping (a problem).
   bool map_of(const std::set<std::string>& keys) const;
   // As map_of, but absence is a problem too ("required section").
   bool required_map_of(const std::set<std::string>& keys) const;

@@ -66,9 +66,16 @@ simulator:
   } catch (const ConfigError& e) {
     const auto& p = e.problems();
     EXPECT_EQ(p.size(), 6u) << e.what();
-    EXPECT_TRUE(names(p, plant + ": domian_id = '7': unknown key")) << e.what();
-    EXPECT_TRUE(names(p, plant + ": qos_profile = 'qos.xml': unknown key")) << e.what();
-    EXPECT_TRUE(names(p, machine + ": tolerence = (not a single value): unknown key")) << e.what();
+    // An unknown key names the known one a few edits away, as a tolerance does.
+    EXPECT_TRUE(names(p, plant + ": domian_id = '7': unknown key; did you mean 'domain_id'? "
+                                 "expected one of: allow_default_qos, clock, domain_id,"))
+        << e.what();
+    EXPECT_TRUE(names(p, plant + ": qos_profile = 'qos.xml': unknown key; did you mean "
+                                 "'qos_profiles'?"))
+        << e.what();
+    EXPECT_TRUE(names(p, machine + ": tolerence = (not a single value): unknown key; did you mean "
+                                   "'tolerances'?"))
+        << e.what();
     EXPECT_TRUE(names(p, machine + ": tolerances.centre_dx_mm = '0.02': no check reads this "
                                    "tolerance; did you mean 'center_dx_mm'?"))
         << e.what();
@@ -285,6 +292,17 @@ instrument: {driver: control-file}
   EXPECT_EQ(wrong.problems[0], typo +
                                    ": instrument.driver = 'control-file': expected simulator or "
                                    "control-files");
+  // A misspelt key is unknown, with the key it meant; the plant then does not say it simulates.
+  const std::string misspelt =
+      write("misspelt.yaml", "plant: p\nsimulate: true\nmachines: [" + kPm1 + "]\n");
+  const ConfigReport meant = check_plant_config(misspelt);
+  ASSERT_EQ(meant.problems.size(), 2u);
+  EXPECT_EQ(meant.problems[0].rfind(misspelt + ": simulate = 'true': unknown key; did you mean "
+                                               "'simulated'? expected one of: ",
+                                    0),
+            0u)
+      << meant.problems[0];
+  EXPECT_TRUE(names(meant.problems, "machine 'pm1'")) << meant.problems[1];
 }
 
 // The network: section: the way of discovery and its addresses, each problem named.
