@@ -103,6 +103,7 @@ YAML
 plant: demo
 domain_id: $domain
 qos_profiles: $root/deploy/qos/ncqual-qos.xml
+simulated: true  # its machines are measured by the simulator
 historian:
   database: $db
 clock: {mode: simulated, start: "2026-01-05T00:00:00Z"}
@@ -134,6 +135,7 @@ cat > "$plant" <<YAML
 plant: demo
 domain_id: $domain
 qos_profiles: $root/deploy/qos/ncqual-qos.xml
+simulated: true  # its machines are measured by the simulator
 historian:
   database: $db
 scheduler:

@@ -211,6 +211,7 @@ class Plant {
     std::ofstream out(path);
     out << "plant: test-plant\n"
         << "domain_id: " << domain_ << "\n"
+        << "simulated: true\n"  // the machines without an instrument: section
         << qos_lines_ << "historian:\n  database: " << db_path() << "\n"
         << sections << "machines:\n";
     for (const auto& m : machines_) out << "  - " << m << "\n";

@@ -36,7 +36,8 @@ class BudgetCli : public ::testing::Test {
 
   std::string write_plant(const std::vector<std::string>& machine_files) {
     std::string text =
-        "plant: budget-test\ndomain_id: 0\nhistorian:\n  database: " + db_path() + "\nmachines:\n";
+        "plant: budget-test\ndomain_id: 0\nsimulated: true\nhistorian:\n  database: " + db_path() +
+        "\nmachines:\n";
     for (const auto& m : machine_files) text += "  - " + m + "\n";
     return write("plant.yaml", text);
   }

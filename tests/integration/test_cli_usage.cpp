@@ -375,7 +375,8 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
   const std::string machine =
       tmp.write("m.yaml", "extends: " + pm1 + "\nmachine_id: m\ntolerances: {centre_dx_mm: 1}\n");
   const std::string plant = tmp.write(
-      "plant.yaml", "plant: p\ndomian_id: 3\nqos_profile: q.xml\nmachines: [" + machine + "]\n");
+      "plant.yaml",
+      "plant: p\nsimulated: true\ndomian_id: 3\nqos_profile: q.xml\nmachines: [" + machine + "]\n");
   const CliRun bad = run({"config", "check", "--plant", plant});
   EXPECT_EQ(bad.exit_code, 4) << bad.out << bad.err;
   EXPECT_NE(bad.out.find(plant + ": domian_id = '3': unknown key"), std::string::npos) << bad.out;
@@ -390,8 +391,12 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
   const CliRun ok =
       run({"config", "check", "--print", "--plant", NCQUAL_SOURCE_DIR "/deploy/plant.yaml"});
   EXPECT_EQ(ok.exit_code, 0) << ok.out << ok.err;
-  EXPECT_NE(ok.out.find("OK, plant 'demo-plant' on domain 42, 1 machine: pm1"), std::string::npos)
+  EXPECT_NE(
+      ok.out.find("OK, plant 'demo-plant' on domain 42, 1 machine: pm1\n"
+                  "  simulated: true (a demo or test bench): measured by the simulator: pm1\n"),
+      std::string::npos)
       << ok.out;
+  EXPECT_NE(ok.out.find("  simulated = true\n"), std::string::npos) << ok.out;
   EXPECT_NE(ok.out.find("  budget.allowable_total = 0.762 mm (written 0.03 in)"), std::string::npos)
       << ok.out;
   EXPECT_NE(ok.out.find("  monument.face_offset_mm = 35 mm  (default)"), std::string::npos)
@@ -403,6 +408,62 @@ TEST(CliUsage, ConfigCheckPrintsEveryProblemOrTheResolvedPlant) {
   EXPECT_NE(cut.out.find(empty + ": no settings in it (empty, or only comments)"),
             std::string::npos)
       << cut.out;
+}
+
+// Issue 37 point 5: the plant the package installs in /etc/ncqual (deploy/systemd/plant.yaml and
+// deploy/machines/pm1.yaml, laid out as CMakeLists.txt's install rules put them) does not simulate
+// unnoticed: it is refused, naming the machine and the way out, until pm1 has an instrument. A
+// plant that loads says whether it is a simulation and which machines the simulator measures.
+TEST(CliUsage, ConfigCheckSaysWhetherThePlantIsASimulation) {
+  testing_cli::TempDir tmp("ncqual-config-simulated");
+  const std::string source = NCQUAL_SOURCE_DIR;
+  std::filesystem::create_directories(tmp.path() / "etc" / "machines");
+  std::filesystem::copy_file(source + "/deploy/systemd/plant.yaml", tmp.path() / "etc/plant.yaml");
+  std::filesystem::copy_file(source + "/deploy/machines/pm1.yaml",
+                             tmp.path() / "etc/machines/pm1.yaml");
+  const std::string installed = (tmp.path() / "etc/plant.yaml").string();
+  const CliRun refused = run({"config", "check", "--plant", installed});
+  EXPECT_EQ(refused.exit_code, 4) << refused.out << refused.err;
+  EXPECT_NE(refused.out.find(installed + ": machines[0] = 'machines/pm1.yaml': machine 'pm1' (" +
+                             (tmp.path() / "etc/machines/pm1.yaml").string() +
+                             ") has no instrument: section"),
+            std::string::npos)
+      << refused.out;
+  EXPECT_NE(refused.out.find("give it an instrument: section (docs/connecting-a-machine.md) or, "
+                             "for a demo or test bench, say `simulated: true` in the plant"),
+            std::string::npos)
+      << refused.out;
+  EXPECT_NE(refused.out.find("1 problem;"), std::string::npos) << refused.out;
+
+  const std::string pm1 = source + "/deploy/machines/pm1.yaml";
+  const std::string ctl = tmp.write("ctl.yaml", "extends: " + pm1 +
+                                                    "\nmachine_id: ctl\ninstrument: {driver: "
+                                                    "control-files, outbox: o, inbox: i}\n");
+  const CliRun measured =
+      run({"config", "check", "--plant", tmp.write("measured.yaml", "machines: [" + ctl + "]\n")});
+  EXPECT_EQ(measured.exit_code, 0) << measured.out << measured.err;
+  EXPECT_NE(measured.out.find("\n  simulated: false: every machine is measured by its "
+                              "instrument: ctl\n"),
+            std::string::npos)
+      << measured.out;
+
+  const std::string bench =
+      tmp.write("bench.yaml", "simulated: true\nmachines: [" + pm1 + ", " + ctl + "]\n");
+  const CliRun mixed = run({"config", "check", "--plant", bench});
+  EXPECT_EQ(mixed.exit_code, 0) << mixed.out << mixed.err;
+  EXPECT_NE(mixed.out.find("\n  simulated: true (a demo or test bench): measured by the "
+                           "simulator: pm1; by their instruments: ctl\n"),
+            std::string::npos)
+      << mixed.out;
+  const CliRun json = run({"config", "check", "--plant", bench, "--json"});
+  ASSERT_EQ(json.exit_code, 0) << json.out << json.err;
+  const auto doc = nlohmann::json::parse(json.out);
+  EXPECT_EQ(doc.at("simulated"), true);
+  ASSERT_EQ(doc.at("machines").size(), 2u);
+  EXPECT_EQ(doc.at("machines")[0].at("machine_id"), "pm1");
+  EXPECT_EQ(doc.at("machines")[0].at("simulated"), true);
+  EXPECT_EQ(doc.at("machines")[1].at("machine_id"), "ctl");
+  EXPECT_EQ(doc.at("machines")[1].at("simulated"), false);
 }
 
 }  // namespace

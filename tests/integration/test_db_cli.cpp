@@ -150,8 +150,9 @@ tolerances:
   center_dy_mm: 0.025
   face_dz_mm: 0.025
 )");
-    return tmp_.write("plant.yaml", "plant: db-test\ndomain_id: 0\nhistorian:\n  database: " +
-                                        db_file + "\nmachines:\n  - " + machine + "\n" + extra);
+    return tmp_.write("plant.yaml",
+                      "plant: db-test\ndomain_id: 0\nsimulated: true\nhistorian:\n  database: " +
+                          db_file + "\nmachines:\n  - " + machine + "\n" + extra);
   }
 
   testing_cli::TempDir tmp_{"ncqual-db-cli"};

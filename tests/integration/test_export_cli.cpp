@@ -571,8 +571,9 @@ probe: {tool_length_mm: 350.0, ball_radius_mm: 3.0}
 monument: {hole_center_mm: [1200.0, 800.0], hole_diameter_mm: 50.0, face_z_mm: 150.0}
 tolerances: {center_dx_mm: 0.025, center_dy_mm: 0.025, face_dz_mm: 0.025}
 )");
-    return tmp_.write("plant.yaml", "plant: thin-test\nhistorian:\n  database: " + db_file + "\n" +
-                                        retention + "machines:\n  - " + machine + "\n");
+    return tmp_.write("plant.yaml",
+                      "plant: thin-test\nsimulated: true\nhistorian:\n  database: " + db_file +
+                          "\n" + retention + "machines:\n  - " + machine + "\n");
   }
 
   testing_cli::TempDir tmp_{"ncqual-db-thin"};

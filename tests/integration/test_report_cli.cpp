@@ -28,11 +28,12 @@ class ReportCli : public ::testing::Test {
  protected:
   void SetUp() override {
     report::testing::build_report_historian(db_path(), report::testing::report_machine("pm1"));
-    plant_ = tmp_.write("plant.yaml",
-                        "plant: report-test\ndomain_id: 0\nhistorian:\n  database: " + db_path() +
-                            "\nclock: {mode: simulated, start: "
-                            "2026-03-01T00:00:00Z}\nmachines:\n  - " NCQUAL_SOURCE_DIR
-                            "/deploy/machines/pm1.yaml\n");
+    plant_ = tmp_.write(
+        "plant.yaml",
+        "plant: report-test\ndomain_id: 0\nsimulated: true\nhistorian:\n  database: " + db_path() +
+            "\nclock: {mode: simulated, start: "
+            "2026-03-01T00:00:00Z}\nmachines:\n  - " NCQUAL_SOURCE_DIR
+            "/deploy/machines/pm1.yaml\n");
   }
   std::string db_path() const { return (tmp_.path() / "historian.db").string(); }
   std::string out_path() const { return (tmp_.path() / "pm1.html").string(); }
@@ -93,11 +94,12 @@ TEST_F(ReportCli, WritesTheWholeReportAsOfTheSimulatedClock) {
 // (12 March, 07:00 local) is in, daily-9 (11 March) is not.
 TEST_F(ReportCli, EveryTimeAPersonReadsIsInThePlantsZone) {
   const std::string berlin = tmp_.write(
-      "berlin.yaml", "plant: report-test\ndomain_id: 0\nhistorian:\n  database: " + db_path() +
-                         "\nclock: {mode: simulated, start: 2026-03-01T00:00:00Z}\nmachines:\n  "
-                         "- " NCQUAL_SOURCE_DIR
-                         "/deploy/machines/pm1.yaml\nscheduler:\n  calendar:\n    time_zone: "
-                         "Europe/Berlin\n");
+      "berlin.yaml",
+      "plant: report-test\ndomain_id: 0\nsimulated: true\nhistorian:\n  database: " + db_path() +
+          "\nclock: {mode: simulated, start: 2026-03-01T00:00:00Z}\nmachines:\n  "
+          "- " NCQUAL_SOURCE_DIR
+          "/deploy/machines/pm1.yaml\nscheduler:\n  calendar:\n    time_zone: "
+          "Europe/Berlin\n");
   const CliRun history = run_cli({"history", "--machine", "pm1", "--plant", berlin});
   ASSERT_EQ(history.exit_code, 0) << history.out;
   EXPECT_NE(history.out.find("2026-03-14 07:00:00 +01:00 CET"), std::string::npos) << history.out;

@@ -172,8 +172,9 @@ class UncertaintyCli : public ::testing::Test {
         tmp_.write("u3.yaml", "machine_id: u3\n" + head + kGlobalCheck),
         tmp_.write("u4.yaml", "machine_id: u4\n" + head + kGlobalCheck + no_search),
         tmp_.write("u5.yaml", "machine_id: u5\n" + head)};
-    std::string plant = "plant: uncertainty-test\ndomain_id: 0\nhistorian:\n  database: " +
-                        (tmp_.path() / "historian.db").string() + "\nmachines:\n";
+    std::string plant =
+        "plant: uncertainty-test\ndomain_id: 0\nsimulated: true\nhistorian:\n  database: " +
+        (tmp_.path() / "historian.db").string() + "\nmachines:\n";
     for (const auto& m : machines) plant += "  - " + m + "\n";
     plant_ = tmp_.write("plant.yaml", plant);
   }
@@ -391,7 +392,8 @@ TEST_F(UncertaintyCli, ErrorsSayWhatIsMissingAndBadUsageExitsTwo) {
       std::string("machine_id: u6\n") + kMachineHead + kGlobalCheck +
           "  uncertainty: {tracker: {position_mm: [0, -900, 500], samples_per_point: 0}}\n");
   const std::string plant6 =
-      tmp_.write("plant6.yaml", "plant: p6\ndomain_id: 0\nmachines:\n  - " + bad_config + "\n");
+      tmp_.write("plant6.yaml",
+                 "plant: p6\ndomain_id: 0\nsimulated: true\nmachines:\n  - " + bad_config + "\n");
   const CliRun bad = run_cli({"uncertainty", "--plant", plant6, "--machine", "u6"});
   EXPECT_EQ(bad.exit_code, 1) << bad.out;
   EXPECT_NE(bad.out.find("global_check.uncertainty.tracker.samples_per_point = '0'"),

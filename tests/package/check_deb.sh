@@ -87,4 +87,14 @@ for exe in ncqual ncqual-historian ncqual-solver ncqual-scheduler ncqual-acquisi
   "$root/usr/bin/$exe" --version > "$work/version" 2>&1 || fail "$exe --version: $(cat "$work/version")"
   echo "ran $(head -1 "$work/version")"
 done
+# The installed example plant does not simulate unnoticed: its machine has no instrument: section
+# and the plant does not say `simulated: true`, so it is refused (exit 4) naming pm1 and the way
+# out (docs/deploy.md, "Installing").
+said="$("$root/usr/bin/ncqual" config check --plant "$root/etc/ncqual/plant.yaml" 2>&1)" && status=0 \
+  || status=$?
+[ "$status" = 4 ] || fail "config check of the installed plant: exit $status, expected 4: $said"
+for part in "machine 'pm1'" "has no instrument: section" "say \`simulated: true\` in the plant"; do
+  [[ "$said" == *"$part"* ]] || fail "config check of the installed plant does not say $part: $said"
+done
+echo "the installed plant is refused until pm1 has an instrument"
 echo "PASS"

@@ -34,8 +34,8 @@ class Dashboard : public ::testing::Test {
     fs::create_directories(dir_);
     std::ofstream(dir_ / "pm1.yaml")
         << "extends: " NCQUAL_SOURCE_DIR "/deploy/machines/pm1.yaml\nmachine_id: pm1\n";
-    std::ofstream(dir_ / "plant.yaml")
-        << "plant: unit\nhistorian: {database: historian.db}\nmachines: [pm1.yaml]\n";
+    std::ofstream(dir_ / "plant.yaml") << "plant: unit\nsimulated: true\nhistorian: {database: "
+                                          "historian.db}\nmachines: [pm1.yaml]\n";
     auto db = storage::Database::open((dir_ / "historian.db").string());
     store(db, "r<1>", kNow - 60 * kSecond, Verdict::Fail);
   }
@@ -172,7 +172,7 @@ TEST_F(Dashboard, TheBudgetsAreEvaluatedAgainOnlyForAMachineWithANewResult) {
 // 2027-01-15 07:59Z: 08:59 in Berlin (CET, +01:00).
 TEST_F(Dashboard, TheMachinePageReadsEveryTimeInThePlantsZone) {
   std::ofstream(dir_ / "plant.yaml")
-      << "plant: unit\nhistorian: {database: historian.db}\nmachines: [pm1.yaml]\n"
+      << "plant: unit\nsimulated: true\nhistorian: {database: historian.db}\nmachines: [pm1.yaml]\n"
          "scheduler:\n  calendar:\n    time_zone: Europe/Berlin\n";
   {
     auto db = storage::Database::open((dir_ / "historian.db").string());

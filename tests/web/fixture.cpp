@@ -99,7 +99,8 @@ int make(const std::filesystem::path& dir, const std::string& source_dir) {
   write(dir / "pm2.yaml",
         "extends: " + base + "\nmachine_id: pm2\ndescription: Five-axis post mill, bay 4\n");
   write(dir / "plant.yaml",
-        "plant: web-test\nhistorian:\n  database: historian.db\nmachines: [pm1.yaml, pm2.yaml]\n"
+        "plant: web-test\nsimulated: true\nhistorian:\n  database: historian.db\nmachines: "
+        "[pm1.yaml, pm2.yaml]\n"
         "web:\n  bind: 127.0.0.1\n  port: 8470\n"
         "scheduler:\n  calendar:\n    time_zone: Europe/Berlin\n");  // times in CET/CEST
   auto db = storage::Database::open((dir / "historian.db").string());

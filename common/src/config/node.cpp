@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "node.hpp"
 
+#include "ncqual/common/text.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -53,6 +55,15 @@ void Diagnostics::file_problem(const std::string& file, const std::string& why) 
 void Diagnostics::resolved(const std::string& file, const std::string& path,
                            const std::string& value, bool defaulted) {
   values_.push_back({file, path, value, defaulted});
+}
+
+bool Diagnostics::has_problem_under(const std::string& file, const std::string& path) const {
+  for (auto it = seen_.lower_bound({file, path}); it != seen_.end() && it->first == file; ++it) {
+    const std::string& p = it->second;
+    if (p.compare(0, path.size(), path) != 0) break;
+    if (p.size() == path.size() || p[path.size()] == '.' || p[path.size()] == '[') return true;
+  }
+  return false;
 }
 
 void Diagnostics::throw_if_any() const {
@@ -120,8 +131,13 @@ bool Node::problem(const std::string& why) const {
 bool Node::map_of(const std::set<std::string>& keys) const {
   if (!present()) return false;
   if (!yaml_->IsMap()) return problem("expected a mapping");
+  const std::vector<std::string_view> known(keys.begin(), keys.end());
   for (const auto& [key, child] : entries()) {
-    if (!keys.count(key)) child.problem("unknown key; expected one of: " + join(keys));
+    if (keys.count(key)) continue;
+    const auto nearest = closest_word(key, known);
+    child.problem("unknown key; " +
+                  (nearest ? "did you mean '" + std::string(*nearest) + "'? " : std::string()) +
+                  "expected one of: " + join(keys));
   }
   return true;
 }
@@ -295,6 +311,11 @@ int Node::integer(int lo, int hi, int fallback) const {
 std::string Node::text(const std::string& fallback) const {
   if (!present()) log_default("\"" + fallback + "\"");
   return text().value_or(fallback);
+}
+
+bool Node::flag(bool fallback) const {
+  if (!present()) log_default(fallback ? "true" : "false");
+  return flag().value_or(fallback);
 }
 
 Eigen::VectorXd Node::lengths(int n, const Eigen::VectorXd& fallback) const {

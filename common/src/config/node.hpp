@@ -48,6 +48,8 @@ class Diagnostics {
   void resolved(const std::string& file, const std::string& path, const std::string& value,
                 bool defaulted);
 
+  // True when `file` has a problem at `path` or below it (`path.x`, `path[0]`).
+  bool has_problem_under(const std::string& file, const std::string& path) const;
   bool empty() const { return problems_.empty(); }
   std::size_t count() const { return problems_.size(); }
   const std::vector<std::string>& problems() const { return problems_; }
@@ -92,7 +94,8 @@ class Node {
 
   // ---- Shapes ----------------------------------------------------------------------------------
   // A mapping with only these keys: true when it is one (each other key is a problem, "unknown
-  // key; expected one of: ..."); false when absent (no problem) or not a mapping (a problem).
+  // key; did you mean 'x'? expected one of: ...", the suggestion when one is a few edits away);
+  // false when absent (no problem) or not a mapping (a problem).
   bool map_of(const std::set<std::string>& keys) const;
   // As map_of, but absence is a problem too ("required section").
   bool required_map_of(const std::set<std::string>& keys) const;
@@ -120,6 +123,7 @@ class Node {
   double number(double fallback) const;
   int integer(int lo, int hi, int fallback) const;
   std::string text(const std::string& fallback) const;
+  bool flag(bool fallback) const;
   Eigen::VectorXd lengths(int n, const Eigen::VectorXd& fallback) const;
 
   // ---- Required: a problem "required" when absent ---------------------------------------------

@@ -180,6 +180,7 @@ ProbingConfig read_probing(const Node& node) {
 InstrumentConfig read_instrument(const Node& node) {
   InstrumentConfig c;
   if (!node.map_of({"driver", "dialect", "outbox", "inbox", "archive", "timeout_s"})) return c;
+  c.configured = true;
   const std::string driver = node["driver"].text(std::string(to_string(c.driver)));
   if (driver == to_string(InstrumentDriver::ControlFiles)) {
     c.driver = InstrumentDriver::ControlFiles;
@@ -403,6 +404,23 @@ WebConfig read_web(const Node& node) {
   return w;
 }
 
+// A plant that does not say `simulated: true` takes no machine the simulator measures: an installed
+// plant must not hand out simulated results as measured ones. The problem is the plant's entry of
+// the machine (naming the machine's file and id); a machine without an id or whose instrument:
+// section has a problem of its own is not judged again here.
+void refuse_simulated(const Node& entry, const MachineConfig& m, const Diagnostics& diagnostics) {
+  if (!is_simulated(m) || m.machine_id.empty() ||
+      diagnostics.has_problem_under(m.source_path, "instrument")) {
+    return;
+  }
+  const std::string what =
+      m.instrument.configured ? "says instrument.driver = simulator" : "has no instrument: section";
+  entry.problem("machine '" + m.machine_id + "' (" + m.source_path + ") " + what +
+                ", so the simulator would measure it and its results would be simulated; give it "
+                "an instrument: section (docs/connecting-a-machine.md) or, for a demo or test "
+                "bench, say `simulated: true` in the plant");
+}
+
 std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diagnostics) {
   const Node root = load_file(path, diagnostics);
   if (!root.present()) return std::nullopt;
@@ -410,14 +428,19 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
     root.problem("expected a mapping at the top level");
     return std::nullopt;
   }
-  root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "network", "security",
-               "historian", "scheduler", "clock", "machines", "web"});
+  root.map_of({"plant", "domain_id", "qos_profiles", "allow_default_qos", "simulated", "network",
+               "security", "historian", "scheduler", "clock", "machines", "web"});
   PlantConfig p;
   p.source_path = fs::absolute(path).lexically_normal().string();
   p.plant = root["plant"].text("plant");
   p.domain_id = root["domain_id"].integer(0, 232, 0);
   p.qos_profiles_file = resolve(path, root["qos_profiles"].text(""));
   p.allow_default_qos = root["allow_default_qos"].flag().value_or(false);
+  const Node simulated = root["simulated"];
+  p.simulated = simulated.flag(false);
+  // A misspelt value is its own problem, not one more for every simulated machine.
+  const bool refuse_simulators =
+      !p.simulated && !diagnostics.has_problem_under(simulated.file(), simulated.path());
   p.network = read_network(root["network"]);
   p.network.source_path = p.source_path;
   if (const Node security = root["security"]; security.map_of({"dir"})) {
@@ -487,6 +510,7 @@ std::optional<PlantConfig> read_plant(const std::string& path, Diagnostics& diag
       entry.problem("machine_id '" + m.machine_id + "' is configured twice");
       continue;
     }
+    if (refuse_simulators) refuse_simulated(entry, m, diagnostics);
     p.machines.push_back(std::move(m));
   }
   return p;
@@ -549,6 +573,10 @@ std::string plant_config_path(const std::string& flag_value) {
   if (!flag_value.empty()) return flag_value;
   if (const char* env = std::getenv("NCQUAL_PLANT"); env && *env) return env;
   return "";
+}
+
+bool is_simulated(const MachineConfig& machine) {
+  return machine.instrument.driver == InstrumentDriver::Simulator;
 }
 
 bool has_sections_for(const MachineConfig& machine, CheckKind kind) {

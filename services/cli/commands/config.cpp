@@ -2,8 +2,10 @@
 // `ncqual config check [--plant F] [--print] [--json]`: loads the whole plant (the plant file and
 // every machine file it names) and prints every problem with its file, key and value, not only
 // the first; with --print, every value as it was resolved (in mm and rad, with what was written
-// when that was another unit, and the defaults taken). Exit 0 when the plant loads, 4 when the
-// files were refused. --json prints ConfigCheckDocument (below).
+// when that was another unit, and the defaults taken). A plant that loads is summed up with
+// whether it is a simulation (`simulated: true`, a demo or test bench) and which of its machines
+// the simulator measures. Exit 0 when the plant loads, 4 when the files were refused. --json
+// prints ConfigCheckDocument (below).
 #include "commands.hpp"
 
 #include "ncqual/common/json.hpp"
@@ -17,10 +19,12 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ResolvedValue, file, key, value, defaulted)
 namespace cli {
 namespace {
 
-// The --json document. Without a plant (problems found) plant, domain_id and machines are null;
-// values is null without --print.
+// The --json document. Without a plant (problems found) plant, domain_id, simulated and machines
+// are null; values is null without --print. A machine is `simulated` when the simulator measures
+// it (only a plant that is `simulated` has such machines).
 struct MachineFileDocument {
   std::string machine_id, file;
+  bool simulated = false;
 };
 struct ConfigCheckDocument {
   std::string plant_file;
@@ -28,12 +32,13 @@ struct ConfigCheckDocument {
   std::vector<std::string> problems;
   std::optional<std::string> plant;
   std::optional<int> domain_id;
+  std::optional<bool> simulated;
   std::optional<std::vector<MachineFileDocument>> machines;
   std::optional<std::vector<ResolvedValue>> values;
 };
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineFileDocument, machine_id, file)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineFileDocument, machine_id, file, simulated)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ConfigCheckDocument, plant_file, ok, problems, plant, domain_id,
-                                   machines, values)
+                                   simulated, machines, values)
 
 struct Options {
   std::string plant;
@@ -59,6 +64,24 @@ void print_values(const std::vector<ResolvedValue>& values) {
   }
 }
 
+// Whether the plant is a simulation and which machines the simulator measures, e.g.
+// "  simulated: true (a demo or test bench): measured by the simulator: pm1, pm2; by their
+// instruments: pm3".
+std::string simulation_line(const PlantConfig& plant) {
+  std::string simulated, measured;
+  for (const auto& m : plant.machines) {
+    std::string& list = is_simulated(m) ? simulated : measured;
+    list += (list.empty() ? "" : ", ") + m.machine_id;
+  }
+  if (!plant.simulated) {
+    return "  simulated: false: every machine is measured by its instrument" +
+           (measured.empty() ? std::string() : ": " + measured);
+  }
+  return "  simulated: true (a demo or test bench): measured by the simulator: " +
+         (simulated.empty() ? std::string("none") : simulated) +
+         (measured.empty() ? std::string() : "; by their instruments: " + measured);
+}
+
 int run_check(const Options& o) {
   const std::string path = plant_file(o.plant);
   const ConfigReport report = check_plant_config(path);
@@ -70,9 +93,10 @@ int run_check(const Options& o) {
     if (report.plant) {
       doc.plant = report.plant->plant;
       doc.domain_id = report.plant->domain_id;
+      doc.simulated = report.plant->simulated;
       doc.machines.emplace();
       for (const auto& m : report.plant->machines) {
-        doc.machines->push_back({m.machine_id, m.source_path});
+        doc.machines->push_back({m.machine_id, m.source_path, is_simulated(m)});
       }
     }
     if (o.print) doc.values = report.values;
@@ -92,7 +116,7 @@ int run_check(const Options& o) {
   for (std::size_t i = 0; i < plant.machines.size(); ++i) {
     std::cout << (i ? ", " : ": ") << plant.machines[i].machine_id;
   }
-  std::cout << "\n";
+  std::cout << "\n" << simulation_line(plant) << "\n";
   return kExitOk;
 }
 

@@ -30,6 +30,7 @@ plant: recordings
 domain_id: $domain
 qos_profiles: $here/../../../deploy/qos/ncqual-qos.xml
 historian: {database: $work/historian.db}
+simulated: true
 clock: {mode: simulated, start: "$start"}
 scheduler:
   calendar:

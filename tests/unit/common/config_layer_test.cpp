@@ -57,7 +57,7 @@ simulator:
   errors: {machine_shift: [0, 0, 0]}
 )");
   const std::string plant = write("plant.yaml",
-                                  "plant: p\ndomian_id: 7\nqos_profile: qos.xml\n"
+                                  "plant: p\nsimulated: true\ndomian_id: 7\nqos_profile: qos.xml\n"
                                   "historian: {database: h.db}\nmachines: [" +
                                       machine + "]\n");
   try {
@@ -66,9 +66,16 @@ simulator:
   } catch (const ConfigError& e) {
     const auto& p = e.problems();
     EXPECT_EQ(p.size(), 6u) << e.what();
-    EXPECT_TRUE(names(p, plant + ": domian_id = '7': unknown key")) << e.what();
-    EXPECT_TRUE(names(p, plant + ": qos_profile = 'qos.xml': unknown key")) << e.what();
-    EXPECT_TRUE(names(p, machine + ": tolerence = (not a single value): unknown key")) << e.what();
+    // An unknown key names the known one a few edits away, as a tolerance does.
+    EXPECT_TRUE(names(p, plant + ": domian_id = '7': unknown key; did you mean 'domain_id'? "
+                                 "expected one of: allow_default_qos, clock, domain_id,"))
+        << e.what();
+    EXPECT_TRUE(names(p, plant + ": qos_profile = 'qos.xml': unknown key; did you mean "
+                                 "'qos_profiles'?"))
+        << e.what();
+    EXPECT_TRUE(names(p, machine + ": tolerence = (not a single value): unknown key; did you mean "
+                                   "'tolerances'?"))
+        << e.what();
     EXPECT_TRUE(names(p, machine + ": tolerances.centre_dx_mm = '0.02': no check reads this "
                                    "tolerance; did you mean 'center_dx_mm'?"))
         << e.what();
@@ -83,7 +90,8 @@ simulator:
 }
 
 TEST_F(ConfigLayer, CheckReportsProblemsWithoutThrowingAndResolvedValuesWithUnits) {
-  const std::string plant = write("plant.yaml", "plant: p\nmachines: [" + kPm1 + "]\n");
+  const std::string plant =
+      write("plant.yaml", "plant: p\nsimulated: true\nmachines: [" + kPm1 + "]\n");
   const ConfigReport ok = check_plant_config(plant);
   ASSERT_TRUE(ok.problems.empty()) << ok.problems.front();
   ASSERT_TRUE(ok.plant);
@@ -220,11 +228,88 @@ instrument: {driver: control-files, inbox: share}
   }
 }
 
+// Issue 37 point 5: a plant takes a machine the simulator measures (no instrument: section, or
+// driver: simulator) only when it says `simulated: true`; refused, the problem names the plant
+// file, the machine's file and id and the way out. A machine measured by its control needs no
+// such key, and a simulated plant may mix both.
+TEST_F(ConfigLayer, APlantTakesASimulatedMachineOnlyWhenItSaysSimulatedTrue) {
+  const std::string sim = write("sim.yaml", "extends: " + kPm1 + R"(
+machine_id: sim
+instrument: {driver: simulator}
+)");
+  const std::string ctl = write("ctl.yaml", "extends: " + kPm1 + R"(
+machine_id: ctl
+instrument: {driver: control-files, outbox: dnc/in, inbox: dnc/out}
+)");
+  const std::string remedy =
+      ", so the simulator would measure it and its results would be simulated; give it an "
+      "instrument: section (docs/connecting-a-machine.md) or, for a demo or test bench, say "
+      "`simulated: true` in the plant";
+  const std::string all = "machines: [" + kPm1 + ", " + sim + ", " + ctl + "]\n";
+
+  for (const char* said : {"", "simulated: false\n"}) {
+    const std::string plant = write("plant.yaml", std::string("plant: p\n") + said + all);
+    const ConfigReport refused = check_plant_config(plant);
+    EXPECT_FALSE(refused.plant);
+    ASSERT_EQ(refused.problems.size(), 2u) << said;
+    EXPECT_EQ(refused.problems[0], plant + ": machines[0] = '" + kPm1 + "': machine 'pm1' (" +
+                                       kPm1 + ") has no instrument: section" + remedy);
+    EXPECT_EQ(refused.problems[1], plant + ": machines[1] = '" + sim + "': machine 'sim' (" + sim +
+                                       ") says instrument.driver = simulator" + remedy);
+    EXPECT_THROW(load_plant_config(plant), ConfigError);
+  }
+
+  // Measured by its control: no key needed.
+  const PlantConfig measured =
+      load_plant_config(write("measured.yaml", "plant: p\nmachines: [" + ctl + "]\n"));
+  EXPECT_FALSE(measured.simulated);
+  ASSERT_EQ(measured.machines.size(), 1u);
+  EXPECT_FALSE(is_simulated(measured.machines[0]));
+
+  // A demo or test bench says so, and may mix both.
+  const PlantConfig bench =
+      load_plant_config(write("bench.yaml", "plant: p\nsimulated: true\n" + all));
+  EXPECT_TRUE(bench.simulated);
+  ASSERT_EQ(bench.machines.size(), 3u);
+  EXPECT_TRUE(is_simulated(bench.machines[0]));
+  EXPECT_TRUE(is_simulated(bench.machines[1]));
+  EXPECT_FALSE(is_simulated(bench.machines[2]));
+
+  // A misspelt flag, or a machine whose instrument: section is wrong, is that one problem, not
+  // one more for the simulation.
+  const ConfigReport yes =
+      check_plant_config(write("yes.yaml", "plant: p\nsimulated: yes\nmachines: [" + kPm1 + "]\n"));
+  ASSERT_EQ(yes.problems.size(), 1u) << yes.problems.front();
+  EXPECT_NE(yes.problems[0].find("simulated = 'yes': expected true or false"), std::string::npos)
+      << yes.problems[0];
+  const std::string typo = write("typo.yaml", "extends: " + kPm1 + R"(
+machine_id: typo
+instrument: {driver: control-file}
+)");
+  const ConfigReport wrong =
+      check_plant_config(write("wrong.yaml", "plant: p\nmachines: [" + typo + "]\n"));
+  ASSERT_EQ(wrong.problems.size(), 1u) << wrong.problems.front();
+  EXPECT_EQ(wrong.problems[0], typo +
+                                   ": instrument.driver = 'control-file': expected simulator or "
+                                   "control-files");
+  // A misspelt key is unknown, with the key it meant; the plant then does not say it simulates.
+  const std::string misspelt =
+      write("misspelt.yaml", "plant: p\nsimulate: true\nmachines: [" + kPm1 + "]\n");
+  const ConfigReport meant = check_plant_config(misspelt);
+  ASSERT_EQ(meant.problems.size(), 2u);
+  EXPECT_EQ(meant.problems[0].rfind(misspelt + ": simulate = 'true': unknown key; did you mean "
+                                               "'simulated'? expected one of: ",
+                                    0),
+            0u)
+      << meant.problems[0];
+  EXPECT_TRUE(names(meant.problems, "machine 'pm1'")) << meant.problems[1];
+}
+
 // The network: section: the way of discovery and its addresses, each problem named.
 TEST_F(ConfigLayer, TheNetworkSectionNamesTheDiscoveryAndItsAddresses) {
   const auto plant_with = [&](const std::string& network) {
-    return write("plant.yaml", "plant: p\nhistorian: {database: h.db}\n" + network + "machines: [" +
-                                   kPm1 + "]\n");
+    return write("plant.yaml", "plant: p\nsimulated: true\nhistorian: {database: h.db}\n" +
+                                   network + "machines: [" + kPm1 + "]\n");
   };
   // Absent: multicast, Fast DDS's own way.
   EXPECT_EQ(load_plant_config(plant_with("")).network.discovery, Discovery::Multicast);
@@ -285,8 +370,8 @@ TEST_F(ConfigLayer, TheNetworkSectionNamesTheDiscoveryAndItsAddresses) {
 // day of a shorter month; a bad value or key named.
 TEST_F(ConfigLayer, TheRetentionPolicyIsOffByDefaultAndCountsCalendarMonths) {
   const auto plant_with = [&](const std::string& historian) {
-    return write("plant.yaml",
-                 "plant: p\nhistorian: " + historian + "\nmachines: [" + kPm1 + "]\n");
+    return write("plant.yaml", "plant: p\nsimulated: true\nhistorian: " + historian +
+                                   "\nmachines: [" + kPm1 + "]\n");
   };
   const PlantConfig off = load_plant_config(plant_with("{database: h.db}"));
   EXPECT_FALSE(off.retention.thin_points_after_months);
@@ -323,8 +408,8 @@ TEST_F(ConfigLayer, TheRetentionPolicyIsOffByDefaultAndCountsCalendarMonths) {
 // address that is not IPv4, a port out of range and an unknown key named with their values.
 TEST_F(ConfigLayer, TheWebSectionListensOnTheLoopbackUnlessConfigured) {
   const auto plant_with = [&](const std::string& web) {
-    return write("plant.yaml",
-                 "plant: p\nhistorian: {database: h.db}\n" + web + "machines: [" + kPm1 + "]\n");
+    return write("plant.yaml", "plant: p\nsimulated: true\nhistorian: {database: h.db}\n" + web +
+                                   "machines: [" + kPm1 + "]\n");
   };
   const PlantConfig plain = load_plant_config(plant_with(""));
   EXPECT_EQ(plain.web.bind, "127.0.0.1");

@@ -121,7 +121,9 @@ std::string control_dialect_names();  // "linuxcnc, fanuc, generic-csv"
 
 // The `instrument:` section: what measures the machine's checks for ncqual-acquisition
 // (ncqual/acquisition/instruments.hpp; docs/connecting-a-machine.md).
-//   simulator      the simulator: section stands in for the machine and its instruments;
+//   simulator      the simulator: section stands in for the machine and its instruments (the
+//                  default without an instrument: section; a plant takes such a machine only
+//                  when it says `simulated: true`);
 //   control-files  for each request the probing program is written into `outbox` (a folder the
 //                  control reads: a network share, a DNC folder) and the control's touch log is
 //                  awaited in `inbox`; both are moved to `archive` once read. What does not come
@@ -133,6 +135,7 @@ struct InstrumentConfig {
   ControlDialect dialect = ControlDialect::LinuxCnc;
   std::string outbox, inbox, archive;  // absolute; archive defaults to <inbox>/archive
   double timeout_s = 3600;             // from the program written to its results read
+  bool configured = false;  // the machine file has an instrument: section (else all defaults)
 };
 
 struct MachineConfig {
@@ -225,6 +228,10 @@ struct PlantConfig {
   // defaults nothing is durable, and what is published while a reader is down is lost. True
   // only for experiments (allow_default_qos: true).
   bool allow_default_qos = false;
+  // True for a demo or a test bench (simulated: true): only then may a machine be measured by
+  // the simulator (is_simulated); without it, a plant with such a machine is refused at load, so
+  // that an installed plant never simulates unnoticed.
+  bool simulated = false;
   NetworkConfig network;           // the `network:` section
   SecurityConfig security;         // the `security:` section (its identity is left empty)
   std::string historian_database;  // absolute
@@ -259,6 +266,10 @@ struct PlantConfig {
 // tracker checks, the fixture: section for the fixture checks (every machine has a monument and
 // set points). The scheduler plans only such checks; `ncqual status` shows only those.
 bool has_sections_for(const MachineConfig& machine, CheckKind kind);
+
+// True when the simulator measures the machine (instrument.driver simulator, the default without an
+// instrument: section): its sets and results are simulated, not measured.
+bool is_simulated(const MachineConfig& machine);
 
 // The plant config file to use: `flag_value` (--plant) when given, else NCQUAL_PLANT, else "".
 std::string plant_config_path(const std::string& flag_value);
