@@ -6,7 +6,8 @@
 //     Per check kind and per calendar day, week or month (in the plant's time zone): how many
 //     checks passed, failed or were invalid, and for the N metrics (default 3) that came nearest
 //     their tolerance over the whole history, the value in each period nearest its tolerance.
-//     A drift shows as a column creeping towards (!).
+//     A drift shows as a column creeping towards (!). A kind some of whose checks ncqual's
+//     simulator produced says how many ("SIMULATED DATA: n of its N checks ...").
 //
 //   ncqual trend --machine M --metric NAME [--since D] [--until D] [--last N] [--json | --csv]
 //                [--plant F] [--db F]
@@ -15,10 +16,11 @@
 //     intervention, or a compensation that concerns the metric) the control chart, the Western
 //     Electric signals, EWMA and CUSUM, capability, the least-squares and Theil-Sen forecasts of
 //     the date the tolerance is reached, the pass rate, the warnings active now and those the
-//     historian raised. --json: the whole document (report::MetricTrend, names stable); --csv:
-//     the points with their EWMA and CUSUM (report::points_csv). A metric the machine does not
-//     report is refused with the machine's metrics listed (the nearest five by name when it has
-//     more than twelve).
+//     historian raised; "SIMULATED DATA: n of these N checks ..." when ncqual's simulator produced
+//     some. --json: the whole document (report::MetricTrend, names stable: "simulated", each
+//     point's "origin"); --csv: the points with their EWMA, CUSUM and origin (report::points_csv).
+//     A metric the machine does not report is refused with the machine's metrics listed (the
+//     nearest five by name when it has more than twelve).
 //
 // Exit codes: 0, 2 bad usage (and a machine the plant does not configure, a metric it does not
 // report), 6 no historian database at the path.
@@ -141,6 +143,12 @@ void print_metric_trend(const report::MetricTrend& t, const Calendar& calendar) 
                100 * *t.pass_rate.lower, 100 * *t.pass_rate.upper);
   }
   fmt::print("{}\n", t.pass_rate.invalid ? fmt::format(", {} invalid", t.pass_rate.invalid) : "");
+  if (t.simulated > 0) {
+    fmt::print(
+        "SIMULATED DATA: {} of these {} checks were produced by ncqual's simulator and say nothing "
+        "about the machine\n",
+        t.simulated, t.points.size());
+  }
   fmt::print(
       "segment: {} checks {}, as of {}\n", t.segment_points,
       t.restart_ns ? "since the restart of " + when(t.restart_ns) : std::string("(no restart)"),
@@ -281,9 +289,14 @@ int run(const Options& o) {
   // kind -> bucket start -> counts and worst values; per kind the metrics nearest their limits.
   std::map<CheckKind, std::map<std::int64_t, Bucket>> table;
   std::map<CheckKind, std::map<std::string, double>> peak_use;
+  // kind -> checks, and of them those ncqual's simulator produced.
+  std::map<CheckKind, std::pair<int, int>> simulated;
   for (const auto& rec : db.history(q)) {
     if (!rec.result) continue;
     const CheckResult& r = *rec.result;
+    auto& [checks, of_simulator] = simulated[r.kind];
+    ++checks;
+    if (storage::origin_of(rec) == DataOrigin::Simulated) ++of_simulator;
     Bucket& b = table[r.kind][calendar.period_start(bucket_period, r.time_ns)];
     (r.verdict == Verdict::Pass ? b.pass : r.verdict == Verdict::Fail ? b.fail : b.invalid)++;
     for (const auto& m : r.metrics) {
@@ -306,6 +319,12 @@ int run(const Options& o) {
     if (static_cast<int>(ranked.size()) > shown) ranked.resize(static_cast<std::size_t>(shown));
     fmt::print("\n{}  (per {}: runs, and the value nearest its tolerance; (!) out of tolerance)\n",
                to_string(kind), every);
+    if (const auto [checks, of_simulator] = simulated[kind]; of_simulator > 0) {
+      fmt::print(
+          "  SIMULATED DATA: {} of its {} checks were produced by ncqual's simulator and say "
+          "nothing about the machine\n",
+          of_simulator, checks);
+    }
     // A column is as wide as its metric's name and two spaces: names never run together.
     const auto width = [](const std::string& name) {
       return std::max<std::size_t>(26, name.size() + 2);
