@@ -615,10 +615,10 @@ table.single-metrics tr.over td { color: #c8102e; font-weight: bold; }
 table.other-metrics tr.over td { color: #c8102e; font-weight: bold; }
 table.checks ol.causes { margin: 0; padding-left: 1.3em; }
 table.checks div.reason { font-size: 0.85em; color: #333; }
-.ncqual-simulated-banner { margin: 0.8em 0; padding: 0.7em 1em; border: 3px solid #b35900; background: #fff1e0; color: #5c2e00; font-size: 1.05em; break-inside: avoid; page-break-inside: avoid; }
-.ncqual-simulated-banner strong { color: #b35900; letter-spacing: 0.04em; }
-.origin-badge.simulated { display: inline-block; margin-left: 0.4em; padding: 0 0.45em; border-radius: 3px; background: #b35900; color: #fff; font-size: 0.8em; font-weight: bold; letter-spacing: 0.03em; }
-table.checks tr.simulated td { background: #fff7ee; }
+.ncqual-simulated-banner { margin: 0.8em 0; padding: 0.7em 1em; border: 3px solid #6a1b9a; background: #f6edfa; color: #3b0a57; font-size: 1.05em; break-inside: avoid; page-break-inside: avoid; }
+.ncqual-simulated-banner strong { color: #6a1b9a; letter-spacing: 0.04em; }
+.origin-badge.simulated { display: inline-block; margin-left: 0.4em; padding: 0 0.45em; border-radius: 3px; background: #6a1b9a; color: #fff; font-size: 0.8em; font-weight: bold; letter-spacing: 0.03em; }
+table.checks tr.simulated td { background: #faf4fd; }
 .origin.unknown, p.origin-note { color: #555; font-style: italic; }
 .verdict { font-weight: bold; }
 .verdict.fail, .verdict.invalid { color: #c8102e; }
