@@ -593,15 +593,17 @@ TEST_F(DbCli, HistoryStatusTrendAndExportSayWhetherAChecksDataWasMeasuredOrSimul
 
   const CliRun trend = run_cli({"trend", "--machine", "m1", "--plant", plant}, Capture::Separate);
   ASSERT_EQ(trend.exit_code, 0) << trend.out << trend.err;
-  EXPECT_NE(trend.out.find("SIMULATED DATA: 1 of its 3 checks were produced by ncqual's "
-                           "simulator"),
+  EXPECT_NE(trend.out.find("SIMULATED DATA: ncqual's simulator produced 1 of its 3 checks, not "
+                           "measured on the machine"),
             std::string::npos)
       << trend.out;
   const CliRun metric =
       run_cli({"trend", "--machine", "m1", "--metric", "center_dx_mm", "--plant", plant},
               Capture::Separate);
   ASSERT_EQ(metric.exit_code, 0) << metric.out << metric.err;
-  EXPECT_NE(metric.out.find("SIMULATED DATA: 1 of these 3 checks"), std::string::npos)
+  EXPECT_NE(metric.out.find("SIMULATED DATA: ncqual's simulator produced 1 of these 3 checks, "
+                            "not measured on the machine"),
+            std::string::npos)
       << metric.out;
 
   const std::string dir = path("origin-export");
