@@ -609,6 +609,7 @@ MeasurementSet measurement_set_from_log(const ProgramDescription& program, const
   set.instrument = "touch_probe";
   set.frame = "machine";
   set.time_ns = time_ns;
+  set.origin = DataOrigin::Measured;  // a control's log: its probe touched the machine
   set.parameters = program.parameters;
   const double to_mm = program.inch ? kMmPerInch : 1;
   for (std::size_t i = 0; i < expected; ++i) {

@@ -31,6 +31,7 @@ ReportedCheck reported(const storage::CheckRecord& r) {
   c.kind = r.kind;
   c.time_ns = check_time(r);
   if (r.result) c.verdict = r.result->verdict;
+  c.origin = storage::origin_of(r);
   return c;
 }
 

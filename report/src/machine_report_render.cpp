@@ -72,8 +72,63 @@ std::string check_title(const MachineReport& r, const ReportedCheck& c) {
          when(r, c.time_ns);
 }
 
+// The marker of a check whose numbers ncqual's simulator produced; nothing for measured data.
+std::string origin_badge(DataOrigin origin) {
+  return origin == DataOrigin::Simulated ? " <span class=\"origin-badge simulated\" "
+                                           "title=\"produced by ncqual's simulator: says "
+                                           "nothing about the machine\">SIMULATED</span>"
+                                         : "";
+}
+
+// The origin cell of the checks table.
+std::string origin_cell(DataOrigin origin) {
+  switch (origin) {
+    case DataOrigin::Simulated: return origin_badge(origin);
+    case DataOrigin::Measured: return "measured";
+    case DataOrigin::Unknown: break;
+  }
+  return "<span class=\"origin unknown\">not recorded</span>";
+}
+
 std::string check_line(const MachineReport& r, const ReportedCheck& c) {
-  return "<p class=\"check\">" + esc(check_title(r, c)) + ": " + verdict_cell(c.verdict) + "</p>\n";
+  return "<p class=\"check\">" + esc(check_title(r, c)) + ": " + verdict_cell(c.verdict) +
+         origin_badge(c.origin) + "</p>\n";
+}
+
+// ---- 0. Simulated data -----------------------------------------------------------------------
+
+// A banner above everything when any check of the report is the simulator's: its verdicts and
+// charts say nothing about a machine. A report of measured data has none; checks stored before the
+// historian recorded their origin get a quiet note.
+std::string origin_banner(const MachineReport& r) {
+  std::size_t simulated = 0, unknown = 0;
+  for (const auto& c : r.checks) {
+    const DataOrigin origin = storage::origin_of(c);
+    simulated += origin == DataOrigin::Simulated ? 1 : 0;
+    unknown += origin == DataOrigin::Unknown ? 1 : 0;
+  }
+  std::string h;
+  if (simulated > 0) {
+    const std::string which =
+        simulated == r.checks.size()
+            ? (r.checks.size() == 1
+                   ? std::string("this check was")
+                   : "all " + std::to_string(simulated) + " checks " + range_phrase(r) + " were")
+            : std::to_string(simulated) + " of the " + std::to_string(r.checks.size()) +
+                  " checks " + range_phrase(r) + " (marked SIMULATED) were";
+    h += "<div class=\"ncqual-simulated-banner\" role=\"alert\"><strong>SIMULATED DATA</strong>: " +
+         esc(which) +
+         " produced by ncqual's simulator, not measured on a machine: the verdicts, charts and "
+         "figures of such checks say nothing about " +
+         esc(r.machine_id) + "'s accuracy.</div>\n";
+  }
+  if (unknown > 0) {
+    h += "<p class=\"origin-note\">" + esc(std::to_string(unknown)) + " of the " +
+         esc(std::to_string(r.checks.size())) +
+         " checks do not say whether they were measured or simulated (stored before the "
+         "historian recorded it).</p>\n";
+  }
+  return h;
 }
 
 std::string figure(const std::string& svg_text) {
@@ -83,8 +138,9 @@ std::string figure(const std::string& svg_text) {
 // ---- 1. State ------------------------------------------------------------------------------
 
 std::string state_section(const MachineReport& r) {
-  std::string h =
-      "<section class=\"ncqual-report-state\">\n<h2>State of " + esc(r.machine_id) + "</h2>\n";
+  // The simulated-data banner first: above everything the report says.
+  std::string h = "<section class=\"ncqual-report-state\">\n" + origin_banner(r) + "<h2>State of " +
+                  esc(r.machine_id) + "</h2>\n";
   h += "<p class=\"asof\">As of " + esc(when(r, r.now_ns)) + "; checks " + esc(range_phrase(r)) +
        (r.configured ? "" : "; no machine configuration given") + ".</p>\n";
   if (!r.status) {
@@ -458,20 +514,23 @@ std::string checks_section(const MachineReport& r) {
   if (r.checks.empty()) return h + none_sentence("check", r) + "</section>\n";
   h += "<table class=\"checks\">\n<thead><tr><th>time (" + esc(r.calendar.zone_name()) +
        ")</th><th>kind</th><th>request</th>"
-       "<th>verdict</th><th>causes (most likely first)</th><th>corrections</th></tr></thead>\n"
+       "<th>verdict</th><th>data</th><th>causes (most likely first)</th><th>corrections</th>"
+       "</tr></thead>\n"
        "<tbody>\n";
   for (const auto& c : r.checks) {
     const std::int64_t t = c.result        ? c.result->time_ns
                            : c.measurement ? c.measurement->time_ns
                            : c.request     ? c.request->time_ns
                                            : 0;
-    h += "<tr><td class=\"time\">" + esc(when(r, t)) + "</td><td>" + esc(to_string(c.kind)) +
+    const DataOrigin origin = storage::origin_of(c);
+    h += std::string(origin == DataOrigin::Simulated ? "<tr class=\"simulated\">" : "<tr>") +
+         "<td class=\"time\">" + esc(when(r, t)) + "</td><td>" + esc(to_string(c.kind)) +
          "</td><td>" + esc(c.request_id) + "</td><td>" +
          verdict_cell(c.result ? std::optional<Verdict>(c.result->verdict) : std::nullopt);
     if (c.result && !c.result->reason.empty()) {
       h += "<div class=\"reason\">" + esc(c.result->reason) + "</div>";
     }
-    h += "</td><td>";
+    h += "</td><td class=\"origin\">" + origin_cell(origin) + "</td><td>";
     if (c.result && !c.result->likely_causes.empty()) {
       h += "<ol class=\"causes\">";
       for (const auto& cause : c.result->likely_causes) h += "<li>" + esc(cause) + "</li>";
@@ -556,6 +615,11 @@ table.single-metrics tr.over td { color: #c8102e; font-weight: bold; }
 table.other-metrics tr.over td { color: #c8102e; font-weight: bold; }
 table.checks ol.causes { margin: 0; padding-left: 1.3em; }
 table.checks div.reason { font-size: 0.85em; color: #333; }
+.ncqual-simulated-banner { margin: 0.8em 0; padding: 0.7em 1em; border: 3px solid #6a1b9a; background: #f6edfa; color: #3b0a57; font-size: 1.05em; break-inside: avoid; page-break-inside: avoid; }
+.ncqual-simulated-banner strong { color: #6a1b9a; letter-spacing: 0.04em; }
+.origin-badge.simulated { display: inline-block; margin-left: 0.4em; padding: 0 0.45em; border-radius: 3px; background: #6a1b9a; color: #fff; font-size: 0.8em; font-weight: bold; letter-spacing: 0.03em; }
+table.checks tr.simulated td { background: #faf4fd; }
+.origin.unknown, p.origin-note { color: #555; font-style: italic; }
 .verdict { font-weight: bold; }
 .verdict.fail, .verdict.invalid { color: #c8102e; }
 .verdict.pass { color: #1f5fa8; }

@@ -57,7 +57,7 @@ TrendForecast least_squares_of(const trend::LinearForecast& f) {
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendPoint, request_id, kind, time_ns, value, lower, upper,
                                    verdict, in_segment, ewma, ewma_lower, ewma_upper, cusum_upper,
-                                   cusum_lower)
+                                   cusum_lower, origin)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendDate, status, time_ns)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TrendBaseline, error, points, mean, sigma_within, sigma_overall,
                                    lower_control_limit, upper_control_limit, watched)
@@ -98,6 +98,7 @@ void to_json(nlohmann::json& j, const MetricTrend& v) {
                      {"warnings", v.warnings},
                      {"raised", v.raised},
                      {"points", v.points},
+                     {"simulated", v.simulated},
                      {"error", v.error}};
 }
 
@@ -159,6 +160,8 @@ MetricTrend metric_trend(storage::Database& db, const MetricTrendQuery& query,
     p.lower = finite(v.lower);
     p.upper = finite(v.upper);
     p.verdict = v.verdict;
+    p.origin = v.origin;
+    if (v.origin == DataOrigin::Simulated) ++out.simulated;
     p.in_segment = (!out.restart_ns || v.time_ns > *out.restart_ns) && v.time_ns <= now;
     out.points.push_back(std::move(p));
   }
@@ -231,7 +234,7 @@ std::string points_csv(const MetricTrend& t) {
   };
   std::string out =
       "time_ns,time_utc,request_id,kind,value,lower,upper,verdict,in_segment,ewma,ewma_lower,"
-      "ewma_upper,cusum_upper,cusum_lower\r\n";
+      "ewma_upper,cusum_upper,cusum_lower,origin\r\n";
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   for (const TrendPoint& p : t.points) {
@@ -255,6 +258,8 @@ std::string points_csv(const MetricTrend& t) {
       out += ',';
       real_or(out, *v, nan);
     }
+    out += ',';
+    append_text(out, to_string(p.origin));
     out += "\r\n";
   }
   return out;

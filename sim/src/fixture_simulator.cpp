@@ -157,6 +157,7 @@ MeasurementSet perform_fixture_check(const MachineSimulator& machine,
     return perform_fixture_check(machine.at(time_ns), fixture.at(time_ns), request, time_ns);
   }
   MeasurementSet set = measurement_set_for(request, time_ns);
+  set.origin = DataOrigin::Simulated;
   set.instrument = "touch_probe";
   set.frame = "machine";
 

@@ -158,6 +158,7 @@ MeasurementSet MachineSimulator::perform(const CheckRequest& request, std::int64
   // A drifting truth: measure on the simulator frozen at the measurement time (no drift there).
   if (config_.drift) return at(time_ns).perform(request, time_ns);
   MeasurementSet set = measurement_set_for(request, time_ns);
+  set.origin = DataOrigin::Simulated;  // every set of the simulator, also one it cannot measure
   describe_instrument(request.kind, &set);
 
   if (request.machine_id != machine_.machine_id) {

@@ -69,6 +69,7 @@ MeasurementSet TrackerSimulator::perform(const CheckRequest& request, std::int64
   // A drifting truth: measure on the simulator frozen at the measurement time (no drift there).
   if (config_.drift) return at(time_ns).perform(request, time_ns);
   MeasurementSet set = measurement_set_for(request, time_ns);
+  set.origin = DataOrigin::Simulated;
   set.instrument = "laser_tracker";
   set.frame = "tracker";
   if (!is_tracker_check(request.kind)) {

@@ -12,6 +12,7 @@ CheckResult result_for(const MeasurementSet& set) {
   result.request_id = set.request_id;
   result.kind = set.kind;
   result.verdict = Verdict::Invalid;
+  result.origin = set.origin;  // a verdict on simulated numbers says nothing of a machine
   return result;
 }
 

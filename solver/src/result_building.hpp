@@ -10,8 +10,8 @@
 
 namespace ncqual::solver::detail {
 
-// A result carrying the identity of the set it answers (machine, request, kind), verdict
-// INVALID until a check decides otherwise.
+// A result carrying the identity of the set it answers (machine, request, kind) and its origin
+// (measured or simulated), verdict INVALID until a check decides otherwise.
 CheckResult result_for(const MeasurementSet& set);
 
 // Marks `result` INVALID with `reason`, dropping any metrics; returns it.

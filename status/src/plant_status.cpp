@@ -115,6 +115,14 @@ StatusDocument plant_status(storage::Database& db, const PlantConfig& plant,
       p.next_due_ns = calendar.next_due(period, p.last_pass_ns, now);
       machine.periods.push_back(std::move(p));
     }
+    // The newest check: were its numbers measured on the machine or simulated?
+    storage::HistoryQuery newest;
+    newest.machine_id = m.machine_id;
+    newest.limit = 1;
+    if (const auto checks = db.history(newest); !checks.empty()) {
+      machine.last_check = checks.front().request_id;
+      machine.last_check_origin = storage::origin_of(checks.front());
+    }
     machine.conflicts = static_cast<std::int64_t>(db.conflicts(m.machine_id).size());
     for (const auto& w : storage::trend_warnings(db, {m.machine_id, {}, true})) {
       machine.warnings.push_back({w.metric, w.check_kind, w.kind, w.side, w.started_ns, w.raised_by,

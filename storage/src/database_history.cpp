@@ -58,7 +58,7 @@ constexpr Sql kSelectMeasurementSet{
     "thinned_touches + (SELECT count(*) FROM touches AS t WHERE t.request_id = m.request_id), "
     "thinned_tracker_points + "
     "(SELECT count(*) FROM tracker_points AS p WHERE p.request_id = m.request_id), "
-    "points_thinned_ns FROM measurement_sets AS m WHERE request_id = ?1"};
+    "points_thinned_ns, origin FROM measurement_sets AS m WHERE request_id = ?1"};
 constexpr Sql kSelectRequestParameters{
     "select request parameters",
     "SELECT name, value, unit FROM request_parameters WHERE request_id = ?1 ORDER BY idx"};
@@ -75,7 +75,7 @@ constexpr Sql kSelectTrackerPoints{
     "measured_z_mm FROM tracker_points WHERE request_id = ?1 ORDER BY idx"};
 constexpr Sql kSelectResult{
     "select result",
-    "SELECT machine_id, kind, verdict, reason, time_ns, correction_target, produced_by "
+    "SELECT machine_id, kind, verdict, reason, time_ns, correction_target, produced_by, origin "
     "FROM results WHERE request_id = ?1"};
 constexpr Sql kSelectMetrics{
     "select metrics",
@@ -128,6 +128,14 @@ Verdict verdict_from(const std::string& name, const std::string& request_id) {
                      "' is not a verdict");
 }
 
+// The origin column (schema 11): NULL (stored before, or a sample that did not say) is Unknown.
+DataOrigin origin_from(const std::optional<std::string>& name, const std::string& request_id) {
+  if (!name) return DataOrigin::Unknown;
+  if (auto origin = parse_data_origin(*name)) return *origin;
+  throw StorageError("stored origin '" + *name + "' of request '" + request_id +
+                     "' is not an origin");
+}
+
 MachineState state_from(const std::string& name, const std::string& machine_id) {
   if (auto state = parse_machine_state(name)) return *state;
   throw StorageError("stored state '" + name + "' of machine '" + machine_id +
@@ -174,6 +182,7 @@ std::optional<MeasurementSet> Database::Impl::load_measurement_header(const std:
   set.frame = q.text(3);
   set.time_ns = q.int64(4);
   set.error = q.text(5);
+  set.origin = origin_from(q.optional_text(9), request_id);
   set.parameters = load_named_values(kSelectMeasurementParameters, request_id);
   if (summary) {
     summary->instrument = set.instrument;
@@ -183,6 +192,7 @@ std::optional<MeasurementSet> Database::Impl::load_measurement_header(const std:
     summary->touches = q.int64(6);
     summary->tracker_points = q.int64(7);
     summary->points_thinned_ns = q.optional_int64(8);
+    summary->origin = set.origin;
   }
   return set;
 }
@@ -202,6 +212,7 @@ std::optional<CheckResult> Database::Impl::load_result(const std::string& reques
     result.time_ns = q.int64(4);
     correction_target = q.optional_text(5);
     result.produced_by = q.text(6);
+    result.origin = origin_from(q.optional_text(7), request_id);
   }
   {
     Query q(statements, kSelectMetrics);
@@ -261,6 +272,12 @@ std::optional<CheckRecord> Database::Impl::load_record(const std::string& reques
     return std::nullopt;
   }
   return record;
+}
+
+DataOrigin origin_of(const CheckRecord& record) {
+  if (record.result && record.result->origin != DataOrigin::Unknown) return record.result->origin;
+  if (record.measurement) return record.measurement->origin;
+  return DataOrigin::Unknown;
 }
 
 std::vector<CheckRecord> Database::history(const HistoryQuery& query) {

@@ -53,7 +53,7 @@ constexpr Sql kInsertRequest{
 constexpr Sql kInsertMeasurementSet{
     "insert measurement set",
     "INSERT INTO measurement_sets (request_id, machine_id, kind, instrument, frame, time_ns, error,"
-    " content_hash, writer) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)"
+    " content_hash, writer, origin) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)"
     " ON CONFLICT (request_id) DO NOTHING"};
 constexpr Sql kInsertRequestParameter{
     "insert request parameter",
@@ -76,8 +76,8 @@ constexpr Sql kInsertTrackerPoint{
 constexpr Sql kInsertResult{
     "insert result",
     "INSERT INTO results (request_id, machine_id, kind, verdict, reason, time_ns, "
-    "correction_target, produced_by, content_hash, writer) "
-    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10) ON CONFLICT (request_id) DO NOTHING"};
+    "correction_target, produced_by, content_hash, writer, origin) "
+    "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11) ON CONFLICT (request_id) DO NOTHING"};
 constexpr Sql kInsertMetric{
     "insert metric",
     "INSERT INTO metrics (request_id, idx, name, value, unit, lower, upper, pass) "
@@ -149,6 +149,12 @@ constexpr Sql kUpdateService{"update service",
                              "WHERE service = ?1 AND instance = ?2 AND last_seen_ns <= ?5"};
 
 std::string quoted(const std::string& text) { return "'" + text + "'"; }
+
+// The origin column (schema 11): 'measured', 'simulated', or NULL when the sample does not say.
+std::optional<std::string_view> origin_column(DataOrigin origin) {
+  if (origin == DataOrigin::Unknown) return std::nullopt;
+  return to_string(origin);
+}
 
 }  // namespace
 
@@ -243,7 +249,8 @@ StoreResult Database::store(const MeasurementSet& set, const Origin& origin) {
     {
       Query insert(impl_->statements, kInsertMeasurementSet);
       insert.bind(set.request_id, set.machine_id, code(set.kind), set.instrument, set.frame,
-                  set.time_ns, set.error, origin.hash(), origin.writer_guid());
+                  set.time_ns, set.error, origin.hash(), origin.writer_guid(),
+                  origin_column(set.origin));
       insert.run();
       if (insert.changes() == 0) {
         return impl_->already_stored(kMeasurementSetHash, "ncqual/MeasurementSet", set, origin,
@@ -283,7 +290,8 @@ StoreResult Database::store(const CheckResult& result, const Origin& origin) {
       Query insert(impl_->statements, kInsertResult);
       insert.bind(result.request_id, result.machine_id, code(result.kind),
                   to_string(result.verdict), result.reason, result.time_ns, target,
-                  result.produced_by, origin.hash(), origin.writer_guid());
+                  result.produced_by, origin.hash(), origin.writer_guid(),
+                  origin_column(result.origin));
       insert.run();
       if (insert.changes() == 0) {
         return impl_->already_stored(kResultHash, "ncqual/CheckResult", result, origin,

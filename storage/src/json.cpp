@@ -26,10 +26,11 @@ CheckRecordDocument document_of(const CheckRecord& record) {
     d.correction = result->correction;
   }
   if (const auto& m = record.measurement) {
-    d.measurement = MeasurementDocument{m->instrument, m->touches, m->tracker_points, m->error,
-                                        m->points_thinned_ns};
+    d.measurement = MeasurementDocument{m->instrument, m->touches,           m->tracker_points,
+                                        m->error,      m->points_thinned_ns, m->origin};
   }
   d.conflicts = record.conflicts;
+  d.origin = origin_of(record);
   const auto writer = [](const std::string& guid) {
     return guid.empty() ? std::nullopt : std::optional<WriterDocument>(WriterDocument{guid});
   };

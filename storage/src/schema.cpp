@@ -375,6 +375,15 @@ CREATE TRIGGER metrics_reported AFTER INSERT ON metrics BEGIN
 END;
 )sql";
 
+// Version 11: whether a set and its result were measured by a real instrument or simulated
+// (MeasurementSet.origin, CheckResult.origin; wire contract 2). 'measured' or 'simulated'; NULL for
+// rows stored before, and for samples of contract 1, which do not say: read back as "unknown",
+// never assumed measured.
+constexpr const char* kVersion11 = R"sql(
+ALTER TABLE measurement_sets ADD COLUMN origin TEXT CHECK (origin IN ('measured', 'simulated'));
+ALTER TABLE results ADD COLUMN origin TEXT CHECK (origin IN ('measured', 'simulated'));
+)sql";
+
 // Append new steps here, never edit an applied one: files in the field are at its version.
 const std::vector<Migration> kMigrations = {
     {1, "create the historian tables", kVersion1},
@@ -387,6 +396,7 @@ const std::vector<Migration> kMigrations = {
     {8, "trend series index and warning sides", kVersion8},
     {9, "indexes of failed and passed results by machine", kVersion9},
     {10, "the metrics each machine's checks of a kind reported", kVersion10},
+    {11, "whether each set and result was measured or simulated", kVersion11},
 };
 
 std::int64_t pragma_int(sqlite3* db, const char* sql) {

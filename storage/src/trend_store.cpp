@@ -39,14 +39,14 @@ constexpr Sql kSelectKindMetrics{
 // Oldest first within [since, until]; ?6 > 0 keeps the newest ?6 (read newest first).
 constexpr Sql kSelectSeriesAscending{
     "select metric series",
-    "SELECT r.request_id, r.time_ns, r.verdict, m.value, m.unit, m.lower, m.upper, m.pass "
-    "FROM results AS r JOIN metrics AS m ON m.request_id = r.request_id AND m.name = ?3 "
+    "SELECT r.request_id, r.time_ns, r.verdict, m.value, m.unit, m.lower, m.upper, m.pass, "
+    "r.origin FROM results AS r JOIN metrics AS m ON m.request_id = r.request_id AND m.name = ?3 "
     "WHERE r.machine_id = ?1 AND r.kind = ?2 AND r.time_ns >= ?4 AND r.time_ns <= ?5 "
     "ORDER BY r.time_ns, r.request_id"};
 constexpr Sql kSelectSeriesNewest{
     "select metric series (newest)",
-    "SELECT r.request_id, r.time_ns, r.verdict, m.value, m.unit, m.lower, m.upper, m.pass "
-    "FROM results AS r JOIN metrics AS m ON m.request_id = r.request_id AND m.name = ?3 "
+    "SELECT r.request_id, r.time_ns, r.verdict, m.value, m.unit, m.lower, m.upper, m.pass, "
+    "r.origin FROM results AS r JOIN metrics AS m ON m.request_id = r.request_id AND m.name = ?3 "
     "WHERE r.machine_id = ?1 AND r.kind = ?2 AND r.time_ns >= ?4 AND r.time_ns <= ?5 "
     "ORDER BY r.time_ns DESC, r.request_id DESC LIMIT ?6"};
 // The interventions (kind NULL) and the compensations with the kind of the check that issued
@@ -145,6 +145,10 @@ void read_series(Query& q, CheckKind kind, std::vector<MetricValue>& out) {
     v.lower = q.real(5);
     v.upper = q.real(6);
     v.pass = q.int64(7) != 0;
+    // NULL (stored before schema 11, or a sample that did not say): Unknown.
+    if (const auto origin = q.optional_text(8)) {
+      v.origin = parse_data_origin(*origin).value_or(DataOrigin::Unknown);
+    }
     out.push_back(std::move(v));
   }
 }

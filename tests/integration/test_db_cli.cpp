@@ -368,7 +368,7 @@ TEST_F(DbCli, HistoryIsInThePlantsTimeZoneWithTheOffsetAndSaysWhoOrdered) {
   EXPECT_NE(local.out.find("2027-01-15 09:00:01 +01:00 CET"), std::string::npos) << local.out;
   EXPECT_NE(local.out.find("ordered by"), std::string::npos) << local.out;
   EXPECT_NE(local.out.find("operator:ann"), std::string::npos) << local.out;
-  EXPECT_NE(local.out.find("pending  scheduler"), std::string::npos) << local.out;
+  EXPECT_NE(local.out.find("pending  unknown    scheduler"), std::string::npos) << local.out;
   // Without a plant config: UTC, still with its offset.
   const CliRun utc = run_cli({"history", "--db", file}, Capture::Separate);
   ASSERT_EQ(utc.exit_code, 0) << utc.out << utc.err;
@@ -535,6 +535,110 @@ TEST_F(DbCli, StatusShowsServicesHealthSilenceAndConflicts) {
   EXPECT_NE(text.out.find("FAILED"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("stale since"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("90 s"), std::string::npos) << "the solver's oldest sample\n" << text.out;
+}
+
+// Issue 37 point 5: whether a check's numbers were measured on the machine or produced by
+// ncqual's simulator is said by every output: `history` (its data column, --json "origin"),
+// `status` (the newest check), `trend` (both forms) and `export` (results.csv and
+// measurement_sets.csv, column origin). A check stored before the historian recorded it says
+// "unknown" (an empty field in the CSV), never "measured".
+TEST_F(DbCli, HistoryStatusTrendAndExportSayWhetherAChecksDataWasMeasuredOrSimulated) {
+  const std::string file = path("origin.db");
+  {
+    auto db = storage::Database::open(file);
+    for (int i = 1; i <= 3; ++i) {
+      MeasurementSet set = measurement(i);
+      CheckResult r = result(i);
+      // req-1 before the historian recorded it, req-2 measured, req-3 (the newest) simulated.
+      set.origin = r.origin = i == 1   ? DataOrigin::Unknown
+                              : i == 2 ? DataOrigin::Measured
+                                       : DataOrigin::Simulated;
+      db.store(request(i));
+      db.store(set);
+      db.store(r);
+    }
+  }
+  const std::string plant = write_plant(file);
+
+  const CliRun history = run_cli({"history", "--plant", plant}, Capture::Separate);
+  ASSERT_EQ(history.exit_code, 0) << history.out << history.err;
+  EXPECT_NE(history.out.find(" data "), std::string::npos) << history.out;
+  for (const char* row : {"PASS     SIMULATED  scheduler", "PASS     measured   scheduler",
+                          "PASS     unknown    scheduler"}) {
+    EXPECT_NE(history.out.find(row), std::string::npos) << row << "\n" << history.out;
+  }
+  const CliRun json = run_cli({"history", "--plant", plant, "--json"}, Capture::Separate);
+  ASSERT_EQ(json.exit_code, 0) << json.out << json.err;
+  std::map<std::string, std::pair<std::string, std::string>> origins;  // check, its measurement
+  for (const auto& record : nlohmann::json::parse(json.out)) {
+    origins[record.at("request_id").get<std::string>()] = {
+        record.at("origin").get<std::string>(),
+        record.at("measurement").at("origin").get<std::string>()};
+  }
+  EXPECT_EQ(origins, (std::map<std::string, std::pair<std::string, std::string>>{
+                         {"req-1", {"unknown", "unknown"}},
+                         {"req-2", {"measured", "measured"}},
+                         {"req-3", {"simulated", "simulated"}}}));
+
+  const CliRun status = run_cli({"status", "--plant", plant}, Capture::Separate);
+  ASSERT_EQ(status.exit_code, 0) << status.out << status.err;
+  EXPECT_NE(status.out.find("SIMULATED DATA: its last check (req-3) was produced by ncqual's "
+                            "simulator and says nothing about the machine"),
+            std::string::npos)
+      << status.out;
+  const CliRun status_json = run_cli({"status", "--plant", plant, "--json"}, Capture::Separate);
+  ASSERT_EQ(status_json.exit_code, 0) << status_json.err;
+  const nlohmann::json machine = nlohmann::json::parse(status_json.out).at("machines").at(0);
+  EXPECT_EQ(machine.at("last_check"), "req-3");
+  EXPECT_EQ(machine.at("last_check_origin"), "simulated");
+
+  const CliRun trend = run_cli({"trend", "--machine", "m1", "--plant", plant}, Capture::Separate);
+  ASSERT_EQ(trend.exit_code, 0) << trend.out << trend.err;
+  EXPECT_NE(trend.out.find("SIMULATED DATA: ncqual's simulator produced 1 of its 3 checks, not "
+                           "measured on the machine"),
+            std::string::npos)
+      << trend.out;
+  const CliRun metric =
+      run_cli({"trend", "--machine", "m1", "--metric", "center_dx_mm", "--plant", plant},
+              Capture::Separate);
+  ASSERT_EQ(metric.exit_code, 0) << metric.out << metric.err;
+  EXPECT_NE(metric.out.find("SIMULATED DATA: ncqual's simulator produced 1 of these 3 checks, "
+                            "not measured on the machine"),
+            std::string::npos)
+      << metric.out;
+
+  const std::string dir = path("origin-export");
+  const CliRun exported = run_cli(
+      {"export", "--plant", plant, "--since", "2000-01-01", "--csv", dir}, Capture::Separate);
+  ASSERT_EQ(exported.exit_code, 0) << exported.out << exported.err;
+  for (const char* table : {"results", "measurement_sets"}) {
+    std::istringstream lines(read_file(dir + "/" + table + ".csv"));
+    const auto fields = [](const std::string& line) {
+      std::vector<std::string> out(1);
+      for (char c : line) {
+        if (c == ',') {
+          out.emplace_back();
+        } else if (c != '\r') {
+          out.back() += c;
+        }
+      }
+      return out;
+    };
+    std::string line;
+    std::getline(lines, line);
+    const std::vector<std::string> header = fields(line);
+    const auto column = std::find(header.begin(), header.end(), "origin") - header.begin();
+    ASSERT_LT(static_cast<std::size_t>(column), header.size()) << table << ": " << line;
+    std::map<std::string, std::string> by_request;
+    while (std::getline(lines, line)) {
+      const std::vector<std::string> row = fields(line);
+      ASSERT_EQ(row.size(), header.size()) << line;
+      by_request[row[0]] = row[static_cast<std::size_t>(column)];
+    }
+    EXPECT_EQ(by_request, (std::map<std::string, std::string>{
+                              {"req-1", ""}, {"req-2", "measured"}, {"req-3", "simulated"}}))
+        << table;
+  }
 }
 
 // `ncqual trend --metric` on the hand-worked example of docs/trends.md (checks on 5 consecutive

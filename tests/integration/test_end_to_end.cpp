@@ -64,6 +64,11 @@ TEST(EndToEnd, CheckThreeOfTwoMachinesIsStoredAndMatchesInjectedErrors) {
     EXPECT_EQ(rec.result->kind, CheckKind::MonumentPositioning);
     // The verdict names the software that made it: this build's solver.
     EXPECT_EQ(rec.result->produced_by, version_line("ncqual-solver"));
+    // The simulator measured it: the set says so on the wire, the solver's verdict carries it,
+    // and the historian keeps both (issue 37 point 5).
+    ASSERT_TRUE(rec.measurement.has_value());
+    EXPECT_EQ(rec.measurement->origin, DataOrigin::Simulated) << machine.machine_id;
+    EXPECT_EQ(rec.result->origin, DataOrigin::Simulated) << machine.machine_id;
     // Check 3 sees the monument relative to the machine: monument shift minus machine shift.
     const Eigen::Vector3d expected = truth.monument_shift_mm - truth.machine_shift_mm;
     const Metric* dx = find_metric(*rec.result, "center_dx_mm");

@@ -266,14 +266,14 @@ TEST_F(DbExport, EveryTableReadsBackValueByValueWithPython) {
   const std::string sets = read_file(dir + "/measurement_sets.csv");
   EXPECT_EQ(sets.rfind("request_id,machine_id,kind,kind_name,instrument,frame,time_ns,time_utc,"
                        "error,content_hash,writer,points_thinned_ns,points_thinned_utc,"
-                       "thinned_touches,thinned_tracker_points\r\n",
+                       "thinned_touches,thinned_tracker_points,origin\r\n",
                        0),
             0u)
       << sets;
   EXPECT_NE(sets.find("req-10,m1,2,monument_positioning,touch_probe,machine,1799568001000000000,"
-                      "2027-01-10T08:00:01.000000000Z,\"\",,,,,0,0\r\n"),
+                      "2027-01-10T08:00:01.000000000Z,\"\",,,,,0,0,\r\n"),
             std::string::npos)
-      << "error '' is \"\", content_hash NULL is empty\n"
+      << "error '' is \"\", content_hash NULL is empty, origin NULL (not recorded) too\n"
       << sets;
   EXPECT_NE(read_file(dir + "/trend_warnings.csv")
                 .find(",2,monument_positioning,forecast,1799712000000000000,"

@@ -79,6 +79,9 @@ TEST(Import, InstrumentExportsAreJudgedAndStoredLikeMeasuredChecks) {
   EXPECT_EQ(rec->result->verdict, Verdict::Pass) << rec->result->reason;
   EXPECT_EQ(rec->measurement->tracker_points, 18);
   EXPECT_EQ(rec->measurement->instrument, "import");
+  // An instrument's file: measured, and so is the verdict on it (issue 37 point 5).
+  EXPECT_EQ(rec->measurement->origin, DataOrigin::Measured);
+  EXPECT_EQ(rec->result->origin, DataOrigin::Measured);
   auto value = [&](const char* name) {
     const Metric* m = find_metric(*rec->result, name);
     return m ? m->value : -1.0;
@@ -145,6 +148,8 @@ TEST(Import, InstrumentExportsAreJudgedAndStoredLikeMeasuredChecks) {
   EXPECT_EQ(c->result->verdict, Verdict::Pass) << c->result->reason;
   EXPECT_EQ(c->measurement->tracker_points, static_cast<std::int64_t>(rows.size()));
   EXPECT_EQ(c->measurement->instrument, "import");
+  EXPECT_EQ(c->measurement->origin, DataOrigin::Measured);
+  EXPECT_EQ(c->result->origin, DataOrigin::Measured);
   const Metric* mean = find_metric(*c->result, "c_dA_mean_arcsec");
   ASSERT_NE(mean, nullptr);
   EXPECT_NEAR(mean->value, 10, 0.2);

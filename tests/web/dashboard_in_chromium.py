@@ -12,7 +12,10 @@
 #  - --dump-dom of the plant, machine and check pages: the state, the metric values, the warning
 #    and the failure that are in the database are in the DOM Chromium built; every chart of the
 #    machine report (svg.ncqual-chart) that the server sent is in the DOM;
-#  - screenshots of the three pages (kept in OUTDIR: plant.png, machine-pm1.png, check.png);
+#  - screenshots of the pages (kept in OUTDIR: plant.png, machine-pm1.png, machine-pm2.png,
+#    check.png);
+#  - simulated data: pm1's checks are the simulator's, pm2's measured: the banner and badges are
+#    on pm1's pages (above every chart) and the plant page, none on pm2's;
 #  - live: the plant page open in Chromium (DevTools protocol over a WebSocket), a check added to
 #    the historian, the change token moves and the open page shows the new check without a
 #    reload; every wait polls with a deadline;
@@ -341,7 +344,7 @@ def check_refusals(url):
 
 
 def check_pages(chromium, url, db, outdir, fail_id):
-    pages = {"plant": "/", "machine-pm1": "/machines/pm1",
+    pages = {"plant": "/", "machine-pm1": "/machines/pm1", "machine-pm2": "/machines/pm2",
              "check": "/checks/" + urllib.parse.quote(fail_id)}
     doms = {}
     for name, path in pages.items():
@@ -371,6 +374,46 @@ def check_pages(chromium, url, db, outdir, fail_id):
     check(fail_id in plant, f"plant page: the newest failure {fail_id} is not shown")
     ended = db.execute("SELECT text FROM trend_warnings WHERE ended_ns IS NOT NULL").fetchone()[0]
     check(ended not in plant, "plant page: an ended warning is shown as active")
+
+    # Simulated data (issue 37 point 5): pm1's checks are the simulator's, pm2's measured, as the
+    # database says. The plant page bears a banner naming pm1 alone and a SIMULATED badge on pm1's
+    # card; pm1's page and its check's a banner above everything, and each simulated row of its
+    # checks table a marker; pm2's page (measured) none of these.
+    origins = {m: {o for (o,) in db.execute("SELECT origin FROM results WHERE machine_id = ?", (m,))}
+               for m in ("pm1", "pm2")}
+    check(origins == {"pm1": {"simulated"}, "pm2": {"measured"}}, f"fixture origins {origins}")
+    banner = re.search(r'<div class="nw-simulated-banner"[^>]*>(.*?)</div>', plant, re.S)
+    check(banner is not None, "plant page: no simulated-data banner")
+    if banner:
+        check("pm1" in banner.group(1) and "pm2" not in banner.group(1),
+              f"plant page: the banner names {banner.group(1)!r}")
+        check(banner.start() < plant.find('<div class="nw-machines"'),
+              "plant page: the banner is not above the machines")
+    for machine_id, simulated in (("pm1", True), ("pm2", False)):
+        section = re.search(r'<section class="nw-machine"[^>]*data-machine="' + machine_id +
+                            r'".*?</section>', plant, re.S)
+        if section:
+            check(("nw-badge nw-simulated" in section.group(0)) == simulated,
+                  f"plant page: {machine_id}'s SIMULATED badge is {'missing' if simulated else 'shown'}")
+    for name, page in (("machine-pm1", machine), ("check", check_dom)):
+        at = page.find('class="nw-simulated-banner"')
+        check(at >= 0, f"{name} page: no simulated-data banner")
+        first_chart = page.find("<svg")
+        check(first_chart < 0 or at < first_chart, f"{name} page: the banner is below a chart")
+    pm1_rows = re.findall(r'<tr data-request="[^"]*" data-origin="([a-z]+)"', machine)
+    check(pm1_rows and set(pm1_rows) == {"simulated"},
+          f"machine page pm1: rows of origin {pm1_rows}, database simulated")
+    marked = machine.count('class="nw-simulated-row"')
+    check(marked == len(pm1_rows), f"machine page pm1: {marked} rows marked, {len(pm1_rows)} listed")
+    check('class="ncqual-simulated-banner"' in machine, "machine page pm1: the report has no banner")
+    pm2 = doms["machine-pm2"]
+    # (the stylesheets name these classes on every page: the markers are the elements)
+    for marker in ('class="nw-simulated-banner"', '"nw-badge nw-simulated"',
+                   'class="nw-simulated-row"', 'class="ncqual-simulated-banner"',
+                   'class="origin-badge simulated"', ">SIMULATED<"):
+        check(marker not in pm2, f"machine page pm2 (measured): {marker} is shown")
+    pm2_rows = re.findall(r'<tr data-request="[^"]*" data-origin="([a-z]+)"', pm2)
+    check(pm2_rows and set(pm2_rows) == {"measured"}, f"machine page pm2: rows of origin {pm2_rows}")
 
     # The check page: every metric's value and band as stored, the causes, the correction.
     for name, value, lower, upper in db.execute(

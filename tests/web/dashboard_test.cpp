@@ -41,8 +41,10 @@ class Dashboard : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  static void store(storage::Database& db, const std::string& id, std::int64_t t, Verdict v) {
+  static void store(storage::Database& db, const std::string& id, std::int64_t t, Verdict v,
+                    DataOrigin origin = DataOrigin::Unknown) {
     CheckResult r;
+    r.origin = origin;
     r.machine_id = "pm1";
     r.request_id = id;
     r.kind = CheckKind::MonumentPositioning;
@@ -194,6 +196,48 @@ TEST_F(Dashboard, TheMachinePageReadsEveryTimeInThePlantsZone) {
   const std::regex utc("\\(UTC\\)|[0-9]{2}:[0-9]{2}(:[0-9]{2})? (\\+00:00 )?UTC");
   EXPECT_FALSE(std::regex_search(html, utc)) << html;
   EXPECT_NE(html.find("data-time-zone=\"Europe/Berlin\""), std::string::npos);
+}
+
+// Issue 37 point 5: a machine whose newest check is the simulator's carries a SIMULATED badge and a
+// banner on the plant and machine pages, and the check's page says it; once its newest check is
+// measured, neither page shows them (the old check's row stays marked). A check stored without an
+// origin says "not recorded".
+TEST_F(Dashboard, ASimulatedCheckIsBadgedAndBanneredAndAMeasuredOneIsNot) {
+  {
+    auto db = storage::Database::open((dir_ / "historian.db").string());
+    store(db, "sim-1", kNow - 30 * kSecond, Verdict::Pass, DataOrigin::Simulated);
+  }
+  auto d = make();
+  const std::string badge = "nw-badge nw-simulated";
+  const std::string banner = "<div class=\"nw-simulated-banner\"";
+  for (const char* path : {"/", "/machines/pm1", "/checks/sim-1"}) {
+    const auto page = get(d, path);
+    ASSERT_EQ(page.status, 200) << path;
+    EXPECT_NE(page.body.find(badge), std::string::npos) << path;
+    EXPECT_NE(page.body.find(banner), std::string::npos) << path;
+    EXPECT_LT(page.body.find(banner), page.body.find("</h1>") + 200) << path << ": not on top";
+  }
+  EXPECT_NE(get(d, "/machines/pm1").body.find("not recorded"), std::string::npos) << "r<1>";
+  const auto plant = nlohmann::json::parse(get(d, "/api/v1/plant").body);
+  EXPECT_EQ(plant["status"]["machines"][0]["last_check_origin"], "simulated");
+  EXPECT_EQ(nlohmann::json::parse(get(d, "/api/v1/checks/sim-1").body)["origin"], "simulated");
+  {
+    auto db = storage::Database::open((dir_ / "historian.db").string());
+    store(db, "real-1", kNow - 10 * kSecond, Verdict::Pass, DataOrigin::Measured);
+  }
+  for (const char* path : {"/", "/machines/pm1", "/checks/real-1"}) {
+    const auto page = get(d, path);
+    ASSERT_EQ(page.status, 200) << path;
+    EXPECT_EQ(page.body.find(banner), std::string::npos) << path;
+    // The machine page still lists sim-1, badged in its row: not in its title.
+    const std::size_t end =
+        std::string(path) == "/machines/pm1" ? page.body.find("</h1>") : std::string::npos;
+    EXPECT_EQ(page.body.substr(0, end).find(badge), std::string::npos) << path << ": badged";
+  }
+  const std::string machine = get(d, "/machines/pm1").body;
+  EXPECT_NE(machine.find("data-origin=\"simulated\" class=\"nw-simulated-row\""),
+            std::string::npos);
+  EXPECT_NE(machine.find("data-origin=\"measured\">"), std::string::npos);
 }
 
 }  // namespace

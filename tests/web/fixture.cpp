@@ -6,9 +6,10 @@
 //       source tree's deploy/machines/pm1.yaml) and DIR/historian.db: ten days of monument
 //       checks per machine up to an hour ago, pm1's newest a FAIL (reason, causes, correction,
 //       a compensation) that holds it (NEEDS_INTERVENTION), pm2 QUALIFIED, an active forecast
-//       warning on pm1's center_dx_mm, one ended, and a heartbeat;
+//       warning on pm1's center_dx_mm, one ended, and a heartbeat; pm1's checks are simulated
+//       (ncqual's simulator), pm2's measured;
 //   ncqual_web_fixture add DIR ID            one more check of pm1 now, request id ID, a FAIL
-//       with center_dx_mm = 0.0777 mm, and the status change it leads to.
+//       with center_dx_mm = 0.0777 mm, simulated, and the status change it leads to.
 // Times are the wall clock's, so that due dates are as a running plant's.
 #include "ncqual/common/clock.hpp"
 #include "ncqual/storage/database.hpp"
@@ -31,6 +32,7 @@ constexpr std::int64_t kDay = 24 * kHour;
 
 void store_check(storage::Database& db, const std::string& machine, const std::string& id,
                  std::int64_t t, double dx, bool fail) {
+  const DataOrigin origin = machine == "pm1" ? DataOrigin::Simulated : DataOrigin::Measured;
   CheckRequest request;
   request.machine_id = machine;
   request.request_id = id;
@@ -45,6 +47,7 @@ void store_check(storage::Database& db, const std::string& machine, const std::s
   set.instrument = "touch_probe";
   set.frame = "machine";
   set.time_ns = t + kSecond;
+  set.origin = origin;
   for (int i = 0; i < 6; ++i) {
     Touch touch;
     touch.feature = "hole_edge";
@@ -60,6 +63,7 @@ void store_check(storage::Database& db, const std::string& machine, const std::s
   result.verdict = fail ? Verdict::Fail : Verdict::Pass;
   result.time_ns = t + 2 * kSecond;
   result.produced_by = "ncqual-solver (web test)";
+  result.origin = origin;
   result.metrics = {{"center_dx_mm", dx, "mm", -0.025, 0.025, std::abs(dx) <= 0.025},
                     {"center_dy_mm", -0.0031, "mm", -0.025, 0.025, true},
                     {"face_dz_mm", 0.0042, "mm", -0.025, 0.025, true}};

@@ -5,7 +5,9 @@
 //                  [--writers] [--secure DIR] [--json]
 //
 // The table shows per check its time (in the plant's time zone with the offset, UTC without a
-// plant config), machine, kind, verdict, who ordered it and at most six metrics; --writers adds
+// plant config), machine, kind, verdict, its data's origin (SIMULATED: produced by ncqual's
+// simulator; measured; unknown: stored before ncqual recorded it, schema 11), who ordered it and
+// at most six metrics; --json: "origin" of each check and of its measurement; --writers adds
 // under each check the DataWriters its request, set and result came from, and on a secured plant
 // (the plant's security.dir, or --secure) the identity each GUID names (ncqual/dds/identity.hpp).
 // --json prints every stored record (ncqual/storage/json.hpp; times as ns since the epoch, UTC),
@@ -55,6 +57,12 @@ std::string format_metrics(const std::vector<Metric>& metrics) {
     out += fmt::format("  (+{} more; --json for all)", metrics.size() - shown.size());
   }
   return out;
+}
+
+// The data column: SIMULATED stands out (a verdict on the simulator's numbers says nothing of a
+// machine); "unknown" for a check stored before the historian recorded it.
+std::string origin_column(DataOrigin origin) {
+  return origin == DataOrigin::Simulated ? "SIMULATED" : std::string(to_string(origin));
 }
 
 struct Options {
@@ -143,8 +151,8 @@ int run(const Options& o) {
 
 void print_check_records(const std::vector<storage::CheckRecord>& records, const Calendar& calendar,
                          const std::vector<dds::PlantIdentity>* writers) {
-  constexpr const char* kRow = "{:<30} {:<10} {:<22} {:<8} {:<16} {}\n";
-  fmt::print(kRow, "time (" + calendar.zone_name() + ")", "machine", "check", "verdict",
+  constexpr const char* kRow = "{:<30} {:<10} {:<22} {:<8} {:<10} {:<16} {}\n";
+  fmt::print(kRow, "time (" + calendar.zone_name() + ")", "machine", "check", "verdict", "data",
              "ordered by", "metrics ((!) = out of tolerance)");
   constexpr std::size_t kIndent = 65;  // under the verdict
   for (const auto& r : records) {
@@ -159,7 +167,8 @@ void print_check_records(const std::vector<storage::CheckRecord>& records, const
                            : r.measurement && r.measurement->instrument == kImportedInstrument
                                ? std::string(kImportedInstrument)
                                : std::string("?");
-    fmt::print(kRow, calendar.local_text(t, true), r.machine_id, kind, verdict, by,
+    fmt::print(kRow, calendar.local_text(t, true), r.machine_id, kind, verdict,
+               origin_column(storage::origin_of(r)), by,
                r.result ? format_metrics(r.result->metrics) : "");
     if (r.result && r.result->verdict != Verdict::Pass) {
       if (!r.result->reason.empty()) {

@@ -88,6 +88,7 @@ int run(const Options& o) {
   set.instrument = kImportedInstrument;
   set.frame = "tracker";
   set.time_ns = clock.now_ns();
+  set.origin = DataOrigin::Measured;  // an instrument's export (ncqual's simulator writes none)
   set.parameters.push_back({"imported", 1, ""});
   if (o.what == "iso230-2") {
     const std::string& file = o.file;

@@ -199,6 +199,7 @@ MeasurementSet points_from_files(const std::string& export_file, const std::stri
   set.instrument = "laser_tracker";
   set.frame = "tracker";
   set.time_ns = time_ns;
+  set.origin = DataOrigin::Measured;  // a tracker's export
   set.parameters = list.parameters;
   set.tracker_points = measured.points;
   return set;

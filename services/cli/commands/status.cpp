@@ -8,7 +8,9 @@
 //     when all its checks are), whether it is due or overdue now, and when it falls due next.
 //     "Now" is the wall clock, or with a simulated clock the time of the machine's newest status
 //     (heartbeats carry wall time). Per machine also the samples the historian kept for
-//     conflicting with stored ones (CONFLICT: n, when there are any) and its active trend
+//     conflicting with stored ones (CONFLICT: n, when there are any), SIMULATED when its newest
+//     check was produced by ncqual's simulator (with a line saying so; a line too when that
+//     check does not say, stored before the historian recorded it), and its active trend
 //     warnings (docs/trends.md, "Warnings": the metric, the kind, since when, and for a forecast
 //     the earliest and expected dates it reaches its tolerance). Then the services: the last
 //     heartbeat the historian stored of every service instance, with its state, health (and why,
@@ -24,7 +26,8 @@
 //       "status_time_ns", "periods": [{"name", "every", "checks": [{"kind", "last_pass_ns"}],
 //       "last_pass_ns", "due", "overdue", "next_due_ns"}], "conflicts", "warnings": [{"metric",
 //       "check_kind", "kind", "side", "started_ns", "raised_by", "raised_ns",
-//       "expected_crossing_ns", "earliest_crossing_ns", "text"}], "scheduler"}], "wall_now_ns",
+//       "expected_crossing_ns", "earliest_crossing_ns", "text"}], "scheduler", "last_check",
+//       "last_check_origin" ("measured", "simulated", "unknown"; null: no check)}], "wall_now_ns",
 //       "heartbeat_period_ms", "services": [{"service", "instance", "machine_id", "state",
 //       "health", "health_detail", "outbox_depth", "oldest_unacknowledged_ns",
 //       "oldest_unacknowledged_age_ns", "time_ns", "age_ns", "silent", "liveness"}]}
@@ -136,10 +139,20 @@ int run(const Options& o) {
              plant.simulated_clock ? ", simulated clock" : "");
   constexpr const char* kRow = "  {:<10}{:<8}{:<30}{:<30}{}\n";
   for (const auto& machine : out.machines) {
-    fmt::print("\n{}  {}  ({}){}\n  {}\n", machine.machine_id, to_string(machine.state),
+    fmt::print("\n{}  {}  ({}){}{}\n  {}\n", machine.machine_id, to_string(machine.state),
                when(machine.status_time_ns),
+               machine.last_check_origin == DataOrigin::Simulated ? "  SIMULATED" : "",
                machine.conflicts > 0 ? fmt::format("  CONFLICT: {}", machine.conflicts) : "",
                machine.detail);
+    if (machine.last_check_origin == DataOrigin::Simulated) {
+      fmt::print(
+          "  SIMULATED DATA: its last check ({}) was produced by ncqual's simulator and says "
+          "nothing about the machine\n",
+          *machine.last_check);
+    } else if (machine.last_check_origin == DataOrigin::Unknown) {
+      fmt::print("  its last check ({}) does not say whether it was measured or simulated\n",
+                 *machine.last_check);
+    }
     fmt::print(kRow, "period", "every", "last passed", "next due", "");
     for (const auto& p : machine.periods) {
       fmt::print(kRow, p.name, p.every, when(p.last_pass_ns),

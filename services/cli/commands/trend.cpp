@@ -6,7 +6,9 @@
 //     Per check kind and per calendar day, week or month (in the plant's time zone): how many
 //     checks passed, failed or were invalid, and for the N metrics (default 3) that came nearest
 //     their tolerance over the whole history, the value in each period nearest its tolerance.
-//     A drift shows as a column creeping towards (!).
+//     A drift shows as a column creeping towards (!). A kind some of whose checks ncqual's
+//     simulator produced says how many ("SIMULATED DATA: ncqual's simulator produced n of its N
+//     checks, not measured on the machine").
 //
 //   ncqual trend --machine M --metric NAME [--since D] [--until D] [--last N] [--json | --csv]
 //                [--plant F] [--db F]
@@ -15,10 +17,11 @@
 //     intervention, or a compensation that concerns the metric) the control chart, the Western
 //     Electric signals, EWMA and CUSUM, capability, the least-squares and Theil-Sen forecasts of
 //     the date the tolerance is reached, the pass rate, the warnings active now and those the
-//     historian raised. --json: the whole document (report::MetricTrend, names stable); --csv:
-//     the points with their EWMA and CUSUM (report::points_csv). A metric the machine does not
-//     report is refused with the machine's metrics listed (the nearest five by name when it has
-//     more than twelve).
+//     historian raised; "SIMULATED DATA: ncqual's simulator produced n of these N checks ..." when
+//     it produced some. --json: the whole document (report::MetricTrend, names stable: "simulated",
+//     each point's "origin"); --csv: the points with their EWMA, CUSUM and origin
+//     (report::points_csv). A metric the machine does not report is refused with the machine's
+//     metrics listed (the nearest five by name when it has more than twelve).
 //
 // Exit codes: 0, 2 bad usage (and a machine the plant does not configure, a metric it does not
 // report), 6 no historian database at the path.
@@ -118,6 +121,14 @@ std::string date_status_text(const std::string& status) {
   return it == kText.end() ? status : it->second;
 }
 
+// "2 of its 5 checks", "all 5 of its checks", "its only check"; "2 of these 5 checks", ...,
+// "this check".
+std::string simulated_checks(std::size_t simulated, std::size_t checks, const char* whose) {
+  if (simulated < checks) return fmt::format("{} of {} {} checks", simulated, whose, checks);
+  if (checks == 1) return std::string(whose) == "these" ? "this check" : "its only check";
+  return fmt::format("all {} of {} checks", checks, whose);
+}
+
 void print_metric_trend(const report::MetricTrend& t, const Calendar& calendar) {
   const auto when = [&](std::optional<std::int64_t> ns) {
     return ns ? calendar.local_text(*ns) : std::string("-");
@@ -141,6 +152,10 @@ void print_metric_trend(const report::MetricTrend& t, const Calendar& calendar) 
                100 * *t.pass_rate.lower, 100 * *t.pass_rate.upper);
   }
   fmt::print("{}\n", t.pass_rate.invalid ? fmt::format(", {} invalid", t.pass_rate.invalid) : "");
+  if (t.simulated > 0) {
+    fmt::print("SIMULATED DATA: ncqual's simulator produced {}, not measured on the machine\n",
+               simulated_checks(t.simulated, t.points.size(), "these"));
+  }
   fmt::print(
       "segment: {} checks {}, as of {}\n", t.segment_points,
       t.restart_ns ? "since the restart of " + when(t.restart_ns) : std::string("(no restart)"),
@@ -281,9 +296,14 @@ int run(const Options& o) {
   // kind -> bucket start -> counts and worst values; per kind the metrics nearest their limits.
   std::map<CheckKind, std::map<std::int64_t, Bucket>> table;
   std::map<CheckKind, std::map<std::string, double>> peak_use;
+  // kind -> checks, and of them those ncqual's simulator produced.
+  std::map<CheckKind, std::pair<int, int>> simulated;
   for (const auto& rec : db.history(q)) {
     if (!rec.result) continue;
     const CheckResult& r = *rec.result;
+    auto& [checks, of_simulator] = simulated[r.kind];
+    ++checks;
+    if (storage::origin_of(rec) == DataOrigin::Simulated) ++of_simulator;
     Bucket& b = table[r.kind][calendar.period_start(bucket_period, r.time_ns)];
     (r.verdict == Verdict::Pass ? b.pass : r.verdict == Verdict::Fail ? b.fail : b.invalid)++;
     for (const auto& m : r.metrics) {
@@ -306,6 +326,11 @@ int run(const Options& o) {
     if (static_cast<int>(ranked.size()) > shown) ranked.resize(static_cast<std::size_t>(shown));
     fmt::print("\n{}  (per {}: runs, and the value nearest its tolerance; (!) out of tolerance)\n",
                to_string(kind), every);
+    if (const auto [checks, of_simulator] = simulated[kind]; of_simulator > 0) {
+      fmt::print("  SIMULATED DATA: ncqual's simulator produced {}, not measured on the machine\n",
+                 simulated_checks(static_cast<std::size_t>(of_simulator),
+                                  static_cast<std::size_t>(checks), "its"));
+    }
     // A column is as wide as its metric's name and two spaces: names never run together.
     const auto width = [](const std::string& name) {
       return std::max<std::size_t>(26, name.size() + 2);

@@ -94,7 +94,11 @@ TEST_F(ControlFilesTest, EachDialectsResultsComeBackAsTheSimulatorsTouchesAndAre
       const MeasurementSet& set = back[0];
       EXPECT_EQ(set.error, "");
       EXPECT_EQ(set.request_id, id);
+      // The control's probe touched the machine: measured, whatever ran behind the files here.
+      EXPECT_EQ(set.origin, DataOrigin::Measured);
+      EXPECT_EQ(control.origin(), DataOrigin::Measured);
       const MeasurementSet expected = truth(id);
+      EXPECT_EQ(expected.origin, DataOrigin::Simulated);
       ASSERT_EQ(set.touches.size(), expected.touches.size());
       // The log's resolution: 6 decimals, Fanuc's 4 of mm or 5 of inch.
       const double resolution = d == ControlDialect::Fanuc ? (inch ? 0.5e-5 * 25.4 : 0.5e-4)

@@ -30,6 +30,7 @@ struct Recorder {
   // test moves into `finished` comes back from the next poll().
   bool asynchronous = false;
   std::vector<MeasurementSet> finished;
+  DataOrigin origin = DataOrigin::Measured;  // what the driver says its sets are
 };
 class RecordingInstruments : public Instruments {
  public:
@@ -49,6 +50,7 @@ class RecordingInstruments : public Instruments {
     r_.restored.push_back(correction.target);
     return "";
   }
+  DataOrigin origin() const override { return r_.origin; }
 
  private:
   Recorder& r_;
@@ -298,6 +300,30 @@ TEST_F(StationTest, AMeasurementHandedToAControlIsPublishedWhenItComesBack) {
   EXPECT_EQ(recorder_.measured, (std::vector<std::string>{"r1", "r2", "r1"}));
 }
 
+// Every set a station publishes carries its driver's origin, whatever the driver put in the set:
+// measured at once, collected later from a control, or never measured (a malformed request).
+TEST_F(StationTest, EverySetCarriesTheOriginItsDriverSays) {
+  for (const DataOrigin origin : {DataOrigin::Simulated, DataOrigin::Measured}) {
+    published_.clear();
+    recorder_ = Recorder{};
+    recorder_.origin = origin;
+    const std::string tag(to_string(origin));
+    auto s = station();
+    s->on_request(request("now-" + tag), "", kNow);
+    s->on_request(request("bad-" + tag), "kind out of range", kNow);
+    recorder_.asynchronous = true;
+    s->on_request(request("later-" + tag), "", kNow);
+    MeasurementSet later = unmeasured(request("later-" + tag), kNow, "");
+    ASSERT_EQ(later.origin, DataOrigin::Unknown);  // the driver did not say; the station does
+    recorder_.finished.push_back(later);
+    EXPECT_EQ(s->poll(kNow), 1u);
+    ASSERT_EQ(published_.size(), 3u);
+    for (const MeasurementSet& set : published_) {
+      EXPECT_EQ(set.origin, origin) << set.request_id;
+    }
+  }
+}
+
 // The simulated instruments behind a station: the example machine's fixture and tracker
 // measure their checks; a machine without those sections says so in the set.
 TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
@@ -311,15 +337,17 @@ TEST(SimulatedInstruments, EachKindGoesToItsInstrumentOrSaysWhyNot) {
       r.parameters.push_back({"fixture_configuration", 0, ""});
     const MeasurementSet set = full.measure(r, kNow).value();
     EXPECT_TRUE(set.error.empty()) << row.name << ": " << set.error;
+    EXPECT_EQ(set.origin, DataOrigin::Simulated) << row.name;
     EXPECT_FALSE(set.touches.empty() && set.tracker_points.empty()) << row.name;
   }
   MachineConfig bare = pm1;
   bare.fixture.reset();
   bare.global_check.reset();
   SimulatedInstruments monument_only(bare);
-  EXPECT_EQ(
-      monument_only.measure(request("f", kNow, CheckKind::FixturePreCalibration), kNow)->error,
-      "machine 'pm1' has no fixture: section to probe");
+  const MeasurementSet unmeasurable =
+      monument_only.measure(request("f", kNow, CheckKind::FixturePreCalibration), kNow).value();
+  EXPECT_EQ(unmeasurable.error, "machine 'pm1' has no fixture: section to probe");
+  EXPECT_EQ(unmeasurable.origin, DataOrigin::Simulated);  // it still says it is the simulator's
   EXPECT_EQ(monument_only.measure(request("g", kNow, CheckKind::GlobalGrid), kNow)->error,
             "machine 'pm1' has no global_check: section for the laser tracker");
   Correction zero;

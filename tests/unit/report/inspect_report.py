@@ -5,6 +5,7 @@
 # {"ok", "error", "title", "h1", "sections": [{"class", "h2", "charts": [data-chart...],
 # "none": [sentences]}], "vectors": [{"label", "class", "dx", "dy", "value"}],
 # "means": [{"class", "target", "value"}], "checks": [[cell texts]], "traces": [labels],
+# "banners": [texts of the simulated-data banners], "simulated_badges": count,
 # "forbidden": [what runs or fetches]}.
 # Usage: inspect_report.py FILE. Debian's /usr/bin/python3, standard library only.
 import json
@@ -27,7 +28,7 @@ def text_of(e):
 def main(path):
     raw = open(path, "rb").read()
     out = {"ok": True, "error": "", "sections": [], "vectors": [], "means": [], "checks": [],
-           "traces": [], "forbidden": []}
+           "traces": [], "forbidden": [], "banners": [], "simulated_badges": 0}
     if not raw.startswith(b"<!DOCTYPE html>"):
         out["ok"] = False
         out["error"] = "does not start with <!DOCTYPE html>"
@@ -71,6 +72,10 @@ def main(path):
         if cls in ("mean up", "mean down"):
             out["means"].append({"class": cls, "target": float(e.get("data-target")),
                                  "value": float(e.get("data-value"))})
+        if cls == "ncqual-simulated-banner":
+            out["banners"].append(text_of(e))
+        if cls == "origin-badge simulated":
+            out["simulated_badges"] += 1
         if local(e.tag) == "path" and cls.split()[:1] == ["trace"]:
             out["traces"].append(e.get("data-trace"))
     table = root.find(".//table[@class='checks']")

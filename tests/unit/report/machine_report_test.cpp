@@ -191,8 +191,9 @@ TEST_F(MachineReportTest, EverySectionWithItsChartsAndTheStoredFigures) {
   EXPECT_EQ(fail, 2);   // daily-12, grid
   for (const auto& row : rows) {
     if (row[2] != "daily-12") continue;
-    EXPECT_EQ(row[4], "monument moved (loose clamping) probe stylus bent");
-    EXPECT_EQ(row[5], "machine:work_offset: dx = -30.00 µm");
+    EXPECT_EQ(row[4], "not recorded");  // stored without an origin: said, not assumed measured
+    EXPECT_EQ(row[5], "monument moved (loose clamping) probe stylus bent");
+    EXPECT_EQ(row[6], "machine:work_offset: dx = -30.00 µm");
   }
 }
 
@@ -317,6 +318,59 @@ TEST_F(MachineReportTest, AHeldMachineIsNeverWithinBudget) {
   EXPECT_EQ(memo.evaluations(), evaluated);  // no new result: from the memo, the hold read again
   EXPECT_FALSE(cleared.standing.held);
   EXPECT_EQ(cleared.judgement.verdict, solver::BudgetVerdict::WithinBudget);
+}
+
+// Issue 37 point 5: a report of measured checks carries no simulated-data banner or marker; one
+// with a check of ncqual's simulator says so above everything, and marks that check's row (and a
+// chart's check line); a check stored without an origin says "not recorded".
+TEST_F(MachineReportTest, SimulatedChecksAreBanneredAndMarkedAndMeasuredOnesAreNot) {
+  const MachineConfig m = testing::report_machine("PM1");
+  const std::string path = (dir_ / "origin.db").string();
+  {
+    storage::Database db = storage::Database::open(path);
+    for (int day = 1; day <= 2; ++day) {
+      CheckResult r = testing::monument_result("PM1", day, 0.001 * day);
+      r.origin = DataOrigin::Measured;
+      db.store(r);
+    }
+  }
+  MachineReportQuery q;
+  q.machine_id = "PM1";
+  q.now_ns = kT0 + 10 * kDay;
+  q.machine = &m;
+  {
+    storage::Database db = storage::Database::open_readonly(path);
+    const json doc = inspect(machine_report_document(gather_machine_report(db, q)));
+    ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
+    EXPECT_TRUE(doc["banners"].empty()) << doc["banners"];
+    EXPECT_EQ(doc["simulated_badges"], 0);
+    ASSERT_EQ(doc["checks"].size(), 2u);
+    for (const auto& row : doc["checks"]) EXPECT_EQ(row[4], "measured");
+  }
+  {
+    storage::Database db = storage::Database::open(path);
+    CheckResult r = testing::monument_result("PM1", 3, 0.003);
+    r.origin = DataOrigin::Simulated;
+    db.store(r);
+  }
+  storage::Database db = storage::Database::open_readonly(path);
+  const json doc = inspect(machine_report_document(gather_machine_report(db, q)));
+  ASSERT_TRUE(doc["ok"].get<bool>()) << doc["error"];
+  EXPECT_EQ(doc["banners"],
+            json::array({"SIMULATED DATA : 1 of the 3 checks in the historian (marked SIMULATED) "
+                         "were produced by ncqual's simulator, not measured on a machine: the "
+                         "verdicts, charts and figures of such checks say nothing about PM1's "
+                         "accuracy."}));
+  EXPECT_EQ(doc["simulated_badges"], 1);
+  ASSERT_EQ(doc["checks"].size(), 3u);
+  EXPECT_EQ(doc["checks"][0][2], "daily-3");
+  EXPECT_EQ(doc["checks"][0][4], "SIMULATED");
+  EXPECT_EQ(doc["checks"][1][4], "measured");
+  // The banner opens the first section, above its heading: the first thing a reader sees.
+  const std::string html = machine_report_document(gather_machine_report(db, q));
+  EXPECT_LT(html.find("<section class=\"ncqual-report-state\">"),
+            html.find("ncqual-simulated-banner\""));
+  EXPECT_LT(html.find("ncqual-simulated-banner\""), html.find("<h2"));
 }
 
 TEST_F(MachineReportTest, SectionsWithoutDataSaySoInOneSentence) {

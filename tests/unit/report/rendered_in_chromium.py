@@ -4,7 +4,11 @@
 #  - --dump-dom: every section is in the DOM with its charts (the browser parsed what we wrote),
 #    its times in the sample plant's zone (Europe/Berlin), none in UTC;
 #  - --print-to-pdf: it prints (a PDF of several pages, one per section at least);
-#  - --screenshot of the whole page, kept as OUTDIR/report.png to look at.
+#  - --screenshot of the whole page, kept as OUTDIR/report.png to look at;
+#  - the same historian's checks as ncqual's simulator's (report-simulated.html): the
+#    simulated-data banner is in the DOM before the first heading and chart, every row of the
+#    checks table is marked SIMULATED; the measured report has neither (screenshot
+#    OUTDIR/report-simulated.png, its top OUTDIR/report-simulated-top.png).
 # Usage: rendered_in_chromium.py SAMPLE_EXE OUTDIR. Skipped (77) without Chromium.
 import os
 import re
@@ -55,6 +59,29 @@ def main(exe, outdir):
     run_chromium(chromium, ["--screenshot=" + shot, "--window-size=1200,16000", page], timeout=120)
     if not os.path.exists(shot):
         failures.append("no screenshot")
+    # Simulated data: a banner above everything and a marker per check; none for measured data.
+    for marker in ('class="ncqual-simulated-banner"', 'class="origin-badge simulated"'):
+        if marker in dom:
+            failures.append(f"the measured report shows {marker}")
+    simulated_page = "file://" + os.path.abspath(os.path.join(outdir, "report-simulated.html"))
+    sim = run_chromium(chromium, ["--dump-dom", simulated_page], timeout=120)
+    sim = sim.stdout.decode("utf-8", "replace")
+    banner = sim.find('class="ncqual-simulated-banner"')
+    if banner < 0:
+        failures.append("the simulated report has no banner")
+    elif not banner < sim.find("<h2") < sim.find("<svg"):
+        failures.append("the simulated report's banner is not above the sections and charts")
+    rows = re.search(r'<table class="checks">.*?</table>', sim, re.S)
+    body_rows = re.findall(r"<tr[ >]", rows.group(0)) if rows else []
+    marked = re.findall(r'<tr class="simulated">', rows.group(0)) if rows else []
+    if not rows or len(marked) != len(body_rows) - 1 or not marked:
+        failures.append(f"simulated report: {len(marked)} rows marked of {len(body_rows) - 1}")
+    for name, size in (("report-simulated", "1200,16000"), ("report-simulated-top", "1280,900")):
+        shot_sim = os.path.join(outdir, name + ".png")
+        run_chromium(chromium, ["--screenshot=" + shot_sim, "--window-size=" + size,
+                                simulated_page], timeout=120)
+        if not os.path.exists(shot_sim):
+            failures.append(f"no screenshot {name}")
     for f in failures:
         print("FAIL:", f)
     print(f"{len(charts)} charts; PDF {pdf}; screenshot {shot}")

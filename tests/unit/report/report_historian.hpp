@@ -67,8 +67,9 @@ MeasurementSet tracker_set(const MachineConfig& m, CheckKind kind, const std::st
   return set;
 }
 
-inline void store_checked(storage::Database& db, const MachineConfig& m,
-                          const MeasurementSet& set) {
+inline void store_checked(storage::Database& db, const MachineConfig& m, MeasurementSet set,
+                          DataOrigin origin = DataOrigin::Unknown) {
+  set.origin = origin;
   CheckRequest request;
   request.machine_id = m.machine_id;
   request.request_id = set.request_id;
@@ -99,12 +100,16 @@ inline CheckResult monument_result(const std::string& machine_id, int day, doubl
 }
 
 // The historian described above, at `path` (created).
-inline void build_report_historian(const std::string& path, const MachineConfig& m) {
+// `origin`: what every stored set and result says it is (Unknown: as stored before schema 11).
+inline void build_report_historian(const std::string& path, const MachineConfig& m,
+                                   DataOrigin origin = DataOrigin::Unknown) {
   storage::Database db = storage::Database::open(path);
   // Twelve daily checks drifting up to a failure on day 12.
   for (int day = 1; day <= 12; ++day) {
     const double dx = day == 12 ? 0.030 : 0.001 * day - 0.004 + (day % 2 ? 0.0005 : -0.0005);
-    db.store(monument_result(m.machine_id, day, dx));
+    CheckResult daily = monument_result(m.machine_id, day, dx);
+    daily.origin = origin;
+    db.store(daily);
   }
   // The monthly checks on day 13.
   const std::int64_t monthly = kT0 + 13 * kDay;
@@ -114,7 +119,8 @@ inline void build_report_historian(const std::string& path, const MachineConfig&
                               if (label == "grid:7:t0") return kGrid7Deviation;
                               if (label == "grid:20:t0") return kGrid20Deviation;
                               return Eigen::Vector3d::Zero().eval();
-                            }));
+                            }),
+                origin);
   // The circle: an oval along X (4 µm cos 2θ) and the clockwise path 2 µm further out.
   const Eigen::Vector3d centre = m.global_check->circle.centre_mm;
   store_checked(db, m,
@@ -129,13 +135,15 @@ inline void build_report_historian(const std::string& path, const MachineConfig&
                               return (radial * (kCircleOvalMm * std::cos(2 * theta) +
                                                 (cw ? kCircleCwOffsetMm : 0)))
                                   .eval();
-                            }));
+                            }),
+                origin);
   store_checked(db, m,
                 tracker_set(m, CheckKind::LinearAxisRun, "monthly-linear", monthly + kDay / 12,
                             [](const std::string& label, const TrackerMove&) {
                               const bool up = label.find(":up:") != std::string::npos;
                               return Eigen::Vector3d(up ? kBacklashHalfMm : -kBacklashHalfMm, 0, 0);
-                            }));
+                            }),
+                origin);
   MachineStatus status;
   status.machine_id = m.machine_id;
   status.request_id = "daily-12";

@@ -38,6 +38,35 @@ TEST(Solve, DispatchesCheck3AndStampsIdentityAndTime) {
   EXPECT_NE(find_metric(r, "center_dx_mm"), nullptr);
 }
 
+// A verdict carries the origin of the numbers it judged: simulated sets give simulated results,
+// measured ones measured, a set that did not say (wire contract 1) a result that does not either;
+// also when the verdict is INVALID (an unknown machine, another machine's set, an instrument's
+// error, an empty set).
+TEST(Solve, EveryResultCarriesTheOriginOfItsSet) {
+  const PlantConfig plant = plant_with({pm1_like_machine()});
+  const MeasurementSet simulated = positioning_set(pm1_like_machine(), "r-origin");
+  EXPECT_EQ(simulated.origin, DataOrigin::Simulated);  // the simulator says so itself
+  for (const DataOrigin origin :
+       {DataOrigin::Simulated, DataOrigin::Measured, DataOrigin::Unknown}) {
+    MeasurementSet set = simulated;
+    set.origin = origin;
+    EXPECT_EQ(solve(set, plant, 1).origin, origin);
+    EXPECT_EQ(solve(set, plant, 1).verdict, Verdict::Pass);
+    MeasurementSet unknown_machine = set;
+    unknown_machine.machine_id = "x";
+    EXPECT_EQ(solve(unknown_machine, plant, 1).origin, origin);
+    EXPECT_EQ(solve(unknown_machine, pm1_like_machine(), 1).origin, origin);
+    MeasurementSet failed = set;
+    failed.error = "probe not connected";
+    EXPECT_EQ(solve(failed, plant, 1).verdict, Verdict::Invalid);
+    EXPECT_EQ(solve(failed, plant, 1).origin, origin);
+    MeasurementSet empty = set;
+    empty.touches.clear();
+    EXPECT_EQ(solve(empty, plant, 1).verdict, Verdict::Invalid);
+    EXPECT_EQ(solve(empty, plant, 1).origin, origin);
+  }
+}
+
 TEST(Solve, UsesTheMachineTheSetNames) {
   // Same touches judged against two machines that differ in taught centre: the one the set
   // names decides.

@@ -170,6 +170,14 @@ TEST(Answer, AMalformedSetIsAnsweredInvalidWithItsReasonAndTheSoftwareThatSaidSo
   EXPECT_EQ(r.time_ns, 77);
   EXPECT_EQ(r.produced_by, "ncqual x");
   EXPECT_FALSE(compensation_of(r).has_value());
+  EXPECT_EQ(r.origin, DataOrigin::Unknown);  // the set did not say
+  // A malformed simulated set stays simulated in its INVALID result, a measured one measured.
+  for (const DataOrigin origin : {DataOrigin::Simulated, DataOrigin::Measured}) {
+    MeasurementSet said = set;
+    said.origin = origin;
+    EXPECT_EQ(answer(said, "touches[2].axes: not a number", plant, 77, "ncqual x").origin, origin);
+    EXPECT_EQ(answer(said, "", plant, 77, "ncqual x").origin, origin);  // the solver's INVALID
+  }
 }
 
 TEST(Answer, AWellFormedSetIsTheSolversVerdictStampedWithTheSoftware) {

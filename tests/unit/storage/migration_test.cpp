@@ -70,6 +70,8 @@ void expect_measurement(const CheckRecord& record, const std::string& instrument
   EXPECT_EQ(record.measurement->touches, touches);
   EXPECT_EQ(record.measurement->tracker_points, tracker_points);
   EXPECT_EQ(record.measurement->error, error);
+  // Schema 11's column: a set stored before does not say whether it was measured or simulated.
+  EXPECT_EQ(record.measurement->origin, DataOrigin::Unknown);
 }
 
 // The record's result, which must be `expected` (machine, kind and id are the record's).
@@ -318,6 +320,66 @@ TEST(StorageMigration, VersionOneFileReadsBackEveryRowAtTheLatestVersion) {
   EXPECT_EQ(stored->request->verifies_correction_of, "pm1-precal-1");
   ASSERT_EQ(stored->request->parameters.size(), 1u);
   EXPECT_EQ(stored->request->parameters[0].value, 3);
+}
+
+// A historian of schema 10 (the version before sets and results said whether they were measured or
+// simulated) takes schema 11's origin columns: its rows read back as Unknown (never assumed
+// measured), and what is stored from then on keeps its origin, in the file as 'measured' or
+// 'simulated' and nothing else.
+TEST(StorageMigration, SetsAndResultsStoredBeforeSchemaElevenReadAsOfUnknownOrigin) {
+  TempDir dir;
+  const std::string path = dir.file("historian-v10.db");
+  {
+    std::string sql = "BEGIN; ";
+    for (const auto& m : schema::migrations()) {
+      if (m.version > 10) break;
+      sql += m.sql;
+    }
+    create(path, sql + " PRAGMA user_version = 10; COMMIT;");
+    RawDb raw(path);
+    raw.exec(
+        "INSERT INTO measurement_sets (request_id, machine_id, kind, instrument, frame, time_ns, "
+        "error) VALUES ('old-1', 'pm1', 2, 'touch_probe', 'machine', 1000, '');"
+        "INSERT INTO results (request_id, machine_id, kind, verdict, reason, time_ns) "
+        "VALUES ('old-1', 'pm1', 2, 'PASS', '', 2000);"
+        "INSERT INTO checks (request_id, machine_id, kind, measured_at_ns, result_at_ns) "
+        "VALUES ('old-1', 'pm1', 2, 1000, 2000);");
+  }
+  Database db = Database::open(path);
+  EXPECT_EQ(db.info().schema_version, 11);
+  const auto old = db.find_check("old-1");
+  ASSERT_TRUE(old && old->measurement && old->result);
+  EXPECT_EQ(old->measurement->origin, DataOrigin::Unknown);
+  EXPECT_EQ(old->result->origin, DataOrigin::Unknown);
+  EXPECT_EQ(origin_of(*old), DataOrigin::Unknown);
+  EXPECT_EQ(db.load_measurement_set("old-1")->origin, DataOrigin::Unknown);
+
+  MeasurementSet set = make_measurement_set("sim-1", "pm1");
+  set.origin = DataOrigin::Simulated;
+  CheckResult result = make_result("sim-1", "pm1");
+  result.kind = set.kind;
+  result.origin = DataOrigin::Simulated;
+  ASSERT_TRUE(db.store(set));
+  ASSERT_TRUE(db.store(result));
+  MeasurementSet measured = make_measurement_set("real-1", "pm1");
+  measured.origin = DataOrigin::Measured;
+  ASSERT_TRUE(db.store(measured));  // its result has not arrived: the set says
+  const auto sim = db.find_check("sim-1");
+  ASSERT_TRUE(sim && sim->measurement && sim->result);
+  EXPECT_EQ(sim->measurement->origin, DataOrigin::Simulated);
+  EXPECT_EQ(sim->result->origin, DataOrigin::Simulated);
+  EXPECT_EQ(origin_of(*db.find_check("real-1")), DataOrigin::Measured);
+  EXPECT_EQ(db.load_measurement_set("real-1")->origin, DataOrigin::Measured);
+
+  RawDb raw(path);
+  EXPECT_EQ(raw.text("SELECT origin FROM measurement_sets WHERE request_id = 'sim-1'"),
+            "simulated");
+  EXPECT_EQ(raw.text("SELECT origin FROM results WHERE request_id = 'sim-1'"), "simulated");
+  EXPECT_EQ(raw.text("SELECT origin FROM measurement_sets WHERE request_id = 'real-1'"),
+            "measured");
+  EXPECT_EQ(raw.text("SELECT count(*) FROM results WHERE origin IS NULL"), "1");
+  EXPECT_THROW(raw.exec("UPDATE results SET origin = 'guessed' WHERE request_id = 'old-1'"),
+               std::runtime_error);
 }
 
 }  // namespace

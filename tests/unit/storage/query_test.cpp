@@ -124,7 +124,10 @@ TEST_F(StorageQuery, JsonOfAFinishedCheckHasTheStableNames) {
                                                  {"touches", 4},
                                                  {"tracker_points", 3},
                                                  {"error", ""},
-                                                 {"points_thinned_ns", nullptr}}));
+                                                 {"points_thinned_ns", nullptr},
+                                                 {"origin", "unknown"}}));
+  // Schema 11: whether the check's numbers were measured or simulated; this one did not say.
+  EXPECT_EQ(json["origin"], "unknown");
   // An infinite bound prints as null: JSON has no infinity.
   EXPECT_NE(json.dump().find("\"lower\":null"), std::string::npos);
 }

@@ -147,6 +147,33 @@ TEST_F(StorageRoundTrip, CheckResultComesBackWithMetricsCausesInOrderAndCorrecti
   EXPECT_EQ(db_.count_results(), 1);
 }
 
+// Whether a set and its result were measured or simulated comes back as it was sent; a sample that
+// did not say (wire contract 1) comes back Unknown, never as measured.
+TEST_F(StorageRoundTrip, TheOriginOfASetAndOfItsResultComesBack) {
+  for (const DataOrigin origin :
+       {DataOrigin::Measured, DataOrigin::Simulated, DataOrigin::Unknown}) {
+    const std::string id = "r-" + std::string(to_string(origin));
+    MeasurementSet set = make_measurement_set(id);
+    set.origin = origin;
+    CheckResult result = make_result(id);
+    result.origin = origin;
+    ASSERT_TRUE(db_.store(set));
+    ASSERT_TRUE(db_.store(result));
+    const auto record = db_.find_check(id);
+    ASSERT_TRUE(record && record->measurement && record->result);
+    EXPECT_EQ(record->measurement->origin, origin);
+    expect_result_eq(*record->result, result);
+    EXPECT_EQ(db_.load_measurement_set(id)->origin, origin);
+    EXPECT_EQ(origin_of(*record), origin);
+  }
+  // A result that does not say (an older solver) takes its set's word.
+  MeasurementSet set = make_measurement_set("r-mixed");
+  set.origin = DataOrigin::Simulated;
+  ASSERT_TRUE(db_.store(set));
+  ASSERT_TRUE(db_.store(make_result("r-mixed")));
+  EXPECT_EQ(origin_of(*db_.find_check("r-mixed")), DataOrigin::Simulated);
+}
+
 // A figure that could not be evaluated is kept (NULL in the file) and comes back as NaN; the
 // result is never refused for it (issue 14: a NaN metric left an imported check pending forever).
 TEST_F(StorageRoundTrip, AMetricThatCouldNotBeEvaluatedIsStoredAndComesBackNaN) {

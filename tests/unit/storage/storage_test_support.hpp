@@ -142,6 +142,7 @@ inline void expect_result_eq(const CheckResult& a, const CheckResult& b) {
   EXPECT_EQ(a.reason, b.reason);
   EXPECT_EQ(a.time_ns, b.time_ns);
   EXPECT_EQ(a.produced_by, b.produced_by);
+  EXPECT_EQ(a.origin, b.origin);
   ASSERT_EQ(a.metrics.size(), b.metrics.size());
   for (std::size_t i = 0; i < a.metrics.size(); ++i) {
     EXPECT_EQ(a.metrics[i].name, b.metrics[i].name);

@@ -158,7 +158,9 @@ TEST_F(TrendStore, ANewestResultWithFewerMetricsHidesNoneOfTheirHistory) {
   // A historian of schema 9 (before reported_metrics) gets the table filled when migrated.
   {
     RawDb raw(path_);
-    raw.exec("DROP TRIGGER metrics_reported; DROP TABLE reported_metrics; PRAGMA user_version = 9");
+    raw.exec(
+        "ALTER TABLE measurement_sets DROP COLUMN origin; ALTER TABLE results DROP COLUMN origin; "
+        "DROP TRIGGER metrics_reported; DROP TABLE reported_metrics; PRAGMA user_version = 9");
   }
   Database migrated = Database::open(path_);
   EXPECT_EQ(metric_series(migrated, {"M1", "center_dy_mm"}).size(), 12u);

@@ -131,6 +131,7 @@ TouchLog read_touch_log(const std::string& text, const std::string& file, Dialec
 // in its file name) and a log whose touches do not match the program's: how many were expected
 // and found and, where the lines carry touch numbers, the first missing one or the line out of
 // order. `machine` must be the program's machine (refused otherwise).
+// Its origin is Measured: a control's probe touched the machine.
 MeasurementSet measurement_set_from_log(const ProgramDescription& program, const TouchLog& log,
                                         const std::string& log_file, const MachineConfig& machine,
                                         std::int64_t time_ns);

@@ -53,6 +53,7 @@ struct ReportedCheck {
   std::int64_t time_ns = 0;  // the result's time (else the set's)
   std::optional<Verdict> verdict;
   std::string error;  // why the charts could not be drawn (e.g. points thinned); "" when drawn
+  DataOrigin origin = DataOrigin::Unknown;  // measured, or simulated: its charts show no machine
 };
 
 // The monthly grid's points of one constant-Z plane (commanded Z), in grid order.

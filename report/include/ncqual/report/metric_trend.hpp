@@ -33,6 +33,8 @@ struct TrendPoint {
   // At this point of the segment (null outside it, or without a baseline):
   std::optional<double> ewma, ewma_lower, ewma_upper;
   std::optional<double> cusum_upper, cusum_lower;  // C+, C-
+  // Its check's numbers: measured, simulated by ncqual's simulator, or unknown (not recorded).
+  DataOrigin origin = DataOrigin::Unknown;
 };
 
 struct TrendDate {
@@ -128,6 +130,7 @@ struct MetricTrend {
   std::vector<TrendWarningNow> warnings;   // active as of now_ns
   std::vector<StoredTrendWarning> raised;  // what the historian raised for the metric, newest first
   std::vector<TrendPoint> points;          // oldest first
+  std::size_t simulated = 0;  // of the points, those of checks ncqual's simulator produced
   std::string error;  // the statistics could not be computed (e.g. no band); points still given
   // For charts (not in the JSON document): the least-squares line of the segment and its 95 %
   // prediction interval (trend::prediction_interval) from the segment's first check to the
@@ -152,7 +155,7 @@ void to_json(nlohmann::json& j, const MetricTrend& v);
 // The points as CSV, written like `ncqual export`'s files (storage/csv_fields.hpp: RFC 4180,
 // CRLF, reals to the shortest round-trip digits, time_utc to the nanosecond, null an empty
 // field): time_ns, time_utc, request_id, kind, value, lower, upper, verdict, in_segment, ewma,
-// ewma_lower, ewma_upper, cusum_upper, cusum_lower.
+// ewma_lower, ewma_upper, cusum_upper, cusum_lower, origin (measured, simulated, unknown).
 std::string points_csv(const MetricTrend& trend);
 
 }  // namespace ncqual::report

@@ -241,10 +241,12 @@ std::size_t Station::poll(std::int64_t now_ns) {
   return finished;
 }
 
-bool Station::finish(const CheckRequest& req, const MeasurementSet& set) {
-  spdlog::info("{} {} {}: {} touches, {} tracker points{}", set.machine_id, set.request_id,
+bool Station::finish(const CheckRequest& req, MeasurementSet set) {
+  // The driver says whether it measured or simulated: every set, also one with an error.
+  set.origin = instruments_->origin();
+  spdlog::info("{} {} {}: {} touches, {} tracker points, {}{}", set.machine_id, set.request_id,
                to_string(set.kind), set.touches.size(), set.tracker_points.size(),
-               set.error.empty() ? "" : " (" + set.error + ")");
+               to_string(set.origin), set.error.empty() ? "" : " (" + set.error + ")");
   // Recorded before it is published, with its outbox entry: a kill after this point sends the
   // set again at the next start rather than moving the machine again.
   try {

@@ -88,6 +88,7 @@ CheckResult answer(const MeasurementSet& set, const std::string& malformed,
     result.verdict = Verdict::Invalid;
     result.reason = malformed;
     result.time_ns = now_ns;
+    result.origin = set.origin;
   } else {
     result = solver::solve(set, plant, now_ns);
   }

@@ -131,6 +131,12 @@ td.nw-num { text-align: right; font-variant-numeric: tabular-nums; white-space: 
   .nw-overdue { background: var(--bad); }
 .nw-state-overdue, .nw-verdict-invalid, .nw-due { background: var(--warn); }
 .nw-state-checking { background: var(--accent); }
+.nw-simulated { background: #6a1b9a; }
+.nw-simulated-banner { margin: .6em 0 1em; padding: .7em 1em; border: 3px solid #6a1b9a;
+  background: #f6edfa; color: #3b0a57; font-size: 15px; }
+.nw-simulated-banner strong { color: #6a1b9a; letter-spacing: .04em; }
+tr.nw-simulated-row td { background: #faf4fd; }
+.nw-origin-unknown { color: var(--muted); font-style: italic; }
 .nw-machines { display: grid; grid-template-columns: repeat(auto-fill, minmax(420px, 1fr));
   gap: 1em; }
 .nw-machine { background: #fff; border: 1px solid var(--line); border-radius: 4px;
@@ -290,6 +296,33 @@ std::string failures_table(const Calendar& calendar, const Failures& failures, b
   return out;
 }
 
+// A check's or machine's data produced by ncqual's simulator: a badge; measured data has none.
+constexpr const char* kSimulatedBadge =
+    "<span class=\"nw-badge nw-simulated\" title=\"produced by ncqual's simulator: says nothing "
+    "about the machine\">SIMULATED</span>";
+
+std::string simulated_badge(std::optional<DataOrigin> origin) {
+  return origin == DataOrigin::Simulated ? std::string(" ") + kSimulatedBadge : std::string();
+}
+
+// The data column of a check: SIMULATED, measured, or not recorded (stored before schema 11).
+std::string origin_text(DataOrigin origin) {
+  switch (origin) {
+    case DataOrigin::Simulated: return kSimulatedBadge;
+    case DataOrigin::Measured: return "measured";
+    case DataOrigin::Unknown: break;
+  }
+  return "<span class=\"nw-origin-unknown\">not recorded</span>";
+}
+
+// The banner above a page whose data is (partly) the simulator's.
+std::string simulated_banner(const std::string& what) {
+  return "<div class=\"nw-simulated-banner\" role=\"alert\"><strong>SIMULATED DATA</strong>: " +
+         what +
+         " produced by ncqual's simulator, not measured on a machine: its verdicts say nothing "
+         "about a machine's accuracy.</div>\n";
+}
+
 std::string overdue_text(const plant_status::MachineDocument& m) {
   std::string names;
   for (const auto& p : m.periods) {
@@ -312,12 +345,22 @@ std::string plant_html(const PlantConfig& plant, const Calendar& calendar, const
       plant.simulated_clock ? ", simulated clock: due dates as of each machine's newest status"
                             : "",
       status.machines.size(), status.machines.size() == 1 ? "" : "s");
+  std::string simulated;
+  for (const auto& m : status.machines) {
+    if (m.last_check_origin == DataOrigin::Simulated) {
+      simulated += (simulated.empty() ? "" : ", ") + esc(m.machine_id);
+    }
+  }
+  if (!simulated.empty()) {
+    main += simulated_banner("the newest check of " + simulated + " was");
+  }
   main += "<div class=\"nw-machines\">\n";
   for (const auto& m : status.machines) {
     main += fmt::format("<section class=\"nw-machine\" id=\"machine-{}\" data-machine=\"{}\">\n",
                         esc(m.machine_id), esc(m.machine_id));
     main +=
-        fmt::format("<h2>{} {}{}</h2>\n", machine_link(m.machine_id), state_badge(m.state),
+        fmt::format("<h2>{} {}{}{}</h2>\n", machine_link(m.machine_id), state_badge(m.state),
+                    simulated_badge(m.last_check_origin),
                     m.conflicts > 0 ? fmt::format(" <span class=\"nw-badge nw-bad\">CONFLICT: {}"
                                                   "</span>",
                                                   m.conflicts)
@@ -388,8 +431,12 @@ std::string machine_html(const PlantConfig& plant, const Calendar& calendar,
                          const MachineView& view, const Limits& limits) {
   const auto& m = view.machine;
   std::string main;
-  main += fmt::format("<h1 data-machine=\"{}\">Machine {} {}</h1>\n", esc(m.machine_id),
-                      esc(m.machine_id), state_badge(m.state));
+  main +=
+      fmt::format("<h1 data-machine=\"{}\">Machine {} {}{}</h1>\n", esc(m.machine_id),
+                  esc(m.machine_id), state_badge(m.state), simulated_badge(m.last_check_origin));
+  if (m.last_check_origin == DataOrigin::Simulated) {
+    main += simulated_banner("its newest check (" + check_link(*m.last_check) + ") was");
+  }
   if (const MachineConfig* config = plant.find_machine(m.machine_id);
       config && !config->description.empty()) {
     main += fmt::format("<p class=\"nw-detail\">{}</p>\n", esc(config->description));
@@ -419,7 +466,7 @@ std::string machine_html(const PlantConfig& plant, const Calendar& calendar,
   } else {
     main +=
         "<table class=\"nw-checks\"><thead><tr><th>check</th><th>kind</th><th>time</th>"
-        "<th>verdict</th><th>out of tolerance</th></tr></thead><tbody>\n";
+        "<th>verdict</th><th>data</th><th>out of tolerance</th></tr></thead><tbody>\n";
     for (const auto& c : view.checks) {
       std::string out_of_tolerance;
       std::optional<std::int64_t> t;
@@ -433,10 +480,16 @@ std::string machine_html(const PlantConfig& plant, const Calendar& calendar,
                                           metric_number(metric, metric.value), esc(metric.unit));
         }
       }
+      const DataOrigin origin = storage::origin_of(c);
       main += fmt::format(
-          "<tr data-request=\"{}\"><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-          esc(c.request_id), check_link(c.request_id), kind_text(c.kind), when(calendar, t),
-          c.result ? verdict_badge(c.result->verdict) : std::string("pending"), out_of_tolerance);
+          "<tr data-request=\"{}\" "
+          "data-origin=\"{}\"{}><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+          "<td>{}</td><td>{}</td></tr>\n",
+          esc(c.request_id), to_string(origin),
+          origin == DataOrigin::Simulated ? " class=\"nw-simulated-row\"" : "",
+          check_link(c.request_id), kind_text(c.kind), when(calendar, t),
+          c.result ? verdict_badge(c.result->verdict) : std::string("pending"), origin_text(origin),
+          out_of_tolerance);
     }
     main += "</tbody></table>\n";
     main += fmt::format(
@@ -455,8 +508,11 @@ std::string check_html(const PlantConfig& plant, const Calendar& calendar,
                        const storage::CheckRecord& check, const std::string& token,
                        const Limits& limits) {
   std::string main;
-  main += fmt::format("<h1 data-request=\"{}\">Check {}</h1>\n", esc(check.request_id),
-                      esc(check.request_id));
+  const DataOrigin origin = storage::origin_of(check);
+  main += fmt::format("<h1 data-request=\"{}\" data-origin=\"{}\">Check {}{}</h1>\n",
+                      esc(check.request_id), to_string(origin), esc(check.request_id),
+                      simulated_badge(origin));
+  if (origin == DataOrigin::Simulated) main += simulated_banner("this check was");
   main += fmt::format(
       "<p class=\"nw-asof\">machine {} &middot; {} &middot; {}</p>\n",
       plant.find_machine(check.machine_id) ? machine_link(check.machine_id) : esc(check.machine_id),
@@ -487,9 +543,11 @@ std::string check_html(const PlantConfig& plant, const Calendar& calendar,
     const auto& s = *check.measurement;
     main += fmt::format(
         "<table class=\"nw-measurement\"><tbody><tr><th>instrument</th><td>{}</td></tr>"
+        "<tr><th>data</th><td class=\"nw-origin\">{}</td></tr>"
         "<tr><th>measured at</th><td>{}</td></tr><tr><th>touches</th><td class=\"nw-num\">{}</td>"
         "</tr><tr><th>tracker points</th><td class=\"nw-num\">{}</td></tr>{}{}</tbody></table>\n",
-        esc(s.instrument), when(calendar, s.time_ns), s.touches, s.tracker_points,
+        esc(s.instrument), origin_text(s.origin), when(calendar, s.time_ns), s.touches,
+        s.tracker_points,
         s.error.empty() ? "" : "<tr><th>error</th><td>" + esc(s.error) + "</td></tr>",
         s.points_thinned_ns
             ? "<tr><th>points thinned</th><td>" + when(calendar, s.points_thinned_ns) + "</td></tr>"
@@ -500,8 +558,8 @@ std::string check_html(const PlantConfig& plant, const Calendar& calendar,
     main += "<p class=\"nw-empty\">no result yet</p>\n";
   } else {
     const auto& r = *check.result;
-    main += fmt::format("<p class=\"nw-verdict\">{} at {}{}</p>\n", verdict_badge(r.verdict),
-                        when(calendar, r.time_ns),
+    main += fmt::format("<p class=\"nw-verdict\">{}{} at {}{}</p>\n", verdict_badge(r.verdict),
+                        simulated_badge(origin), when(calendar, r.time_ns),
                         r.reason.empty() ? "" : " &middot; " + esc(r.reason));
     if (!r.produced_by.empty()) {
       main += fmt::format("<p class=\"nw-note\">judged by {}</p>\n", esc(r.produced_by));

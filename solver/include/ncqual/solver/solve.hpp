@@ -10,7 +10,8 @@
 namespace ncqual::solver {
 
 // Dispatches by set.kind to the check that implements it. The result always carries the set's
-// machine_id, request_id and kind, and `time_ns` (the caller's clock, read outside the library).
+// machine_id, request_id, kind and origin (measured or simulated), and `time_ns` (the caller's
+// clock, read outside the library).
 // Verdict INVALID, never a throw, for: a machine not configured in the plant, an instrument
 // error in the set, a kind this solver version does not implement, and any bad data the check
 // itself rejects.

@@ -8,7 +8,8 @@
 // a period is current only when all its checks are), whether it is due or overdue now, and when
 // it falls due next. "Now" is the wall clock, or with a simulated clock the time of the machine's
 // newest status (heartbeats carry wall time). Per machine also the samples the historian kept for
-// conflicting with stored ones and its active trend warnings. Then the last heartbeat of every
+// conflicting with stored ones, its active trend warnings and whether its newest check was
+// measured or simulated. Then the last heartbeat of every
 // service instance, with its age and whether it is silent (older than kSilentPeriods periods).
 //
 // The documents' JSON names are stable (append, never rename): they are `ncqual status --json`
@@ -67,6 +68,11 @@ struct MachineDocument {
   // "stopped", "stale", or "none" when none was ever heard. `ncqual check` and `ncqual
   // intervene` need a live one.
   std::string scheduler = "none";
+  // Its newest check (request id; null when none is stored) and whether its numbers were
+  // "measured" on the machine, "simulated" by ncqual's simulator (its verdict says nothing about
+  // the machine), or "unknown" (stored before the historian recorded it); null without a check.
+  std::optional<std::string> last_check;
+  std::optional<DataOrigin> last_check_origin;
 };
 struct ServiceDocument {
   std::string service;
@@ -102,7 +108,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WarningDocument, metric, check_kind, kind, si
                                    raised_by, raised_ns, expected_crossing_ns, earliest_crossing_ns,
                                    text)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MachineDocument, machine_id, state, detail, status_time_ns,
-                                   periods, conflicts, warnings, scheduler)
+                                   periods, conflicts, warnings, scheduler, last_check,
+                                   last_check_origin)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ServiceDocument, service, instance, machine_id, state, health,
                                    health_detail, outbox_depth, oldest_unacknowledged_ns,
                                    oldest_unacknowledged_age_ns, time_ns, age_ns, silent, liveness)

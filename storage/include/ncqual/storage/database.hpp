@@ -107,6 +107,9 @@ struct MeasurementSummary {
   // its parameters and its check's result stay, its points are gone. Nothing while they are all
   // stored.
   std::optional<std::int64_t> points_thinned_ns;
+  // Measured by a real instrument or simulated; Unknown for a set stored before schema 11 or
+  // received in wire contract 1.
+  DataOrigin origin = DataOrigin::Unknown;
 };
 
 // Retention (Database::thin_points): what was removed, or in a dry run what would be.
@@ -147,6 +150,10 @@ struct CheckRecord {
     std::string request, measurement, result;
   } writers;
 };
+
+// Whether a check's numbers were measured or simulated: its result's origin, else (no result yet,
+// or one that did not say) its set's; Unknown when neither says.
+DataOrigin origin_of(const CheckRecord& record);
 
 struct HistoryQuery {
   std::optional<std::string> machine_id;  // all machines when empty

@@ -28,6 +28,8 @@ struct MeasurementDocument {
   std::string error;                // empty unless the instrument could not perform the request
   // When retention deleted the set's points (ns since the epoch, UTC); null while stored.
   std::optional<std::int64_t> points_thinned_ns;
+  // "measured", "simulated", or "unknown" (stored before schema 11, or a sample that did not say).
+  DataOrigin origin = DataOrigin::Unknown;
 };
 
 // Who wrote a part of a check: the DataWriter's GUID; `ncqual history` adds the identity and
@@ -61,17 +63,21 @@ struct CheckRecordDocument {
   // Samples of this request kept beside these for conflicting content (0: none).
   std::int64_t conflicts = 0;
   WritersDocument writers;
+  // Whether the check's numbers were measured or simulated (storage::origin_of): "measured",
+  // "simulated", or "unknown" when neither its result nor its set says.
+  DataOrigin origin = DataOrigin::Unknown;
 };
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ParameterDocument, value, unit)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(MeasurementDocument, instrument, touches, tracker_points, error,
-                                   points_thinned_ns)
+                                   points_thinned_ns, origin)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WriterDocument, guid)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(WritersDocument, request, measurement, result)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(CheckRecordDocument, machine_id, request_id, kind, requested_by,
                                    requested_at_ns, parameters, verifies_correction_of,
                                    result_at_ns, verdict, reason, produced_by, metrics,
-                                   likely_causes, correction, measurement, conflicts, writers)
+                                   likely_causes, correction, measurement, conflicts, writers,
+                                   origin)
 
 CheckRecordDocument document_of(const CheckRecord& record);
 

@@ -29,6 +29,7 @@ struct MetricValue {
   std::string unit;
   double lower = 0, upper = 0;  // the tolerance band the check judged it against
   bool pass = true;
+  DataOrigin origin = DataOrigin::Unknown;  // the result's: measured, simulated, or not recorded
 };
 
 struct MetricQuery {

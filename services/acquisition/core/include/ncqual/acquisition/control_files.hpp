@@ -42,6 +42,8 @@ class ControlFilesInstruments : public Instruments {
   std::optional<MeasurementSet> measure(const CheckRequest& request, std::int64_t time_ns) override;
   std::vector<MeasurementSet> poll() override;
   std::string apply(const Correction& correction) override;
+  // The machine's own control and probe measured it.
+  DataOrigin origin() const override { return DataOrigin::Measured; }
 
   // The programs handed over whose results have not come back.
   std::size_t running() const { return running_.size(); }

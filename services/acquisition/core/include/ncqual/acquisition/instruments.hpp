@@ -52,6 +52,11 @@ class Instruments {
   // keeps its offsets itself, so by default nothing is done; instruments that forget them when
   // the process ends (the simulator) apply it again. "" or why it was refused, as apply().
   virtual std::string restore(const Correction& /*correction*/) { return ""; }
+
+  // Whether its sets are measured by a real instrument or simulated: the station stamps it on
+  // every set it publishes (also on one with an error), so a verdict on simulated numbers is never
+  // taken for a machine's. No default: a driver says which it is.
+  virtual DataOrigin origin() const = 0;
 };
 
 // The simulated machine, touch probe, monument, fixture and laser tracker of one machine config
@@ -66,8 +71,10 @@ class SimulatedInstruments : public Instruments {
   std::string apply(const Correction& correction) override;
   // The simulated fixture's zeros live in this process: applied again.
   std::string restore(const Correction& correction) override { return apply(correction); }
+  DataOrigin origin() const override { return DataOrigin::Simulated; }
 
  private:
+  MeasurementSet simulate(const CheckRequest& request, std::int64_t time_ns);
   const MachineConfig machine_;
   const sim::MachineSimulator simulator_;
   std::optional<sim::FixtureSimulator> fixture_;

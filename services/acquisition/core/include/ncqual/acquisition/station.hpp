@@ -116,7 +116,7 @@ class Station {
   // measurement goes on (handed to a control).
   bool measure(const CheckRequest& request, const std::string& malformed, std::int64_t now_ns);
   // Records and publishes a measurement; false when the record could not be saved.
-  bool finish(const CheckRequest& request, const MeasurementSet& set);
+  bool finish(const CheckRequest& request, MeasurementSet set);
   // The time a measurement of `request` is stamped with when it is taken at `now_ns`.
   std::int64_t measured_at(const CheckRequest& request, std::int64_t now_ns) const;
 

@@ -78,7 +78,8 @@ struct ReceivedSet {
 SetDecision decide(const SolvedSets& solved, const ReceivedSet& in);
 
 // The result that answers a set: the solver's, or INVALID with `malformed` (a sample that could
-// not be read: the scheduler is never left waiting); stamped with `now_ns` and `produced_by`.
+// not be read: the scheduler is never left waiting); stamped with `now_ns` and `produced_by`, and
+// with the set's origin (also when INVALID: a malformed simulated set stays simulated).
 CheckResult answer(const MeasurementSet& set, const std::string& malformed,
                    const PlantConfig& plant, std::int64_t now_ns, const std::string& produced_by);
 
