@@ -7,6 +7,7 @@
 #include "cli_runner.hpp"
 #include "harness.hpp"
 #include "ncqual/mcap/mcap.hpp"
+#include "ncqual/recording/recording.hpp"
 #include "process.hpp"
 
 #include <gtest/gtest.h>
@@ -303,7 +304,9 @@ TEST(McapInteropRecordings, FoxgloveReadsEveryCommittedRecording) {
 // `ncqual replay --fast` into a private domain where `ncqual record` records them (its own
 // readers, chunking, flushes and summary, lz4 as the plant's recorder may write). Foxglove reads
 // every schema, channel and message as ncqual does, and the messages are the replayed ones, byte
-// for byte.
+// for byte: the committed recording's samples as the replay writes them, in the current wire
+// contract's layout (it was recorded in contract 1; docs/architecture.md, "Changing the wire
+// contract").
 TEST(McapInteropRecordings, FoxgloveReadsWhatTheLiveRecorderWrote) {
   using namespace ncqual::testing;
   using ncqual::testing_cli::run_cli;
@@ -318,10 +321,14 @@ TEST(McapInteropRecordings, FoxgloveReadsWhatTheLiveRecorderWrote) {
                                              "ncqual/MachineStatus"};
   std::multiset<std::vector<std::uint8_t>> replayed;
   const mcap::Recording from = mcap::read_file(source);
-  for (const auto& m : from.messages) {
-    if (topic_names.count(from.channels.at(m.channel_id).topic) != 0) replayed.insert(m.data);
-  }
+  ncqual::recording::Filter filter;
+  filter.topics = topic_names;
+  const ncqual::recording::Selection selection = ncqual::recording::select(from, filter, source);
+  ASSERT_TRUE(selection.skipped.empty()) << selection.skipped.front();
+  for (const auto& s : selection.samples) replayed.insert(s.bytes());
   ASSERT_GT(replayed.size(), 100U);
+  // Recorded in contract 1: every sample of the two topics that changed is written in contract 2.
+  ASSERT_GT(selection.upgraded.count("ncqual/CheckResult"), 0U);
 
   Plant plant("mcap-interop-live", TestDomain::RecordingInterop);
   plant.write_plant("[]");
